@@ -249,7 +249,62 @@ class EllipseArc:
                 "direction": self.direction}
 
 
-Segment = Union[Line, Arc, EllipseArc]
+@dataclass(frozen=True)
+class OffsetEllipseArc:
+    """The exact inward offset of an ``EllipseArc`` by ``w`` mm: ``P(t) - w n(t)``.
+
+    Not an ellipse. It shares the base arc's parameter ``t`` and tangent direction; it is
+    regular while ``w`` is below the radius of curvature of every convex part of the arc.
+    Produced by offsetting sections (inner walls); never stored in a project file.
+    """
+
+    base: EllipseArc
+    w: float
+    kind = "ellipse_offset"
+
+    @property
+    def p0(self) -> tuple[float, float]:
+        return tuple(float(v) for v in self.point(0.0))
+
+    @property
+    def p1(self) -> tuple[float, float]:
+        return tuple(float(v) for v in self.point(1.0))
+
+    @property
+    def direction(self) -> str:
+        return self.base.direction
+
+    def point(self, t):
+        return self.base.point(t) - self.w * normal(self.base, t)
+
+    def tangent(self, t):
+        return self.base.tangent(t)
+
+    def curvature(self, t):
+        k = self.base.curvature(t)
+        return k / (1.0 - self.w * k)
+
+    @property
+    def length(self) -> float:
+        x, wts = np.polynomial.legendre.leggauss(64)
+        t = (x + 1) / 2
+        s = self.base.angle(t)
+        speed = np.hypot(self.base.radius_r * np.sin(s), self.base.radius_z * np.cos(s))
+        # |dQ/dt| = |dP/dt| (1 - w k) for the inward offset.
+        return float(abs(self.base.sweep) / 2 * np.dot(wts, speed * (1.0 - self.w * self.base.curvature(t))))
+
+    def offset(self, w: float) -> "OffsetEllipseArc":
+        return OffsetEllipseArc(self.base, self.w + w)
+
+
+def _ellipse_offset(self: EllipseArc, w: float) -> OffsetEllipseArc:
+    """The exact inward offset curve ``w`` mm inside this arc (not an ellipse)."""
+    return OffsetEllipseArc(self, float(w))
+
+
+EllipseArc.offset = _ellipse_offset
+
+Segment = Union[Line, Arc, EllipseArc, OffsetEllipseArc]
 
 
 def normal(seg: Segment, t):

@@ -1,0 +1,223 @@
+"""The ``glassbench`` subcommands that need no window: info, export-mesh, new, render.
+
+Design rule: each subcommand is a small function over the engine's public API; ``main``
+turns every expected failure (a bad project, a bad DXF, a missing file, a tracer that
+refuses) into one line on stderr and exit status 2, never a traceback. No Qt here:
+``app.main`` hands subcommands to :func:`main` and only opens a window without one.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+from pathlib import Path
+
+from .design import Camera, Design, RenderSettings
+from .errors import GlassbenchError, ProjectError
+from .shape import BottleShape
+
+SUBCOMMANDS = ("info", "export-mesh", "new", "render")
+EXIT_ERROR = 2
+
+
+class CliError(GlassbenchError):
+    """A command-line problem to report as one line (exit status 2)."""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of the subcommands (``glassbench SUBCOMMAND ...``)."""
+    p = argparse.ArgumentParser(prog="glassbench", description="Glass-container workbench.")
+    sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    info = sub.add_parser("info", help="capacity, glass volume and size of a project")
+    info.add_argument("project")
+    info.add_argument("--json", action="store_true", help="print one JSON object")
+    mesh = sub.add_parser("export-mesh", help="write the bottle as STL/OBJ/PLY/glTF")
+    mesh.add_argument("project")
+    mesh.add_argument("out")
+    mesh.add_argument("--tol", type=float, default=0.05, help="chordal tolerance (mm)")
+    new = sub.add_parser("new", help="create a project from a DXF section")
+    new.add_argument("--from-dxf", required=True, metavar="FILE.dxf")
+    new.add_argument("out", metavar="OUT.glassbench")
+    new.add_argument("--wall", type=float, default=3.0, help="wall thickness (mm)")
+    new.add_argument("--base", type=float, default=6.0, help="base thickness (mm)")
+    new.add_argument("--name", default=None)
+    render = sub.add_parser("render", help="render a project to PNG/EXR/TIFF")
+    render.add_argument("project")
+    render.add_argument("-o", "--output", required=True, metavar="OUT.png|exr|tif")
+    render.add_argument("--width", type=int, default=None)
+    render.add_argument("--height", type=int, default=None)
+    render.add_argument("--spp", type=int, default=None)
+    return p
+
+
+def main(argv: list[str] | None = None) -> int:
+    """Run one subcommand; returns the exit status (0 ok, 2 error; argparse exits 2 itself)."""
+    args = build_parser().parse_args(argv)
+    handler = {"info": cmd_info, "export-mesh": cmd_export_mesh, "new": cmd_new,
+               "render": cmd_render}[args.command]
+    try:
+        return handler(args)
+    except (GlassbenchError, OSError, ValueError) as exc:
+        print(f"glassbench {args.command}: error: {one_line(exc)}", file=sys.stderr)
+        return EXIT_ERROR
+
+
+def one_line(exc: BaseException) -> str:
+    """The exception's message on one line (OSError: strerror and file name)."""
+    if isinstance(exc, OSError) and exc.strerror:
+        text = f"{exc.strerror}: {exc.filename}" if exc.filename else exc.strerror
+    else:
+        text = str(exc) or type(exc).__name__
+    return " ".join(text.split())
+
+
+# ---------------------------------------------------------------------------------- info
+
+def trade_numbers(design: Design) -> dict:
+    """The numbers ``glassbench info`` reports (ml, mm, cm^3, g); fill values ``None`` if empty.
+
+    ``fill_ml``/``fill_height_mm`` follow the liquid's fill mode: a height is converted to
+    the volume below it, a volume to the height that holds it.
+    """
+    from . import capacity
+    shape = design.shape
+    out = {"name": design.name,
+           "brimful_ml": capacity.brimful_ml(shape),
+           "fill_ml": None, "fill_height_mm": None, "fill_point_below_top_mm": None,
+           "glass_volume_cm3": capacity.glass_volume_cm3(shape),
+           "glass_mass_g": capacity.glass_mass_g(shape, design.glass.density_g_cm3),
+           "height_mm": capacity.height_mm(shape),
+           "max_diameter_mm": capacity.max_diameter_mm(shape)}
+    liquid = design.liquid
+    if liquid is not None:
+        if liquid.fill_mode == "volume":
+            height = capacity.fill_height_for_volume(shape, liquid.fill_value)
+            ml = liquid.fill_value
+        else:
+            height = liquid.fill_value
+            ml = capacity.capacity_ml(shape, height)
+        out.update(fill_ml=float(ml), fill_height_mm=float(height),
+                   fill_point_below_top_mm=float(shape.z_top - height))
+    return {k: (float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v)
+            for k, v in out.items()}
+
+
+_INFO_ROWS = (("brimful_ml", "Brimful capacity", "ml"), ("fill_ml", "Fill volume", "ml"),
+              ("fill_height_mm", "Fill height", "mm"),
+              ("fill_point_below_top_mm", "Fill point below top", "mm"),
+              ("glass_volume_cm3", "Glass volume", "cm3"), ("glass_mass_g", "Glass mass", "g"),
+              ("height_mm", "Height", "mm"), ("max_diameter_mm", "Max diameter", "mm"))
+
+
+def format_table(numbers: dict) -> str:
+    """The trade numbers as an aligned, human-readable table."""
+    lines = [f"{numbers.get('name', '')}".strip() or "Design"]
+    for key, label, unit in _INFO_ROWS:
+        v = numbers.get(key)
+        text = "-" if v is None else f"{v:10.1f} {unit}"
+        lines.append(f"  {label:<22}{text}")
+    return "\n".join(lines)
+
+
+def cmd_info(args) -> int:
+    from .project import load_project
+    design, _ = load_project(args.project)
+    numbers = trade_numbers(design)
+    if args.json:
+        print(json.dumps(numbers, indent=2, allow_nan=False))
+    else:
+        print(format_table(numbers))
+    return 0
+
+
+# --------------------------------------------------------------------------- export-mesh
+
+def cmd_export_mesh(args) -> int:
+    from .project import load_project
+    design, _ = load_project(args.project)
+    if not (math.isfinite(args.tol) and args.tol > 0):
+        raise CliError(f"--tol must be a positive number of mm, got {args.tol}")
+    try:
+        from .mesh_export import export_mesh
+    except ImportError as exc:
+        raise CliError(f"mesh export is not available in this build ({exc})") from None
+    export_mesh(design.shape, args.out, args.tol)
+    print(f"wrote {args.out}")
+    return 0
+
+
+# ----------------------------------------------------------------------------------- new
+
+def framing_camera(shape: BottleShape, width: int, height: int, fov_y_deg: float = 28.0) -> Camera:
+    """A camera (mm) looking at the bottle from the front (-y), slightly above its middle,
+    far enough that the whole bottle fills about 85 % of the frame (``width`` x ``height`` px)."""
+    z_top = shape.z_top
+    r_max = max_radius(shape)
+    t = math.tan(math.radians(fov_y_deg) / 2)
+    aspect = width / height
+    # Distance so that half the height (plus margin) fits vertically and the radius horizontally.
+    dist = max(0.59 * z_top / t, 1.18 * r_max / (t * aspect)) + r_max
+    target = (0.0, 0.0, 0.5 * z_top)
+    eye = (0.0, -dist, 0.5 * z_top + 0.12 * dist)
+    return Camera(eye=eye, target=target, up=(0.0, 0.0, 1.0), fov_y_deg=fov_y_deg)
+
+
+def max_radius(shape: BottleShape) -> float:
+    """Largest distance (mm) of the outer surface from the axis (sampled; for framing)."""
+    import numpy as np
+    best = 0.0
+    for _, sec in shape.sections:
+        for seg in sec.segments:
+            best = max(best, float(np.max(seg.point(np.linspace(0.0, 1.0, 65))[:, 0])))
+    if shape.cross_section != "round":
+        best *= math.sqrt(2.0) if shape.cross_section in ("rounded_rect", "oval") else 1.0
+    return best
+
+
+def cmd_new(args) -> int:
+    from .dxf_import import section_from_dxf
+    from .project import SUFFIX, check_design, save_project
+    if not args.out.endswith(SUFFIX):
+        raise CliError(f"the project file name must end in {SUFFIX}: {args.out}")
+    section = section_from_dxf(args.from_dxf)
+    shape = BottleShape("round", (("profile", section),), args.wall, args.base)
+    render = RenderSettings(width=360, height=480)
+    name = args.name or Path(args.from_dxf).stem
+    design = Design(shape=shape, camera=framing_camera(shape, render.width, render.height),
+                    render=render, name=name)
+    try:
+        check_design(design, {})
+    except ProjectError as exc:
+        raise CliError(f"{args.from_dxf}: {exc}") from None
+    save_project(args.out, design, {})
+    print(f"wrote {args.out}")
+    return 0
+
+
+# -------------------------------------------------------------------------------- render
+
+def cmd_render(args) -> int:
+    ext = os.path.splitext(args.output)[1].lower()
+    if ext not in (".png", ".exr", ".tif", ".tiff"):
+        raise CliError(f"the output must end in .png, .exr or .tif, got {args.output!r}")
+    for name in ("width", "height", "spp"):
+        v = getattr(args, name)
+        if v is not None and v < 1:
+            raise CliError(f"--{name} must be at least 1, got {v}")
+    try:
+        from .tracer import cli_render
+    except ImportError as exc:
+        raise CliError(f"rendering is not available yet: the tracer's cli_render is missing ({exc})") from None
+    return render_via_tracer(cli_render, args.project, args.output, args.width, args.height, args.spp)
+
+
+def render_via_tracer(cli_render, project, output, width, height, spp) -> int:
+    """Call the tracer's render command function for one project (see engine.tracer.cli_render)."""
+    fn = getattr(cli_render, "render_project", None)
+    if fn is None:
+        raise CliError("the tracer's cli_render module has no render_project function")
+    result = fn(project, output, width=width, height=height, spp=spp)
+    print(f"wrote {output}")
+    return 0 if result is None else int(result)

@@ -22,12 +22,17 @@ from engine.shape import BottleShape
 
 
 def make_design() -> Design:
-    # A straight-walled bottle with an awkward-float shoulder arc (exact round trip matters).
-    r, c = 30.0, (30.0 - 7.1, 100.0)
+    # Body, convex shoulder arc, concave arc into a vertical neck; awkward floats on purpose
+    # (the round trip must be exact to the last bit).
     import math
+    r, R = 30.0, 7.1
+    c = (r - R, 100.0)
     a = math.radians(50.0)
-    p1 = (c[0] + 7.1 * math.cos(a), c[1] + 7.1 * math.sin(a))
-    sec = Section((Line((0, 0), (r, 0)), Line((r, 0), (r, 100)), Arc(c, 7.1, (r, 100.0), p1, "ccw")))
+    p = (c[0] + R * math.cos(a), c[1] + R * math.sin(a))
+    R2 = (p[0] - 12.0) / (1.0 - math.cos(a))
+    c2 = (p[0] + R2 * math.cos(a), p[1] + R2 * math.sin(a))
+    sec = Section((Line((0, 0), (r, 0)), Line((r, 0), (r, 100)), Arc(c, R, (r, 100.0), p, "ccw"),
+                   Arc(c2, R2, p, (12.0, c2[1]), "cw"), Line((12.0, c2[1]), (12.0, 180.0))))
     return Design(BottleShape("round", (("profile", sec),), wall_thickness=0.1 + 0.2,
                               base_thickness=6.000000000000001),
                   glass=Glass(1.52, (1e-300, 0.1, 0.3), 2.5),
@@ -251,3 +256,21 @@ def test_limits_on_counts_and_totals():
         load_project_bytes(big, Limits(total_bytes=8000))
     with pytest.raises(ProjectError, match="declares"):
         load_project_bytes(big, Limits(asset_bytes=1000))
+
+
+def test_invalid_geometry_is_a_project_error_with_the_validation_message():
+    # The body goes down again (an overhang): validate_shape refuses it, naming the segment.
+    doc = good_doc()
+    segs = doc["design"]["shape"]["sections"]["profile"]["segments"]
+    segs[1]["p1"] = [30.0, -5.0]
+    segs[2]["p0"] = [30.0, -5.0]
+    with pytest.raises(ProjectError, match=r"invalid bottle shape: .*segment"):
+        load_project_bytes(archive(doc))
+
+
+def test_wall_too_thick_is_a_project_error():
+    doc = good_doc()
+    doc["design"]["shape"]["wall_thickness"] = 40.0
+    doc["design"]["shape"]["base_thickness"] = 40.0
+    with pytest.raises(ProjectError, match="invalid bottle shape"):
+        load_project_bytes(archive(doc))

@@ -1,0 +1,140 @@
+"""Command line: info numbers, new --from-dxf, export-mesh, render dispatch, app.main routing."""
+from __future__ import annotations
+
+import json
+import math
+import sys
+import types
+
+import pytest
+
+import app.main as app_main
+from engine import cli
+from engine.design import Design, Liquid, RenderSettings
+from engine.dxf_import import section_to_dxf
+from engine.project import load_project, save_project
+from engine.section import Section
+from engine.segments import Line
+from engine.shape import BottleShape
+
+INFO_KEYS = {"brimful_ml", "fill_ml", "fill_height_mm", "glass_volume_cm3", "glass_mass_g",
+             "height_mm", "max_diameter_mm"}
+
+
+def cylinder(liquid=Liquid(fill_mode="height", fill_value=50.0)) -> Design:
+    sec = Section((Line((0, 0), (30, 0)), Line((30, 0), (30, 100))))
+    return Design(BottleShape("round", (("profile", sec),), 3.0, 6.0), liquid=liquid,
+                  render=RenderSettings(8, 8, 1), name="Cylinder")
+
+
+@pytest.fixture
+def project(tmp_path):
+    path = tmp_path / "cyl.glassbench"
+    save_project(path, cylinder(), {})
+    return path
+
+
+def test_info_json_numbers(project, capsys):
+    assert cli.main(["info", str(project), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert INFO_KEYS <= set(out)
+    cavity = math.pi * 27.0 ** 2
+    assert out["brimful_ml"] == pytest.approx(cavity * 94.0 / 1000, rel=1e-9)
+    assert out["fill_ml"] == pytest.approx(cavity * 44.0 / 1000, rel=1e-9)
+    assert out["fill_height_mm"] == 50.0
+    glass = (math.pi * 30.0 ** 2 * 100.0 - cavity * 94.0) / 1000
+    assert out["glass_volume_cm3"] == pytest.approx(glass, rel=1e-9)
+    assert out["glass_mass_g"] == pytest.approx(glass * 2.52, rel=1e-9)
+    assert out["height_mm"] == 100.0 and out["max_diameter_mm"] == pytest.approx(60.0)
+
+
+def test_info_volume_mode_and_empty(tmp_path, capsys):
+    p = tmp_path / "v.glassbench"
+    save_project(p, cylinder(Liquid(fill_mode="volume", fill_value=100.0)), {})
+    assert app_main.main(["info", str(p), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["fill_ml"] == 100.0
+    assert out["fill_height_mm"] == pytest.approx(6.0 + 100e3 / (math.pi * 27.0 ** 2), rel=1e-6)
+    save_project(p, cylinder(None), {})
+    assert cli.main(["info", str(p), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["fill_ml"] is None and out["brimful_ml"] > 200
+
+
+def test_info_table_is_readable(project, capsys):
+    assert cli.main(["info", str(project)]) == 0
+    text = capsys.readouterr().out
+    assert "Cylinder" in text and "Brimful capacity" in text and "215.3 ml" in text
+
+
+def test_errors_are_one_line_exit_2(tmp_path, capsys):
+    bad = tmp_path / "bad.glassbench"
+    bad.write_bytes(b"garbage")
+    assert cli.main(["info", str(bad)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and "not a glassbench project" in err and "Traceback" not in err
+    assert app_main.main([str(tmp_path / "missing.glassbench")]) == 2
+    assert "no such project" in capsys.readouterr().err
+
+
+def test_new_from_dxf(tmp_path, capsys):
+    sec = cylinder().shape.primary
+    dxf = tmp_path / "cyl.dxf"
+    section_to_dxf(sec, dxf)
+    out = tmp_path / "new.glassbench"
+    assert cli.main(["new", "--from-dxf", str(dxf), str(out), "--wall", "2.5", "--base", "5"]) == 0
+    design, assets = load_project(out)
+    assert design.shape.primary == sec and assets == {}
+    assert design.shape.wall_thickness == 2.5 and design.shape.base_thickness == 5.0
+    assert design.name == "cyl"
+    # The framing camera looks at the middle of the bottle from the front.
+    assert design.camera.target == (0.0, 0.0, 50.0) and design.camera.eye[1] < -100
+
+
+def test_new_from_invalid_dxf_section(tmp_path, capsys):
+    # A section without a vertical finish: imports, but validation refuses it; nothing written.
+    import ezdxf
+    doc = ezdxf.new(units=4)
+    doc.modelspace().add_lwpolyline([(0, 0), (30, 0), (20, 100)])
+    dxf = tmp_path / "cone.dxf"
+    doc.saveas(dxf)
+    out = tmp_path / "cone.glassbench"
+    assert cli.main(["new", "--from-dxf", str(dxf), str(out)]) == 2
+    assert "vertical" in capsys.readouterr().err and not out.exists()
+
+
+def test_export_mesh_rejects_bad_tolerance(project, tmp_path, capsys):
+    assert cli.main(["export-mesh", str(project), str(tmp_path / "m.stl"), "--tol", "-1"]) == 2
+    assert "--tol" in capsys.readouterr().err
+
+
+def test_render_rejects_bad_extension_and_sizes(project, tmp_path, capsys):
+    assert cli.main(["render", str(project), "-o", str(tmp_path / "x.jpg")]) == 2
+    assert ".png" in capsys.readouterr().err
+    assert cli.main(["render", str(project), "-o", str(tmp_path / "x.png"), "--spp", "0"]) == 2
+    assert "--spp" in capsys.readouterr().err
+
+
+def test_app_main_routes_to_gui(project, monkeypatch):
+    calls = []
+    fake = types.ModuleType("app.window")
+    fake.run_gui = lambda path, screenshot: calls.append((path, screenshot))
+    monkeypatch.setitem(sys.modules, "app.window", fake)
+    monkeypatch.setenv("DISPLAY", ":0")
+    assert app_main.main([str(project)]) == 0
+    assert app_main.main([]) == 0
+    monkeypatch.delenv("DISPLAY")
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    assert app_main.main(["--screenshot", "shot.png", str(project)]) == 0  # no display needed
+    assert calls == [(str(project), None), (None, None), (str(project), "shot.png")]
+
+
+def test_app_main_without_display_renders_preview(project, monkeypatch, capsys):
+    seen = []
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    monkeypatch.setattr(sys, "platform", "linux")
+    monkeypatch.setattr(cli, "main", lambda argv: seen.append(argv) or 0)
+    assert app_main.main([str(project)]) == 0
+    assert seen[0][:3] == ["render", str(project), "-o"] and seen[0][3].endswith("glassbench-cyl.png")
+    assert capsys.readouterr().out.strip().endswith("glassbench-cyl.png")

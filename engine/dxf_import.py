@@ -6,8 +6,9 @@ turned into pieces with two ends; the pieces must form one open chain (no gaps, 
 no loops) with one end on the axis ``r = 0``. The chain is walked from that end to the
 other (the mouth), each piece oriented to the walking direction: a DXF arc always runs
 counter-clockwise from its start to its end angle, so walked backwards it becomes a ``"cw"``
-arc. The axis end becomes ``(0, 0)`` (the drawing is shifted in z); a drawing on the left of
-the axis (x <= 0) is mirrored. Text, dimensions and points are ignored; any other entity is
+arc. The drawing is shifted in z so that its lowest point (the axis end of a flat base, the
+standing ring of a punt) is at z = 0; the axis end gets r = 0 exactly; a drawing on the left
+of the axis (x <= 0) is mirrored. Text, dimensions and points are ignored; any other entity is
 an error. Whether the section is a valid bottle is :mod:`engine.validate`'s business.
 """
 from __future__ import annotations
@@ -68,11 +69,23 @@ def section_from_document(doc) -> Section:
     if scale != 1.0:
         pieces = [p.transformed(scale, 1.0, 0.0) for p in pieces]
     chain = _chain(pieces)
-    start = chain[0].p0
     mirror = -1.0 if all(max(p.p0[0], p.p1[0]) <= JOIN_TOL_MM for p in chain) else 1.0
-    segs = [p.transformed(1.0, mirror, -start[1]).segment() for p in chain]
+    # Stand the bottle on z = 0: its lowest point (the axis end, or the ring of a punt).
+    z_low = min(_lowest_z(p.segment()) for p in chain)
+    segs = [p.transformed(1.0, mirror, -z_low).segment() for p in chain]
     segs = _snap_lines(segs)
     return Section(tuple(segs))
+
+
+def _lowest_z(seg) -> float:
+    """Lowest height (mm) reached by a segment: an end, or the bottom of an arc's circle."""
+    low = min(seg.p0[1], seg.p1[1])
+    if isinstance(seg, (Arc, EllipseArc)):
+        # Does the sweep pass through parameter angle -90 deg (the bottom)?
+        turn = ((-math.pi / 2 - seg.angle0) * math.copysign(1.0, seg.sweep)) % (2 * math.pi)
+        if turn < abs(seg.sweep):
+            low = min(low, seg.center[1] - (seg.radius if isinstance(seg, Arc) else seg.radius_z))
+    return low
 
 
 def section_to_dxf(section: Section, path: str | os.PathLike) -> None:
@@ -274,7 +287,7 @@ def _snap_lines(segs: list) -> list:
     out = list(segs)
     for i, s in enumerate(out):
         if isinstance(s, Line):
-            p0 = (0.0, 0.0) if i == 0 else out[i - 1].p1
+            p0 = (0.0, s.p0[1]) if i == 0 else out[i - 1].p1
             p1 = out[i + 1].p0 if i + 1 < len(out) else s.p1
             out[i] = Line(p0, p1)
     return out

@@ -145,3 +145,21 @@ def test_unreadable_file(tmp_path):
         section_from_dxf(p)
     with pytest.raises(DxfImportError, match="cannot read DXF"):
         section_from_dxf(tmp_path / "missing.dxf")
+
+
+def punt_section(lift: float = 0.0) -> Section:
+    """A punted base: a concave dome from (0, 12) down to the standing ring at (28, 0)."""
+    rp = (28.0 ** 2 + 12.0 ** 2) / 24.0
+    c = (0.0, 12.0 - rp + lift)
+    punt = Arc(c, rp, (0.0, 12.0 + lift), (28.0, lift), "cw")
+    heel = Arc((28.0, 9.5 + lift), 9.5, (28.0, lift), (37.5, 9.5 + lift), "ccw")
+    return Section((punt, heel, Line((37.5, 9.5 + lift), (37.5, 100.0 + lift))))
+
+
+def test_punt_stands_on_its_ring(tmp_path):
+    # Drawn 40 mm up: the import stands the ring on z = 0 and keeps the dome above it.
+    path = tmp_path / "punt.dxf"
+    section_to_dxf(punt_section(lift=40.0), path)
+    got = section_from_dxf(path)
+    assert_same_section(got, punt_section(), tol=1e-9)
+    assert abs(got.segments[0].p0[0]) < 1e-12 and got.segments[0].p0[1] == pytest.approx(12.0)

@@ -1,0 +1,114 @@
+"""Undoable edits of the scene: each command replaces top-level parts of the Design.
+
+Design rule: panels never write to the scene; they hand the :class:`DesignEditor` the new
+values of the parts they changed. The editor validates the result (an invalid design is refused
+with the engine's message and the scene is left as it was), wraps it in a
+:class:`ReplacePartsCommand` and pushes it onto the ``QUndoStack``. Commands that share a
+*merge key* (one drag, one spin-box being scrolled) collapse into one undo step.
+"""
+from __future__ import annotations
+
+import dataclasses
+
+from PySide6.QtCore import QObject, Signal
+from PySide6.QtGui import QUndoCommand, QUndoStack
+
+from app import engine_bridge
+from engine.design import Design
+from engine.errors import GlassbenchError
+
+_merge_ids: dict[str, int] = {}
+
+
+def merge_id(key: str | None) -> int:
+    """A stable small integer for ``key`` (``-1``: never merge)."""
+    if key is None:
+        return -1
+    return _merge_ids.setdefault(key, len(_merge_ids) + 1)
+
+
+class ReplacePartsCommand(QUndoCommand):
+    """Set top-level Design fields (``shape``, ``glass``, ``liquid`` ...) to new values.
+
+    ``before`` and ``after`` map field names to values; undo restores ``before``. The scene's
+    own change notification then updates every view.
+    """
+
+    def __init__(self, scene, label: str, before: dict, after: dict, merge_key: str | None = None):
+        super().__init__(label)
+        self._scene = scene
+        self.before = dict(before)
+        self.after = dict(after)
+        self._id = merge_id(merge_key)
+
+    def id(self) -> int:  # noqa: A003 - Qt's name
+        return self._id
+
+    def redo(self):
+        self._scene.replace(**self.after)
+
+    def undo(self):
+        self._scene.replace(**self.before)
+
+    def mergeWith(self, other: QUndoCommand) -> bool:
+        if not isinstance(other, ReplacePartsCommand) or other.id() != self._id or self._id < 0:
+            return False
+        for key, value in other.after.items():
+            self.before.setdefault(key, other.before[key])
+            self.after[key] = value
+        return True
+
+
+class DesignEditor(QObject):
+    """The one way the GUI changes the design: validated, undoable replacement of parts.
+
+    Signals
+    -------
+    refused(str)
+        An edit was refused; the text names the problem (engine validation message).
+    """
+
+    refused = Signal(str)
+
+    def __init__(self, scene, stack: QUndoStack, parent=None):
+        super().__init__(parent)
+        self.scene = scene
+        self.stack = stack
+        self._drag_serial = 0
+
+    @property
+    def design(self) -> Design:
+        return self.scene.design
+
+    def check(self, design: Design) -> str | None:
+        """``None`` when ``design`` may be shown, else the message that says why not."""
+        try:
+            engine_bridge.validate_shape(design.shape)
+        except (GlassbenchError, ValueError) as exc:
+            return str(exc)
+        return None
+
+    def new_merge_key(self, what: str) -> str:
+        """A key unique to one gesture (a drag): its commands merge into one step."""
+        self._drag_serial += 1
+        return f"{what}#{self._drag_serial}"
+
+    def apply(self, label: str, merge_key: str | None = None, **parts) -> bool:
+        """Push a command setting ``parts`` (Design field -> value); ``False`` if refused."""
+        current = self.scene.design
+        changed = {k: v for k, v in parts.items() if getattr(current, k) != v}
+        if not changed:
+            return True
+        try:
+            candidate = dataclasses.replace(current, **changed)
+        except (TypeError, ValueError) as exc:
+            self.refused.emit(str(exc))
+            return False
+        if "shape" in changed:
+            problem = self.check(candidate)
+            if problem is not None:
+                self.refused.emit(problem)
+                return False
+        before = {k: getattr(current, k) for k in changed}
+        self.stack.push(ReplacePartsCommand(self.scene, label, before, changed, merge_key))
+        return True

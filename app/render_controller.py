@@ -1,0 +1,193 @@
+"""Runs the progressive tracer for the preview: one job at a time, tiles marshalled to the GUI.
+
+Design rule: each ``start`` bumps a *generation* number and cancels the running job at once;
+the worker threads' ``on_tile`` callbacks only emit a queued signal carrying their generation,
+and the GUI-thread slot drops anything from an older generation, so a stale tile is never
+shown. A job's failure is reported through ``failed`` and the controller stays usable. Starting
+is debounced (``restart_delay_ms``) so a drag does not build a render scene per mouse event.
+"""
+from __future__ import annotations
+
+import os
+import threading
+
+import numpy as np
+from PySide6.QtCore import QObject, QTimer, Signal
+
+from app import engine_bridge
+
+
+class _StandInJob:
+    """A stand-in for ``engine.tracer.job.RenderJob`` while the tracer has not landed: it fills
+    tiles with a grey gradient and says so in the status bar (``stand_in`` is True)."""
+
+    stand_in = True
+
+    def __init__(self, design, assets=None, *, width=None, height=None, spp=None, threads=None,
+                 tile=32, on_tile=None, on_done=None):
+        self.width, self.height = width or design.render.width, height or design.render.height
+        self.tile, self.on_tile, self.on_done = tile, on_tile, on_done
+        self._image = np.zeros((self.height, self.width, 3), np.float32)
+        self._cancel = threading.Event()
+        self._thread = threading.Thread(target=self._run, name="stand-in-render", daemon=True)
+        self.done = self.cancelled = False
+        self.error = None
+        self._count = 0
+
+    def start(self):
+        self._thread.start()
+        return self
+
+    def cancel(self):
+        self._cancel.set()
+
+    def wait(self, timeout=None):
+        self._thread.join(timeout)
+        return not self._thread.is_alive()
+
+    @property
+    def progress(self) -> float:
+        total = -(-self.width // self.tile) * -(-self.height // self.tile)
+        return self._count / max(total, 1)
+
+    def image(self):
+        return self._image
+
+    def _run(self):
+        from types import SimpleNamespace
+        for y0 in range(0, self.height, self.tile):
+            for x0 in range(0, self.width, self.tile):
+                if self._cancel.is_set():
+                    self.cancelled = True
+                    self.done = True
+                    if self.on_done:
+                        self.on_done(self)
+                    return
+                x1, y1 = min(x0 + self.tile, self.width), min(y0 + self.tile, self.height)
+                ys = np.linspace(y0 / self.height, y1 / self.height, y1 - y0)[:, None, None]
+                self._image[y0:y1, x0:x1] = 0.2 + 0.5 * ys
+                self._count += 1
+                if self.on_tile:
+                    self.on_tile(self, SimpleNamespace(x0=x0, y0=y0, x1=x1, y1=y1, wave=0))
+        self.done = True
+        if self.on_done:
+            self.on_done(self)
+
+
+class RenderController(QObject):
+    """Owns the preview's render job.
+
+    Signals
+    -------
+    tileReady(int, int, int, object)
+        ``(generation, x0, y0, rgb8 array (h, w, 3))`` of a finished tile, on the GUI thread.
+    progressed(int, float, int, int)
+        ``(generation, fraction done, image width, image height)``.
+    finished(int), failed(int, str)
+        The job of that generation converged / failed (the message says why).
+    """
+
+    tileReady = Signal(int, int, int, object)
+    progressed = Signal(int, float, int, int)
+    finished = Signal(int)
+    failed = Signal(int, str)
+    _worker_tile = Signal(int, object, object)
+    _worker_done = Signal(int, object)
+
+    def __init__(self, parent=None, restart_delay_ms: int = 40):
+        super().__init__(parent)
+        self.generation = 0
+        self.job = None
+        self._old_jobs: list = []
+        self._pending = None
+        self._timer = QTimer(self)
+        self._timer.setSingleShot(True)
+        self._timer.setInterval(restart_delay_ms)
+        self._timer.timeout.connect(self._start_pending)
+        self._worker_tile.connect(self._on_worker_tile)
+        self._worker_done.connect(self._on_worker_done)
+        self.threads = max(1, min(4, (os.cpu_count() or 2) - 1))
+        self.converged_generation = -1
+        self.ended_generation = -1  # converged or failed: nothing more will come
+        self.size = (0, 0)
+
+    # -------------------------------------------------------------------- control
+    def start(self, design, assets=None):
+        """Cancel what is running and render ``design`` (after the debounce delay)."""
+        self.cancel()
+        self.generation += 1
+        self._pending = (self.generation, design, dict(assets or {}))
+        self._timer.start()
+
+    def cancel(self):
+        """Cancel the running job; its late tiles will be ignored."""
+        self._timer.stop()
+        self._pending = None
+        if self.job is not None:
+            self.job.cancel()
+            self._old_jobs.append(self.job)
+            self.job = None
+        self._old_jobs = [j for j in self._old_jobs if not getattr(j, "done", True)]
+
+    def is_idle(self) -> bool:
+        return self._pending is None and (self.job is None or bool(getattr(self.job, "done", True)))
+
+    def wait_until_idle(self, timeout: float = 30.0) -> bool:
+        """Block until the current job ends (tests; the screenshot). Tiles still need the
+        event loop to arrive."""
+        if self._pending is not None:
+            self._timer.stop()
+            self._start_pending()
+        return self.job is None or bool(self.job.wait(timeout))
+
+    def shutdown(self, timeout: float = 30.0):
+        """Cancel and join every job this controller started."""
+        jobs = [self.job] if self.job is not None else []
+        self.cancel()
+        for job in jobs + self._old_jobs:
+            job.wait(timeout)
+        self._old_jobs = []
+
+    def _start_pending(self):
+        if self._pending is None:
+            return
+        generation, design, assets = self._pending
+        self._pending = None
+        job_class = engine_bridge.tracer_job_class() or _StandInJob
+        r = design.render
+        try:
+            job = job_class(design, assets, width=r.width, height=r.height, spp=r.spp,
+                            threads=self.threads,
+                            on_tile=lambda j, t, g=generation: self._worker_tile.emit(g, j, t),
+                            on_done=lambda j, g=generation: self._worker_done.emit(g, j))
+            self.job = job
+            self.size = (r.width, r.height)
+            self.progressed.emit(generation, 0.0, r.width, r.height)
+            job.start()
+        except Exception as exc:  # why: a design the tracer cannot build must not kill the GUI
+            self.job = None
+            self.ended_generation = generation
+            self.failed.emit(generation, f"{type(exc).__name__}: {exc}")
+
+    # ---------------------------------------------------------------- GUI thread
+    def _on_worker_tile(self, generation, job, tile):
+        if generation != self.generation or job is not self.job:
+            return  # stale: from a job that an edit cancelled
+        try:
+            region = np.asarray(job.image())[tile.y0:tile.y1, tile.x0:tile.x1]
+            rgb8 = np.ascontiguousarray(engine_bridge.tonemap_srgb8(region)[..., :3])
+        except Exception as exc:  # why: a bad tile is reported, the job keeps running
+            self.failed.emit(generation, f"tile: {exc}")
+            return
+        self.tileReady.emit(generation, tile.x0, tile.y0, rgb8)
+        self.progressed.emit(generation, float(job.progress), *self.size)
+
+    def _on_worker_done(self, generation, job):
+        if generation != self.generation or job is not self.job:
+            return
+        self.ended_generation = generation
+        if getattr(job, "error", None) is not None:
+            self.failed.emit(generation, str(job.error))
+        elif not getattr(job, "cancelled", False):
+            self.converged_generation = generation
+            self.finished.emit(generation)

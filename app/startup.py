@@ -1,0 +1,107 @@
+"""Starting the window from the command line: the project to open, recovery, the screenshot.
+
+Design rule: ``run`` owns the ``QApplication`` and the event loop. A project that fails to load
+is reported in a dialog (or on stderr for ``--screenshot``) and the sample opens instead, so the
+designer always gets a working window. ``--screenshot`` waits, with the event loop running,
+until the preview has converged (and the wireframe is built), paints the VTK framebuffer into
+the window grab and saves it.
+"""
+from __future__ import annotations
+
+import sys
+
+from PySide6.QtCore import QPoint, QTimer
+from PySide6.QtGui import QPainter
+from PySide6.QtWidgets import QApplication
+
+from app import engine_bridge
+from app.sample_design import sample_design
+
+SCREENSHOT_TIMEOUT_MS = 10 * 60 * 1000
+
+
+def grab_window(window):
+    """A pixmap of the whole window with the VTK view's framebuffer painted in."""
+    pixmap = window.grab()
+    view = getattr(window, "wireframe", None)
+    if view is not None and view.isVisible():
+        image = view.grab_framebuffer()
+        if not image.isNull():
+            painter = QPainter(pixmap)
+            dpr = pixmap.devicePixelRatio()
+            top_left = view.mapTo(window, QPoint(0, 0))
+            target = image.scaled(int(view.width() * dpr), int(view.height() * dpr))
+            target.setDevicePixelRatio(dpr)
+            painter.drawImage(top_left, target)
+            painter.end()
+    return pixmap
+
+
+def run(project_path: str | None, screenshot: str | None) -> int:
+    """Open the window; with ``screenshot`` save a picture once converged and quit."""
+    from app.window import MainWindow
+    app = QApplication.instance() or QApplication(sys.argv[:1])
+    app.setApplicationName("glassbench")
+    app.setOrganizationName("glassbench")
+    design, assets, path = sample_design()
+    load_error = None
+    if project_path:
+        try:
+            design, assets = engine_bridge.load_project(project_path)
+            path = project_path
+        except (OSError, ValueError, Exception) as exc:  # report, then open the sample
+            load_error = f"{project_path}: {exc}"
+    window = MainWindow(design, assets, path)
+    if path:
+        window.recent.add(path)
+    window.show()
+    status = {"code": 0}
+    if screenshot:
+        if load_error:
+            print(f"glassbench: error: {load_error}", file=sys.stderr)
+            window.shutdown()
+            window.close()
+            return 2
+        _arrange_screenshot(window, screenshot, status, app)
+    else:
+        if load_error:
+            QTimer.singleShot(0, lambda: window.dialogs.show_error("Cannot open project", load_error))
+        QTimer.singleShot(0, window.files.offer_recovery)
+    app.exec()
+    return status["code"]
+
+
+def _arrange_screenshot(window, out_path: str, status: dict, app):
+    """Poll (on the event loop) until the render converged, then save the picture and quit."""
+    poll = QTimer(window)
+    poll.setInterval(100)
+    deadline = QTimer(window)
+    deadline.setSingleShot(True)
+
+    def ready() -> bool:
+        rc = window.render_controller
+        converged = rc.ended_generation == rc.generation
+        wire = getattr(window, "wireframe_controller", None)
+        return converged and (wire is None or wire.is_idle())
+
+    def finish(code: int):
+        poll.stop()
+        deadline.stop()
+        if code == 0:
+            if not grab_window(window).save(out_path):
+                print(f"glassbench: error: cannot write {out_path}", file=sys.stderr)
+                code = 2
+        else:
+            print("glassbench: error: the preview did not converge in time", file=sys.stderr)
+        status["code"] = code
+        window.files.autosave_timer.stop()
+        window.undo_stack.setClean()
+        window.close()
+        app.quit()
+
+    poll.timeout.connect(lambda: ready() and finish(0))
+    deadline.timeout.connect(lambda: finish(3))
+    failed = window.render_controller.failed
+    failed.connect(lambda gen, msg: print(f"glassbench: render failed: {msg}", file=sys.stderr))
+    poll.start()
+    deadline.start(SCREENSHOT_TIMEOUT_MS)

@@ -1,0 +1,131 @@
+"""Camera and environment controls: orbit (azimuth, elevation, distance), target height, field
+of view, environment strength and turn, render size and samples.
+
+Design rule: the camera is stored as eye/target/up (SPEC section 2); this panel shows it as an
+orbit about the target, which is how a designer turns a bottle. ``orbit_to_camera`` and
+``camera_to_orbit`` convert exactly (for a +z up vector).
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+
+from PySide6.QtCore import QSignalBlocker, Signal
+from PySide6.QtWidgets import (QDoubleSpinBox, QFormLayout, QGroupBox, QPushButton, QSpinBox,
+                               QVBoxLayout, QWidget)
+
+from engine.design import Camera
+
+
+def camera_to_orbit(cam: Camera) -> tuple[float, float, float]:
+    """``(azimuth_deg, elevation_deg, distance_mm)`` of the eye about the target."""
+    d = [e - t for e, t in zip(cam.eye, cam.target)]
+    dist = math.sqrt(sum(v * v for v in d)) or 1.0
+    return (math.degrees(math.atan2(d[0], -d[1])), math.degrees(math.asin(max(-1, min(1, d[2] / dist)))), dist)
+
+
+def orbit_to_camera(cam: Camera, azimuth_deg, elevation_deg, distance, target_z=None) -> Camera:
+    """``cam`` with its eye placed on the orbit (azimuth 0: looking along +y)."""
+    tx, ty, tz = cam.target
+    tz = tz if target_z is None else float(target_z)
+    az, el = math.radians(azimuth_deg), math.radians(elevation_deg)
+    eye = (tx + distance * math.cos(el) * math.sin(az), ty - distance * math.cos(el) * math.cos(az),
+           tz + distance * math.sin(el))
+    return dataclasses.replace(cam, eye=eye, target=(tx, ty, tz), up=(0.0, 0.0, 1.0))
+
+
+def _spin(lo, hi, step, suffix, decimals=1):
+    s = QDoubleSpinBox()
+    s.setRange(lo, hi)
+    s.setSingleStep(step)
+    s.setDecimals(decimals)
+    s.setSuffix(suffix)
+    s.setKeyboardTracking(False)
+    return s
+
+
+class CameraPanel(QWidget):
+    """Edits ``design.camera``, ``design.environment`` and ``design.render`` through ``editor``.
+
+    Signals
+    -------
+    syncFromWireframe()
+        The designer asked to copy the 3D view's camera into the design.
+    """
+
+    syncFromWireframe = Signal()
+
+    def __init__(self, editor, parent=None):
+        super().__init__(parent)
+        self.editor = editor
+        self.azimuth = _spin(-180, 180, 5, " \u00b0")
+        self.azimuth.setWrapping(True)
+        self.elevation = _spin(-89, 89, 2, " \u00b0")
+        self.distance = _spin(10, 20000, 10, " mm")
+        self.target_z = _spin(-1000, 5000, 5, " mm")
+        self.fov = _spin(1, 120, 1, " \u00b0")
+        self.env_scale = _spin(0, 100, 0.1, "", 2)
+        self.env_rotation = _spin(-180, 180, 5, " \u00b0")
+        self.width_px = QSpinBox()
+        self.height_px = QSpinBox()
+        self.spp = QSpinBox()
+        for s, hi in ((self.width_px, 8192), (self.height_px, 8192), (self.spp, 4096)):
+            s.setRange(1, hi)
+            s.setKeyboardTracking(False)
+        self.sync_button = QPushButton("Camera from 3D view")
+        cam_box = QGroupBox("Camera")
+        cf = QFormLayout(cam_box)
+        for label, w in (("Azimuth", self.azimuth), ("Elevation", self.elevation),
+                         ("Distance", self.distance), ("Target height", self.target_z),
+                         ("Field of view", self.fov)):
+            cf.addRow(label, w)
+        cf.addRow(self.sync_button)
+        env_box = QGroupBox("Environment and render")
+        ef = QFormLayout(env_box)
+        ef.addRow("Light strength", self.env_scale)
+        ef.addRow("Turn", self.env_rotation)
+        ef.addRow("Width px", self.width_px)
+        ef.addRow("Height px", self.height_px)
+        ef.addRow("Samples / px", self.spp)
+        layout = QVBoxLayout(self)
+        layout.addWidget(cam_box)
+        layout.addWidget(env_box)
+        layout.addStretch(1)
+        for w in (self.azimuth, self.elevation, self.distance, self.target_z):
+            w.valueChanged.connect(self._orbit_changed)
+        self.fov.valueChanged.connect(lambda v: self.editor.apply(
+            "Field of view", "camera-fov", camera=dataclasses.replace(self.editor.design.camera, fov_y_deg=v)))
+        self.env_scale.valueChanged.connect(lambda v: self._env("Light strength", "env-scale", scale=v))
+        self.env_rotation.valueChanged.connect(lambda v: self._env("Turn environment", "env-rot", rotation_deg=v))
+        self.width_px.valueChanged.connect(lambda v: self._render("Image width", width=v))
+        self.height_px.valueChanged.connect(lambda v: self._render("Image height", height=v))
+        self.spp.valueChanged.connect(lambda v: self._render("Samples per pixel", spp=v))
+        self.sync_button.clicked.connect(self.syncFromWireframe)
+
+    def refresh(self, design):
+        widgets = (self.azimuth, self.elevation, self.distance, self.target_z, self.fov,
+                   self.env_scale, self.env_rotation, self.width_px, self.height_px, self.spp)
+        blockers = [QSignalBlocker(w) for w in widgets]
+        az, el, dist = camera_to_orbit(design.camera)
+        self.azimuth.setValue(az)
+        self.elevation.setValue(el)
+        self.distance.setValue(dist)
+        self.target_z.setValue(design.camera.target[2])
+        self.fov.setValue(design.camera.fov_y_deg)
+        self.env_scale.setValue(design.environment.scale)
+        self.env_rotation.setValue(design.environment.rotation_deg)
+        self.width_px.setValue(design.render.width)
+        self.height_px.setValue(design.render.height)
+        self.spp.setValue(design.render.spp)
+        del blockers
+
+    def _orbit_changed(self, _value=None):
+        cam = orbit_to_camera(self.editor.design.camera, self.azimuth.value(), self.elevation.value(),
+                              self.distance.value(), self.target_z.value())
+        self.editor.apply("Orbit camera", "camera-orbit", camera=cam)
+
+    def _env(self, label, key, **fields):
+        self.editor.apply(label, key, environment=dataclasses.replace(self.editor.design.environment, **fields))
+
+    def _render(self, label, **fields):
+        self.editor.apply(label, f"render-{label}", render=dataclasses.replace(self.editor.design.render, **fields))

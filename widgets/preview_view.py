@@ -1,0 +1,107 @@
+"""The render preview: the tracer's image, painted tile by tile, at 1:1 or fitted.
+
+Design rule: the view holds a ``QImage`` the size of the render and only ever writes tiles
+handed to it on the GUI thread (``paint_tile``); it knows nothing of jobs or generations.
+Dragging in the view asks for a camera orbit (``orbitRequested``); the window turns that
+into an undoable camera edit, which restarts the render.
+"""
+from __future__ import annotations
+
+import numpy as np
+from PySide6.QtCore import QPointF, QRectF, Qt, Signal
+from PySide6.QtGui import QColor, QImage, QPainter
+from PySide6.QtWidgets import QSizePolicy, QWidget
+
+
+class PreviewView(QWidget):
+    """Shows the progressive render.
+
+    Signals
+    -------
+    orbitRequested(float, float, bool)
+        ``(degrees of azimuth, degrees of elevation, drag finished)`` from a mouse drag.
+    """
+
+    orbitRequested = Signal(float, float, bool)
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.setSizePolicy(QSizePolicy.Expanding, QSizePolicy.Expanding)
+        self.setMinimumSize(200, 200)
+        self._image = QImage()
+        self.fit = True
+        self.tiles_painted = 0
+        self._press = None
+
+    # ----------------------------------------------------------------------- image
+    def image_size(self) -> tuple[int, int]:
+        return (self._image.width(), self._image.height())
+
+    def reset(self, width: int, height: int):
+        """Start a new, empty image of ``width`` x ``height`` pixels."""
+        self._image = QImage(width, height, QImage.Format_RGB888)
+        self._image.fill(QColor(40, 40, 44))
+        self.tiles_painted = 0
+        self.update()
+
+    def paint_tile(self, x0: int, y0: int, rgb8: np.ndarray):
+        """Copy an ``(h, w, 3)`` uint8 tile to ``(x0, y0)`` of the image."""
+        h, w = rgb8.shape[:2]
+        if self._image.isNull() or x0 + w > self._image.width() or y0 + h > self._image.height():
+            return
+        data = np.ascontiguousarray(rgb8, dtype=np.uint8)
+        tile = QImage(data.data, w, h, 3 * w, QImage.Format_RGB888)
+        p = QPainter(self._image)
+        p.drawImage(x0, y0, tile)
+        p.end()
+        self.tiles_painted += 1
+        self.update(self._target_rect().toAlignedRect())
+
+    def image(self) -> QImage:
+        """A copy of the current image (what Export image saves)."""
+        return self._image.copy()
+
+    def pixel_rgb(self, x: int, y: int) -> tuple[int, int, int]:
+        c = self._image.pixelColor(x, y)
+        return (c.red(), c.green(), c.blue())
+
+    # ------------------------------------------------------------------------ zoom
+    def zoom_one_to_one(self):
+        self.fit = False
+        self.update()
+
+    def zoom_fit(self):
+        self.fit = True
+        self.update()
+
+    def _target_rect(self) -> QRectF:
+        iw, ih = self._image.width(), self._image.height()
+        if iw == 0 or ih == 0:
+            return QRectF()
+        scale = min(self.width() / iw, self.height() / ih) if self.fit else 1.0
+        w, h = iw * scale, ih * scale
+        return QRectF((self.width() - w) / 2, (self.height() - h) / 2, w, h)
+
+    def paintEvent(self, event):
+        p = QPainter(self)
+        p.fillRect(self.rect(), QColor(28, 28, 30))
+        if not self._image.isNull():
+            p.setRenderHint(QPainter.SmoothPixmapTransform, self.fit)
+            p.drawImage(self._target_rect(), self._image)
+        p.setPen(QColor(200, 200, 200))
+        p.drawText(QPointF(8, 16), "fit" if self.fit else "1:1")
+
+    # ----------------------------------------------------------------------- orbit
+    def mousePressEvent(self, event):
+        if event.button() == Qt.LeftButton:
+            self._press = event.position()
+
+    def mouseMoveEvent(self, event):
+        if self._press is not None:
+            d = event.position() - self._press
+            self.orbitRequested.emit(-d.x() * 0.4, d.y() * 0.3, False)
+
+    def mouseReleaseEvent(self, event):
+        if self._press is not None:
+            self._press = None
+            self.orbitRequested.emit(0.0, 0.0, True)

@@ -1,0 +1,330 @@
+"""The section canvas: a vertical section in the (r, z) plane at true scale, with handles.
+
+Design rule: the canvas never changes the model. It draws what it was given (``show``) and
+turns mouse gestures into *proposed* sections (signal ``sectionProposed``); whoever owns the
+undo stack validates and applies them, and the scene notification brings the result back here.
+A refused proposal therefore leaves the canvas showing the last valid section.
+
+Mouse: left-drag a joint (square), an arc centre (circle) or an ellipse radius handle
+(diamond); Shift moves a joint alone instead of stretching the section; click a segment to
+select it; wheel zooms about the cursor; middle- or right-drag pans. Holding Ctrl disables snap.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from PySide6.QtCore import QPointF, QRectF, Qt, Signal
+from PySide6.QtGui import QColor, QPainter, QPainterPath, QPen, QPolygonF
+from PySide6.QtWidgets import QSizePolicy, QWidget
+
+from engine.section import Section
+from engine.segments import Arc, EllipseArc
+from widgets import section_edits as edits
+
+HANDLE_PX = 7.0
+
+
+@dataclass(frozen=True)
+class Handle:
+    """Something the designer can grab: ``kind`` is joint / centre / radius_r / radius_z."""
+
+    kind: str
+    index: int
+    point: tuple[float, float]
+
+
+def handles_of(section: Section) -> list[Handle]:
+    """Every draggable point of ``section`` (joints, arc centres, ellipse radius handles)."""
+    out = [Handle("joint", i, seg.p1) for i, seg in enumerate(section.segments)]
+    for i, seg in enumerate(section.segments):
+        if isinstance(seg, Arc):
+            out.append(Handle("centre", i, seg.center))
+        elif isinstance(seg, EllipseArc):
+            c = seg.center
+            out.append(Handle("radius_r", i, (c[0] + seg.radius_r, c[1])))
+            out.append(Handle("radius_z", i, (c[0], c[1] + seg.radius_z)))
+    return out
+
+
+def propose_drag(section: Section, handle: Handle, delta, local: bool) -> Section:
+    """The section after dragging ``handle`` by ``delta`` (mm); may raise ``ValueError``."""
+    if handle.kind == "joint":
+        return edits.move_joint(section, handle.index, delta, "local" if local else "stretch")
+    seg = section.segments[handle.index]
+    if handle.kind == "centre":
+        return edits.move_arc_centre(section, handle.index, delta)
+    if handle.kind == "radius_r":
+        return edits.set_ellipse_radii(section, handle.index, seg.radius_r + delta[0], seg.radius_z)
+    return edits.set_ellipse_radii(section, handle.index, seg.radius_r, seg.radius_z + delta[1])
+
+
+class SectionCanvas(QWidget):
+    """Draws one section with grid, dimensions, inner wall and fill line; proposes drag edits.
+
+    Signals
+    -------
+    sectionProposed(object, str, str)
+        ``(new Section, undo label, merge key)`` for every drag step.
+    selectionChanged(int)
+        Index of the selected segment (-1: none).
+    """
+
+    sectionProposed = Signal(object, str, str)
+    selectionChanged = Signal(int)
+    _gesture_serial = 0
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.setSizePolicy(QSizePolicy.Expanding, QSizePolicy.Expanding)
+        self.setMinimumSize(240, 240)
+        self.setMouseTracking(True)
+        self.setFocusPolicy(Qt.StrongFocus)
+        self.section: Section | None = None
+        self.inner = None
+        self.fill_z: float | None = None
+        self.ghosts: list[Section] = []
+        self.selected = -1
+        self.snap_mm = 0.5
+        self.scale = 1.5  # pixels per mm
+        self.origin = QPointF(60.0, 400.0)  # pixel position of (r, z) = (0, 0)
+        self._drag = None
+        self._pan_from = None
+        self._fitted = False
+
+    # ----------------------------------------------------------------- model → view
+    def show_section(self, section: Section, inner=None, fill_z=None, ghosts=()):
+        """Show ``section`` (and its inner wall, fill height in mm, other sections faintly)."""
+        self.section, self.inner, self.fill_z, self.ghosts = section, inner, fill_z, list(ghosts)
+        if self.selected >= len(section.segments):
+            self.select(-1)
+        if not self._fitted and self.width() > 0:
+            self.fit()
+        self.update()
+
+    def select(self, index: int):
+        if index != self.selected:
+            self.selected = index
+            self.selectionChanged.emit(index)
+            self.update()
+
+    # ----------------------------------------------------------------------- mapping
+    def to_px(self, p) -> QPointF:
+        return QPointF(self.origin.x() + p[0] * self.scale, self.origin.y() - p[1] * self.scale)
+
+    def to_mm(self, q: QPointF) -> tuple[float, float]:
+        return ((q.x() - self.origin.x()) / self.scale, (self.origin.y() - q.y()) / self.scale)
+
+    def fit(self):
+        """Zoom and pan so the whole section (both halves) fits the canvas."""
+        if self.section is None or self.width() < 10:
+            return
+        pts = edits.section_polyline(self.section)
+        rmax, zmax = max(float(pts[:, 0].max()), 1.0), max(float(pts[:, 1].max()), 1.0)
+        margin = 40.0
+        self.scale = min((self.width() - 2 * margin) / (2 * rmax), (self.height() - 2 * margin) / zmax)
+        self.origin = QPointF(self.width() / 2, self.height() - margin)
+        self._fitted = True
+        self.update()
+
+    def zoom(self, factor: float, about: QPointF | None = None):
+        about = about or QPointF(self.width() / 2, self.height() / 2)
+        fixed = self.to_mm(about)
+        self.scale = min(max(self.scale * factor, 0.05), 200.0)
+        p = self.to_px(fixed)
+        self.origin += about - p
+        self.update()
+
+    def resizeEvent(self, event):
+        super().resizeEvent(event)
+        if not self._fitted:
+            self.fit()
+
+    # ----------------------------------------------------------------------- painting
+    def _grid_step(self) -> float:
+        for step in (0.1, 0.5, 1, 2, 5, 10, 20, 50, 100, 200, 500):
+            if step * self.scale >= 12:
+                return step
+        return 1000.0
+
+    def _path(self, segments, mirror=False) -> QPainterPath:
+        pts = edits.section_polyline(segments)
+        path = QPainterPath()
+        for k, (r, z) in enumerate(pts):
+            q = self.to_px((-r if mirror else r, z))
+            path.moveTo(q) if k == 0 else path.lineTo(q)
+        return path
+
+    def paintEvent(self, event):
+        p = QPainter(self)
+        p.setRenderHint(QPainter.Antialiasing)
+        p.fillRect(self.rect(), QColor(250, 250, 247))
+        self._paint_grid(p)
+        if self.section is None:
+            return
+        for ghost in self.ghosts:
+            p.setPen(QPen(QColor(170, 170, 200), 1, Qt.DashLine))
+            p.drawPath(self._path(ghost))
+        p.setPen(QPen(QColor(150, 150, 150), 1))
+        p.drawPath(self._path(self.section, mirror=True))
+        if self.inner:
+            p.setPen(QPen(QColor(90, 140, 200), 1.2))
+            p.drawPath(self._path(self.inner))
+            p.drawPath(self._path(self.inner, mirror=True))
+        if self.fill_z is not None:
+            p.setPen(QPen(QColor(40, 120, 220), 1.5, Qt.DashDotLine))
+            a, b = self.to_px((-self._rmax(), self.fill_z)), self.to_px((self._rmax(), self.fill_z))
+            p.drawLine(a, b)
+            p.drawText(b + QPointF(4, -3), f"fill {self.fill_z:.1f}")
+        for i, seg in enumerate(self.section.segments):
+            sel = i == self.selected
+            p.setPen(QPen(QColor(220, 90, 20) if sel else QColor(20, 20, 20), 3 if sel else 2))
+            p.drawPath(self._path([seg]))
+        self._paint_dimensions(p)
+        self._paint_handles(p)
+
+    def _rmax(self) -> float:
+        return float(edits.section_polyline(self.section)[:, 0].max())
+
+    def _paint_grid(self, p: QPainter):
+        step = self._grid_step()
+        r0, z1 = self.to_mm(QPointF(0, 0))
+        r1, z0 = self.to_mm(QPointF(self.width(), self.height()))
+        for major in (False, True):
+            s = step * (10 if major else 1)
+            p.setPen(QPen(QColor(215, 215, 215) if major else QColor(236, 236, 236), 1))
+            k = math.floor(r0 / s)
+            while k * s <= r1:
+                x = self.to_px((k * s, 0)).x()
+                p.drawLine(QPointF(x, 0), QPointF(x, self.height()))
+                k += 1
+            k = math.floor(z0 / s)
+            while k * s <= z1:
+                y = self.to_px((0, k * s)).y()
+                p.drawLine(QPointF(0, y), QPointF(self.width(), y))
+                k += 1
+        p.setPen(QPen(QColor(120, 120, 120), 1, Qt.DashDotLine))
+        x = self.origin.x()
+        p.drawLine(QPointF(x, 0), QPointF(x, self.height()))
+        p.drawText(QPointF(4, self.height() - 4), f"grid {step:g} mm")
+
+    def _paint_dimensions(self, p: QPainter):
+        sec = self.section
+        p.setPen(QPen(QColor(160, 40, 40), 1))
+        rmax, ztop = self._rmax(), sec.z_top
+        x = self.to_px((rmax, 0)).x() + 24
+        a, b = QPointF(x, self.to_px((0, 0)).y()), QPointF(x, self.to_px((0, ztop)).y())
+        p.drawLine(a, b)
+        p.drawText(QPointF(x + 4, (a.y() + b.y()) / 2), f"H {ztop:.2f}")
+        y = self.to_px((0, ztop)).y() - 14
+        p.drawLine(QPointF(self.to_px((-rmax, 0)).x(), y), QPointF(self.to_px((rmax, 0)).x(), y))
+        p.drawText(QPointF(self.origin.x() + 4, y - 4), f"\u2300 {2 * rmax:.2f}")
+        if 0 <= self.selected < len(sec.segments):
+            seg = sec.segments[self.selected]
+            text = f"#{self.selected} {seg.kind}  L {seg.length:.2f}"
+            if isinstance(seg, Arc):
+                text += f"  R {seg.radius:.2f}"
+            elif isinstance(seg, EllipseArc):
+                text += f"  Rr {seg.radius_r:.2f}  Rz {seg.radius_z:.2f}"
+            p.drawText(QPointF(8, 16), text)
+
+    def _paint_handles(self, p: QPainter):
+        for h in handles_of(self.section):
+            q = self.to_px(h.point)
+            p.setPen(QPen(QColor(30, 30, 30), 1))
+            if h.kind == "joint":
+                p.setBrush(QColor(255, 255, 255))
+                p.drawRect(QRectF(q.x() - 4, q.y() - 4, 8, 8))
+            elif h.kind == "centre":
+                p.setBrush(QColor(255, 210, 120))
+                p.drawEllipse(q, 4, 4)
+            else:
+                p.setBrush(QColor(160, 220, 160))
+                p.drawPolygon(QPolygonF([q + QPointF(0, -5), q + QPointF(5, 0), q + QPointF(0, 5),
+                                         q + QPointF(-5, 0)]))
+        p.setBrush(Qt.NoBrush)
+
+    # ------------------------------------------------------------------------ mouse
+    def handle_at(self, pos: QPointF) -> Handle | None:
+        if self.section is None:
+            return None
+        best, best_d = None, HANDLE_PX
+        for h in handles_of(self.section):
+            d = math.dist((pos.x(), pos.y()), (self.to_px(h.point).x(), self.to_px(h.point).y()))
+            if d <= best_d:
+                best, best_d = h, d
+        return best
+
+    def segment_at(self, pos: QPointF) -> int:
+        if self.section is None:
+            return -1
+        r, z = self.to_mm(pos)
+        best, best_d = -1, 6.0 / self.scale
+        for i, seg in enumerate(self.section.segments):
+            pts = edits.section_polyline([seg], 48)
+            d = float(((pts[:, 0] - r) ** 2 + (pts[:, 1] - z) ** 2).min()) ** 0.5
+            if d < best_d:
+                best, best_d = i, d
+        return best
+
+    def _snap(self, value: float, enabled: bool) -> float:
+        return round(value / self.snap_mm) * self.snap_mm if enabled and self.snap_mm > 0 else value
+
+    def mousePressEvent(self, event):
+        pos = event.position()
+        if event.button() in (Qt.MiddleButton, Qt.RightButton):
+            self._pan_from = pos
+            return
+        if event.button() != Qt.LeftButton:
+            return
+        handle = self.handle_at(pos)
+        if handle is not None:
+            SectionCanvas._gesture_serial += 1
+            key = f"drag-{handle.kind}-{handle.index}-{SectionCanvas._gesture_serial}"
+            self._drag = (handle, self.section, key)
+            if handle.kind != "joint":
+                self.select(handle.index)
+            return
+        self.select(self.segment_at(pos))
+
+    def mouseMoveEvent(self, event):
+        pos = event.position()
+        if self._pan_from is not None:
+            self.origin += pos - self._pan_from
+            self._pan_from = pos
+            self.update()
+            return
+        if self._drag is None:
+            return
+        handle, start, key = self._drag
+        snap = not (event.modifiers() & Qt.ControlModifier)
+        r, z = self.to_mm(pos)
+        target = (self._snap(r, snap), self._snap(z, snap))
+        delta = (target[0] - handle.point[0], target[1] - handle.point[1])
+        local = bool(event.modifiers() & Qt.ShiftModifier)
+        self.drag_to(delta, local)
+
+    def drag_to(self, delta, local: bool = False):
+        """Propose the drag-start section with the grabbed handle moved by ``delta`` (mm)."""
+        handle, start, key = self._drag
+        try:
+            proposal = propose_drag(start, handle, delta, local)
+        except ValueError:
+            return
+        label = {"joint": "Move joint", "centre": "Change arc radius"}.get(handle.kind, "Change ellipse radius")
+        self.sectionProposed.emit(proposal, label, key)
+
+    def begin_drag(self, handle: Handle, key: str):
+        """Start dragging ``handle`` as the mouse does (also used by tests and benchmarks)."""
+        self._drag = (handle, self.section, key)
+
+    def end_drag(self):
+        self._drag = None
+
+    def mouseReleaseEvent(self, event):
+        self._pan_from = None
+        self.end_drag()
+
+    def wheelEvent(self, event):
+        factor = 1.0015 ** event.angleDelta().y()
+        self.zoom(factor, event.position())

@@ -1,0 +1,91 @@
+"""The 3D wireframe of the bottle (pyvistaqt ``QtInteractor``).
+
+Design rule: the view only uploads finished line sets (built off the GUI thread by
+:mod:`app.wireframe_controller`) into one persistent ``PolyData`` and renders once; it never
+tessellates. ``auto_update`` is off on purpose: the view renders when it gets new lines or
+the user orbits, not on a timer. ``grab_framebuffer`` returns what VTK drew, so the window
+can paint it into a ``QWidget.grab`` (which cannot see the OpenGL surface by itself).
+"""
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from PySide6.QtGui import QImage
+from PySide6.QtWidgets import QVBoxLayout, QWidget
+
+from engine.design import Camera
+
+
+class WireframeView(QWidget):
+    """A VTK view of the current wireframe; ``shutdown()`` closes the plotter."""
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        import pyvista as pv
+        from pyvistaqt import QtInteractor
+        self._pv = pv
+        self.plotter = QtInteractor(self, auto_update=False)
+        self.plotter.set_background("#202428")
+        layout = QVBoxLayout(self)
+        layout.setContentsMargins(0, 0, 0, 0)
+        layout.addWidget(self.plotter.interactor)
+        self.poly = None
+        self.actor = None
+        self.last_upload_s = 0.0
+        self.uploads = 0
+        self._closed = False
+
+    def show_lines(self, points: np.ndarray, edges: np.ndarray):
+        """Replace the wireframe by ``edges`` (M, 2) between ``points`` (N, 3) in mm."""
+        if self._closed:
+            return
+        t0 = time.perf_counter()
+        cells = np.empty((len(edges), 3), dtype=np.int64)
+        cells[:, 0] = 2
+        cells[:, 1:] = edges
+        new = self._pv.PolyData(np.asarray(points, dtype=float), lines=cells.ravel())
+        if self.poly is None:
+            self.poly = new
+            self.actor = self.plotter.add_mesh(self.poly, color="#d8e4f0", line_width=1.0)
+            self.plotter.view_xz()
+            self.plotter.reset_camera()
+        else:
+            self.poly.copy_from(new)
+        self.plotter.render()
+        self.uploads += 1
+        self.last_upload_s = time.perf_counter() - t0
+
+    def current_camera(self, template: Camera) -> Camera:
+        """The view's camera as a design camera (keeps ``template``'s other fields)."""
+        cam = self.plotter.camera
+        eye, target, up = tuple(cam.position), tuple(cam.focal_point), tuple(cam.up)
+        return Camera(eye=tuple(map(float, eye)), target=tuple(map(float, target)),
+                      up=tuple(map(float, up)), fov_y_deg=float(cam.view_angle) or template.fov_y_deg)
+
+    def set_camera(self, camera: Camera):
+        cam = self.plotter.camera
+        cam.position, cam.focal_point, cam.up = camera.eye, camera.target, camera.up
+        cam.view_angle = camera.fov_y_deg
+        self.plotter.render()
+
+    def grab_framebuffer(self) -> QImage:
+        """What VTK drew, as a QImage the size of the view (for window screenshots)."""
+        if self._closed or self.poly is None:
+            return QImage()
+        self.plotter.render()
+        img = np.ascontiguousarray(self.plotter.screenshot(return_img=True)[..., :3])
+        h, w = img.shape[:2]
+        return QImage(img.data, w, h, 3 * w, QImage.Format_RGB888).copy()
+
+    def shutdown(self):
+        """Close the plotter (releases the render window); safe to call twice."""
+        if not self._closed:
+            self._closed = True
+            self.plotter.close()
+
+
+def wireframe_extent(points: np.ndarray) -> float:
+    """Largest distance (mm) of a point from the z axis, for framing."""
+    return float(math.sqrt(np.max(points[:, 0] ** 2 + points[:, 1] ** 2))) if len(points) else 0.0

@@ -1,0 +1,172 @@
+"""Trade numbers: brimful and filled capacity, fill point, glass volume and mass, sizes.
+
+Design rule: every volume is the integral over height of a cross-section area,
+``V = int A(z) dz``, split into pieces between the heights of all joints (of every section, inner
+and outer, base and wall), so that inside a piece each radius is an analytic function of z. Each
+piece is integrated by Gauss-Legendre after the substitution ``z = za + (zb - za)(1 - cos(pi x))/2``,
+which turns the square-root behaviour of r(z) where a section turns horizontal (foot arcs,
+the top of a punt) into a smooth integrand; 24 nodes give ~1e-12 relative. A punt's dome is
+taken off as the disk ``pi rho_b(z)^2`` of the base curve at that height.
+
+Units: mm in, ml (= cm^3 = 1000 mm^3) and grams out. Results are cached per shape (shapes are
+hashable), so the GUI can ask for them on every edit.
+"""
+from __future__ import annotations
+
+import math
+from functools import lru_cache
+
+import numpy as np
+
+from . import crosssection
+from .offset import BodyProfile, body_profile, radius_at
+
+MM3_PER_ML = 1000.0
+#: Soda-lime container glass (g/cm^3).
+DEFAULT_DENSITY_G_CM3 = 2.52
+
+_X, _W = np.polynomial.legendre.leggauss(24)
+_X, _W = (_X + 1.0) / 2.0, _W / 2.0                      # nodes and weights on [0, 1]
+_SUB_Z = (1.0 - np.cos(math.pi * _X)) / 2.0              # z fraction at each node
+_SUB_W = _W * (math.pi / 2.0) * np.sin(math.pi * _X)     # weight times dz/dx / (zb - za)
+
+
+def _joints(chains, z_lo: float, z_hi: float) -> np.ndarray:
+    zs = [z_lo, z_hi] + [p for c in chains for s in c for p in (s.p0[1], s.p1[1])]
+    z = np.unique(np.clip(np.asarray(zs, float), z_lo, z_hi))
+    return z
+
+
+def _area_at(prof: BodyProfile, z, which: str) -> np.ndarray:
+    """Area (mm^2) of the cavity (``which="inner"``) or outer solid at heights ``z`` (mm)."""
+    walls = [sp.inner_wall if which == "inner" else sp.outer_wall for sp in prof.sections]
+    radii = [radius_at(w, np.clip(z, w[0].p0[1], w[-1].p1[1])) for w in walls]
+    a = crosssection.area(prof.cross_section, radii)
+    if prof.punt:  # round only: take off the dome under the base curve
+        base = prof.sections[0].inner_base if which == "inner" else prof.sections[0].outer_base
+        top = base[0].p0[1]
+        rho = radius_at(base, np.clip(z, base[-1].p1[1], top))
+        a = a - np.where(z < top, math.pi * rho ** 2, 0.0)
+    return a
+
+
+def _chains(prof: BodyProfile, which: str):
+    if which == "inner":
+        return [c for sp in prof.sections for c in (sp.inner_wall, sp.inner_base)]
+    return [c for sp in prof.sections for c in (sp.outer_wall, sp.outer_base)]
+
+
+def _integrate(prof: BodyProfile, which: str, z_lo: float, z_hi: float) -> np.ndarray:
+    """Volumes (mm^3) of each piece between joints from ``z_lo`` to ``z_hi``, and the joints."""
+    joints = _joints(_chains(prof, which), z_lo, z_hi)
+    za, zb = joints[:-1, None], joints[1:, None]
+    z = za + (zb - za) * _SUB_Z
+    a = _area_at(prof, z.ravel(), which).reshape(z.shape)
+    return joints, (zb[:, 0] - za[:, 0]) * (a @ _SUB_W)
+
+
+@lru_cache(maxsize=64)
+def _cavity_table(shape):
+    """Joints and cumulative cavity volume (mm^3) at each, from the inner base up."""
+    prof = body_profile(shape)
+    joints, vols = _integrate(prof, "inner", prof.z_ib, prof.z_top)
+    return prof, joints, np.concatenate([[0.0], np.cumsum(vols)])
+
+
+def _cavity_below_mm3(shape, z: float) -> float:
+    prof, joints, cum = _cavity_table(shape)
+    if z <= prof.z_ib:
+        return 0.0
+    if z >= prof.z_top:
+        return float(cum[-1])
+    i = int(np.searchsorted(joints, z, side="right")) - 1
+    _, part = _integrate(prof, "inner", joints[i], z)
+    return float(cum[i] + part.sum())
+
+
+def brimful_ml(shape) -> float:
+    """Cavity volume (ml) from the inner base up to the mouth ``z_top`` (the brimful capacity)."""
+    return float(_cavity_table(shape)[2][-1]) / MM3_PER_ML
+
+
+def capacity_ml(shape, fill_height_mm: float) -> float:
+    """Liquid volume (ml) when filled to ``fill_height_mm`` above z = 0 (clamped to the cavity)."""
+    return _cavity_below_mm3(shape, float(fill_height_mm)) / MM3_PER_ML
+
+
+def fill_height_for_volume(shape, ml: float) -> float:
+    """Height (mm above z = 0) of the liquid surface when the bottle holds ``ml`` millilitres.
+
+    Raises ``ValueError`` for a negative volume or one above the brimful capacity. Solved by
+    Newton steps on ``V(h) - ml`` (``dV/dh`` is the cavity area) inside the right piece.
+    """
+    prof, joints, cum = _cavity_table(shape)
+    target = float(ml) * MM3_PER_ML
+    if not (0.0 <= target <= cum[-1] * (1 + 1e-12)):
+        raise ValueError(f"{ml:g} ml does not fit: the brimful capacity is {cum[-1] / MM3_PER_ML:.6g} ml")
+    i = min(int(np.searchsorted(cum, target, side="right")) - 1, len(joints) - 2)
+    z0 = float(joints[i])
+    lo, hi = z0, float(joints[i + 1])
+    h = lo + (hi - lo) * (target - cum[i]) / max(cum[i + 1] - cum[i], 1e-300)
+    for _ in range(60):
+        f = cum[i] - target + (_integrate(prof, "inner", z0, h)[1].sum() if h > z0 else 0.0)
+        lo, hi = (h, hi) if f <= 0 else (lo, h)
+        area = float(_area_at(prof, np.array([h]), "inner")[0])
+        h_new = h - f / area if area > 0 else 0.5 * (lo + hi)
+        if not lo <= h_new <= hi:
+            h_new = 0.5 * (lo + hi)
+        if abs(h_new - h) < 1e-10 or hi - lo < 1e-10:
+            return float(h_new)
+        h = h_new
+    return float(h)
+
+
+def fill_point_below_top_mm(shape, ml: float) -> float:
+    """How far (mm) below the mouth the liquid stands when the bottle holds ``ml`` (the fill point)."""
+    return float(shape.z_top) - fill_height_for_volume(shape, ml)
+
+
+@lru_cache(maxsize=64)
+def _outer_volume_mm3(shape) -> float:
+    prof = body_profile(shape)
+    return float(_integrate(prof, "outer", 0.0, prof.z_top)[1].sum())
+
+
+def glass_volume_cm3(shape) -> float:
+    """Volume of glass (cm^3): the outer solid less the cavity up to the mouth."""
+    return (_outer_volume_mm3(shape) - float(_cavity_table(shape)[2][-1])) / MM3_PER_ML
+
+
+def glass_mass_g(shape, density_g_cm3: float = DEFAULT_DENSITY_G_CM3) -> float:
+    """Mass of the glass (g) at ``density_g_cm3`` (soda-lime glass: 2.52 g/cm^3)."""
+    return glass_volume_cm3(shape) * float(density_g_cm3)
+
+
+@lru_cache(maxsize=64)
+def max_diameter_mm(shape) -> float:
+    """Largest outside width (mm) through the axis: twice the largest circumradius of any
+    horizontal cross-section (the diagonal of a rounded square, the long axis of an oval)."""
+    prof = body_profile(shape)
+    walls = [sp.outer_wall for sp in prof.sections]
+    z = np.unique(np.concatenate([s.point(np.linspace(0, 1, 257))[:, 1] for w in walls for s in w]))
+
+    def radius(zz):
+        zz = np.asarray(zz, float)
+        return crosssection.circumradius(prof.cross_section,
+                                         [radius_at(w, np.clip(zz, w[0].p0[1], w[-1].p1[1])) for w in walls])
+
+    r = radius(z)
+    j = int(np.argmax(r))
+    lo, hi = z[max(j - 1, 0)], z[min(j + 1, len(z) - 1)]
+    for _ in range(60):  # golden-section refinement of the maximum between neighbouring samples
+        m1, m2 = hi - 0.618034 * (hi - lo), lo + 0.618034 * (hi - lo)
+        if radius(m1) >= radius(m2):
+            hi = m2
+        else:
+            lo = m1
+    return 2.0 * float(max(r[j], radius(0.5 * (lo + hi))))
+
+
+def height_mm(shape) -> float:
+    """Overall height (mm): from the standing plane z = 0 to the mouth."""
+    return float(shape.z_top)

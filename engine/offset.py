@@ -1,0 +1,404 @@
+"""Inner sections and the derived body profile: the wall offset inwards, clipped at the inner base.
+
+Design rule: everything here is a pure function of segments and thicknesses (mm). A section is
+split at the *standing ring* (the first joint at z = 0, see :func:`wall_start_index`) into the
+**base part** (axis -> ring) and the **wall part** (ring -> mouth). The inner wall is the wall
+part offset inwards in its own (r, z) plane (SPEC 4.2: ``P(t) - w n(t)``), clipped where it meets
+the inner base; the inner base is the base part offset inwards by ``base_thickness`` (a flat base
+gives the plane ``z = base_thickness`` exactly, as in the SPEC; a punt gives a raised dome).
+
+:class:`BodyProfile` gathers, per named section, the outer and inner base and wall segments; the
+tracer, the tessellator and the capacity code read it. :func:`body_profile` validates the shape
+first and caches the result per shape (shapes are hashable values).
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+
+from .errors import SectionError, WallError
+from .segments import Arc, EllipseArc, Line, OffsetEllipseArc, Segment
+from .shape import BottleShape
+
+#: Distance (mm) under which two points are the same joint.
+JOINT_TOL_MM = 1e-9
+#: Height tolerance (mm) for "at z = 0" and for snapping clip heights onto joints.
+Z_TOL_MM = 1e-6
+
+
+# --------------------------------------------------------------------------- segment helpers
+def subsegment(seg: Segment, t0: float, t1: float) -> Segment:
+    """The part of ``seg`` for parameters ``t0 <= t <= t1`` (0 <= t0 < t1 <= 1), same kind.
+
+    The new segment's parameter maps linearly onto ``[t0, t1]`` of the old one (every kind here is
+    parameterised linearly in angle or length), so ``sub.point(s) == seg.point(t0 + s (t1 - t0))``.
+    """
+    if not (0.0 <= t0 < t1 <= 1.0) or t1 - t0 < 1e-13:
+        raise ValueError(f"sub-range [{t0}, {t1}] is not a proper part of [0, 1]")
+    if isinstance(seg, OffsetEllipseArc):
+        return OffsetEllipseArc(subsegment(seg.base, t0, t1), seg.w)
+    p0 = tuple(float(v) for v in seg.point(t0))
+    p1 = tuple(float(v) for v in seg.point(t1))
+    if isinstance(seg, Line):
+        return Line(p0, p1)
+    if isinstance(seg, Arc):
+        return Arc(seg.center, seg.radius, p0, p1, seg.direction)
+    if isinstance(seg, EllipseArc):
+        return EllipseArc(seg.center, seg.radius_r, seg.radius_z, p0, p1, seg.direction)
+    raise TypeError(f"unknown segment type {type(seg).__name__}")
+
+
+def _wrap_to_unit(d_angle, sweep: float):
+    """Parameter ``t`` of an angle offset ``d_angle`` from the start on an arc sweeping ``sweep``."""
+    d = np.mod(np.asarray(d_angle) * math.copysign(1.0, sweep) + math.pi, 2 * math.pi) - math.pi
+    return np.clip(d / abs(sweep), 0.0, 1.0)
+
+
+def param_at_z(seg: Segment, z) -> np.ndarray:
+    """Parameter(s) ``t`` where the z-monotone segment ``seg`` is at height ``z`` (mm).
+
+    Exact for lines, arcs and ellipse arcs (inverse trigonometry on the half that the arc lies
+    in); a bracketed Newton iteration for offset ellipse arcs. ``z`` outside the segment's range
+    gives the nearer end. The segment must be monotone in z (wall and base parts are).
+    """
+    z = np.asarray(z, dtype=float)
+    z0, z1 = seg.p0[1], seg.p1[1]
+    if isinstance(seg, Line):
+        if z1 == z0:
+            return np.zeros_like(z)
+        return np.clip((z - z0) / (z1 - z0), 0.0, 1.0)
+    if isinstance(seg, (Arc, EllipseArc)):
+        rz = seg.radius if isinstance(seg, Arc) else seg.radius_z
+        s = np.arcsin(np.clip((z - seg.center[1]) / rz, -1.0, 1.0))
+        mid = float(seg.angle(0.5))
+        if math.cos(mid) < 0.0:  # the arc lies on the half nearer the axis
+            s = math.pi - s
+        return _wrap_to_unit(s - seg.angle0, seg.sweep)
+    if isinstance(seg, OffsetEllipseArc):
+        return _offset_param_at_z(seg, z)
+    raise TypeError(f"unknown segment type {type(seg).__name__}")
+
+
+def _offset_param_at_z(seg: OffsetEllipseArc, z) -> np.ndarray:
+    """Bracketed Newton solve of ``z(t) = z`` on an offset ellipse arc (monotone in z)."""
+    b = seg.base
+    zlo, zhi = seg.p0[1], seg.p1[1]
+    sign = 1.0 if zhi >= zlo else -1.0
+    target = sign * np.clip(z, min(zlo, zhi), max(zlo, zhi))
+    lo, hi = np.zeros_like(target), np.ones_like(target)
+    t = np.clip((target - sign * zlo) / max(abs(zhi - zlo), 1e-300), 0.0, 1.0)
+    for _ in range(60):
+        f = sign * seg.point(t)[..., 1] - target
+        lo = np.where(f < 0, t, lo)
+        hi = np.where(f >= 0, t, hi)
+        s = b.angle(t)
+        speed = abs(b.sweep) * np.hypot(b.radius_r * np.sin(s), b.radius_z * np.cos(s))
+        dzdt = sign * speed * (1.0 - seg.w * b.curvature(t)) * b.tangent(t)[..., 1]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t_new = t - f / dzdt
+        bad = ~np.isfinite(t_new) | (t_new <= lo) | (t_new >= hi)
+        t_new = np.where(bad, 0.5 * (lo + hi), t_new)
+        if np.all(np.abs(t_new - t) < 1e-15) or np.all(np.abs(f) < 1e-12):
+            return t_new
+        t = t_new
+    return t
+
+
+def locate(segments, z):
+    """Index of the segment holding height ``z`` (mm) and the parameter there, vectorised.
+
+    ``segments`` is a chain monotone in z, rising (a wall) or descending (a punt's base).
+    Heights outside its z range get index -1 and ``t = nan``. Returns
+    ``(index (int array), t (float array))`` shaped like ``z``.
+    """
+    z = np.asarray(z, dtype=float)
+    n = len(segments)
+    rising = segments[-1].p1[1] >= segments[0].p0[1]
+    order = range(n) if rising else range(n - 1, -1, -1)
+    tops = np.array([max(segments[i].p0[1], segments[i].p1[1]) for i in order])
+    pos = np.minimum(np.searchsorted(tops, z, side="left"), n - 1)
+    idx = pos if rising else n - 1 - pos
+    t = np.full(z.shape, np.nan)
+    for i in np.unique(idx):
+        m = idx == i
+        t[m] = param_at_z(segments[i], z[m])
+    z_lo = min(segments[0].p0[1], segments[-1].p1[1])
+    z_hi = max(segments[0].p0[1], segments[-1].p1[1])
+    outside = (z < z_lo - Z_TOL_MM) | (z > z_hi + Z_TOL_MM)
+    idx = np.where(outside, -1, idx)
+    t[outside] = np.nan
+    return idx, t
+
+
+def radius_at(segments, z) -> np.ndarray:
+    """Radius r(z) (mm) of a z-monotone chain of segments at heights ``z`` (mm), vectorised.
+
+    Heights outside the chain's z range give ``nan``. Exact up to rounding (see :func:`param_at_z`).
+    """
+    idx, t = locate(segments, z)
+    r = np.full(np.shape(t), np.nan)
+    for i in np.unique(idx[idx >= 0]):
+        m = idx == i
+        r[m] = segments[i].point(t[m])[..., 0]
+    return r
+
+
+# --------------------------------------------------------------------------- base / wall split
+def wall_start_index(section) -> int:
+    """Index of the first wall segment: the one after the first joint at z = 0 (the standing ring).
+
+    A SPEC section has a flat ``segments[0]`` at z = 0, so this is 1. A section with a punt starts
+    at ``(0, h_punt)`` and its base part (segments before the ring) descends to z = 0. Raises
+    ``SectionError`` when no joint lies at z = 0 or the ring is the mouth.
+    """
+    segs = section.segments
+    for i, s in enumerate(segs[:-1]):
+        if abs(s.p1[1]) <= Z_TOL_MM:
+            return i + 1
+    raise SectionError(0, "the base never reaches the standing plane z = 0 at a joint before the finish")
+
+
+# --------------------------------------------------------------------------- offsetting
+def _offset(seg: Segment, w: float, index: int) -> Segment:
+    try:
+        return seg.offset(w)
+    except SectionError as exc:
+        raise WallError(f"segment {index}: wall {w:g} mm is too thick for this arc ({exc})") from None
+
+
+def _join(a: Segment, b: Segment, corner, w_equal: float | None, index: int):
+    """Join consecutive offset segments ``a``, ``b``: returns ``(a', bridge, b')``.
+
+    Where they meet nothing changes; where they part, the gap is bridged (exact arc of radius
+    ``w`` about the corner for equal walls, else a line); where they cross, both are trimmed at
+    the crossing height (bisection on r_a(z) - r_b(z)); where walls of different thickness
+    neither meet nor cross, ``b`` is cut at ``a``'s end height and a horizontal step joins them.
+    """
+    (ar, az), (br, bz) = a.p1, b.p0
+    if math.hypot(ar - br, az - bz) <= JOINT_TOL_MM:
+        return a, (), b
+    if bz >= az:
+        if w_equal is not None and abs(math.hypot(ar - corner[0], az - corner[1]) - w_equal) < 1e-6:
+            cross = (ar - corner[0]) * (bz - corner[1]) - (az - corner[1]) * (br - corner[0])
+            return a, (Arc(corner, w_equal, a.p1, b.p0, "ccw" if cross > 0 else "cw"),), b
+        return a, (Line(a.p1, b.p0),), b
+    zlo = max(bz, min(a.p0[1], a.p1[1]))
+    zhi = min(az, max(b.p0[1], b.p1[1]))
+
+    def diff(zz):
+        return float(a.point(param_at_z(a, zz))[0] - b.point(param_at_z(b, zz))[0])
+
+    if not zlo < zhi or diff(zlo) * diff(zhi) > 0:
+        if max(b.p0[1], b.p1[1]) > az + JOINT_TOL_MM and w_equal is None:
+            # walls of different thickness that do not cross: step across at a's end height
+            tb = float(param_at_z(b, az))
+            b2 = subsegment(b, tb, 1.0)
+            return a, (Line(a.p1, b2.p0),), b2
+        raise WallError(f"segment {index}: the inner wall folds over itself at this joint "
+                        f"(wall too thick for the corner or for the change of thickness)")
+    f_lo = diff(zlo)
+    for _ in range(70):
+        zm = 0.5 * (zlo + zhi)
+        if diff(zm) * f_lo > 0:
+            zlo = zm
+        else:
+            zhi = zm
+    zc = 0.5 * (zlo + zhi)
+    ta, tb = float(param_at_z(a, zc)), float(param_at_z(b, zc))
+    if ta < 1e-12 or tb > 1 - 1e-12:
+        raise WallError(f"segment {index}: the inner wall crosses past a whole segment at this joint")
+    a2, b2 = subsegment(a, 0.0, ta), subsegment(b, tb, 1.0)
+    gap = math.hypot(a2.p1[0] - b2.p0[0], a2.p1[1] - b2.p0[1])
+    return a2, ((Line(a2.p1, b2.p0),) if gap > JOINT_TOL_MM else ()), b2
+
+
+def offset_chain(segments, walls, first_index: int = 0) -> tuple[Segment, ...]:
+    """Offset a chain of segments inwards by ``walls`` (one thickness per segment, mm) and join it.
+
+    See :func:`_join` for what happens at joints. ``first_index`` is the index of
+    ``segments[0]`` in its section, used in error messages.
+    """
+    offs = [_offset(s, w, first_index + i) for i, (s, w) in enumerate(zip(segments, walls))]
+    out: list[Segment] = [offs[0]]
+    for i in range(1, len(offs)):
+        w_eq = walls[i] if abs(walls[i] - walls[i - 1]) < 1e-12 else None
+        a, bridge, b = _join(out[-1], offs[i], segments[i].p0, w_eq, first_index + i)
+        out[-1:] = [a, *bridge, b]
+    return tuple(out)
+
+
+def clip_from_z(segments, z_clip: float, what: str = "inner wall") -> tuple[Segment, ...]:
+    """The part of a z-rising chain above ``z_clip`` (mm); the first piece is a sub-segment."""
+    for i, s in enumerate(segments):
+        if s.p1[1] <= z_clip + 1e-12:
+            continue
+        if s.p0[1] >= z_clip - 1e-12:
+            if i == 0 and s.p0[1] > z_clip + Z_TOL_MM:
+                break
+            return tuple(segments[i:])
+        t = float(param_at_z(s, z_clip))
+        if t >= 1.0 - 1e-13:
+            continue
+        return (subsegment(s, t, 1.0),) + tuple(segments[i + 1:])
+    raise WallError(f"the {what} does not span the height {z_clip:g} mm "
+                    f"(it runs from {segments[0].p0[1]:g} mm to {segments[-1].p1[1]:g} mm)")
+
+
+def inner_section(section, wall, z_ib: float) -> tuple[Segment, ...]:
+    """The inner wall curve of ``section`` from the inner base height ``z_ib`` to the mouth (mm).
+
+    ``wall`` is one thickness (mm) or one per wall segment (segments from
+    :func:`wall_start_index` on). The wall part is offset inwards (``P - w n``) and clipped at
+    ``z_ib``; the result is a z-rising chain of ``Line`` / ``Arc`` / ``OffsetEllipseArc`` whose
+    first point is at height ``z_ib`` and last at ``section.z_top``.
+    """
+    k = wall_start_index(section)
+    wall_segs = section.segments[k:]
+    walls = ([float(wall)] * len(wall_segs) if np.ndim(wall) == 0 else [float(w) for w in wall])
+    if len(walls) != len(wall_segs):
+        raise WallError(f"{len(walls)} wall thicknesses given for {len(wall_segs)} wall segments")
+    return clip_from_z(offset_chain(wall_segs, walls, k), float(z_ib))
+
+
+# --------------------------------------------------------------------------- body profile
+@dataclass(frozen=True)
+class SectionProfile:
+    """One named section split into its four curves (all in its own (r, z) plane, mm).
+
+    ``outer_base`` runs from the axis to the standing ring (z = 0); ``outer_wall`` from the ring
+    to the mouth (z rising strictly); ``inner_base`` from the axis to the foot of the inner wall
+    (flat base: one ``Line`` at ``z = base_thickness``); ``inner_wall`` from there to the mouth
+    (z rising). ``inner_base[-1].p1`` coincides with ``inner_wall[0].p0`` to 1e-9 mm.
+    """
+
+    name: str
+    outer_base: tuple[Segment, ...]
+    outer_wall: tuple[Segment, ...]
+    inner_base: tuple[Segment, ...]
+    inner_wall: tuple[Segment, ...]
+
+    @property
+    def r_top(self) -> float:
+        """Outer radius at the mouth (mm)."""
+        return self.outer_wall[-1].p1[0]
+
+    @property
+    def r_in_top(self) -> float:
+        """Inner radius at the mouth (mm): the inner edge of the rim."""
+        return self.inner_wall[-1].p1[0]
+
+    @property
+    def r_base(self) -> float:
+        """Radius of the standing ring (mm): where the outer base meets the outer wall."""
+        return self.outer_wall[0].p0[0]
+
+
+@dataclass(frozen=True)
+class BodyProfile:
+    """The derived curves of a whole bottle, for the tracer, tessellator and capacity code.
+
+    ``sections`` follow ``engine.shape.SECTION_NAMES[cross_section]`` order. ``z_ib`` is the
+    lowest height of the cavity (mm): the inner base plane ``base_thickness`` for a flat base,
+    the foot of the inner wall for a punt. ``z_top`` is the mouth (mm). ``punt`` says whether the
+    base rises into the bottle (round bottles only). ``rotation_deg`` turns non-round bottles.
+    """
+
+    cross_section: str
+    sections: tuple[SectionProfile, ...]
+    z_ib: float
+    z_top: float
+    punt: bool
+    rotation_deg: float = 0.0
+
+    def section(self, name: str) -> SectionProfile:
+        """The profile of the section called ``name``."""
+        for s in self.sections:
+            if s.name == name:
+                return s
+        raise KeyError(f"no section {name!r} in this {self.cross_section} profile")
+
+    @property
+    def r_top(self) -> float:
+        """Outer radius of the (round) mouth, mm."""
+        return self.sections[0].r_top
+
+
+def is_flat_base(section) -> bool:
+    """True when the base part is the SPEC flat base: one horizontal line at z = 0."""
+    s0 = section.segments[0]
+    return (wall_start_index(section) == 1 and isinstance(s0, Line)
+            and abs(s0.p0[1]) <= Z_TOL_MM and abs(s0.p1[1]) <= Z_TOL_MM)
+
+
+def _punt_junction(inner_base, inner_wall_full, name):
+    """Where the raised inner base meets the inner wall: ``(segment index, t, z)``."""
+    z_start = inner_wall_full[0].p0[1]
+    prev = None
+    for m, seg in enumerate(inner_base):
+        t = np.linspace(0.0, 1.0, 65)
+        p = seg.point(t)
+        g = p[:, 0] - radius_at(inner_wall_full, np.maximum(p[:, 1], z_start))
+        g = np.where(p[:, 1] < z_start, np.inf, g)  # below the inner wall: certainly outside
+        hit = np.nonzero(g >= 0)[0]
+        if len(hit):
+            j = hit[0]
+            if j == 0:
+                if prev is None:
+                    raise WallError(f"{name} section: the inner base does not reach the axis "
+                                    "inside the inner wall (base or wall too thick)")
+                return prev
+            lo, hi = t[j - 1], t[j]
+            for _ in range(60):
+                tm = 0.5 * (lo + hi)
+                pm = seg.point(tm)
+                gm = np.inf if pm[1] < z_start else pm[0] - radius_at(inner_wall_full, pm[1])
+                lo, hi = (tm, hi) if gm < 0 else (lo, tm)
+            tj = 0.5 * (lo + hi)
+            return m, tj, float(seg.point(tj)[1])
+        prev = (m, 1.0, seg.p1[1])
+    raise WallError(f"{name} section: the inner base never meets the inner wall "
+                    "(base thickness too small for the punt)")
+
+
+def build_body_profile(shape: BottleShape) -> BodyProfile:
+    """Derive the :class:`BodyProfile` of ``shape`` without validating it first (see
+    :func:`body_profile`). Raises ``WallError`` / ``SectionError`` on what it cannot build."""
+    bt = shape.base_thickness
+    flat = all(is_flat_base(sec) for _, sec in shape.sections)
+    profiles = []
+    z_ib = bt
+    for name, sec in shape.sections:
+        k = wall_start_index(sec)
+        walls = shape.wall_per_segment if shape.wall_per_segment is not None else shape.wall_thickness
+        walls = [float(walls)] * (len(sec) - k) if np.ndim(walls) == 0 else list(walls)
+        if len(walls) != len(sec) - k:
+            raise WallError(f"{len(walls)} wall thicknesses given for {len(sec) - k} wall segments")
+        full = offset_chain(sec.segments[k:], walls, k)
+        if flat:
+            inner_wall = clip_from_z(full, bt)
+            inner_base = (Line((0.0, bt), inner_wall[0].p0),)
+        else:
+            base_off = offset_chain(sec.segments[:k], [bt] * k, 0)
+            m, tj, z_ib = _punt_junction(base_off, full, name)
+            inner_wall = clip_from_z(full, z_ib)
+            inner_base = base_off[:m] + ((subsegment(base_off[m], 0.0, tj),) if tj > 1e-12 else ())
+        profiles.append(SectionProfile(name, tuple(sec.segments[:k]), tuple(sec.segments[k:]),
+                                       tuple(inner_base), tuple(inner_wall)))
+    return BodyProfile(shape.cross_section, tuple(profiles), float(z_ib), float(shape.z_top),
+                       not flat, shape.rotation_deg)
+
+
+@lru_cache(maxsize=64)
+def body_profile(shape: BottleShape) -> BodyProfile:
+    """The validated, cached :class:`BodyProfile` of ``shape``.
+
+    Raises ``SectionError`` / ``WallError`` (from :func:`engine.validate.validate_shape`) when the
+    shape cannot be built.
+    """
+    from .validate import validate_shape  # validate builds on this module's helpers
+
+    validate_shape(shape)
+    return build_body_profile(shape)

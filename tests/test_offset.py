@@ -1,0 +1,144 @@
+"""Inner sections, sub-segments, radius_at and the BodyProfile (engine.offset)."""
+import json
+import math
+
+import numpy as np
+import pytest
+
+from engine.errors import WallError
+from engine.offset import (body_profile, inner_section, param_at_z, radius_at, subsegment,
+                           wall_start_index)
+from engine.section import Section
+from engine.segments import Arc, EllipseArc, Line, OffsetEllipseArc
+from engine.shape import BottleShape
+
+SPECS = "/work/shared/oracle/specs/public_{}.json"
+
+
+def spec_shape(n: int) -> BottleShape:
+    """The bottle of oracle scene ``public_n`` as a BottleShape."""
+    b = json.load(open(SPECS.format(n)))["bottle"]
+    cs = b["cross_section"]
+    if cs["kind"] == "round":
+        secs = {"profile": Section.from_dicts(b["profile"])}
+    else:
+        secs = {"u": Section.from_dicts(cs["profile_u"]), "v": Section.from_dicts(cs["profile_v"])}
+    return BottleShape(cs["kind"], secs, b["wall_thickness"], b["base_thickness"], b.get("rotation_deg", 0.0))
+
+
+def cylinder_section(radius: float, height: float) -> Section:
+    """Flat base and one vertical wall (which is also the finish)."""
+    return Section((Line((0, 0), (radius, 0)), Line((radius, 0), (radius, height))), (False,))
+
+
+def stepped_section(r_body, h_body, r_neck, h_shoulder, h_top) -> Section:
+    """Flat base, vertical body, straight shoulder and vertical finish, with sharp joints."""
+    return Section((Line((0, 0), (r_body, 0)), Line((r_body, 0), (r_body, h_body)),
+                    Line((r_body, h_body), (r_neck, h_shoulder)), Line((r_neck, h_shoulder), (r_neck, h_top))),
+                   (False, False, False))
+
+
+def torus_foot_section(r_base, a, height) -> Section:
+    """Flat base, a quarter-torus foot arc of radius ``a`` and a vertical wall to ``height``."""
+    return Section((Line((0, 0), (r_base, 0)),
+                    Arc((r_base, a), a, (r_base, 0), (r_base + a, a), "ccw"),
+                    Line((r_base + a, a), (r_base + a, height))), (False, True))
+
+
+def sphere_section(r_base, c, height) -> Section:
+    """Flat base, a sphere arc about ``(0, c)`` from the base edge to the equator, vertical wall."""
+    big_r = math.hypot(r_base, c)
+    return Section((Line((0, 0), (r_base, 0)), Arc((0, c), big_r, (r_base, 0), (big_r, c), "ccw"),
+                    Line((big_r, c), (big_r, height))), (False, True))
+
+
+def punt_section(h_punt=12.0, r_punt=20.0, r_body=35.0, height=200.0, neck=13.0) -> Section:
+    """A wine-bottle-like section with a punt: an elliptical dome from (0, h) down to a
+    standing ring at (r_punt, 0), a foot arc, the body and a straight neck taper."""
+    dome = EllipseArc((0.0, 0.0), r_punt, h_punt, (0.0, h_punt), (r_punt, 0.0), "cw")
+    foot = Arc((r_punt, 5.0), 5.0, (r_punt, 0.0), (r_punt + 5.0, 5.0), "ccw")
+    segs = (dome, foot, Line((r_punt + 5.0, 5.0), (r_body, 15.0)),
+            Line((r_body, 15.0), (r_body, 120.0)), Line((r_body, 120.0), (neck, 160.0)),
+            Line((neck, 160.0), (neck, height)))
+    return Section(segs, (False, False, False, False, False))
+
+
+def test_subsegment_matches_parent_on_every_kind():
+    ell = EllipseArc((17, 32), 23, 32, (17, 0), (40, 32), "ccw")
+    for seg in (Line((1, 2), (4, 9)), Arc((0, 5), 5, (0, 0), (5, 5), "ccw"), ell, OffsetEllipseArc(ell, 3.0)):
+        sub = subsegment(seg, 0.25, 0.75)
+        s = np.linspace(0, 1, 7)
+        np.testing.assert_allclose(sub.point(s), seg.point(0.25 + 0.5 * s), atol=1e-12)
+        assert sub.kind == seg.kind
+
+
+def test_param_at_z_inverts_each_kind():
+    ell = EllipseArc((17, 32), 23, 32, (17, 0), (40, 32), "ccw")
+    segs = [Line((1, 2), (4, 9)), Arc((25, 140), 10, (35, 140), (29.226182617407, 149.0630778703665), "ccw"),
+            Arc((19, 160.45), 6, (19 + 6 * math.cos(-2.0), 160.45 + 6 * math.sin(-2.0)), (13, 160.45), "cw"),
+            ell, OffsetEllipseArc(ell, 4.0)]
+    for seg in segs:
+        t = np.linspace(0.0, 1.0, 41)
+        z = seg.point(t)[:, 1]
+        np.testing.assert_allclose(seg.point(param_at_z(seg, z)), seg.point(t), atol=2e-7)
+
+
+def test_inner_section_of_spec_bottle_is_offset_and_clipped():
+    shape = spec_shape(1)
+    inner = inner_section(shape.primary, 3.0, 6.0)
+    assert inner[0].p0[1] == pytest.approx(6.0, abs=1e-12)
+    assert inner[-1].p1 == pytest.approx((10.0, 215.0), abs=1e-9)
+    z = np.linspace(6.0, 215.0, 50)
+    # vertical body: r_in = 35 - 3; finish: 13 - 3
+    assert radius_at(inner, np.array([50.0, 100.0])) == pytest.approx([32.0, 32.0])
+    assert radius_at(inner, np.array([200.0]))[0] == pytest.approx(10.0)
+    for a, b in zip(inner[:-1], inner[1:]):
+        assert math.dist(a.p1, b.p0) < 1e-9
+    assert np.all(np.isfinite(radius_at(inner, z)))
+
+
+def test_radius_at_outside_range_is_nan():
+    inner = inner_section(spec_shape(1).primary, 3.0, 6.0)
+    assert np.isnan(radius_at(inner, np.array([1.0, 300.0]))).all()
+
+
+def test_sharp_joints_are_trimmed_and_bridged():
+    sec = stepped_section(30.0, 100.0, 12.0, 130.0, 170.0)
+    inner = inner_section(sec, 2.0, 5.0)
+    # the convex corner at the shoulder is trimmed, the concave one at the neck gets an arc of r = w
+    assert any(isinstance(s, Arc) and s.radius == pytest.approx(2.0) for s in inner)
+    for a, b in zip(inner[:-1], inner[1:]):
+        assert math.dist(a.p1, b.p0) < 1e-9
+    assert radius_at(inner, np.array([50.0, 160.0])) == pytest.approx([28.0, 10.0])
+
+
+def test_per_segment_walls_bridge_thicker_heel():
+    sec = stepped_section(30.0, 100.0, 12.0, 130.0, 170.0)
+    inner = inner_section(sec, [4.0, 2.5, 2.0], 6.0)
+    assert radius_at(inner, np.array([50.0, 160.0])) == pytest.approx([26.0, 10.0])
+
+
+def test_wall_start_index_for_flat_base_and_punt():
+    assert wall_start_index(spec_shape(1).primary) == 1
+    assert wall_start_index(punt_section()) == 1
+    two_part = Section((Line((0, 10), (8, 6)), Line((8, 6), (20, 0)), Line((20, 0), (20, 50))), (False, False))
+    assert wall_start_index(two_part) == 2
+
+
+def test_body_profile_flat_and_punt():
+    prof = body_profile(spec_shape(3))
+    assert prof.z_ib == 5.5 and prof.z_top == pytest.approx(162.0)
+    assert [s.name for s in prof.sections] == ["u", "v"]
+    for sp in prof.sections:
+        assert sp.inner_base[0].p1 == sp.inner_wall[0].p0
+    punt = body_profile(BottleShape("round", {"profile": punt_section()}, 3.0, 4.0))
+    assert punt.punt
+    sp = punt.sections[0]
+    assert sp.inner_base[0].p0 == pytest.approx((0.0, 16.0))
+    assert math.dist(sp.inner_base[-1].p1, sp.inner_wall[0].p0) < 1e-7
+    assert 4.0 <= punt.z_ib < 16.0
+
+
+def test_too_thick_wall_raises_wall_error_naming_segment():
+    with pytest.raises(WallError, match="segment 1"):
+        inner_section(torus_foot_section(20.0, 5.0, 100.0), 6.0, 7.0)

@@ -1,0 +1,135 @@
+"""Section and shape validation (engine.validate): each error names what and where."""
+import math
+
+import pytest
+
+from engine.errors import SectionError, WallError
+from engine.section import Section
+from engine.segments import Arc, EllipseArc, Line
+from engine.shape import BottleShape
+from engine.validate import validate_section, validate_shape
+from tests.test_offset import punt_section, spec_shape, stepped_section, torus_foot_section
+
+
+@pytest.mark.parametrize("n", [1, 2, 3, 4])
+def test_oracle_bottles_are_valid(n):
+    validate_shape(spec_shape(n))
+
+
+def test_punt_is_valid():
+    validate_shape(BottleShape("round", {"profile": punt_section()}, 3.0, 4.0))
+
+
+def _expect(section, index, match):
+    with pytest.raises(SectionError, match=match) as info:
+        validate_section(section)
+    assert info.value.index == index
+
+
+def test_gap_names_the_segment():
+    s = Section((Line((0, 0), (20, 0)), Line((20, 0.5), (20, 50))), (False,))
+    _expect(s, 1, "gap")
+
+
+def test_broken_tangency_request():
+    s = Section((Line((0, 0), (20, 0)), Line((20, 0), (25, 40)), Line((25, 40), (25, 80))), (False, True))
+    _expect(s, 2, "smooth")
+    Section.__init__  # the same section with the corner allowed is valid
+    validate_section(Section(s.segments, (False, False)))
+
+
+def test_overhang_and_horizontal_wall():
+    s = Section((Line((0, 0), (20, 0)), Line((20, 0), (30, 40)), Line((30, 40), (25, 30)),
+                 Line((25, 30), (25, 80))), (False, False, False))
+    _expect(s, 2, "rise")
+    s = Section((Line((0, 0), (20, 0)), Line((20, 0), (20, 40)), Line((20, 40), (10, 40)),
+                 Line((10, 40), (10, 80))), (False, False, False))
+    _expect(s, 2, "rise")
+
+
+def test_arc_through_horizontal_is_an_overhang():
+    # a convex arc that passes over its top inside the wall
+    arc = Arc((20, 40), 10, (30, 40), (20 - 10 * math.cos(0.3), 40 - 10 * math.sin(0.3) + 20), "ccw")
+    arc = Arc((20, 40), 10, (30, 40), (20 + 10 * math.cos(2.0), 40 + 10 * math.sin(2.0)), "ccw")
+    s = Section((Line((0, 0), (30, 0)), Line((30, 0), (30, 40)), arc,
+                 Line(arc.p1, (arc.p1[0], 100))), (False, False, False))
+    _expect(s, 2, "rise")
+
+
+def test_axis_crossing():
+    s = Section((Line((0, 0), (20, 0)), Line((20, 0), (-5, 40)), Line((-5, 40), (-5, 80))), (False, False))
+    _expect(s, 1, "axis")
+
+
+def test_degenerate_and_off_circle_arcs():
+    s = Section((Line((0, 0), (20, 0)), Line((20, 0), (20, 0)), Line((20, 0), (20, 80))), (False, False))
+    _expect(s, 1, "degenerate")
+    bad = Arc((20, 5), 5, (20, 0), (25.01, 5), "ccw")
+    s = Section((Line((0, 0), (20, 0)), bad, Line((25.01, 5), (25.01, 80))), (False, True))
+    _expect(s, 1, "off its circle")
+    bad_e = EllipseArc((20, 5), 6, 5, (20, 0), (26.2, 5), "ccw")
+    s = Section((Line((0, 0), (20, 0)), bad_e, Line((26.2, 5), (26.2, 80))), (False, True))
+    _expect(s, 1, "off its ellipse")
+
+
+def test_finish_must_be_vertical_line_and_start_on_axis():
+    s = Section((Line((0, 0), (20, 0)), Line((20, 0), (15, 80))), (False,))
+    _expect(s, 1, "vertical")
+    s = Section((Line((2, 0), (20, 0)), Line((20, 0), (20, 80))), (False,))
+    _expect(s, 0, "axis")
+
+
+def test_punt_rules():
+    # a punt must leave the axis horizontally
+    s = Section((Line((0, 10), (20, 0)), Line((20, 0), (20, 80))), (False,))
+    _expect(s, 0, "horizontally")
+    # the base must reach z = 0 before the finish
+    s = Section((Line((0, 0), (20, 5)), Line((20, 5), (20, 80))), (False,))
+    with pytest.raises(SectionError, match="z = 0"):
+        validate_section(s)
+    # a wall that comes back over the punt
+    dome = EllipseArc((0.0, 0.0), 20, 12, (0.0, 12), (20, 0.0), "cw")
+    s = Section((dome, Line((20, 0), (30, 2)), Line((30, 2), (10, 6)), Line((10, 6), (10, 80))),
+                (False, False, False))
+    _expect(s, 2, "punt")
+
+
+def test_wall_errors():
+    sec = torus_foot_section(20.0, 5.0, 100.0)
+    with pytest.raises(WallError, match="segment 1.*radius of curvature"):
+        validate_shape(BottleShape("round", {"profile": sec}, 5.5, 6.0))
+    thin_neck = stepped_section(30.0, 100.0, 3.0, 130.0, 170.0)
+    with pytest.raises(WallError, match="segment [23].*reaches the axis"):
+        validate_shape(BottleShape("round", {"profile": thin_neck}, 3.5, 6.0))
+    with pytest.raises(WallError, match="at least as thick"):
+        validate_shape(BottleShape("round", {"profile": sec}, 3.0, 2.0))
+
+
+def test_non_round_rules():
+    sq = spec_shape(3)
+    u, v = sq.section("u"), sq.section("v")
+    # v < u breaks the rounded square at every height of the body
+    with pytest.raises(SectionError, match="u <= v"):
+        validate_shape(BottleShape("rounded_square", {"u": v, "v": u}, 2.5, 5.5))
+    # a finish that is not round
+    wide = stepped_section(30.0, 100.0, 14.0, 130.0, 160.0)
+    narrow = stepped_section(25.0, 100.0, 12.0, 130.0, 160.0)
+    with pytest.raises(SectionError, match="round finish"):
+        validate_shape(BottleShape("oval", {"half_width": wide, "half_depth": narrow}, 2.0, 5.0))
+    # different heights
+    tall = stepped_section(25.0, 100.0, 14.0, 130.0, 170.0)
+    with pytest.raises(SectionError, match="mouth"):
+        validate_shape(BottleShape("oval", {"half_width": wide, "half_depth": tall}, 2.0, 5.0))
+    # a punt on a square bottle
+    with pytest.raises(SectionError, match="punt"):
+        validate_shape(BottleShape("oval", {"half_width": punt_section(), "half_depth": punt_section()}, 2.0, 5.0))
+
+
+def test_inner_cross_section_checked():
+    # rounded rectangle whose corner equals the depth outside but exceeds it inside? c_in = c - w
+    # and depth_in = depth - w keep c <= depth; a corner larger than half the width breaks it.
+    hw = stepped_section(30.0, 100.0, 12.0, 130.0, 160.0)
+    hd = stepped_section(20.0, 100.0, 12.0, 130.0, 160.0)
+    corner = stepped_section(21.0, 100.0, 12.0, 130.0, 160.0)
+    with pytest.raises(SectionError, match="corner"):
+        validate_shape(BottleShape("rounded_rect", {"half_width": hw, "half_depth": hd, "corner": corner}, 2.0, 5.0))

@@ -57,8 +57,10 @@ DEFAULT_LIMITS = Limits()
 
 
 def save_project(path: str | os.PathLike, design: Design,
-                 assets: Mapping[str, bytes] | None = None) -> None:
-    """Write ``design`` and ``assets`` to ``path`` atomically (keeping ``path.bak``).
+                 assets: Mapping[str, bytes] | None = None, keep_backup: bool = True) -> None:
+    """Write ``design`` and ``assets`` to ``path`` atomically.
+
+    With ``keep_backup`` the file it replaces is kept as ``path.bak`` (``NAME.glassbench.bak``).
 
     Raises ``ProjectError`` for an unstorable design (NaN, bad asset name) or a failed write;
     on failure the previous file is untouched.
@@ -80,12 +82,13 @@ def save_project(path: str | os.PathLike, design: Design,
     try:
         with os.fdopen(fd, "wb") as fh:
             with zipfile.ZipFile(fh, "w", compression=zipfile.ZIP_DEFLATED) as zf:
-                zf.writestr(PROJECT_MEMBER, text.encode("utf-8"))
+                zf.writestr(_member(PROJECT_MEMBER), text.encode("utf-8"))
                 for name in sorted(assets):
-                    zf.writestr(ASSET_DIR + name, bytes(assets[name]))
+                    zf.writestr(_member(ASSET_DIR + name), bytes(assets[name]))
             fh.flush()
             os.fsync(fh.fileno())
-        if os.path.exists(path):
+        os.chmod(tmp, _file_mode(path))
+        if keep_backup and os.path.exists(path):
             _keep_backup(path)
         os.replace(tmp, path)
         _fsync_folder(folder)
@@ -94,6 +97,24 @@ def save_project(path: str | os.PathLike, design: Design,
     finally:
         if os.path.exists(tmp):
             os.unlink(tmp)
+
+
+def _member(name: str) -> zipfile.ZipInfo:
+    # A fixed time stamp makes saving the same project twice give the same bytes.
+    info = zipfile.ZipInfo(name, date_time=(1980, 1, 1, 0, 0, 0))
+    info.compress_type = zipfile.ZIP_DEFLATED
+    info.external_attr = 0o644 << 16
+    return info
+
+
+def _file_mode(path: str) -> int:
+    """Permission bits for the saved file: the old file's, else the umask's default."""
+    try:
+        return stat.S_IMODE(os.stat(path).st_mode)
+    except OSError:
+        mask = os.umask(0)  # why: the only portable way to read the umask is to set it
+        os.umask(mask)
+        return 0o666 & ~mask
 
 
 def _keep_backup(path: str) -> None:

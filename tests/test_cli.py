@@ -138,3 +138,37 @@ def test_app_main_without_display_renders_preview(project, monkeypatch, capsys):
     assert app_main.main([str(project)]) == 0
     assert seen[0][:3] == ["render", str(project), "-o"] and seen[0][3].endswith("glassbench-cyl.png")
     assert capsys.readouterr().out.strip().endswith("glassbench-cyl.png")
+
+
+RESOURCES = app_main.RESOURCES
+
+
+def test_bordeaux_sample_trade_numbers(capsys):
+    assert cli.main(["info", str(RESOURCES / "bordeaux.glassbench"), "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert 770.0 <= out["brimful_ml"] <= 790.0
+    assert out["fill_ml"] == 750.0
+    assert 55.0 <= out["fill_point_below_top_mm"] <= 70.0
+    assert out["height_mm"] == pytest.approx(300.0) and out["max_diameter_mm"] == pytest.approx(75.0)
+
+
+def test_samples_are_up_to_date_and_valid():
+    # The committed files are exactly what resources/make_samples.py builds today.
+    import importlib.util
+    spec = importlib.util.spec_from_file_location("make_samples", RESOURCES / "make_samples.py")
+    make_samples = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(make_samples)
+    built = {"bordeaux": make_samples.bordeaux(), "square": make_samples.square(),
+             "jar": make_samples.jar()}
+    for name, design in built.items():
+        loaded, assets = load_project(RESOURCES / f"{name}.glassbench")
+        assert loaded == design, name
+        assert design.render.width == 360 and design.render.height == 480
+    assert built["square"].shape.cross_section == "rounded_square"
+    assert built["jar"].shape.primary.r_top > 30.0  # a wide mouth
+    red = built["bordeaux"].liquid.absorption
+    assert red[0] < red[1] and red[0] < red[2]  # wine passes red
+    from engine.dxf_import import section_from_dxf
+    dxf = section_from_dxf(RESOURCES / "bordeaux_profile.dxf")
+    assert len(dxf) == len(built["bordeaux"].shape.primary)
+    assert dxf.z_top == pytest.approx(300.0)

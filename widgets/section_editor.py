@@ -132,7 +132,7 @@ class SectionCanvas(QWidget):
         fixed = self.to_mm(about)
         self.scale = min(max(self.scale * factor, 0.05), 200.0)
         p = self.to_px(fixed)
-        self.origin += about - p
+        self.origin = self.origin + (about - p)
         self.update()
 
     def resizeEvent(self, event):
@@ -251,7 +251,7 @@ class SectionCanvas(QWidget):
         best, best_d = None, HANDLE_PX
         for h in handles_of(self.section):
             d = math.dist((pos.x(), pos.y()), (self.to_px(h.point).x(), self.to_px(h.point).y()))
-            if d <= best_d:
+            if d < best_d - 1e-9 or (best is None and d <= best_d):  # why: joints (listed first) win ties
                 best, best_d = h, d
         return best
 
@@ -290,7 +290,7 @@ class SectionCanvas(QWidget):
     def mouseMoveEvent(self, event):
         pos = event.position()
         if self._pan_from is not None:
-            self.origin += pos - self._pan_from
+            self.origin = self.origin + (pos - self._pan_from)
             self._pan_from = pos
             self.update()
             return

@@ -16,8 +16,10 @@ from widgets import section_edits as edits
 from widgets.section_editor import SectionCanvas
 from widgets.section_table import SectionTableModel
 
-#: Radial scale of the first section used to make the others when the kind changes.
-_DERIVED_SCALE = {"v": 1.2, "half_depth": 0.7, "corner": 0.3}
+#: Radial scale of the first section used to make the others when the kind changes. All 1:
+#: every kind must meet in a round finish at the mouth, and equal sections are the one start
+#: that is valid for any profile (the designer then edits the other sections).
+_DERIVED_SCALE: dict[str, float] = {}
 
 
 class SectionPanel(QWidget):

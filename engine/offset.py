@@ -92,16 +92,19 @@ def _offset_param_at_z(seg: OffsetEllipseArc, z) -> np.ndarray:
     t = np.clip((target - sign * zlo) / max(abs(zhi - zlo), 1e-300), 0.0, 1.0)
     for _ in range(60):
         f = sign * seg.point(t)[..., 1] - target
+        done = np.abs(f) <= 1e-12 * max(1.0, abs(zhi), abs(zlo))
+        if np.all(done):
+            return t
         lo = np.where(f < 0, t, lo)
-        hi = np.where(f >= 0, t, hi)
+        hi = np.where(f > 0, t, hi)
         s = b.angle(t)
         speed = abs(b.sweep) * np.hypot(b.radius_r * np.sin(s), b.radius_z * np.cos(s))
         dzdt = sign * speed * (1.0 - seg.w * b.curvature(t)) * b.tangent(t)[..., 1]
         with np.errstate(divide="ignore", invalid="ignore"):
             t_new = t - f / dzdt
-        bad = ~np.isfinite(t_new) | (t_new <= lo) | (t_new >= hi)
-        t_new = np.where(bad, 0.5 * (lo + hi), t_new)
-        if np.all(np.abs(t_new - t) < 1e-15) or np.all(np.abs(f) < 1e-12):
+        bad = ~np.isfinite(t_new) | (t_new < lo) | (t_new > hi)
+        t_new = np.where(done, t, np.where(bad, 0.5 * (lo + hi), t_new))
+        if np.all(np.abs(t_new - t) < 1e-16):
             return t_new
         t = t_new
     return t

@@ -49,8 +49,11 @@ def main(argv: list[str] | None = None) -> int:
     try:
         if args.project is not None and not os.path.isfile(args.project):
             raise cli.CliError(f"no such project file: {args.project}")
-        if args.screenshot is None and not has_display():
-            return headless_preview(args.project)
+        if not has_display():
+            if args.screenshot is None:
+                return headless_preview(args.project)
+            # A screenshot needs no screen: let Qt draw off-screen.
+            os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
         from app.window import run_gui  # why here: Qt is loaded only to open a window
         result = run_gui(args.project, args.screenshot)
         return 0 if result is None else int(result)

@@ -165,15 +165,9 @@ def framing_camera(shape: BottleShape, width: int, height: int, fov_y_deg: float
 
 
 def max_radius(shape: BottleShape) -> float:
-    """Largest distance (mm) of the outer surface from the axis (sampled; for framing)."""
-    import numpy as np
-    best = 0.0
-    for _, sec in shape.sections:
-        for seg in sec.segments:
-            best = max(best, float(np.max(seg.point(np.linspace(0.0, 1.0, 65))[:, 0])))
-    if shape.cross_section != "round":
-        best *= math.sqrt(2.0) if shape.cross_section in ("rounded_rect", "oval") else 1.0
-    return best
+    """Largest distance (mm) of the outer surface from the axis (half the maximum diameter)."""
+    from . import capacity
+    return 0.5 * float(capacity.max_diameter_mm(shape))
 
 
 def cmd_new(args) -> int:

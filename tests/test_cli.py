@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import json
 import math
+import os
 import sys
 import types
 
@@ -125,8 +126,12 @@ def test_app_main_routes_to_gui(project, monkeypatch):
     assert app_main.main([]) == 0
     monkeypatch.delenv("DISPLAY")
     monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    monkeypatch.setenv("QT_QPA_PLATFORM", "placeholder")  # recorded, so restored afterwards
+    monkeypatch.delenv("QT_QPA_PLATFORM")
+    monkeypatch.setattr(sys, "platform", "linux")
     assert app_main.main(["--screenshot", "shot.png", str(project)]) == 0  # no display needed
     assert calls == [(str(project), None), (None, None), (str(project), "shot.png")]
+    assert os.environ["QT_QPA_PLATFORM"] == "offscreen"
 
 
 def test_app_main_without_display_renders_preview(project, monkeypatch, capsys):

@@ -62,24 +62,32 @@ def save_project(path: str | os.PathLike, design: Design,
 
     With ``keep_backup`` the file it replaces is kept as ``path.bak`` (``NAME.glassbench.bak``).
 
-    Raises ``ProjectError`` for an unstorable design (NaN, bad asset name) or a failed write;
-    on failure the previous file is untouched.
+    Raises ``ProjectError`` for a design that :func:`load_project` would refuse (NaN, invalid
+    geometry, a missing or badly named asset, sizes over :data:`DEFAULT_LIMITS`) or a failed
+    write; on failure the previous file is untouched.
     """
     path = os.fspath(path)
     assets = dict(assets or {})
+    if len(assets) >= DEFAULT_LIMITS.members:
+        raise ProjectError(f"a project holds at most {DEFAULT_LIMITS.members - 1} assets")
     for name, data in assets.items():
         if not isinstance(name, str) or not ASSET_NAME.match(name):
             raise ProjectError(f"asset name {name!r} is not a plain file name")
         if not isinstance(data, (bytes, bytearray, memoryview)):
             raise ProjectError(f"asset {name!r} must be bytes, got {type(data).__name__}")
+        if len(data) > DEFAULT_LIMITS.asset_bytes:
+            raise ProjectError(f"asset {name!r} is larger than {DEFAULT_LIMITS.asset_bytes} bytes")
     doc = document_from_design(design, GENERATOR)
+    # Never write a file that cannot be opened again.
+    check_design(design, assets)
     try:
         text = json.dumps(doc, indent=1, allow_nan=False, ensure_ascii=False)
     except ValueError as exc:
         raise ProjectError(f"cannot write the project: {exc}") from None
     folder = os.path.dirname(os.path.abspath(path))
-    fd, tmp = tempfile.mkstemp(prefix=".glassbench-", suffix=".tmp", dir=folder)
+    tmp = None
     try:
+        fd, tmp = tempfile.mkstemp(prefix=".glassbench-", suffix=".tmp", dir=folder)
         with os.fdopen(fd, "wb") as fh:
             with zipfile.ZipFile(fh, "w", compression=zipfile.ZIP_DEFLATED) as zf:
                 zf.writestr(_member(PROJECT_MEMBER), text.encode("utf-8"))
@@ -95,7 +103,7 @@ def save_project(path: str | os.PathLike, design: Design,
     except OSError as exc:
         raise ProjectError(f"cannot write {path}: {exc.strerror or exc}") from None
     finally:
-        if os.path.exists(tmp):
+        if tmp is not None and os.path.exists(tmp):
             os.unlink(tmp)
 
 

@@ -274,3 +274,15 @@ def test_wall_too_thick_is_a_project_error():
     doc["design"]["shape"]["base_thickness"] = 40.0
     with pytest.raises(ProjectError, match="invalid bottle shape"):
         load_project_bytes(archive(doc))
+
+
+def test_save_refuses_what_load_would_refuse(tmp_path):
+    path = tmp_path / "p.glassbench"
+    bad_shape = dataclasses.replace(make_design().shape, wall_thickness=40.0, base_thickness=40.0)
+    with pytest.raises(ProjectError, match="invalid bottle shape"):
+        save_project(path, dataclasses.replace(make_design(), shape=bad_shape), ASSETS)
+    with pytest.raises(ProjectError, match="lacks"):
+        save_project(path, make_design(), {"front.png": b"x"})  # environment map missing
+    with pytest.raises(ProjectError, match="cannot write"):
+        save_project(tmp_path / "no" / "such" / "dir.glassbench", make_design(), ASSETS)
+    assert not path.exists()

@@ -139,7 +139,22 @@ def _solve_pieces(rays, p, q, bounds):
     return roots
 
 
-def ray_torus_hits(origins, directions, R, a, b=None, tmin=None):
+def _axis_parallel_roots(Q0, D, Rn, inner):
+    """Scaled roots for rays parallel to the axis (constant rho): ``z = +-sqrt(1 - (rho -+ R')^2)``.
+
+    Closed form and exact; it also covers rays through the cusps of a spindle torus, where
+    the quartic has a double root that no sign change reveals.
+    """
+    rho = np.hypot(Q0[:, 0], Q0[:, 1])
+    dr = rho + Rn if inner else rho - Rn
+    with np.errstate(invalid="ignore"):
+        half = np.sqrt((1.0 - dr) * (1.0 + dr))
+    zsign = np.sign(D[:, 2])
+    u = np.stack([-half, half], axis=1) * zsign[:, None] - (Q0[:, 2] * zsign)[:, None]
+    return np.column_stack([u, np.full((u.shape[0], 2), np.nan)])
+
+
+def ray_torus_hits(origins, directions, R, a, b=None, tmin=None, sheet="outer"):
     """Real hit distances of rays with the torus ``((hypot(x,y) - R)/a)^2 + (z/b)^2 = 1``.
 
     Parameters
@@ -154,12 +169,18 @@ def ray_torus_hits(origins, directions, R, a, b=None, tmin=None):
     tmin : float, optional
         Hits at ``t <= tmin`` (mm) are discarded; default ``1e-6 a`` so that a secondary ray
         starting on the surface never reports its own start.
+    sheet : {"outer", "inner"}
+        ``"inner"`` asks instead for the quartic's mirror sheet
+        ``((hypot(x,y) + R)/a)^2 + (z/b)^2 = 1`` (non-empty only when ``R < a``): the surface
+        swept by an arc whose centre lies at ``r = -R`` behind the axis.
 
     Returns
     -------
     numpy.ndarray, shape (N, 4)
         Hit distances ``t`` (mm) per ray, ascending, NaN-padded. Each is accurate to about
         1e-12 tube radii (relative to the size of the scene). Tangent touches are omitted.
+        When ``R < 1e-9 a`` the tube centre is taken to be on the axis (a spheroid; the
+        surface moves by less than 1e-9 tube radii).
     """
     o = np.asarray(origins, dtype=float).reshape(-1, 3)
     dirs = np.asarray(directions, dtype=float).reshape(-1, 3)
@@ -167,9 +188,16 @@ def ray_torus_hits(origins, directions, R, a, b=None, tmin=None):
     b = a if b is None else float(b)
     if not (a > 0 and b > 0 and R >= 0):
         raise ValueError(f"torus needs a, b > 0 and R >= 0 (mm), got R={R}, a={a}, b={b}")
+    if sheet not in ("outer", "inner"):
+        raise ValueError(f"sheet must be 'outer' or 'inner', got {sheet!r}")
+    inner = sheet == "inner"
     tmin = SELF_HIT_FRACTION * a if tmin is None else float(tmin)
     out = np.full((o.shape[0], 4), np.nan)
     if o.shape[0] == 0:
+        return out
+    if R < 1e-9 * a:
+        from .quadric import ray_spheroid_hits
+        out[:, :2] = ray_spheroid_hits(o, dirs, a, b, tmin=tmin)
         return out
     rays = _ScaledRays(o, dirs, R, a, b)
     Rn = rays.Rn
@@ -192,8 +220,12 @@ def ray_torus_hits(origins, directions, R, a, b=None, tmin=None):
     crit = np.clip(crit, -half[:, None], half[:, None])
     bounds = np.column_stack([-half, crit, half])
     u = _solve_pieces(sub, p, q, bounds)
+    vertical = E == 0.0
+    if np.any(vertical):
+        u[vertical] = _axis_parallel_roots(Q0[vertical], D[vertical], Rn, inner)
     g_out, g_in = sub.factors(u)
-    keep = np.abs(g_out) <= np.abs(g_in)  # drop the spindle's mirror (inner) sheet
+    # Each root of f = g_out * g_in belongs to the sheet whose factor is nearer zero.
+    keep = np.abs(g_in) <= np.abs(g_out) if inner else np.abs(g_out) <= np.abs(g_in)
     t = (rays.s0[idx, None] + u) / rays.speed[idx, None]
     t = np.where(keep & (t > tmin), t, np.nan)
     t.sort(axis=1)

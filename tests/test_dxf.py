@@ -163,3 +163,26 @@ def test_punt_stands_on_its_ring(tmp_path):
     got = section_from_dxf(path)
     assert_same_section(got, punt_section(), tol=1e-9)
     assert abs(got.segments[0].p0[0]) < 1e-12 and got.segments[0].p0[1] == pytest.approx(12.0)
+
+
+from hypothesis import given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+from engine.dxf_import import section_from_document  # noqa: E402
+
+
+@settings(max_examples=30, deadline=None)
+@given(order=st.permutations(range(6)), flip=st.lists(st.booleans(), min_size=6, max_size=6))
+def test_any_entity_order_and_line_direction_gives_the_same_section(tmp_path_factory, order, flip):
+    path = tmp_path_factory.mktemp("dxf") / "b.dxf"
+    want = bottle_section()
+    section_to_dxf(want, path)
+    drawn = list(ezdxf.readfile(path).modelspace())
+    doc, msp = new_doc()
+    for k in order:
+        e = drawn[k]
+        if e.dxftype() == "LINE" and flip[k]:
+            msp.add_line(e.dxf.end, e.dxf.start)
+        else:
+            msp.add_entity(e.copy())
+    assert_same_section(section_from_document(doc), want)

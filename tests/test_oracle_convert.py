@@ -77,3 +77,17 @@ def test_unknown_cross_section_and_missing_field(tmp_path):
     p.write_text(json.dumps(spec))
     with pytest.raises(ProjectError, match="camera"):
         spec_to_design(p)
+
+
+def test_render_dispatches_to_the_tracer_oracle_renderer(monkeypatch):
+    import sys
+    import types
+    seen = []
+    fake = types.ModuleType("benchmarks.oracle_render")
+    fake.main = lambda argv: seen.append(argv) or 0
+    monkeypatch.setitem(sys.modules, "benchmarks.oracle_render", fake)
+    import benchmarks
+    monkeypatch.setattr(benchmarks, "oracle_render", fake, raising=False)
+    argv = ["render", str(SPEC_FILES[0]), "-o", "out.exr", "--spp", "4"]
+    assert main(argv) == 0
+    assert seen == [argv[1:]]

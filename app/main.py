@@ -60,6 +60,14 @@ def main(argv: list[str] | None = None) -> int:
     except (cli.GlassbenchError, OSError, ValueError, ImportError) as exc:
         print(f"glassbench: error: {cli.one_line(exc)}", file=sys.stderr)
         return cli.EXIT_ERROR
+    except KeyboardInterrupt:
+        return 130
+    except Exception as exc:  # why: the console script never shows a traceback
+        if os.environ.get("GLASSBENCH_DEBUG"):
+            raise
+        print(f"glassbench: internal error: {type(exc).__name__}: {cli.one_line(exc)}",
+              file=sys.stderr)
+        return cli.EXIT_ERROR
 
 
 def headless_preview(project: str | None) -> int:

@@ -59,8 +59,17 @@ def main(argv: list[str] | None = None) -> int:
                "render": cmd_render}[args.command]
     try:
         return handler(args)
-    except (GlassbenchError, OSError, ValueError) as exc:
+    except KeyboardInterrupt:
+        print(f"glassbench {args.command}: interrupted", file=sys.stderr)
+        return 130
+    except (GlassbenchError, OSError, ValueError, ArithmeticError) as exc:
         print(f"glassbench {args.command}: error: {one_line(exc)}", file=sys.stderr)
+        return EXIT_ERROR
+    except Exception as exc:  # why: a command line never shows a traceback (set GLASSBENCH_DEBUG)
+        if os.environ.get("GLASSBENCH_DEBUG"):
+            raise
+        print(f"glassbench {args.command}: internal error: {type(exc).__name__}: {one_line(exc)}",
+              file=sys.stderr)
         return EXIT_ERROR
 
 

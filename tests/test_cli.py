@@ -177,3 +177,14 @@ def test_samples_are_up_to_date_and_valid():
     dxf = section_from_dxf(RESOURCES / "bordeaux_profile.dxf")
     assert len(dxf) == len(built["bordeaux"].shape.primary)
     assert dxf.z_top == pytest.approx(300.0)
+
+
+def test_unexpected_failure_is_one_line_not_a_traceback(project, monkeypatch, capsys):
+    def broken(*a, **k):
+        raise RuntimeError("boom\nsecond line")
+    import engine.capacity
+    monkeypatch.setattr(engine.capacity, "brimful_ml", broken)
+    monkeypatch.delenv("GLASSBENCH_DEBUG", raising=False)
+    assert cli.main(["info", str(project)]) == 2
+    err = capsys.readouterr().err
+    assert err == "glassbench info: internal error: RuntimeError: boom second line\n"

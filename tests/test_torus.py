@@ -71,7 +71,7 @@ def _make_case(kind, rng):
         a, R, b = a * s, R * s, a * s
     elif kind == "thin":
         R = a * 10 ** rng.uniform(1, 3)
-    elif kind == "spindle":
+    elif kind in ("spindle", "inner_sheet"):
         R = a * rng.uniform(0.05, 0.95)
     elif kind == "elliptic":
         b = a * 10 ** rng.uniform(-1, 1)
@@ -93,7 +93,7 @@ def _make_case(kind, rng):
     return p - dist * d, d, R, a, b, tau
 
 
-def _reference(o, d, R, a, b, tau):
+def _reference(o, d, R, a, b, tau, inner=False):
     """(required, allowed): 50-digit real outer-sheet roots > tau; near-pair roots only allowed."""
     with mp.workdps(50):
         o = [mp.mpf(float(v)) for v in o]
@@ -121,7 +121,7 @@ def _reference(o, d, R, a, b, tau):
             rho = mp.sqrt(x * x + y * y)
             g_out = ((rho - R) / a) ** 2 + (z / b) ** 2 - 1
             g_in = ((rho + R) / a) ** 2 + (z / b) ** 2 - 1
-            if abs(g_out) > abs(g_in) or t <= tau:
+            if (abs(g_out) < abs(g_in) if inner else abs(g_out) > abs(g_in)) or t <= tau:
                 continue
             paired = any(j != i and abs(rt - other) < 1e-4 * a for j, other in enumerate(roots))
             (allowed if paired else required).append(float(t))
@@ -129,7 +129,7 @@ def _reference(o, d, R, a, b, tau):
 
 
 KINDS = ["generic", "equatorial", "far", "thin", "spindle", "elliptic", "scale", "on_surface",
-         "graze_in", "graze_out"]
+         "graze_in", "graze_out", "inner_sheet"]
 
 
 @pytest.mark.parametrize("kind", KINDS)
@@ -137,9 +137,17 @@ def test_seeded_hard_cases_match_50_digit_references(kind):
     rng = np.random.default_rng(KINDS.index(kind) + 7)
     for _ in range(8):
         o, d, R, a, b, tau = _make_case(kind, rng)
-        hits = ray_torus_hits(o[None], d[None], R, a, b, tmin=tau)[0]
+        inner = kind == "inner_sheet"
+        if inner:  # aim at the mirror sheet (hypot(x,y) + R)^2/a^2 + (z/b)^2 = 1 instead
+            d = _unit(rng.normal(size=3))
+            phi = rng.uniform(-0.9, 0.9) * np.arccos(R / a)
+            theta = rng.uniform(0, 2 * np.pi)
+            rho = a * np.cos(phi) - R
+            o = np.array([rho * np.cos(theta), rho * np.sin(theta), b * np.sin(phi)]) - 3 * a * d
+        hits = ray_torus_hits(o[None], d[None], R, a, b, tmin=tau,
+                              sheet="inner" if inner else "outer")[0]
         hits = hits[np.isfinite(hits)]
-        required, allowed = _reference(o, d, R, a, b, tau)
+        required, allowed = _reference(o, d, R, a, b, tau, inner)
         for t in required:
             assert np.min(np.abs(hits - t), initial=np.inf) <= TOL_TUBE * a, (kind, t, hits)
         for t in hits:
@@ -147,6 +155,28 @@ def test_seeded_hard_cases_match_50_digit_references(kind):
                 (kind, t, required, allowed)
         if kind == "graze_in":
             assert len(required) >= 2  # the construction dips 1e-5 tube radii into the glass
+
+
+def test_per_ray_tori_in_one_call_match_single_calls():
+    cases = json.loads(CASES.read_text())["cases"][::7]
+    col = lambda key: np.array([c[key] for c in cases], dtype=float)
+    batch = ray_torus_hits(col("origin"), col("direction"), col("R"), col("a"), col("b"),
+                           tmin=col("tau"))
+    single = np.array([ray_torus_hits(np.array([c["origin"]]), np.array([c["direction"]]),
+                                      c["R"], c["a"], c["b"], tmin=c["tau"])[0] for c in cases])
+    assert np.array_equal(batch, single, equal_nan=True)
+
+
+def test_spheroid_limit_and_rays_along_the_axis():
+    # R = 0: a spheroid of semi-axes 2 and 3 seen down the axis and across it
+    o = np.array([[0.0, 0.0, 10.0], [10.0, 0.0, 0.0]])
+    d = np.array([[0.0, 0.0, -1.0], [-1.0, 0.0, 0.0]])
+    assert np.allclose(ray_torus_hits(o, d, 0.0, 2.0, 3.0)[:, :2], [[7, 13], [8, 12]], atol=1e-12)
+    # spindle torus: a ray along the axis passes exactly through both cusps
+    R, a = 1.0, 2.0
+    cusp = math.sqrt(a * a - R * R)
+    h = ray_torus_hits(o[:1], d[:1], R, a)[0]
+    assert np.allclose(h[:2], [10 - cusp, 10 + cusp], rtol=0, atol=1e-12) and np.isnan(h[2])
 
 
 def test_secondary_rays_never_report_their_own_start():

@@ -132,11 +132,11 @@ def ray_spheroid_hits(origins, directions, a, b, zc=0.0, tmin=None):
     ----------
     origins, directions : array_like, shape (N, 3)
         Ray origins (mm) and unit directions.
-    a, b : float
-        Equatorial and polar semi-axes (mm), > 0.
+    a, b : float or array_like (N,)
+        Equatorial and polar semi-axes (mm), > 0 (per ray if arrays).
     zc : float
         Height of the centre (mm).
-    tmin : float, optional
+    tmin : float or array_like (N,), optional
         Hits at ``t <= tmin`` are dropped; default ``1e-6 a``.
 
     Returns
@@ -144,11 +144,12 @@ def ray_spheroid_hits(origins, directions, a, b, zc=0.0, tmin=None):
     numpy.ndarray, shape (N, 2)
         Hit distances (mm), ascending, NaN-padded.
     """
-    a, b = float(a), float(b)
-    tmin = 1e-6 * a if tmin is None else float(tmin)
     o = np.asarray(origins, dtype=float).reshape(-1, 3) - np.array([0.0, 0.0, zc])
     d = np.asarray(directions, dtype=float).reshape(-1, 3)
-    inv = np.array([1.0 / a, 1.0 / a, 1.0 / b])
+    a = np.broadcast_to(np.asarray(a, dtype=float), (o.shape[0],))
+    b = np.broadcast_to(np.asarray(b, dtype=float), (o.shape[0],))
+    tmin = 1e-6 * a if tmin is None else np.broadcast_to(np.asarray(tmin, dtype=float), a.shape)
+    inv = np.column_stack([1.0 / a, 1.0 / a, 1.0 / b])
     Q, D = o * inv, d * inv
     speed = np.linalg.norm(D, axis=1)
     D = D / speed[:, None]
@@ -157,4 +158,4 @@ def ray_spheroid_hits(origins, directions, a, b, zc=0.0, tmin=None):
     with np.errstate(invalid="ignore"):
         u = np.sqrt((1.0 - m) * (1.0 + m))
     t = np.stack([(s0 - u) / speed, (s0 + u) / speed], axis=1)
-    return np.where(t > tmin, t, np.nan)
+    return np.where(t > tmin[:, None], t, np.nan)

@@ -63,10 +63,13 @@ def _cubic_critical_points(p, q):
 
 
 class _ScaledRays:
-    """Rays in the unit-tube frame, origin moved to the closest approach to the centre."""
+    """Rays in the unit-tube frame, origin moved to the closest approach to the centre.
+
+    ``R``, ``a``, ``b`` are per-ray arrays (N,); ``Rn = R / a`` is the scaled ring radius.
+    """
 
     def __init__(self, origins, directions, R, a, b):
-        inv = np.array([1.0 / a, 1.0 / a, 1.0 / b])
+        inv = np.column_stack([1.0 / a, 1.0 / a, 1.0 / b])
         Q = origins * inv
         D = directions * inv
         self.speed = np.linalg.norm(D, axis=1)  # scaled length per mm of t
@@ -75,17 +78,23 @@ class _ScaledRays:
         self.Q0 = Q + self.s0[:, None] * self.D
         self.Rn = R / a
 
-    def factors(self, u, rows=slice(None)):
+    def subset(self, rows):
+        sub = _ScaledRays.__new__(_ScaledRays)
+        for name in ("speed", "D", "s0", "Q0", "Rn"):
+            setattr(sub, name, getattr(self, name)[rows])
+        return sub
+
+    def factors(self, u):
         """``(g_out, g_in)`` at scaled distances ``u`` (N, k) from the closest approach."""
-        Q0, D = self.Q0[rows], self.D[rows]
+        Q0, D, Rn = self.Q0, self.D, self.Rn[:, None]
         x = Q0[:, 0, None] + u * D[:, 0, None]
         y = Q0[:, 1, None] + u * D[:, 1, None]
         z = Q0[:, 2, None] + u * D[:, 2, None]
         rho = np.hypot(x, y)
-        d_out = rho - self.Rn
+        d_out = rho - Rn
         z2 = z * z
         # (d - 1)(d + 1) instead of d*d - 1: no cancellation on the tube surface.
-        return (d_out - 1.0) * (d_out + 1.0) + z2, (rho + self.Rn) ** 2 - 1.0 + z2
+        return (d_out - 1.0) * (d_out + 1.0) + z2, (rho + Rn) ** 2 - 1.0 + z2
 
 
 def _solve_pieces(rays, p, q, bounds):
@@ -108,16 +117,17 @@ def _solve_pieces(rays, p, q, bounds):
     lo, hi = lo[ri, ci], hi[ri, ci]
     s_lo = np.sign(f_lo[ri, ci])
     pp, qq = p[ri], q[ri]
-    Q0, D, Rn = rays.Q0[ri], rays.D[ri], rays.Rn
+    Q0, D, Rn = rays.Q0[ri], rays.D[ri], rays.Rn[ri]
     x = 0.5 * (lo + hi)
     active = np.arange(ri.size)
     for _ in range(_MAX_ITER):
         xa = x[active]
         pos = Q0[active] + xa[:, None] * D[active]
         rho = np.hypot(pos[:, 0], pos[:, 1])
-        d = rho - Rn
+        rn = Rn[active]
+        d = rho - rn
         z2 = pos[:, 2] ** 2
-        f = ((d - 1.0) * (d + 1.0) + z2) * ((rho + Rn) ** 2 - 1.0 + z2)
+        f = ((d - 1.0) * (d + 1.0) + z2) * ((rho + rn) ** 2 - 1.0 + z2)
         same = np.sign(f) == s_lo[active]
         lo_a = np.where(same, xa, lo[active])
         hi_a = np.where(same, hi[active], xa)
@@ -130,7 +140,7 @@ def _solve_pieces(rays, p, q, bounds):
         step = np.abs(xn - xa)
         x[active] = np.where(f == 0.0, xa, xn)
         # Done when the step or the bracket is at rounding level of the geometry's size.
-        tol = 4e-16 * (np.abs(xn) + Rn + 1.0)
+        tol = 4e-16 * (np.abs(xn) + rn + 1.0)
         done = (f == 0.0) | (step <= tol) | (hi_a - lo_a <= tol)
         active = active[~done]
         if active.size == 0:
@@ -146,7 +156,7 @@ def _axis_parallel_roots(Q0, D, Rn, inner):
     the quartic has a double root that no sign change reveals.
     """
     rho = np.hypot(Q0[:, 0], Q0[:, 1])
-    dr = rho + Rn if inner else rho - Rn
+    dr = rho + Rn if inner else rho - Rn  # Rn: (N,) per ray
     with np.errstate(invalid="ignore"):
         half = np.sqrt((1.0 - dr) * (1.0 + dr))
     zsign = np.sign(D[:, 2])
@@ -161,12 +171,13 @@ def ray_torus_hits(origins, directions, R, a, b=None, tmin=None, sheet="outer"):
     ----------
     origins, directions : array_like, shape (N, 3)
         Ray origins (mm) and unit directions (float64), ``p(t) = origin + t direction``.
-    R : float
+    R : float or array_like (N,)
         Distance (mm) of the tube centre from the z axis, ``R >= 0``; ``R < a`` is a spindle
         torus, of which only the outer ("apple") sheet is a hit.
-    a, b : float
+    a, b : float or array_like (N,)
         Radial and axial semi-axes of the tube (mm), both > 0; ``b`` defaults to ``a``.
-    tmin : float, optional
+        Arrays give each ray its own torus (all about the z axis, centred at the origin).
+    tmin : float or array_like (N,), optional
         Hits at ``t <= tmin`` (mm) are discarded; default ``1e-6 a`` so that a secondary ray
         starting on the surface never reports its own start.
     sheet : {"outer", "inner"}
@@ -184,32 +195,32 @@ def ray_torus_hits(origins, directions, R, a, b=None, tmin=None, sheet="outer"):
     """
     o = np.asarray(origins, dtype=float).reshape(-1, 3)
     dirs = np.asarray(directions, dtype=float).reshape(-1, 3)
-    R, a = float(R), float(a)
-    b = a if b is None else float(b)
-    if not (a > 0 and b > 0 and R >= 0):
+    n = o.shape[0]
+    a = np.broadcast_to(np.asarray(a, dtype=float), (n,))
+    R = np.broadcast_to(np.asarray(R, dtype=float), (n,))
+    b = a if b is None else np.broadcast_to(np.asarray(b, dtype=float), (n,))
+    if not (np.all(a > 0) and np.all(b > 0) and np.all(R >= 0)):
         raise ValueError(f"torus needs a, b > 0 and R >= 0 (mm), got R={R}, a={a}, b={b}")
     if sheet not in ("outer", "inner"):
         raise ValueError(f"sheet must be 'outer' or 'inner', got {sheet!r}")
     inner = sheet == "inner"
-    tmin = SELF_HIT_FRACTION * a if tmin is None else float(tmin)
-    out = np.full((o.shape[0], 4), np.nan)
-    if o.shape[0] == 0:
+    tmin = SELF_HIT_FRACTION * a if tmin is None else np.broadcast_to(np.asarray(tmin, dtype=float), (n,))
+    out = np.full((n, 4), np.nan)
+    if n == 0:
         return out
-    if R < 1e-9 * a:
+    ball = R < 1e-9 * a
+    if np.any(ball):
         from .quadric import ray_spheroid_hits
-        out[:, :2] = ray_spheroid_hits(o, dirs, a, b, tmin=tmin)
-        return out
+        out[ball, :2] = ray_spheroid_hits(o[ball], dirs[ball], a[ball], b[ball], tmin=tmin[ball])
     rays = _ScaledRays(o, dirs, R, a, b)
-    Rn = rays.Rn
-    B = Rn + 1.0
+    B = rays.Rn + 1.0
     # Rays whose closest approach lies outside the bounding sphere cannot hit.
-    near = np.einsum("ij,ij->i", rays.Q0, rays.Q0) < B * B * (1.0 + 1e-12)
+    near = (np.einsum("ij,ij->i", rays.Q0, rays.Q0) < B * B * (1.0 + 1e-12)) & ~ball
     idx = np.nonzero(near)[0]
     if idx.size == 0:
         return out
-    sub = _ScaledRays.__new__(_ScaledRays)
-    sub.Q0, sub.D, sub.Rn = rays.Q0[idx], rays.D[idx], Rn
-    Q0, D = sub.Q0, sub.D
+    sub = rays.subset(idx)
+    Q0, D, Rn, B = sub.Q0, sub.D, sub.Rn, B[idx]
     E = D[:, 0] ** 2 + D[:, 1] ** 2
     F = 2.0 * (Q0[:, 0] * D[:, 0] + Q0[:, 1] * D[:, 1])
     C = np.einsum("ij,ij->i", Q0, Q0) + Rn * Rn - 1.0
@@ -222,12 +233,12 @@ def ray_torus_hits(origins, directions, R, a, b=None, tmin=None, sheet="outer"):
     u = _solve_pieces(sub, p, q, bounds)
     vertical = E == 0.0
     if np.any(vertical):
-        u[vertical] = _axis_parallel_roots(Q0[vertical], D[vertical], Rn, inner)
+        u[vertical] = _axis_parallel_roots(Q0[vertical], D[vertical], Rn[vertical], inner)
     g_out, g_in = sub.factors(u)
     # Each root of f = g_out * g_in belongs to the sheet whose factor is nearer zero.
     keep = np.abs(g_in) <= np.abs(g_out) if inner else np.abs(g_out) <= np.abs(g_in)
-    t = (rays.s0[idx, None] + u) / rays.speed[idx, None]
-    t = np.where(keep & (t > tmin), t, np.nan)
+    t = (sub.s0[:, None] + u) / sub.speed[:, None]
+    t = np.where(keep & (t > tmin[idx, None]), t, np.nan)
     t.sort(axis=1)
     out[idx] = t
     return out

@@ -1,0 +1,126 @@
+"""Tessellation (engine.tessellate): closed, outward, within tolerance, converging volumes."""
+import math
+
+import numpy as np
+import pytest
+from scipy.spatial import cKDTree
+
+from engine import capacity as cap
+from engine import crosssection
+from engine.body import BottleBody
+from engine.offset import body_profile
+from engine.shape import BottleShape
+from engine.tessellate import BODY_PARTS, tessellate_body, tessellate_liquid
+from tests.test_offset import punt_section, spec_shape, stepped_section
+
+
+def oval_shape():
+    return BottleShape("oval", {"half_width": stepped_section(30.0, 100.0, 12.0, 130.0, 160.0),
+                                "half_depth": stepped_section(20.0, 100.0, 12.0, 130.0, 160.0)}, 2.0, 5.0,
+                       rotation_deg=30.0)
+
+
+def punt_shape():
+    return BottleShape("round", {"profile": punt_section()}, 3.0, 4.0)
+
+
+SHAPES = {"round": lambda: spec_shape(1), "square": lambda: spec_shape(3), "ellipse": lambda: spec_shape(4),
+          "oval": oval_shape, "punt": punt_shape}
+
+
+@pytest.mark.parametrize("name", SHAPES)
+def test_body_mesh_is_closed_outward_with_unit_normals(name):
+    mesh = tessellate_body(SHAPES[name](), 0.1)
+    assert mesh.is_watertight()
+    assert mesh.signed_volume() > 0
+    np.testing.assert_allclose(np.linalg.norm(mesh.normals, axis=1), 1.0, atol=1e-12)
+    v, f = mesh.vertices, mesh.faces
+    g = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+    g /= np.linalg.norm(g, axis=1, keepdims=True)
+    agree = np.einsum("ij,ij->i", g, mesh.normals[f].mean(axis=1))
+    assert np.all(agree > 0.5)
+    assert set(np.unique(mesh.part)) == set(range(len(BODY_PARTS)))
+
+
+def _dense_tree(chain):
+    pts = np.concatenate([s.point(np.linspace(0, 1, 20001)) for s in chain])
+    return cKDTree(pts)
+
+
+def _samples(mesh, part_id):
+    f = mesh.faces[mesh.part == part_id]
+    v = mesh.vertices[f]
+    # centroids and edge midpoints: where a flat triangle strays furthest from a curved surface
+    return np.concatenate([v.mean(axis=1), 0.5 * (v[:, 0] + v[:, 1]), 0.5 * (v[:, 1] + v[:, 2])])
+
+
+@pytest.mark.parametrize("name", ["round", "ellipse", "punt"])
+def test_round_chordal_deviation_within_tolerance(name):
+    tol = 0.1
+    shape = SHAPES[name]()
+    mesh = tessellate_body(shape, tol)
+    sp = body_profile(shape).sections[0]
+    chains = {"outer": sp.outer_wall, "inner": sp.inner_wall, "base_outer": sp.outer_base,
+              "base_inner": sp.inner_base}
+    worst = 0.0
+    for k, part in enumerate(BODY_PARTS):
+        q = _samples(mesh, k)
+        if part == "rim":
+            dev = np.abs(q[:, 2] - shape.z_top)
+        else:
+            dev = _dense_tree(chains[part]).query(np.stack([np.hypot(q[:, 0], q[:, 1]), q[:, 2]], 1))[0]
+        worst = max(worst, float(dev.max()))
+    assert worst <= tol
+    assert worst > 0.3 * tol  # and not needlessly finer than asked
+
+
+@pytest.mark.parametrize("name", ["square", "oval"])
+def test_non_round_wall_deviation_within_tolerance(name):
+    tol = 0.1
+    shape = SHAPES[name]()
+    mesh = tessellate_body(shape, tol)
+    body = BottleBody(shape)
+    rot = math.radians(shape.rotation_deg)
+    for k, part in enumerate(("outer", "inner")):
+        q = _samples(mesh, k)
+        x = math.cos(rot) * q[:, 0] + math.sin(rot) * q[:, 1]
+        y = -math.sin(rot) * q[:, 0] + math.cos(rot) * q[:, 1]
+        states = body.wall_radii(part, q[:, 2])
+        radii = [s[0] for s in states]
+        sd, gx, gy, d = crosssection.signed_distance(shape.cross_section, radii, x, y)
+        steep = np.min([s[2] for s in states], axis=0) > 0.2  # first-order distance is reliable
+        gz = sum(d[j] * states[j][1] / np.maximum(states[j][2], 1e-9) for j in range(len(states)))
+        dist = np.abs(sd) / np.sqrt(gx ** 2 + gy ** 2 + gz ** 2)
+        assert dist[steep].max() <= tol, part
+
+
+def test_volume_converges_to_exact_as_tolerance_shrinks():
+    for name in ("round", "square"):
+        shape = SHAPES[name]()
+        exact = cap.glass_volume_cm3(shape) * 1000
+        errs = [abs(tessellate_body(shape, tol).signed_volume() - exact) / exact for tol in (0.2, 0.05, 0.0125)]
+        assert errs[0] > errs[1] > errs[2]
+        assert errs[2] < 5e-4
+
+
+@pytest.mark.parametrize("name", SHAPES)
+def test_liquid_mesh_closed_and_matches_capacity(name):
+    shape = SHAPES[name]()
+    prof = body_profile(shape)
+    for fill in (prof.z_ib + 2.0, 0.5 * (prof.z_ib + prof.z_top)):
+        mesh = tessellate_liquid(shape, fill, 0.05)
+        assert mesh.is_watertight()
+        exact = cap.capacity_ml(shape, fill) * 1000
+        v = mesh.vertices[mesh.faces]
+        area = 0.5 * np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1).sum()
+        # flat triangles within 0.05 mm of the surface move the volume by at most ~ tol x area
+        assert abs(mesh.signed_volume() - exact) <= 0.05 * area * 0.5
+        top = mesh.faces[mesh.part == 2]
+        assert np.allclose(mesh.vertices[top][..., 2], fill, atol=1e-9)
+
+
+def test_bad_tolerance_and_fill_rejected():
+    with pytest.raises(ValueError, match="tolerance"):
+        tessellate_body(spec_shape(1), 0.0)
+    with pytest.raises(ValueError, match="outside the cavity"):
+        tessellate_liquid(spec_shape(1), 3.0)

@@ -142,8 +142,9 @@ def refine_heights(body: BottleBody, part: str, z, theta, tol_mm: float) -> np.n
         dev = np.abs(np.sum((pm - 0.5 * (p[:-1] + p[1:])) * nm, axis=-1)).max(axis=1)
         pd, nd = body.wall(part, theta_mid[None, :], zm[:, None])
         diag = 0.5 * (p[:-1] + np.roll(p[1:], -1, axis=1))
-        dev = np.maximum(dev, np.abs(np.sum((pd - diag) * nd, axis=-1)).max(axis=1))
-        split = dev > SAG_SHARE * tol_mm
+        # the diagonal's middle also carries the angular sag: it gets the whole budget
+        dev_diag = np.abs(np.sum((pd - diag) * nd, axis=-1)).max(axis=1)
+        split = (dev > SAG_SHARE * tol_mm) | (dev_diag > 2 * SAG_SHARE * tol_mm)
         if not split.any():
             break
         z = np.sort(np.concatenate([z, zm[split]]))

@@ -1,0 +1,123 @@
+"""The preview: tiles from the real tracer arrive on the GUI thread, edits cancel stale jobs,
+a failing render is reported and the window keeps working."""
+from __future__ import annotations
+
+import dataclasses
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from app import engine_bridge
+from engine.design import Glass
+
+pytestmark = pytest.mark.usefixtures("no_leaks")
+
+
+def _wait_converged(qtbot, w, timeout=60_000):
+    rc = w.render_controller
+    qtbot.waitUntil(lambda: rc.ended_generation == rc.generation, timeout=timeout)
+
+
+def test_tiles_arrive_and_the_render_converges(make_window, qtbot):
+    w = make_window()
+    rc = w.render_controller
+    with qtbot.waitSignal(rc.tileReady, timeout=60_000) as blocker:
+        pass
+    generation, x0, y0, rgb8 = blocker.args
+    assert generation == rc.generation
+    assert rgb8.dtype == np.uint8 and rgb8.shape[2] == 3
+    _wait_converged(qtbot, w)
+    assert rc.converged_generation == rc.generation
+    assert w.preview.image_size() == (48, 64)
+    assert w.preview.tiles_painted >= 1
+    assert "converged" in w.statusBar().currentMessage().lower()
+    pixels = {w.preview.pixel_rgb(x, y) for x in range(0, 48, 6) for y in range(0, 64, 6)}
+    assert len(pixels) > 3, "the preview shows an image, not a flat fill"
+
+
+def test_an_edit_cancels_the_running_job_and_stale_tiles_are_dropped(make_window, qtbot):
+    w = make_window()
+    rc = w.render_controller
+    rc.wait_until_idle(0)  # start the debounced job now
+    old_job, old_generation = rc.job, rc.generation
+    assert old_job is not None
+    w.editor.apply("Glass IOR", None, glass=Glass(ior=1.6))
+    assert rc.generation == old_generation + 1
+    assert old_job.cancelled
+    shown = []
+    rc.tileReady.connect(lambda g, *rest: shown.append(g))
+    # A tile the old job finished late comes through the worker path: it must not be shown.
+    rc._worker_tile.emit(old_generation, old_job, SimpleNamespace(x0=0, y0=0, x1=8, y1=8, wave=1))
+    _wait_converged(qtbot, w)
+    assert shown, "the new job's tiles arrive"
+    assert set(shown) == {rc.generation}
+    assert old_job.wait(30)
+
+
+def test_a_failing_render_is_reported_and_the_window_keeps_working(make_window, qtbot, monkeypatch):
+    class BrokenJob:
+        def __init__(self, *args, **kwargs):
+            raise RuntimeError("embree scene could not be built")
+
+    monkeypatch.setattr(engine_bridge, "tracer_job_class", lambda: BrokenJob)
+    w = make_window()
+    rc = w.render_controller
+    with qtbot.waitSignal(rc.failed, timeout=10_000) as blocker:
+        pass
+    assert "embree scene" in blocker.args[1]
+    assert "Render failed" in w.statusBar().currentMessage()
+    monkeypatch.undo()
+    assert w.editor.apply("Glass IOR", None, glass=Glass(ior=1.55))
+    _wait_converged(qtbot, w)
+    assert rc.converged_generation == rc.generation
+
+
+def test_an_error_inside_the_job_is_reported(make_window, qtbot, monkeypatch):
+    real = engine_bridge.tracer_job_class()
+
+    class FailingJob(real):
+        def _run(self):
+            def boom(*a, **k):
+                raise ValueError("ray went astray")
+            import engine.tracer.tiles as tiles
+            monkeypatch.setattr(tiles.RenderContext, "from_design", boom)
+            super()._run()
+
+    monkeypatch.setattr(engine_bridge, "tracer_job_class", lambda: FailingJob)
+    w = make_window()
+    with qtbot.waitSignal(w.render_controller.failed, timeout=30_000) as blocker:
+        pass
+    assert "ray went astray" in blocker.args[1]
+
+
+def test_zoom_modes_and_export_image(make_window, qtbot, tmp_path):
+    w = make_window()
+    _wait_converged(qtbot, w)
+    w.preview.zoom_one_to_one()
+    assert not w.preview.fit
+    w.preview.zoom_fit()
+    assert w.preview.fit
+    out = tmp_path / "render.png"
+    w.dialogs.save_path = str(out)
+    assert w.files.export_image_dialog()
+    from PySide6.QtGui import QImage
+    img = QImage(str(out))
+    assert (img.width(), img.height()) == (48, 64)
+
+
+def test_orbit_drag_in_the_preview_is_one_camera_step(make_window):
+    w = make_window()
+    before = w.scene.design.camera
+    for dx in (5.0, 10.0, 20.0):
+        w.preview.orbitRequested.emit(dx, 0.0, False)
+    w.preview.orbitRequested.emit(0.0, 0.0, True)
+    after = w.scene.design.camera
+    assert after.eye != before.eye
+    assert after.target == before.target
+    assert w.undo_stack.count() == 1
+    dist = lambda c: np.linalg.norm(np.subtract(c.eye, c.target))  # noqa: E731
+    assert dist(after) == pytest.approx(dist(before))
+    w.undo_stack.undo()
+    assert w.scene.design.camera == before
+    assert dataclasses.asdict(before) == dataclasses.asdict(w.scene.design.camera)

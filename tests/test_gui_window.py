@@ -1,0 +1,140 @@
+"""The window's File menu: open/save, dirty marker, prompts, recent files, bad files,
+autosave and crash recovery, DXF import, mesh export, and the screenshot entry."""
+from __future__ import annotations
+
+import dataclasses
+import os
+import sys
+
+import pytest
+
+from engine.design import Glass
+from engine.project import load_project, save_project
+
+pytestmark = pytest.mark.usefixtures("no_leaks")
+
+RESOURCES = os.path.join(os.path.dirname(__file__), os.pardir, "resources")
+
+
+def test_save_then_open_round_trips_through_the_window(make_window, tmp_path):
+    w = make_window()
+    w.editor.apply("Glass IOR", None, glass=Glass(ior=1.61))
+    assert w.isWindowModified() and "[*]" in w.windowTitle()
+    out = tmp_path / "mine.glassbench"
+    w.dialogs.save_path = str(tmp_path / "mine")  # the suffix is added
+    assert w.files.save_as()
+    assert not w.isWindowModified()
+    assert w.windowTitle().startswith("mine.glassbench")
+    design, _ = load_project(out)
+    assert design == w.scene.design
+    w.editor.apply("Glass IOR", None, glass=Glass(ior=1.7))
+    w.dialogs.open_path = str(out)
+    w.dialogs.unsaved_answer = "discard"
+    assert w.files.open_dialog()
+    assert "unsaved" in w.dialogs.asked
+    assert w.scene.design.glass.ior == pytest.approx(1.61)
+    assert w.undo_stack.count() == 0 and not w.isWindowModified()
+    assert w.recent.paths()[0] == str(out.resolve())
+
+
+def test_the_window_survives_a_bad_file(make_window, tmp_path):
+    w = make_window()
+    before = w.scene.design
+    bad = tmp_path / "broken.glassbench"
+    bad.write_bytes(b"this is not a zip archive")
+    assert not w.files.open_path(str(bad))
+    assert w.dialogs.errors and "broken.glassbench" in w.dialogs.errors[0][1]
+    assert w.scene.design == before
+    assert w.editor.apply("Glass IOR", None, glass=Glass(ior=1.5)), "the window still edits"
+
+
+def test_cancel_at_the_unsaved_prompt_keeps_the_window_open(make_window):
+    w = make_window()
+    w.show()
+    w.editor.apply("Glass IOR", None, glass=Glass(ior=1.58))
+    w.dialogs.unsaved_answer = "cancel"
+    assert not w.close()
+    assert w.isVisible()
+    assert not w.files.new_design()
+    assert w.scene.design.glass.ior == pytest.approx(1.58)
+
+
+def test_save_answer_at_the_prompt_saves_before_new(make_window, tmp_path):
+    w = make_window()
+    w.editor.apply("Glass IOR", None, glass=Glass(ior=1.59))
+    w.dialogs.unsaved_answer = "save"
+    w.dialogs.save_path = str(tmp_path / "kept.glassbench")
+    assert w.files.new_design()
+    assert load_project(tmp_path / "kept.glassbench")[0].glass.ior == pytest.approx(1.59)
+    assert w.scene.design.glass.ior != pytest.approx(1.59)
+
+
+def test_autosave_and_recovery_after_a_crash(make_window, qtbot, tmp_path):
+    from app.document import recovery_dir
+    w = make_window(autosave_ms=50)
+    w.editor.apply("Glass IOR", None, glass=Glass(ior=1.66))
+    autosave = w.files.autosaver.path
+    qtbot.waitUntil(autosave.exists, timeout=5000)
+    assert load_project(autosave)[0].glass.ior == pytest.approx(1.66)
+    # Pretend the process died: its file now belongs to a pid that is not running.
+    crashed = recovery_dir() / "autosave-999999999.glassbench"
+    save_project(crashed, w.scene.design, {})
+    w2 = make_window()
+    assert w2.files.offer_recovery()
+    assert "recover" in w2.dialogs.asked
+    assert w2.scene.design.glass.ior == pytest.approx(1.66)
+    assert w2.isWindowModified(), "recovered work is unsaved work"
+    assert not crashed.exists()
+
+
+def test_a_clean_close_removes_the_autosave(make_window, qtbot):
+    w = make_window(autosave_ms=50)
+    w.editor.apply("Glass IOR", None, glass=Glass(ior=1.57))
+    qtbot.waitUntil(w.files.autosaver.path.exists, timeout=5000)
+    w.dialogs.unsaved_answer = "discard"
+    w.close()
+    assert not w.files.autosaver.path.exists()
+
+
+def test_import_dxf_is_one_undoable_step(make_window):
+    w = make_window()
+    before = w.scene.design
+    assert w.files.import_dxf(os.path.join(RESOURCES, "bordeaux_profile.dxf"))
+    assert w.scene.design.shape != before.shape
+    w.undo_stack.undo()
+    assert w.scene.design == before
+
+
+def test_import_of_a_bad_dxf_is_reported(make_window, tmp_path):
+    w = make_window()
+    bad = tmp_path / "bad.dxf"
+    bad.write_text("0\nSECTION\n2\nNONSENSE\n")
+    assert not w.files.import_dxf(str(bad))
+    assert w.dialogs.errors
+
+
+def test_export_mesh(make_window, tmp_path):
+    w = make_window()
+    out = tmp_path / "bottle.stl"
+    assert w.files.export_mesh(str(out))
+    assert out.stat().st_size > 1000
+
+
+def test_screenshot_entry_saves_a_picture_and_exits(qapp, gui_paths, tiny_design, monkeypatch, no_leaks):
+    import app.startup as startup
+    monkeypatch.setattr(startup, "sample_design", lambda: (tiny_design, {}, None))
+    out = gui_paths / "shot.png"
+    assert startup.run(None, str(out)) == 0
+    from PySide6.QtGui import QImage
+    img = QImage(str(out))
+    assert img.width() > 600 and img.height() > 400
+    # The VTK view was painted in: its area is not the empty widget background.
+    assert len({img.pixel(x, img.height() // 2) for x in range(img.width() // 2, img.width(), 7)}) > 5
+
+
+def test_screenshot_of_a_missing_project_fails_cleanly(qapp, gui_paths, capsys, no_leaks):
+    import app.startup as startup
+    assert startup.run(str(gui_paths / "nope.glassbench"), str(gui_paths / "x.png")) == 2
+    assert "nope.glassbench" in capsys.readouterr().err
+    assert sys.modules["app.window"]
+    assert dataclasses.is_dataclass(Glass)

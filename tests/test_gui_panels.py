@@ -1,0 +1,111 @@
+"""Materials, trade numbers and camera panels: widget edits become commands, model changes
+refresh the widgets without echo, trade numbers follow the section live."""
+from __future__ import annotations
+
+import pytest
+
+from engine.design import Glass
+from widgets.materials_panel import absorption_from_color, color_from_absorption
+from widgets.section_editor import Handle
+
+pytestmark = pytest.mark.usefixtures("no_leaks")
+
+
+def test_glass_ior_spin_box_is_an_undoable_command(make_window):
+    w = make_window()
+    panel = w.materials_panel
+    panel.glass_ior.setValue(1.6)
+    assert w.scene.design.glass.ior == pytest.approx(1.6)
+    assert w.undo_action.text().endswith("Glass IOR")
+    w.undo_stack.undo()
+    assert panel.glass_ior.value() == pytest.approx(1.52)
+    assert w.undo_stack.index() == 0 and w.undo_stack.count() == 1
+
+
+def test_consecutive_spin_steps_merge_into_one_step(make_window):
+    w = make_window()
+    for v in (1.53, 1.54, 1.55):
+        w.materials_panel.glass_ior.setValue(v)
+    assert w.undo_stack.count() == 1
+    w.undo_stack.undo()
+    assert w.scene.design.glass.ior == pytest.approx(1.52)
+
+
+def test_model_change_refreshes_the_panel_without_an_echo(make_window):
+    w = make_window()
+    w.editor.apply("Glass IOR", None, glass=Glass(ior=1.7, density_g_cm3=2.6))
+    assert w.materials_panel.glass_ior.value() == pytest.approx(1.7)
+    assert w.materials_panel.glass_density.value() == pytest.approx(2.6)
+    assert w.undo_stack.count() == 1
+
+
+def test_tint_colour_goes_through_the_replaceable_picker(make_window):
+    w = make_window()
+    panel = w.materials_panel
+    panel.choose_color = lambda rgb, title: (0.5, 0.8, 0.6)
+    panel.glass_tint.click()
+    absorption = w.scene.design.glass.absorption
+    assert color_from_absorption(absorption) == pytest.approx((0.5, 0.8, 0.6))
+    panel.choose_color = lambda rgb, title: None  # a cancelled dialog changes nothing
+    panel.glass_tint.click()
+    assert w.undo_stack.count() == 1
+
+
+def test_absorption_colour_round_trip():
+    rgb = (0.2, 0.9, 1.0)
+    assert color_from_absorption(absorption_from_color(rgb)) == pytest.approx(rgb)
+
+
+def test_fill_by_volume_keeps_the_level_and_updates_trade_numbers(make_window):
+    w = make_window()
+    panel = w.materials_panel
+    height = w.scene.design.liquid.fill_value
+    fill_ml = w.trade_numbers["fill_ml"]
+    panel.fill_mode.setCurrentText("volume")
+    liquid = w.scene.design.liquid
+    assert liquid.fill_mode == "volume"
+    assert liquid.fill_value == pytest.approx(fill_ml, abs=0.01)
+    assert w.trade_numbers["fill_height_mm"] == pytest.approx(height, abs=0.05)
+    panel.fill_value.setValue(500.0)
+    assert w.trade_numbers["fill_ml"] == pytest.approx(500.0, rel=1e-6)
+    assert w.trade_panel.text("fill_ml") == "500.0 ml"
+
+
+def test_emptying_and_filling_the_bottle(make_window):
+    w = make_window()
+    panel = w.materials_panel
+    panel.filled.setChecked(False)
+    assert w.scene.design.liquid is None
+    assert w.trade_panel.text("fill_ml") == "\u2014"
+    assert not panel.fill_value.isEnabled()
+    panel.filled.setChecked(True)
+    assert w.scene.design.liquid is not None
+
+
+def test_trade_numbers_follow_a_section_drag(make_window):
+    w = make_window()
+    brimful = w.trade_numbers["brimful_ml"]
+    glass = w.trade_numbers["glass_g"]
+    canvas = w.section_panel.canvas
+    sec = w.scene.design.shape.primary
+    canvas.begin_drag(Handle("joint", 2, sec.segments[2].p1), "grow")
+    canvas.drag_to((0.0, 20.0))
+    canvas.end_drag()
+    assert w.trade_numbers["brimful_ml"] > brimful + 50
+    assert w.trade_numbers["glass_g"] > glass
+    assert w.trade_panel.text("brimful_ml") == f"{w.trade_numbers['brimful_ml']:.1f} ml"
+
+
+def test_camera_orbit_spin_boxes(make_window):
+    w = make_window()
+    cam_panel = w.camera_panel
+    target = w.scene.design.camera.target
+    cam_panel.azimuth.setValue(45.0)
+    cam = w.scene.design.camera
+    assert cam.target == target
+    assert cam.eye[0] > 0 and cam.eye[1] < 0
+    cam_panel.spp.setValue(2)
+    assert w.scene.design.render.spp == 2
+    w.undo_stack.undo()
+    w.undo_stack.undo()
+    assert cam_panel.azimuth.value() == pytest.approx(0.0, abs=0.05)

@@ -1,0 +1,137 @@
+"""Tessellation: triangles and time vs measured chordal error, against a uniform-step peer.
+
+Usage::
+
+    python -m benchmarks.tessellation [--tols 0.4,0.2,0.1,0.05,0.025]
+
+For each oracle bottle (round, rounded square, ellipse foot) and tolerance, times
+:func:`engine.tessellate.tessellate_body` (best of 3) and measures the largest distance of the
+outer wall's triangles (centroids and edge middles) from the exact surface. The peer spends the
+same budget on the outer wall (same number of angles and rings) spread uniformly in angle and
+height, as a fixed-step mesher would; the ratio peer error / our error at equal triangles is the
+figure of merit. Writes ``benchmarks/out/tessellation.csv`` and ``tessellation.png``.
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import json
+import math
+import os
+import time
+
+import numpy as np
+from scipy.spatial import cKDTree
+
+from engine import crosssection
+from engine.body import BottleBody
+from engine.section import Section
+from engine.shape import BottleShape
+from engine.tessellate import tessellate_body
+
+OUT = os.path.join(os.path.dirname(__file__), "out")
+SPECS = "/work/shared/oracle/specs/public_{}.json"
+
+
+def spec_shape(n: int) -> BottleShape:
+    """The bottle of oracle scene ``public_n``."""
+    b = json.load(open(SPECS.format(n)))["bottle"]
+    cs = b["cross_section"]
+    if cs["kind"] == "round":
+        secs = {"profile": Section.from_dicts(b["profile"])}
+    else:
+        secs = {"u": Section.from_dicts(cs["profile_u"]), "v": Section.from_dicts(cs["profile_v"])}
+    return BottleShape(cs["kind"], secs, b["wall_thickness"], b["base_thickness"], b.get("rotation_deg", 0.0))
+
+
+def _probe_points(vertices, faces):
+    v = vertices[faces]
+    return np.concatenate([v.mean(axis=1), 0.5 * (v[:, 0] + v[:, 1]), 0.5 * (v[:, 1] + v[:, 2]),
+                           0.5 * (v[:, 2] + v[:, 0])])
+
+
+def outer_deviation(body: BottleBody, q) -> float:
+    """Largest distance (mm) of points ``q`` from the exact outer wall."""
+    if body.kind == "round":
+        chain = body.profile.sections[0].outer_wall
+        tree = cKDTree(np.concatenate([s.point(np.linspace(0, 1, 20001)) for s in chain]))
+        return float(tree.query(np.stack([np.hypot(q[:, 0], q[:, 1]), q[:, 2]], 1))[0].max())
+    rot = math.radians(body.shape.rotation_deg)
+    x = math.cos(rot) * q[:, 0] + math.sin(rot) * q[:, 1]
+    y = -math.sin(rot) * q[:, 0] + math.cos(rot) * q[:, 1]
+    states = body.wall_radii("outer", q[:, 2])
+    sd, gx, gy, d = crosssection.signed_distance(body.kind, [s[0] for s in states], x, y)
+    gz = sum(d[j] * states[j][1] / np.maximum(states[j][2], 1e-9) for j in range(len(states)))
+    steep = np.min([s[2] for s in states], axis=0) > 0.2  # first-order distance is reliable there
+    return float((np.abs(sd) / np.sqrt(gx ** 2 + gy ** 2 + gz ** 2))[steep].max())
+
+
+def uniform_peer(body: BottleBody, n_theta: int, n_rings: int):
+    """Outer wall on a uniform grid: ``n_theta`` angles by ``n_rings`` heights (vertices, faces)."""
+    theta = np.linspace(0.0, 2 * math.pi, n_theta, endpoint=False)
+    z = np.linspace(0.0, body.profile.z_top, n_rings)
+    p, _ = body.wall("outer", theta[None, :], z[:, None])
+    idx = np.arange(p.shape[0] * p.shape[1]).reshape(p.shape[:2])
+    a0, b0 = idx[:-1], idx[1:]
+    a1, b1 = np.roll(a0, -1, axis=1), np.roll(b0, -1, axis=1)
+    faces = np.concatenate([np.stack([a0, a1, b1], -1).reshape(-1, 3), np.stack([a0, b1, b0], -1).reshape(-1, 3)])
+    return p.reshape(-1, 3), faces
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--tols", default="0.4,0.2,0.1,0.05,0.025")
+    args = ap.parse_args(argv)
+    tols = [float(t) for t in args.tols.split(",")]
+    os.makedirs(OUT, exist_ok=True)
+    rows = []
+    for n, label in ((1, "round"), (3, "rounded square"), (4, "ellipse foot")):
+        shape = spec_shape(n)
+        body = BottleBody(shape)
+        for tol in tols:
+            best = math.inf
+            for _ in range(3):
+                t0 = time.perf_counter()
+                mesh = tessellate_body(shape, tol)
+                best = min(best, time.perf_counter() - t0)
+            outer = mesh.faces[mesh.part == 0]
+            err = outer_deviation(body, _probe_points(mesh.vertices, outer))
+            n_theta = len(np.unique(np.round(np.arctan2(mesh.vertices[outer][..., 1],
+                                                        mesh.vertices[outer][..., 0]), 9)))
+            n_rings = len(outer) // (2 * n_theta) + 1
+            pv, pf = uniform_peer(body, n_theta, n_rings)
+            peer_err = outer_deviation(body, _probe_points(pv, pf))
+            rows.append((label, tol, len(mesh.faces), len(outer), best * 1e3, err, peer_err))
+    print(f"{'bottle':15s} {'tol mm':>7s} {'triangles':>9s} {'outer':>7s} {'time ms':>8s} "
+          f"{'max err':>8s} {'peer err':>8s} {'peer/ours':>9s}")
+    for r in rows:
+        print(f"{r[0]:15s} {r[1]:7.3f} {r[2]:9d} {r[3]:7d} {r[4]:8.1f} {r[5]:8.4f} {r[6]:8.4f} {r[6] / r[5]:9.1f}")
+    with open(os.path.join(OUT, "tessellation.csv"), "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["bottle", "tol_mm", "triangles", "outer_triangles", "time_ms", "max_err_mm",
+                    "uniform_peer_err_mm"])
+        w.writerows(rows)
+    _chart(rows)
+    return 0
+
+
+def _chart(rows):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, ax = plt.subplots(figsize=(7, 4.5))
+    for label in dict.fromkeys(r[0] for r in rows):
+        rr = [r for r in rows if r[0] == label]
+        line, = ax.loglog([r[3] for r in rr], [r[5] for r in rr], "o-", label=f"{label}: chordal tolerance")
+        ax.loglog([r[3] for r in rr], [r[6] for r in rr], "x--", color=line.get_color(),
+                  label=f"{label}: uniform peer")
+    ax.set_xlabel("outer-wall triangles")
+    ax.set_ylabel("max distance to exact surface (mm)")
+    ax.set_title("Tessellation error vs triangles")
+    ax.legend(fontsize=7)
+    fig.tight_layout()
+    fig.savefig(os.path.join(OUT, "tessellation.png"), dpi=120)
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

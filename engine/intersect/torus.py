@@ -97,6 +97,13 @@ class _ScaledRays:
         return (d_out - 1.0) * (d_out + 1.0) + z2, (rho + Rn) ** 2 - 1.0 + z2
 
 
+def _false_position(lo, hi, f_lo, f_hi):
+    """Secant point of a bracket with ``f_lo``, ``f_hi`` of opposite signs (inside it)."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+    return np.where((x > lo) & (x < hi), x, 0.5 * (lo + hi))
+
+
 def _solve_pieces(rays, p, q, bounds):
     """Roots of ``f`` inside every monotone piece that changes sign; NaN elsewhere.
 
@@ -115,37 +122,55 @@ def _solve_pieces(rays, p, q, bounds):
     if ri.size == 0:
         return roots
     lo, hi = lo[ri, ci], hi[ri, ci]
-    s_lo = np.sign(f_lo[ri, ci])
-    pp, qq = p[ri], q[ri]
+    f_lo, f_hi = f_lo[ri, ci], f_hi[ri, ci]
     Q0, D, Rn = rays.Q0[ri], rays.D[ri], rays.Rn[ri]
-    x = 0.5 * (lo + hi)
-    active = np.arange(ri.size)
+    x = _false_position(lo, hi, f_lo, f_hi)
+    last = np.zeros(ri.size)  # +1: lo moved last, -1: hi moved last (Illinois bookkeeping)
+    found = np.empty(ri.size)
+    slot = np.arange(ri.size)
     for _ in range(_MAX_ITER):
-        xa = x[active]
-        pos = Q0[active] + xa[:, None] * D[active]
+        pos = Q0 + x[:, None] * D
         rho = np.hypot(pos[:, 0], pos[:, 1])
-        rn = Rn[active]
-        d = rho - rn
-        z2 = pos[:, 2] ** 2
-        f = ((d - 1.0) * (d + 1.0) + z2) * ((rho + rn) ** 2 - 1.0 + z2)
-        same = np.sign(f) == s_lo[active]
-        lo_a = np.where(same, xa, lo[active])
-        hi_a = np.where(same, hi[active], xa)
-        lo[active], hi[active] = lo_a, hi_a
-        der = (4.0 * xa * xa + 2.0 * pp[active]) * xa + qq[active]
+        d = rho - Rn
+        z = pos[:, 2]
+        g_out = (d - 1.0) * (d + 1.0) + z * z
+        g_in = (rho + Rn) ** 2 - 1.0 + z * z
+        f = g_out * g_in
+        move_lo = np.sign(f) == np.sign(f_lo)
+        # Illinois: an end kept twice in a row has its value halved, so false position
+        # cannot stall on one side.
+        f_hi = np.where(move_lo & (last > 0), 0.5 * f_hi, f_hi)
+        f_lo = np.where(~move_lo & (last < 0), 0.5 * f_lo, f_lo)
+        lo, f_lo = np.where(move_lo, x, lo), np.where(move_lo, f, f_lo)
+        hi, f_hi = np.where(move_lo, hi, x), np.where(move_lo, f_hi, f)
+        last = np.where(move_lo, 1.0, -1.0)
+        # Newton on the factor that vanishes here: nearly quadratic along the ray. A step
+        # leaving the bracket (it chased the neighbouring root) falls back to false position.
+        outer = np.abs(g_out) <= np.abs(g_in)
         with np.errstate(divide="ignore", invalid="ignore"):
-            xn = xa - f / der
-        inside = (xn > lo_a) & (xn < hi_a) & np.isfinite(xn)
-        xn = np.where(inside, xn, 0.5 * (lo_a + hi_a))
-        step = np.abs(xn - xa)
-        x[active] = np.where(f == 0.0, xa, xn)
+            drho = np.where(rho > 0.0, (pos[:, 0] * D[:, 0] + pos[:, 1] * D[:, 1]) / rho, 0.0)
+            slope = 2.0 * np.where(outer, d, rho + Rn) * drho + 2.0 * z * D[:, 2]
+            xn = x - np.where(outer, g_out, g_in) / slope
+        inside = (xn > lo) & (xn < hi)
+        xn = np.where(inside, xn, _false_position(lo, hi, f_lo, f_hi))
         # Done when the step or the bracket is at rounding level of the geometry's size.
-        tol = 4e-16 * (np.abs(xn) + rn + 1.0)
-        done = (f == 0.0) | (step <= tol) | (hi_a - lo_a <= tol)
-        active = active[~done]
-        if active.size == 0:
-            break
-    roots[ri, ci] = x
+        # Or when the factor is at the rounding noise of its own evaluation.
+        tol = 4e-16 * (np.abs(xn) + Rn + 1.0)
+        g_here = np.where(outer, g_out, g_in)
+        size2 = np.where(outer, rho * np.abs(d) + d * d, (rho + Rn) ** 2) + z * z + 1.0
+        settled = np.abs(g_here) <= 8e-16 * size2
+        done = settled | (np.abs(xn - x) <= tol) | (hi - lo <= tol)
+        x = np.where(settled, x, xn)
+        if done.any():
+            found[slot[done]] = x[done]
+            keep = ~done
+            if not keep.any():
+                break
+            slot, x, lo, hi, f_lo, f_hi, last, Q0, D, Rn = (
+                v[keep] for v in (slot, x, lo, hi, f_lo, f_hi, last, Q0, D, Rn))
+    else:
+        found[slot] = x
+    roots[ri, ci] = found
     return roots
 
 

@@ -217,10 +217,13 @@ def cmd_render(args) -> int:
 
 
 def render_via_tracer(cli_render, project, output, width, height, spp) -> int:
-    """Call the tracer's render command function for one project (see engine.tracer.cli_render)."""
-    fn = getattr(cli_render, "render_project", None)
+    """Call the tracer's render command (:func:`engine.tracer.cli_render.render_command`)
+    for one project; it loads the project, renders with progress on stderr and saves."""
+    fn = getattr(cli_render, "render_command", None) or getattr(cli_render, "render_project", None)
     if fn is None:
-        raise CliError("the tracer's cli_render module has no render_project function")
-    result = fn(project, output, width=width, height=height, spp=spp)
-    print(f"wrote {output}")
-    return 0 if result is None else int(result)
+        raise CliError("the tracer's cli_render module offers no render_command function")
+    status = fn(project, output, width=width, height=height, spp=spp)
+    if status in (None, 0):
+        print(f"wrote {output}")
+        return 0
+    return int(status)

@@ -188,3 +188,43 @@ def test_unexpected_failure_is_one_line_not_a_traceback(project, monkeypatch, ca
     assert cli.main(["info", str(project)]) == 2
     err = capsys.readouterr().err
     assert err == "glassbench info: internal error: RuntimeError: boom second line\n"
+
+
+def read_image(path):
+    import OpenImageIO as oiio
+    buf = oiio.ImageBuf(str(path))
+    assert not buf.has_error, buf.geterror()
+    return buf.get_pixels()
+
+
+def test_render_writes_png_and_exr(project, tmp_path, capsys):
+    png, exr = tmp_path / "c.png", tmp_path / "c.exr"
+    assert cli.main(["render", str(project), "-o", str(png), "--width", "8", "--height", "6",
+                     "--spp", "1"]) == 0
+    assert cli.main(["render", str(project), "-o", str(exr)]) == 0  # the project's own 8 x 8
+    assert f"wrote {png}" in capsys.readouterr().out
+    assert read_image(png).shape == (6, 8, 3)
+    img = read_image(exr)
+    assert img.shape == (8, 8, 3) and img.dtype.kind == "f" and (img >= 0).all() and img.max() > 0
+
+
+def test_headless_preview_really_renders(project, monkeypatch, tmp_path, capsys):
+    monkeypatch.delenv("DISPLAY", raising=False)
+    monkeypatch.delenv("WAYLAND_DISPLAY", raising=False)
+    monkeypatch.setattr(sys, "platform", "linux")
+    monkeypatch.setattr(app_main.tempfile, "gettempdir", lambda: str(tmp_path))
+    assert app_main.main([str(project)]) == 0
+    out = tmp_path / "glassbench-cyl.png"
+    assert capsys.readouterr().out.strip().splitlines()[-1] == str(out)
+    assert read_image(out).shape == (8, 8, 3)
+
+
+def test_export_mesh_is_a_closed_solid_of_the_glass_volume(project, tmp_path, capsys):
+    import trimesh
+    out = tmp_path / "cyl.stl"
+    assert cli.main(["export-mesh", str(project), str(out), "--tol", "0.05"]) == 0
+    mesh = trimesh.load(out)
+    glass_mm3 = math.pi * 30.0 ** 2 * 100.0 - math.pi * 27.0 ** 2 * 94.0
+    assert mesh.is_watertight
+    assert abs(mesh.volume) == pytest.approx(glass_mm3, rel=5e-3)
+    assert cli.main(["export-mesh", str(project), str(tmp_path / "cyl.xyz")]) == 2

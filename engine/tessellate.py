@@ -22,7 +22,7 @@ import numpy as np
 
 from . import crosssection
 from .body import BottleBody
-from .offset import locate
+from .offset import locate, param_at_z
 
 BODY_PARTS = ("outer", "inner", "base_outer", "base_inner", "rim")
 LIQUID_PARTS = ("wall", "base", "surface")
@@ -117,6 +117,30 @@ def wall_heights(chains, tol_mm: float, z_lo: float, z_hi: float) -> np.ndarray:
     return z
 
 
+def section_stations(chain, tol_mm: float, z_hi: float | None = None):
+    """Samples ``(r, z, T_r, T_z)`` along a rising chain (joints once), up to height ``z_hi``.
+
+    Used for round walls: rings come straight from the section (no inversion of r(z)), which
+    also keeps a horizontal step of a per-segment wall as two rings at one height.
+    """
+    out = []
+    for i, seg in enumerate(chain):
+        if z_hi is not None and seg.p0[1] >= z_hi - 1e-12 and i > 0:
+            break
+        t = segment_samples(seg, tol_mm)
+        last = z_hi is not None and seg.p1[1] > z_hi
+        if last:
+            t_fill = float(param_at_z(seg, z_hi))
+            t = np.append(t[t < t_fill - 1e-9], t_fill)
+        t = t if i == 0 else t[1:]
+        p, tan = seg.point(t), seg.tangent(t)
+        out.append(np.column_stack([p, tan]))
+        if last:
+            break
+    st = np.concatenate(out)
+    return st[:, 0], st[:, 1], st[:, 2], st[:, 3]
+
+
 def chain_stations(chain, tol_mm: float) -> np.ndarray:
     """Base-chain parameters ``s`` in [0, 1] (equal share per segment) for punt rings."""
     n = len(chain)
@@ -154,7 +178,7 @@ def refine_heights(body: BottleBody, part: str, z, theta, tol_mm: float) -> np.n
 
 # --------------------------------------------------------------------------- assembly
 class _Builder:
-    """Collects vertex blocks and faces per part; orients faces along the vertex normals."""
+    """Collects vertex blocks and face groups (one per band or fan) per part."""
 
     def __init__(self, names):
         self.names, self.v, self.n, self.f, self.p, self.count = names, [], [], [], [], 0
@@ -186,11 +210,35 @@ class _Builder:
         return list(idx)
 
     def mesh(self) -> Mesh:
-        v, n, f = np.concatenate(self.v), np.concatenate(self.n), np.concatenate(self.f)
-        g = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
-        flip = np.einsum("ij,ij->i", g, n[f].sum(axis=1)) < 0
-        f[flip] = f[flip][:, ::-1]
-        return Mesh(v, f, n, np.concatenate(self.p), self.names)
+        """Orient each band or fan as a whole (its faces' winding summed against the vertex
+        normals, so a crease ring with very different normals cannot flip single faces)."""
+        v, n = np.concatenate(self.v), np.concatenate(self.n)
+        groups = []
+        for f in self.f:
+            g = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
+            score = np.einsum("ij,ij->i", g, n[f].sum(axis=1)).sum()
+            groups.append(f[:, ::-1] if score < 0 else f)
+        return Mesh(v, np.concatenate(groups), n, np.concatenate(self.p), self.names)
+
+
+def _wall(b, body, part, label, theta, tol, z_lo, z_hi, flip=1.0):
+    """Rings of a wall from ``z_lo`` to ``z_hi`` banded together; returns the ring indices.
+
+    Round walls revolve the section's own samples; other walls take ring heights from every
+    section (:func:`wall_heights`, :func:`refine_heights`). ``flip`` -1 turns the normals round.
+    """
+    chains = [sp.outer_wall if part == "outer" else sp.inner_wall for sp in body.profile.sections]
+    if body.kind == "round":
+        r, z, tr, tz = section_stations(chains[0], tol, z_hi)
+        sign = flip * (1.0 if part == "outer" else -1.0)  # the inner wall faces the cavity
+        c, s = np.cos(theta)[None, :], np.sin(theta)[None, :]
+        pts = np.stack(np.broadcast_arrays(r[:, None] * c, r[:, None] * s, z[:, None]), axis=-1)
+        nrm = np.stack(np.broadcast_arrays(sign * tz[:, None] * c, sign * tz[:, None] * s,
+                                           -sign * tr[:, None] + 0 * c), axis=-1)
+        return b.grid(label, pts, nrm)
+    z = refine_heights(body, part, wall_heights(chains, tol, z_lo, z_hi), theta, tol)
+    pts, nrm = body.wall(part, theta[None, :], z[:, None])
+    return b.grid(label, pts, flip * nrm)
 
 
 def _copy_ring(b: _Builder, ring, normals) -> np.ndarray:
@@ -254,12 +302,8 @@ def tessellate_body(shape, tol_mm: float = 0.05) -> Mesh:
     prof = body.profile
     theta = theta_samples(body, tol)
     b = _Builder(BODY_PARTS)
-    z_out = wall_heights([sp.outer_wall for sp in prof.sections], tol, 0.0, prof.z_top)
-    z_out = refine_heights(body, "outer", z_out, theta, tol)
-    outer = b.grid("outer", *body.wall("outer", theta[None, :], z_out[:, None]))
-    z_in = wall_heights([sp.inner_wall for sp in prof.sections], tol, prof.z_ib, prof.z_top)
-    z_in = refine_heights(body, "inner", z_in, theta, tol)
-    inner = b.grid("inner", *body.wall("inner", theta[None, :], z_in[:, None]))
+    outer = _wall(b, body, "outer", "outer", theta, tol, 0.0, prof.z_top)
+    inner = _wall(b, body, "inner", "inner", theta, tol, prof.z_ib, prof.z_top)
     _base(b, body, "base_outer", "base_outer", theta, outer[0], tol)
     _base(b, body, "base_inner", "base_inner", theta, inner[0], tol)
     up = np.array([0.0, 0.0, 1.0])
@@ -282,10 +326,7 @@ def tessellate_liquid(shape, fill_height: float, tol_mm: float = 0.05) -> Mesh:
         raise ValueError(f"fill height {fill:g} mm is outside the cavity ({prof.z_ib:g} to {prof.z_top:g} mm)")
     theta = theta_samples(body, tol)
     b = _Builder(LIQUID_PARTS)
-    z = wall_heights([sp.inner_wall for sp in prof.sections], tol, prof.z_ib, fill)
-    z = refine_heights(body, "inner", z, theta, tol)
-    pts, nrm = body.wall("inner", theta[None, :], z[:, None])
-    wall = b.grid("wall", pts, -nrm)
+    wall = _wall(b, body, "inner", "wall", theta, tol, prof.z_ib, fill, flip=-1.0)
     up = np.array([0.0, 0.0, 1.0])
     base_chain = prof.sections[0].inner_base
     if prof.punt and fill < base_chain[0].p0[1]:

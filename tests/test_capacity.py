@@ -138,3 +138,11 @@ def test_fill_height_round_trips_and_fill_point():
     with pytest.raises(ValueError, match="brimful"):
         cap.fill_height_for_volume(shape, full * 1.01)
     assert cap.capacity_ml(shape, 0.0) == 0.0 and cap.capacity_ml(shape, 1e4) == pytest.approx(full)
+
+
+def test_per_segment_walls_match_parameter_integral():
+    shape = round_shape(stepped_section(30.0, 100.0, 12.0, 130.0, 170.0), 2.0, 6.0,
+                        wall_per_segment=(4.0, 2.5, 2.0))
+    sp = body_profile(shape).sections[0]
+    assert cap.brimful_ml(shape) * 1000 == pytest.approx(_t_integral(sp.inner_wall), rel=1e-7)
+    assert cap.capacity_ml(shape, 50.0) * 1000 == pytest.approx(math.pi * 26.0 ** 2 * 44.0, rel=1e-9)

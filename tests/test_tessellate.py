@@ -124,3 +124,16 @@ def test_bad_tolerance_and_fill_rejected():
         tessellate_body(spec_shape(1), 0.0)
     with pytest.raises(ValueError, match="outside the cavity"):
         tessellate_liquid(spec_shape(1), 3.0)
+
+
+def test_per_segment_wall_step_is_meshed_as_a_ledge():
+    shape = BottleShape("round", {"profile": stepped_section(30.0, 100.0, 12.0, 130.0, 170.0)}, 2.0, 6.0,
+                        wall_per_segment=(4.0, 2.5, 2.0))
+    mesh = tessellate_body(shape, 0.05)
+    assert mesh.is_watertight()
+    exact = cap.glass_volume_cm3(shape) * 1000
+    assert mesh.signed_volume() == pytest.approx(exact, rel=2e-3)
+    inner = mesh.vertices[mesh.faces[mesh.part == 1]].reshape(-1, 3)
+    at_step = inner[np.abs(inner[:, 2] - 100.0) < 1e-9]
+    radii = np.unique(np.round(np.hypot(at_step[:, 0], at_step[:, 1]), 6))
+    assert radii.min() == pytest.approx(26.0) and radii.max() > 26.5  # both sides of the ledge

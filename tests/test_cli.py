@@ -228,3 +228,11 @@ def test_export_mesh_is_a_closed_solid_of_the_glass_volume(project, tmp_path, ca
     assert mesh.is_watertight
     assert abs(mesh.volume) == pytest.approx(glass_mm3, rel=5e-3)
     assert cli.main(["export-mesh", str(project), str(tmp_path / "cyl.xyz")]) == 2
+
+
+def test_new_from_the_sample_dxf_matches_the_sample(tmp_path, capsys):
+    out = tmp_path / "b.glassbench"
+    assert cli.main(["new", "--from-dxf", str(RESOURCES / "bordeaux_profile.dxf"), str(out)]) == 0
+    assert cli.main(["info", str(out), "--json"]) == 0
+    numbers = json.loads(capsys.readouterr().out.split("\n", 1)[1])
+    assert numbers["brimful_ml"] == pytest.approx(776.0, abs=0.01)

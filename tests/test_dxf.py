@@ -186,3 +186,18 @@ def test_any_entity_order_and_line_direction_gives_the_same_section(tmp_path_fac
         else:
             msp.add_entity(e.copy())
     assert_same_section(section_from_document(doc), want)
+
+
+def test_flat_ellipse_heel_round_trip(tmp_path):
+    # Major axis along r (radius_r > radius_z), walked clockwise: a concave flat ellipse.
+    e = EllipseArc((40.0, 8.0), 12.0, 4.0, (28.0, 8.0), (40.0, 4.0), "ccw")
+    want = Section((Line((0, 0), (20, 0)), Line((20, 0), (28, 8)), e.reversed().reversed(),
+                    Line((40.0, 4.0), (40.0, 60.0))))
+    path = tmp_path / "e.dxf"
+    section_to_dxf(want, path)
+    assert_same_section(section_from_dxf(path), want)
+    flipped = Section((Line((0, 0), (20, 0)), Line((20, 0), (28, 8)),
+                       EllipseArc((40.0, 8.0), 12.0, 4.0, (28.0, 8.0), (40.0, 4.0), "cw"),
+                       Line((40.0, 4.0), (40.0, 60.0))))
+    section_to_dxf(flipped, path)
+    assert_same_section(section_from_dxf(path), flipped)

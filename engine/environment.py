@@ -48,9 +48,10 @@ class EnvironmentMap:
         j0 = np.minimum(np.floor(y).astype(np.int64), h - 2)
         fy = (y - j0)[:, None]
         j1 = j0 + 1
-        top = tex[j0, i0] * (1.0 - fx) + tex[j0, i1] * fx
-        bot = tex[j1, i0] * (1.0 - fx) + tex[j1, i1] * fx
-        return (top * (1.0 - fy) + bot * fy) * self.scale
+        with np.errstate(invalid="ignore", over="ignore"):  # non-finite maps are the caller's to drop
+            top = tex[j0, i0] * (1.0 - fx) + tex[j0, i1] * fx
+            bot = tex[j1, i0] * (1.0 - fx) + tex[j1, i1] * fx
+            return (top * (1.0 - fy) + bot * fy) * self.scale
 
 
 def read_radiance_image(path) -> np.ndarray:

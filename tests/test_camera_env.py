@@ -1,0 +1,125 @@
+"""Camera (SPEC 2), sample seeding and the environment lookup (SPEC 3)."""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from engine.camera import PinholeCamera, pixel_offsets
+from engine.design import Camera, Environment
+from engine.environment import EnvironmentMap, environment_from_design, studio_texels
+
+
+def _cam(w=40, h=20):
+    return PinholeCamera.from_design(Camera(eye=(0, -100, 0), target=(0, 0, 0), up=(0, 0, 1), fov_y_deg=30), w, h)
+
+
+def test_image_centre_looks_forward_and_pixel_0_0_is_top_left():
+    cam = _cam()
+    _, d = cam.rays(np.array([20.0, 0.0, 40.0]), np.array([10.0, 0.0, 20.0]))
+    assert np.allclose(d[0], [0, 1, 0])
+    # Top-left corner: left (-x when looking along +y with z up) and up.
+    assert d[1, 0] < 0 and d[1, 2] > 0
+    # Bottom-right corner: right and down.
+    assert d[2, 0] > 0 and d[2, 2] < 0
+
+
+def test_vertical_field_of_view_is_the_full_angle():
+    cam = _cam(40, 20)
+    _, d = cam.rays(np.array([20.0, 20.0]), np.array([0.0, 20.0]))
+    assert abs(math.degrees(math.acos(np.dot(d[0], d[1]))) - 30.0) < 1e-9
+    # Horizontal extent follows the aspect ratio: sx = t * w / h at the right edge.
+    _, d = cam.rays(np.array([40.0]), np.array([10.0]))
+    assert abs(d[0, 0] / d[0, 1] - math.tan(math.radians(15)) * 2) < 1e-12
+
+
+def test_sample_positions_are_a_pure_function_of_pixel_and_index():
+    a = pixel_offsets(np.arange(1000), np.full(1000, 3))
+    b = pixel_offsets(np.arange(1000)[::-1], np.full(1000, 3))[::-1]
+    assert np.array_equal(a, b)
+    assert np.all((a >= 0) & (a < 1))
+    assert len(np.unique(a[:, 0])) == 1000  # pixels are decorrelated
+    # 16 samples of one pixel cover its square evenly: every 4x4 cell holds about one.
+    s = pixel_offsets(np.full(16, 77), np.arange(16))
+    cells = np.floor(s * 4).astype(int)
+    assert len({tuple(c) for c in cells}) >= 12
+
+
+def _spec_lookup(tex, d):
+    """SPEC 3 written out scalar by scalar, as an independent check."""
+    h, w = tex.shape[:2]
+    phi = math.atan2(d[1], d[0])
+    u = (phi / (2 * math.pi)) % 1.0
+    v = math.acos(max(-1.0, min(1.0, d[2]))) / math.pi
+    x = (u * w - 0.5) % w
+    y = v * (h - 1)
+    i0 = math.floor(x)
+    i1 = (i0 + 1) % w
+    j0 = min(math.floor(y), h - 2)
+    j1 = j0 + 1
+    fx, fy = x - i0, y - j0
+    return ((tex[j0, i0] * (1 - fx) + tex[j0, i1] * fx) * (1 - fy)
+            + (tex[j1, i0] * (1 - fx) + tex[j1, i1] * fx) * fy)
+
+
+def test_environment_lookup_matches_the_spec_formula():
+    rng = np.random.default_rng(1)
+    tex = rng.random((9, 16, 3)).astype(np.float32)
+    env = EnvironmentMap(tex)
+    d = rng.normal(size=(300, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    d[:3] = [[0, 0, 1], [0, 0, -1], [1, -1e-12, 0]]  # poles and the u = 0 seam
+    d[:3] /= np.linalg.norm(d[:3], axis=1, keepdims=True)
+    got = env.lookup(d)
+    want = np.array([_spec_lookup(tex.astype(float), di) for di in d])
+    assert np.allclose(got, want, atol=1e-6)
+
+
+def test_texel_centres_return_the_texel_and_poles_are_rows_0_and_last():
+    tex = np.zeros((5, 8, 3), np.float32)
+    tex[2, 3] = [1, 2, 3]
+    tex[0, :] = 7
+    tex[4, :] = 9
+    env = EnvironmentMap(tex)
+    u, v = (3 + 0.5) / 8, 2 / 4
+    phi, theta = u * 2 * math.pi, v * math.pi
+    d = np.array([[math.sin(theta) * math.cos(phi), math.sin(theta) * math.sin(phi), math.cos(theta)],
+                  [0, 0, 1], [0, 0, -1]])
+    out = env.lookup(d)
+    assert np.allclose(out[0], [1, 2, 3], atol=1e-6)
+    assert np.allclose(out[1], 7) and np.allclose(out[2], 9)
+
+
+def test_scale_and_rotation_turn_the_map_about_z():
+    rng = np.random.default_rng(2)
+    tex = rng.random((6, 12, 3)).astype(np.float32)
+    d = rng.normal(size=(50, 3))
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    a = math.radians(40)
+    turned = np.stack([math.cos(a) * d[:, 0] - math.sin(a) * d[:, 1],
+                       math.sin(a) * d[:, 0] + math.cos(a) * d[:, 1], d[:, 2]], 1)
+    base = EnvironmentMap(tex).lookup(d)
+    rot = EnvironmentMap(tex, scale=2.5, rotation_deg=40).lookup(turned)
+    assert np.allclose(rot, 2.5 * base, atol=1e-9)
+
+
+def test_studio_and_file_environments(tmp_path):
+    import OpenImageIO as oiio
+
+    studio = environment_from_design(Environment(kind="studio"))
+    up, down = studio.lookup(np.array([[0, 0, 1.0], [0, 0, -1.0]]))
+    assert np.all(studio.texels >= 0) and np.all(np.isfinite(studio.texels))
+    assert up.mean() > 3 * down.mean()  # bright ceiling over a dark floor
+    assert studio_texels().max() >= 6.0  # the key light
+    img = np.full((4, 8, 3), 0.25, np.float32)
+    path = tmp_path / "e.exr"
+    out = oiio.ImageOutput.create(str(path))
+    out.open(str(path), oiio.ImageSpec(8, 4, 3, oiio.FLOAT))
+    out.write_image(img)
+    out.close()
+    for item in (path.read_bytes(), str(path)):
+        env = environment_from_design(Environment(kind="file", asset="e.exr", scale=2.0), {"e.exr": item})
+        assert np.allclose(env.lookup(np.array([[1.0, 0, 0]])), 0.5)
+    with pytest.raises(ValueError):
+        environment_from_design(Environment(kind="file", asset="missing.exr"), {})

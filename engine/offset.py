@@ -51,8 +51,7 @@ def subsegment(seg: Segment, t0: float, t1: float) -> Segment:
     raise TypeError(f"unknown segment type {type(seg).__name__}")
 
 
-def _wrap_to_unit(d_angle, sweep: float):
-    """Parameter ``t`` of an angle offset ``d_angle`` from the start on an arc sweeping ``sweep``."""
+def _wrap_to_unit(d_angle, sweep: float):  # angle past the start -> t on an arc of ``sweep``
     d = np.mod(np.asarray(d_angle) * math.copysign(1.0, sweep) + math.pi, 2 * math.pi) - math.pi
     return np.clip(d / abs(sweep), 0.0, 1.0)
 
@@ -67,9 +66,7 @@ def param_at_z(seg: Segment, z) -> np.ndarray:
     z = np.asarray(z, dtype=float)
     z0, z1 = seg.p0[1], seg.p1[1]
     if isinstance(seg, Line):
-        if z1 == z0:
-            return np.zeros_like(z)
-        return np.clip((z - z0) / (z1 - z0), 0.0, 1.0)
+        return np.zeros_like(z) if z1 == z0 else np.clip((z - z0) / (z1 - z0), 0.0, 1.0)
     if isinstance(seg, (Arc, EllipseArc)):
         rz = seg.radius if isinstance(seg, Arc) else seg.radius_z
         s = np.arcsin(np.clip((z - seg.center[1]) / rz, -1.0, 1.0))
@@ -111,12 +108,9 @@ def _offset_param_at_z(seg: OffsetEllipseArc, z) -> np.ndarray:
 
 
 def locate(segments, z):
-    """Index of the segment holding height ``z`` (mm) and the parameter there, vectorised.
-
-    ``segments`` is a chain monotone in z, rising (a wall) or descending (a punt's base).
-    Heights outside its z range get index -1 and ``t = nan``. Returns
-    ``(index (int array), t (float array))`` shaped like ``z``.
-    """
+    """``(index, t)`` arrays shaped like ``z``: the segment holding height ``z`` (mm) and its
+    parameter there, on a chain rising (a wall) or descending (a punt's base) in z. Heights
+    outside the chain's range get index -1 and ``t = nan``."""
     z = np.asarray(z, dtype=float)
     n = len(segments)
     rising = segments[-1].p1[1] >= segments[0].p0[1]
@@ -128,8 +122,7 @@ def locate(segments, z):
     for i in np.unique(idx):
         m = idx == i
         t[m] = param_at_z(segments[i], z[m])
-    z_lo = min(segments[0].p0[1], segments[-1].p1[1])
-    z_hi = max(segments[0].p0[1], segments[-1].p1[1])
+    z_lo, z_hi = sorted((segments[0].p0[1], segments[-1].p1[1]))
     outside = (z < z_lo - Z_TOL_MM) | (z > z_hi + Z_TOL_MM)
     idx = np.where(outside, -1, idx)
     t[outside] = np.nan
@@ -137,10 +130,8 @@ def locate(segments, z):
 
 
 def radius_at(segments, z) -> np.ndarray:
-    """Radius r(z) (mm) of a z-monotone chain of segments at heights ``z`` (mm), vectorised.
-
-    Heights outside the chain's z range give ``nan``. Exact up to rounding (see :func:`param_at_z`).
-    """
+    """Radius r(z) (mm) of a z-monotone chain of segments at heights ``z`` (mm), vectorised;
+    ``nan`` outside the chain's z range. Exact up to rounding (see :func:`param_at_z`)."""
     idx, t = locate(segments, z)
     r = np.full(np.shape(t), np.nan)
     for i in np.unique(idx[idx >= 0]):
@@ -151,12 +142,8 @@ def radius_at(segments, z) -> np.ndarray:
 
 # --------------------------------------------------------------------------- base / wall split
 def wall_start_index(section) -> int:
-    """Index of the first wall segment: the one after the first joint at z = 0 (the standing ring).
-
-    A SPEC section has a flat ``segments[0]`` at z = 0, so this is 1. A section with a punt starts
-    at ``(0, h_punt)`` and its base part (segments before the ring) descends to z = 0. Raises
-    ``SectionError`` when no joint lies at z = 0 or the ring is the mouth.
-    """
+    """Index of the first wall segment: the one after the first joint at z = 0 (the standing
+    ring). 1 for a SPEC flat base; later for a punt. ``SectionError`` when no joint is at z = 0."""
     segs = section.segments
     for i, s in enumerate(segs[:-1]):
         if abs(s.p1[1]) <= Z_TOL_MM:
@@ -166,56 +153,69 @@ def wall_start_index(section) -> int:
 
 # --------------------------------------------------------------------------- offsetting
 def _offset(seg: Segment, w: float, index: int) -> Segment:
-    try:
+    try:  # Arc.offset raises SectionError for a radius <= 0; here that is the wall's fault
         return seg.offset(w)
     except SectionError as exc:
         raise WallError(f"segment {index}: wall {w:g} mm is too thick for this arc ({exc})") from None
 
 
+def _crossing(a: Segment, b: Segment):
+    """Parameters ``(ta, tb)`` where ``a`` and ``b`` cross (the crossing nearest their joint),
+    or ``None``: chords of 128 pieces each, then Newton on ``a(ta) = b(tb)``."""
+    t = np.linspace(0.0, 1.0, 129)
+    pa, pb = a.point(t), b.point(t)
+    da, db = np.diff(pa, axis=0)[:, None, :], np.diff(pb, axis=0)[None, :, :]
+    c = pb[None, :-1, :] - pa[:-1, None, :]
+    cross = lambda x, y: x[..., 0] * y[..., 1] - x[..., 1] * y[..., 0]
+    den = cross(da, db)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sa, sb = cross(c, db) / den, cross(c, da) / den
+    hit = (den != 0) & (sa >= 0) & (sa <= 1) & (sb >= 0) & (sb <= 1)
+    if not hit.any():
+        return None
+    i, j = np.nonzero(hit)
+    ta_all, tb_all = (i + sa[i, j]) / 128.0, (j + sb[i, j]) / 128.0
+    k = int(np.argmax(ta_all - tb_all))
+    ta, tb, h = float(ta_all[k]), float(tb_all[k]), 1e-7
+    for _ in range(30):  # Newton with central differences on a(ta) - b(tb) = 0
+        f = a.point(ta) - b.point(tb)
+        ja = (a.point(min(ta + h, 1.0)) - a.point(max(ta - h, 0.0))) / (min(ta + h, 1.0) - max(ta - h, 0.0))
+        jb = (b.point(min(tb + h, 1.0)) - b.point(max(tb - h, 0.0))) / (min(tb + h, 1.0) - max(tb - h, 0.0))
+        det = jb[0] * ja[1] - ja[0] * jb[1]
+        if det == 0 or math.hypot(*f) < 1e-13:
+            break
+        ta = min(max(ta - (jb[0] * f[1] - f[0] * jb[1]) / det, 0.0), 1.0)
+        tb = min(max(tb - (ja[0] * f[1] - ja[1] * f[0]) / det, 0.0), 1.0)
+    return ta, tb
+
+
 def _join(a: Segment, b: Segment, corner, w_equal: float | None, index: int):
     """Join consecutive offset segments ``a``, ``b``: returns ``(a', bridge, b')``.
 
-    Where they meet nothing changes; where they part, the gap is bridged (exact arc of radius
-    ``w`` about the corner for equal walls, else a line); where they cross, both are trimmed at
-    the crossing height (bisection on r_a(z) - r_b(z)); where walls of different thickness
-    neither meet nor cross, ``b`` is cut at ``a``'s end height and a horizontal step joins them.
+    Where they meet nothing changes; where they cross (the inside of a convex corner) both are
+    trimmed at the crossing; where they part, the gap is bridged: by the exact arc of radius
+    ``w`` about the corner for equal walls, else by a line, or, where walls of different
+    thickness leave ``b`` starting below ``a``'s end on a rising wall, by cutting ``b`` at that
+    height and stepping across horizontally.
     """
     (ar, az), (br, bz) = a.p1, b.p0
     if math.hypot(ar - br, az - bz) <= JOINT_TOL_MM:
         return a, (), b
+    hit = _crossing(a, b)
+    if hit is not None and 1e-12 < hit[0] and hit[1] < 1 - 1e-12:
+        a2, b2 = subsegment(a, 0.0, hit[0]), subsegment(b, hit[1], 1.0)
+        gap = math.hypot(a2.p1[0] - b2.p0[0], a2.p1[1] - b2.p0[1])
+        return a2, ((Line(a2.p1, b2.p0),) if gap > JOINT_TOL_MM else ()), b2
+    if w_equal is not None and abs(math.hypot(ar - corner[0], az - corner[1]) - w_equal) < 1e-6:
+        turn = (ar - corner[0]) * (bz - corner[1]) - (az - corner[1]) * (br - corner[0])
+        return a, (Arc(corner, w_equal, a.p1, b.p0, "ccw" if turn > 0 else "cw"),), b
     if bz >= az:
-        if w_equal is not None and abs(math.hypot(ar - corner[0], az - corner[1]) - w_equal) < 1e-6:
-            cross = (ar - corner[0]) * (bz - corner[1]) - (az - corner[1]) * (br - corner[0])
-            return a, (Arc(corner, w_equal, a.p1, b.p0, "ccw" if cross > 0 else "cw"),), b
         return a, (Line(a.p1, b.p0),), b
-    zlo = max(bz, min(a.p0[1], a.p1[1]))
-    zhi = min(az, max(b.p0[1], b.p1[1]))
-
-    def diff(zz):
-        return float(a.point(param_at_z(a, zz))[0] - b.point(param_at_z(b, zz))[0])
-
-    if not zlo < zhi or diff(zlo) * diff(zhi) > 0:
-        if max(b.p0[1], b.p1[1]) > az + JOINT_TOL_MM and w_equal is None:
-            # walls of different thickness that do not cross: step across at a's end height
-            tb = float(param_at_z(b, az))
-            b2 = subsegment(b, tb, 1.0)
-            return a, (Line(a.p1, b2.p0),), b2
-        raise WallError(f"segment {index}: the inner wall folds over itself at this joint "
-                        f"(wall too thick for the corner or for the change of thickness)")
-    f_lo = diff(zlo)
-    for _ in range(70):
-        zm = 0.5 * (zlo + zhi)
-        if diff(zm) * f_lo > 0:
-            zlo = zm
-        else:
-            zhi = zm
-    zc = 0.5 * (zlo + zhi)
-    ta, tb = float(param_at_z(a, zc)), float(param_at_z(b, zc))
-    if ta < 1e-12 or tb > 1 - 1e-12:
-        raise WallError(f"segment {index}: the inner wall crosses past a whole segment at this joint")
-    a2, b2 = subsegment(a, 0.0, ta), subsegment(b, tb, 1.0)
-    gap = math.hypot(a2.p1[0] - b2.p0[0], a2.p1[1] - b2.p0[1])
-    return a2, ((Line(a2.p1, b2.p0),) if gap > JOINT_TOL_MM else ()), b2
+    if w_equal is None and max(b.p0[1], b.p1[1]) > az + JOINT_TOL_MM:
+        b2 = subsegment(b, float(param_at_z(b, az)), 1.0)
+        return a, (Line(a.p1, b2.p0),), b2
+    raise WallError(f"segment {index}: the inner wall folds over itself at this joint "
+                    f"(wall too thick for the corner or for the change of thickness)")
 
 
 def offset_chain(segments, walls, first_index: int = 0) -> tuple[Segment, ...]:
@@ -293,11 +293,6 @@ class SectionProfile:
         """Inner radius at the mouth (mm): the inner edge of the rim."""
         return self.inner_wall[-1].p1[0]
 
-    @property
-    def r_base(self) -> float:
-        """Radius of the standing ring (mm): where the outer base meets the outer wall."""
-        return self.outer_wall[0].p0[0]
-
 
 @dataclass(frozen=True)
 class BodyProfile:
@@ -367,8 +362,8 @@ def _punt_junction(inner_base, inner_wall_full, name):
 
 
 def build_body_profile(shape: BottleShape) -> BodyProfile:
-    """Derive the :class:`BodyProfile` of ``shape`` without validating it first (see
-    :func:`body_profile`). Raises ``WallError`` / ``SectionError`` on what it cannot build."""
+    """The :class:`BodyProfile` of ``shape``, not validated first (see :func:`body_profile`);
+    raises ``WallError`` / ``SectionError`` on what it cannot build."""
     bt = shape.base_thickness
     flat = all(is_flat_base(sec) for _, sec in shape.sections)
     profiles = []
@@ -396,11 +391,8 @@ def build_body_profile(shape: BottleShape) -> BodyProfile:
 
 @lru_cache(maxsize=64)
 def body_profile(shape: BottleShape) -> BodyProfile:
-    """The validated, cached :class:`BodyProfile` of ``shape``.
-
-    Raises ``SectionError`` / ``WallError`` (from :func:`engine.validate.validate_shape`) when the
-    shape cannot be built.
-    """
+    """The validated, cached :class:`BodyProfile` of ``shape``; raises ``SectionError`` /
+    ``WallError`` (from :func:`engine.validate.validate_shape`) when it cannot be built."""
     from .validate import validate_shape  # validate builds on this module's helpers
 
     validate_shape(shape)

@@ -146,3 +146,13 @@ def test_per_segment_walls_match_parameter_integral():
     sp = body_profile(shape).sections[0]
     assert cap.brimful_ml(shape) * 1000 == pytest.approx(_t_integral(sp.inner_wall), rel=1e-7)
     assert cap.capacity_ml(shape, 50.0) * 1000 == pytest.approx(math.pi * 26.0 ** 2 * 44.0, rel=1e-9)
+
+
+def test_cornered_punt_matches_parameter_integral():
+    from tests.test_offset import cornered_punt_section
+    shape = round_shape(cornered_punt_section(), 2.5, 4.0)
+    sp = body_profile(shape).sections[0]
+    expect = _t_integral(sp.inner_wall) + _t_integral(sp.inner_base)
+    assert cap.brimful_ml(shape) * 1000 == pytest.approx(expect, rel=1e-7)
+    h = cap.fill_height_for_volume(shape, 0.001 * cap.brimful_ml(shape))
+    assert cap.capacity_ml(shape, h) == pytest.approx(0.001 * cap.brimful_ml(shape), rel=1e-9)

@@ -142,3 +142,26 @@ def test_body_profile_flat_and_punt():
 def test_too_thick_wall_raises_wall_error_naming_segment():
     with pytest.raises(WallError, match="segment 1"):
         inner_section(torus_foot_section(20.0, 5.0, 100.0), 6.0, 7.0)
+
+
+def cornered_punt_section() -> Section:
+    """A punt whose dome meets a straight chamfer down to the ring at a corner."""
+    dome = EllipseArc((0.0, 3.0), 15.0, 9.0, (0.0, 12.0), (15.0, 3.0), "cw")
+    segs = (dome, Line((15.0, 3.0), (20.0, 0.0)), Line((20.0, 0.0), (32.0, 10.0)),
+            Line((32.0, 10.0), (32.0, 150.0)))
+    return Section(segs, (False, False, False))
+
+
+def test_cornered_punt_base_is_offset_and_joined():
+    shape = BottleShape("round", {"profile": cornered_punt_section()}, 2.5, 4.0)
+    sp = body_profile(shape).sections[0]
+    chain = sp.inner_base + sp.inner_wall
+    for a, b in zip(chain[:-1], chain[1:]):
+        assert math.dist(a.p1, b.p0) < 1e-7
+    # the inner dome is the outer dome offset by base_thickness (trimmed where it meets the wall)
+    dome_in, dome_out = sp.inner_base[0], sp.outer_base[0]
+    assert isinstance(dome_in, OffsetEllipseArc) and dome_in.w == 4.0
+    assert (dome_in.base.center, dome_in.base.radius_r, dome_in.base.radius_z) == (
+        dome_out.center, dome_out.radius_r, dome_out.radius_z)
+    assert dome_in.p0 == pytest.approx((0.0, 16.0))
+    assert sp.inner_wall[0].p0[1] == pytest.approx(body_profile(shape).z_ib)

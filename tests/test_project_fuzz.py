@@ -61,10 +61,19 @@ def load_or_project_error(blob: bytes, limits=SMALL):
     return design
 
 
-@FUZZ
-@given(data=st.data())
-def test_mutated_documents(data):
-    doc = good_doc()
+def format0_doc() -> dict:
+    d = make_design()
+    return {"format_version": 0, "name": "proto",
+            "shape": {"cross_section": "round", "sections": {"profile": d.shape.primary.to_dicts()},
+                      "wall": 2.5, "base": 5.0, "rotation_deg": 0.0},
+            "glass": {"ior": 1.5, "absorption": [0, 0, 0.01]},
+            "liquid": {"ior": 1.33, "absorption": [0.1, 0.1, 0.1], "fill_height": 80.0},
+            "camera": {"eye": [0, -400, 100], "target": [0, 0, 60], "up": [0, 0, 1], "fov_y_deg": 30},
+            "render": {"width": 200, "height": 300, "spp": 4}}
+
+
+def mutate(data, doc) -> dict:
+    """Replace, delete or add one to three values anywhere in the JSON tree."""
     all_paths = paths(doc)
     for _ in range(data.draw(st.integers(1, 3))):
         path = data.draw(st.sampled_from(all_paths))
@@ -83,7 +92,20 @@ def test_mutated_documents(data):
                 parent.append(data.draw(json_value))
         except (KeyError, IndexError, TypeError):
             continue  # an earlier mutation removed or replaced this path
-    load_or_project_error(doc_archive(doc))
+    return doc
+
+
+@FUZZ
+@given(data=st.data())
+def test_mutated_documents(data):
+    load_or_project_error(doc_archive(mutate(data, good_doc())))
+
+
+@FUZZ
+@given(data=st.data())
+def test_mutated_format_0_documents(data):
+    # Migration code reads untrusted input too.
+    load_or_project_error(doc_archive(mutate(data, format0_doc())))
 
 
 @FUZZ
@@ -116,6 +138,7 @@ def test_unmutated_archive_loads(tmp_path):
     # The fuzzers' starting point is a valid project (else they would prove nothing).
     design = load_or_project_error(doc_archive(good_doc()))
     assert design == make_design()
+    assert load_or_project_error(doc_archive(format0_doc())).name == "proto"
     save_project(tmp_path / "x.glassbench", make_design(), ASSETS)
     assert load_or_project_error((tmp_path / "x.glassbench").read_bytes()) == make_design()
 

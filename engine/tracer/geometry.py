@@ -130,8 +130,12 @@ def build_render_geometry(shape, fill_height: float | None) -> RenderGeometry:
     """Tessellate and label the interfaces of ``shape`` with liquid up to ``fill_height`` (mm).
 
     ``fill_height`` is clamped into ``(z_ib, z_top)``; ``None`` (or a level at or below the
-    inner base) means an empty bottle. Round, rounded-square shapes are supported.
+    inner base) means an empty bottle. Round and rounded-square shapes are supported; the shape is
+    validated first (``engine.validate``: ``SectionError`` / ``WallError``).
     """
+    from ..validate import validate_shape
+
+    validate_shape(shape)  # an invalid wall would render as garbage: say what is wrong instead
     w, z_ib = shape.wall_thickness, shape.base_thickness
     if shape.cross_section == "round":
         ou, iu = wall_curves(shape.section("profile"), w, z_ib)

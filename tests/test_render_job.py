@@ -1,0 +1,127 @@
+"""RenderJob: determinism across threads and tiles, progressive waves, cancellation, errors."""
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+import pytest
+
+import engine.tracer.job as job_module
+from engine.tracer.geometry import render_geometry_for
+from engine.tracer.job import RenderJob, render_image, tonemap_srgb8
+from tests.test_tracer import simple_design
+
+
+def test_image_is_bit_identical_for_any_thread_count_and_tile_order():
+    design = simple_design(40.0, glass_absorption=(0.01, 0.0, 0.02), width=24, height=32, spp=4)
+    a = render_image(design, threads=1, tile=16)
+    b = render_image(design, threads=2, tile=12, _tile_shuffle_seed=7)
+    c = render_image(design, threads=3, tile=32, _tile_shuffle_seed=1)
+    assert a.shape == (32, 24, 3) and a.dtype == np.float32
+    assert np.array_equal(a, b) and np.array_equal(a, c)
+    assert a.std() > 0.01  # a real picture, not a constant
+
+
+def test_waves_go_from_preview_to_full_resolution_and_progress_reaches_one():
+    design = simple_design(40.0, width=32, height=32, spp=4)
+    waves, progress = [], []
+
+    def on_tile(job, tile):
+        waves.append(tile.wave)
+        progress.append(job.progress)
+        assert 0 <= tile.x0 < tile.x1 <= 32 and 0 <= tile.y0 < tile.y1 <= 32
+
+    done = threading.Event()
+    job = RenderJob(design, threads=2, tile=16, on_tile=on_tile, on_done=lambda j: done.set()).start()
+    assert job.wait(120) and done.is_set()
+    assert job.done and not job.cancelled and job.error is None
+    assert waves == sorted(waves) and waves[0] == 0 and max(waves) >= 2
+    assert all(0 <= p <= 1 for p in progress) and job.progress == 1.0
+    assert job.sample_counts().min() >= 4
+
+
+def test_preview_wave_fills_the_whole_image():
+    design = simple_design(40.0, width=32, height=32, spp=2)
+    seen = {}
+
+    def on_tile(job, tile):
+        if tile.wave == 0 and job.progress >= 4 / job._units_total - 1e-12 and "img" not in seen:
+            seen["img"] = job.image()
+            job.cancel()
+
+    job = RenderJob(design, threads=1, tile=16, on_tile=on_tile).start()
+    assert job.wait(120) and job.cancelled
+    img = seen["img"]
+    assert img.shape == (32, 32, 3) and np.all(np.isfinite(img)) and np.all(img > 0)
+
+
+def test_cancel_stops_within_one_tile_per_thread():
+    design = simple_design(40.0, width=64, height=64, spp=16)
+    calls = []
+
+    def on_tile(job, tile):
+        calls.append(tile)
+        job.cancel()
+
+    job = RenderJob(design, threads=2, tile=8, on_tile=on_tile).start()
+    assert job.wait(120)
+    assert job.cancelled and job.done and job.error is None
+    assert 1 <= len(calls) <= 2  # only tiles already running when the flag was set finish
+    assert job.progress < 0.1
+
+
+def test_a_failing_worker_is_reported_not_swallowed(monkeypatch):
+    design = simple_design(40.0, width=32, height=32, spp=2)
+    render_geometry_for(design)
+    real = job_module.trace_tile_samples
+    count = {"n": 0}
+
+    def flaky(*args, **kw):
+        count["n"] += 1
+        if count["n"] == 3:
+            raise RuntimeError("tile exploded")
+        return real(*args, **kw)
+
+    monkeypatch.setattr(job_module, "trace_tile_samples", flaky)
+    reported = []
+    job = RenderJob(design, threads=2, tile=16, on_done=lambda j: reported.append(j.error)).start()
+    assert job.wait(120)
+    assert isinstance(job.error, RuntimeError) and "exploded" in str(job.error)
+    assert reported and reported[0] is job.error
+    count["n"] = 0
+    with pytest.raises(RuntimeError, match="exploded"):
+        render_image(design, threads=1, tile=16)
+
+
+def test_camera_edit_reuses_geometry_and_fill_edit_rebuilds_it():
+    import dataclasses
+
+    design = simple_design(40.0)
+    g = render_geometry_for(design)
+    moved = dataclasses.replace(design, camera=dataclasses.replace(design.camera, eye=(10, -200, 50)),
+                                glass=dataclasses.replace(design.glass, absorption=(0.1, 0, 0)))
+    assert render_geometry_for(moved) is g
+    refilled = dataclasses.replace(design, liquid=dataclasses.replace(design.liquid, fill_value=30.0))
+    assert render_geometry_for(refilled) is not g
+
+
+def test_tonemap_is_clamped_srgb():
+    img = np.array([[[0.0, 1.0, 0.5], [np.nan, 7.0, 0.0031308]]])
+    out = tonemap_srgb8(img)
+    assert out.dtype == np.uint8
+    assert out[0, 0].tolist() == [0, 255, 188]
+    assert out[0, 1].tolist() == [0, 255, 10]
+
+
+def test_render_command_writes_png_and_exr(tmp_path, capsys):
+    from engine.environment import read_radiance_image
+    from engine.project import save_project
+    from engine.tracer.cli_render import render_command
+
+    proj = tmp_path / "b.glassbench"
+    save_project(proj, simple_design(40.0))
+    for name in ("o.png", "o.exr"):
+        assert render_command(proj, tmp_path / name, width=20, height=16, spp=1, progress=False) == 0
+        img = read_radiance_image(tmp_path / name)
+        assert img.shape == (16, 20, 3) and img.max() > 0
+    assert "rendered 20x16" in capsys.readouterr().out

@@ -95,10 +95,25 @@ def capacity_ml(shape, fill_height_mm: float) -> float:
 
 
 def fill_height_for_volume(shape, ml: float) -> float:
-    """Height (mm above z = 0) of the liquid surface when the bottle holds ``ml`` millilitres.
+    """Height of the liquid surface when the bottle holds ``ml`` millilitres.
 
-    Raises ``ValueError`` for a negative volume or one above the brimful capacity. Solved by
-    Newton steps on ``V(h) - ml`` (``dV/dh`` is the cavity area) inside the right piece.
+    Parameters
+    ----------
+    shape : BottleShape
+        The bottle (validated, results cached per shape).
+    ml : float
+        Liquid volume (ml), between 0 and :func:`brimful_ml`.
+
+    Returns
+    -------
+    float
+        Fill height (mm above z = 0), solved by Newton steps on ``V(h) - ml`` (``dV/dh`` is the
+        cavity area) inside the piece that holds it, to 1e-10 mm.
+
+    Raises
+    ------
+    ValueError
+        For a negative volume or one above the brimful capacity.
     """
     prof, joints, cum = _cavity_table(shape)
     target = float(ml) * MM3_PER_ML

@@ -109,11 +109,30 @@ def mesh_bytes(mesh: Mesh, suffix: str) -> bytes:
 
 
 def export_mesh(shape, path, tol_mm: float = 0.05) -> Path:
-    """Tessellate ``shape`` within ``tol_mm`` (mm) and write it to ``path``; returns the path.
+    """Tessellate ``shape`` and write the glass shell to ``path`` in the format of its suffix.
 
-    The format follows the suffix (:data:`FORMATS`). Raises ``ValueError`` for an unknown suffix
-    or a bad tolerance, ``SectionError`` / ``WallError`` for an invalid shape, ``OSError`` when
-    the file cannot be written.
+    Parameters
+    ----------
+    shape : BottleShape
+        The bottle (validated by the tessellator).
+    path : str or Path
+        Target file; the suffix picks the format (:data:`FORMATS`).
+    tol_mm : float
+        Chordal tolerance (mm) of the tessellation.
+
+    Returns
+    -------
+    Path
+        The written file.
+
+    Raises
+    ------
+    ValueError
+        Unknown suffix or bad tolerance (nothing is written).
+    SectionError, WallError
+        Invalid shape.
+    OSError
+        The file cannot be written.
     """
     path = Path(path)
     if path.suffix.lower() not in _WRITERS:

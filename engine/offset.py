@@ -1,15 +1,13 @@
 """Inner sections and the derived body profile: the wall offset inwards, clipped at the inner base.
 
-Design rule: everything here is a pure function of segments and thicknesses (mm). A section is
-split at the *standing ring* (the first joint at z = 0, see :func:`wall_start_index`) into the
-**base part** (axis -> ring) and the **wall part** (ring -> mouth). The inner wall is the wall
-part offset inwards in its own (r, z) plane (SPEC 4.2: ``P(t) - w n(t)``), clipped where it meets
-the inner base; the inner base is the base part offset inwards by ``base_thickness`` (a flat base
-gives the plane ``z = base_thickness`` exactly, as in the SPEC; a punt gives a raised dome).
-
-:class:`BodyProfile` gathers, per named section, the outer and inner base and wall segments; the
-tracer, the tessellator and the capacity code read it. :func:`body_profile` validates the shape
-first and caches the result per shape (shapes are hashable values).
+Design rule: pure functions of segments and thicknesses (mm). A section splits at the *standing
+ring* (first joint at z = 0, :func:`wall_start_index`) into the **base part** (axis -> ring) and
+the **wall part** (ring -> mouth). The inner wall is the wall part offset inwards in its own
+(r, z) plane (SPEC 4.2: ``P(t) - w n(t)``) and clipped where it meets the inner base; the inner
+base is the base part offset by ``base_thickness`` (flat base: exactly the plane
+``z = base_thickness`` of the SPEC; punt: a raised dome). :class:`BodyProfile` gathers these
+curves per named section for the tracer, tessellator and capacity code; :func:`body_profile`
+validates the shape first and caches the result per shape (shapes are hashable values).
 """
 from __future__ import annotations
 
@@ -235,32 +233,38 @@ def offset_chain(segments, walls, first_index: int = 0) -> tuple[Segment, ...]:
 
 def clip_from_z(segments, z_clip: float, what: str = "inner wall") -> tuple[Segment, ...]:
     """The part of a z-rising chain above ``z_clip`` (mm); the first piece is a sub-segment."""
-    for i, s in enumerate(segments):
-        if s.p1[1] <= z_clip + 1e-12:
-            continue
-        if s.p0[1] >= z_clip - 1e-12:
-            if i == 0 and s.p0[1] > z_clip + Z_TOL_MM:
-                break
-            return tuple(segments[i:])
-        t = float(param_at_z(s, z_clip))
-        if t >= 1.0 - 1e-13:
-            continue
-        return (subsegment(s, t, 1.0),) + tuple(segments[i + 1:])
+    if segments[0].p0[1] <= z_clip + Z_TOL_MM:
+        for i, s in enumerate(segments):
+            if s.p0[1] >= z_clip - 1e-12:  # starts at the clip height (within rounding)
+                return tuple(segments[i:])
+            t = float(param_at_z(s, z_clip)) if s.p1[1] > z_clip + 1e-12 else 1.0
+            if t < 1.0 - 1e-13:
+                return (subsegment(s, t, 1.0),) + tuple(segments[i + 1:])
     raise WallError(f"the {what} does not span the height {z_clip:g} mm "
                     f"(it runs from {segments[0].p0[1]:g} mm to {segments[-1].p1[1]:g} mm)")
 
 
 def inner_section(section, wall, z_ib: float) -> tuple[Segment, ...]:
-    """The inner wall curve of ``section`` from the inner base height ``z_ib`` to the mouth (mm).
+    """The inner wall curve of ``section``, from the inner base height up to the mouth.
 
-    ``wall`` is one thickness (mm) or one per wall segment (segments from
-    :func:`wall_start_index` on). The wall part is offset inwards (``P - w n``) and clipped at
-    ``z_ib``; the result is a z-rising chain of ``Line`` / ``Arc`` / ``OffsetEllipseArc`` whose
-    first point is at height ``z_ib`` and last at ``section.z_top``.
+    Parameters
+    ----------
+    section : Section
+        A valid section (its wall part starts at :func:`wall_start_index`).
+    wall : float or sequence of float
+        Wall thickness (mm), or one per wall segment.
+    z_ib : float
+        Inner base height (mm) where the offset wall is clipped.
+
+    Returns
+    -------
+    tuple of Segment
+        A z-rising chain of ``Line`` / ``Arc`` / ``OffsetEllipseArc`` (each wall segment moved
+        ``P - w n``, joints trimmed or bridged) from height ``z_ib`` to ``section.z_top``.
     """
     k = wall_start_index(section)
     wall_segs = section.segments[k:]
-    walls = ([float(wall)] * len(wall_segs) if np.ndim(wall) == 0 else [float(w) for w in wall])
+    walls = [float(wall)] * len(wall_segs) if np.ndim(wall) == 0 else [float(w) for w in wall]
     if len(walls) != len(wall_segs):
         raise WallError(f"{len(walls)} wall thicknesses given for {len(wall_segs)} wall segments")
     return clip_from_z(offset_chain(wall_segs, walls, k), float(z_ib))
@@ -319,8 +323,7 @@ class BodyProfile:
         raise KeyError(f"no section {name!r} in this {self.cross_section} profile")
 
     @property
-    def r_top(self) -> float:
-        """Outer radius of the (round) mouth, mm."""
+    def r_top(self) -> float:  # outer radius of the (round) mouth, mm
         return self.sections[0].r_top
 
 
@@ -332,31 +335,29 @@ def is_flat_base(section) -> bool:
 
 
 def _punt_junction(inner_base, inner_wall_full, name):
-    """Where the raised inner base meets the inner wall: ``(segment index, t, z)``."""
+    """Where the raised inner base meets the inner wall: ``(segment index, t, z)``.
+
+    Walks the inner base outwards until it reaches the inner wall's radius at its height
+    (a point below the inner wall's start counts as outside), then bisects.
+    """
     z_start = inner_wall_full[0].p0[1]
-    prev = None
+
+    def outside(p):  # rho - r_in(z) >= 0, vectorised over points (..., 2)
+        r_in = radius_at(inner_wall_full, np.maximum(p[..., 1], z_start))
+        return (p[..., 1] < z_start) | (p[..., 0] >= r_in)
+
+    t = np.linspace(0.0, 1.0, 65)
+    if outside(inner_base[0].point(0.0)):
+        raise WallError(f"{name} section: the inner base does not reach the axis inside the inner "
+                        "wall (base or wall too thick)")
     for m, seg in enumerate(inner_base):
-        t = np.linspace(0.0, 1.0, 65)
-        p = seg.point(t)
-        g = p[:, 0] - radius_at(inner_wall_full, np.maximum(p[:, 1], z_start))
-        g = np.where(p[:, 1] < z_start, np.inf, g)  # below the inner wall: certainly outside
-        hit = np.nonzero(g >= 0)[0]
+        hit = np.nonzero(outside(seg.point(t)))[0]
         if len(hit):
-            j = hit[0]
-            if j == 0:
-                if prev is None:
-                    raise WallError(f"{name} section: the inner base does not reach the axis "
-                                    "inside the inner wall (base or wall too thick)")
-                return prev
-            lo, hi = t[j - 1], t[j]
+            lo, hi = t[hit[0] - 1], t[hit[0]]  # hit[0] > 0: t = 0 was inside (the previous end)
             for _ in range(60):
-                tm = 0.5 * (lo + hi)
-                pm = seg.point(tm)
-                gm = np.inf if pm[1] < z_start else pm[0] - radius_at(inner_wall_full, pm[1])
-                lo, hi = (tm, hi) if gm < 0 else (lo, tm)
+                lo, hi = (lo, 0.5 * (lo + hi)) if outside(seg.point(0.5 * (lo + hi))) else (0.5 * (lo + hi), hi)
             tj = 0.5 * (lo + hi)
             return m, tj, float(seg.point(tj)[1])
-        prev = (m, 1.0, seg.p1[1])
     raise WallError(f"{name} section: the inner base never meets the inner wall "
                     "(base thickness too small for the punt)")
 

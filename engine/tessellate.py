@@ -293,9 +293,25 @@ def _check_tol(tol_mm: float) -> float:
 def tessellate_body(shape, tol_mm: float = 0.05) -> Mesh:
     """The closed glass shell of ``shape`` as a :class:`Mesh` within ``tol_mm`` of the surfaces.
 
-    Parts: outer wall, inner wall, outer base, inner base, rim (``BODY_PARTS``). Faces face out of
-    the glass; the welded mesh is watertight. Raises ``SectionError`` / ``WallError`` for an
-    invalid shape and ``ValueError`` for a tolerance that is not a positive number (mm).
+    Parameters
+    ----------
+    shape : BottleShape
+        The bottle; validated here.
+    tol_mm : float
+        Largest distance (mm) of any triangle from the exact surface (chordal tolerance).
+
+    Returns
+    -------
+    Mesh
+        Parts ``BODY_PARTS`` (outer wall, inner wall, outer base, inner base, rim); faces and
+        normals face out of the glass; the welded mesh is watertight.
+
+    Raises
+    ------
+    SectionError, WallError
+        For an invalid shape.
+    ValueError
+        For a tolerance that is not a positive number.
     """
     tol = _check_tol(tol_mm)
     body = BottleBody(shape)

@@ -79,9 +79,18 @@ def _monotone(seg, axis: int) -> bool:
 
 
 def validate_section(section) -> None:
-    """Raise ``SectionError(index, msg)`` unless ``section`` is a valid bottle section.
+    """Check one section against the rules of the module docstring.
 
-    See the module docstring for the rules. Returns ``None`` when the section is valid.
+    Parameters
+    ----------
+    section : Section
+        The section (mm).
+
+    Raises
+    ------
+    SectionError
+        With ``index`` the offending segment (``None`` for the section as a whole) and a
+        message a designer can act on. Returns ``None`` when the section is valid.
     """
     segs = section.segments
     if len(segs) < 2:

@@ -37,8 +37,9 @@ SUFFIX = ".glassbench"
 PROJECT_MEMBER = "project.json"
 ASSET_DIR = "assets/"
 GENERATOR = "glassbench 0.1.0"
-#: Asset names: plain file names, no folders, no leading dot.
-ASSET_NAME = re.compile(r"^[A-Za-z0-9_][A-Za-z0-9_.\-]{0,127}$")
+#: Asset names: plain file names (spaces and non-ASCII letters allowed) of at most 128
+#: characters: no folder separators, colons or control characters, no leading dot.
+ASSET_NAME = re.compile(r"^[^/\\:.\x00-\x1f\x7f][^/\\:\x00-\x1f\x7f]{0,127}\Z")
 
 
 @dataclass(frozen=True)
@@ -81,8 +82,8 @@ def save_project(path: str | os.PathLike, design: Design,
     # Never write a file that cannot be opened again.
     check_design(design, assets)
     try:
-        text = json.dumps(doc, indent=1, allow_nan=False, ensure_ascii=False)
-    except ValueError as exc:
+        payload = json.dumps(doc, indent=1, allow_nan=False, ensure_ascii=False).encode("utf-8")
+    except ValueError as exc:  # NaN (caught earlier, kept as a guard) or lone surrogates
         raise ProjectError(f"cannot write the project: {exc}") from None
     folder = os.path.dirname(os.path.abspath(path))
     tmp = None
@@ -90,7 +91,7 @@ def save_project(path: str | os.PathLike, design: Design,
         fd, tmp = tempfile.mkstemp(prefix=".glassbench-", suffix=".tmp", dir=folder)
         with os.fdopen(fd, "wb") as fh:
             with zipfile.ZipFile(fh, "w", compression=zipfile.ZIP_DEFLATED) as zf:
-                zf.writestr(_member(PROJECT_MEMBER), text.encode("utf-8"))
+                zf.writestr(_member(PROJECT_MEMBER), payload)
                 for name in sorted(assets):
                     zf.writestr(_member(ASSET_DIR + name), bytes(assets[name]))
             fh.flush()
@@ -302,10 +303,13 @@ def parse_json(raw: bytes, limits: Limits = DEFAULT_LIMITS) -> object:
         raise ProjectError(f"{PROJECT_MEMBER} is not valid JSON: {str(exc)[:200]}") from None
 
 
+_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"', re.DOTALL)
+
+
 def _nesting_depth(text: str) -> int:
-    # Upper bound on bracket depth (strings included): cheap, and stops recursion bombs early.
+    """Bracket depth of a JSON text, outside strings; stops recursion bombs before parsing."""
     depth = best = 0
-    for m in re.finditer(r"[\[\]{}]", text):
+    for m in re.finditer(r"[\[\]{}]", _JSON_STRING.sub("", text)):
         depth += 1 if m.group() in "[{" else -1
         best = max(best, depth)
     return best
@@ -340,6 +344,8 @@ def check_design(design: Design, assets: Mapping[str, bytes]) -> None:
     for where, name in refs:
         if name is not None and name not in assets:
             raise ProjectError(f"design.{where} names asset {name[:80]!r}, which the project lacks")
+    if env.scale < 0:
+        raise ProjectError(f"design.environment.scale = {env.scale} must not be negative")
     if env.kind == "file" and env.asset is None:
         raise ProjectError("design.environment.kind is 'file' but no asset is named")
     validate_design_shape(design)

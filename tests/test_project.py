@@ -286,3 +286,19 @@ def test_save_refuses_what_load_would_refuse(tmp_path):
     with pytest.raises(ProjectError, match="cannot write"):
         save_project(tmp_path / "no" / "such" / "dir.glassbench", make_design(), ASSETS)
     assert not path.exists()
+
+
+def test_awkward_text_and_asset_names_round_trip(tmp_path):
+    design = dataclasses.replace(make_design(), notes="[" * 500 + '{"q": "\\"}' + "\u00e9\U0001F37E",
+                                 environment=Environment("file", "my studio (2).exr", 1.0, 0.0),
+                                 labels=(Label("front", "café label.png"),))
+    assets = {"my studio (2).exr": b"env", "café label.png": b"png"}
+    save_project(tmp_path / "p.glassbench", design, assets)
+    assert load_project(tmp_path / "p.glassbench") == (design, assets)
+
+
+def test_unencodable_text_is_refused_on_save(tmp_path):
+    design = dataclasses.replace(make_design(), notes="lone \ud800 surrogate")
+    with pytest.raises(ProjectError, match="cannot write"):
+        save_project(tmp_path / "p.glassbench", design, ASSETS)
+    assert not (tmp_path / "p.glassbench").exists()

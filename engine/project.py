@@ -201,6 +201,7 @@ _CHUNK = 1 << 16
 
 def _read_members(blob: bytes, limits: Limits) -> dict[str, bytes]:
     """Check every member of the archive, then read them with streaming size caps."""
+    _check_declared_directory(blob, limits)
     try:
         zf = zipfile.ZipFile(io.BytesIO(blob))
         infos = zf.infolist()
@@ -239,6 +240,22 @@ def _read_members(blob: bytes, limits: Limits) -> dict[str, bytes]:
                 raise ProjectError(f"the archive unpacks to more than {limits.total_bytes} bytes")
             out[name] = data
     return out
+
+
+def _check_declared_directory(blob: bytes, limits: Limits) -> None:
+    """Refuse an archive whose end record declares too many members or too big a directory,
+    before the zip reader spends time and memory parsing it."""
+    # The end-of-central-directory record sits in the last 22 + 65535 (comment) bytes.
+    at = blob.rfind(b"PK\x05\x06", max(0, len(blob) - 22 - 0xFFFF))
+    if at < 0 or at + 22 > len(blob):
+        return  # not a zip: the reader will say so
+    entries, dir_size = struct.unpack_from("<HI", blob, at + 10)
+    if entries == 0xFFFF or dir_size == 0xFFFFFFFF:
+        raise ProjectError("ZIP64 archives are not glassbench projects (far too large)")
+    if entries > limits.members:
+        raise ProjectError(f"the archive has {entries} members (limit {limits.members})")
+    if dir_size > limits.members * 4096:
+        raise ProjectError(f"the archive's directory is {dir_size} bytes, larger than any project's")
 
 
 def _read_capped(zf: zipfile.ZipFile, info: zipfile.ZipInfo, name: str, cap: int) -> bytes:

@@ -302,3 +302,14 @@ def test_unencodable_text_is_refused_on_save(tmp_path):
     with pytest.raises(ProjectError, match="cannot write"):
         save_project(tmp_path / "p.glassbench", design, ASSETS)
     assert not (tmp_path / "p.glassbench").exists()
+
+
+def test_member_count_is_checked_before_parsing_the_directory():
+    blob = bytearray(archive(good_doc()))
+    at = blob.rfind(b"PK\x05\x06")
+    blob[at + 8:at + 12] = (60000).to_bytes(2, "little") * 2  # entries on disk / in total
+    with pytest.raises(ProjectError, match="60000 members"):
+        load_project_bytes(bytes(blob))
+    blob[at + 8:at + 12] = (0xFFFF).to_bytes(2, "little") * 2
+    with pytest.raises(ProjectError, match="ZIP64"):
+        load_project_bytes(bytes(blob))

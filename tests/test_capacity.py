@@ -156,3 +156,34 @@ def test_cornered_punt_matches_parameter_integral():
     assert cap.brimful_ml(shape) * 1000 == pytest.approx(expect, rel=1e-7)
     h = cap.fill_height_for_volume(shape, 0.001 * cap.brimful_ml(shape))
     assert cap.capacity_ml(shape, h) == pytest.approx(0.001 * cap.brimful_ml(shape), rel=1e-9)
+
+
+from hypothesis import given, settings, strategies as st  # noqa: E402
+
+
+@settings(max_examples=25, deadline=None)
+@given(rb=st.floats(5.0, 40.0), a=st.floats(2.0, 15.0), h=st.floats(40.0, 300.0),
+       w_frac=st.floats(0.05, 0.9), bt_extra=st.floats(0.0, 5.0))
+def test_torus_foot_closed_form_over_random_bottles(rb, a, h, w_frac, bt_extra):
+    w = w_frac * a
+    bt = w + bt_extra
+    shape = round_shape(torus_foot_section(rb, a, h), w, bt)
+    rho = a - w
+
+    def prim(y):
+        y = min(max(y, -rho), 0.0)
+        s = math.sqrt(max(rho * rho - y * y, 0.0))
+        return math.pi * (rb * rb * y + rb * (y * s + rho * rho * math.asin(y / rho)) + rho * rho * y - y ** 3 / 3)
+
+    expect = prim(0.0) - prim(bt - a) + math.pi * (rb + rho) ** 2 * (h - max(a, bt))
+    assert cap.brimful_ml(shape) * 1000 == pytest.approx(expect, rel=1e-9)
+
+
+@settings(max_examples=15, deadline=None)
+@given(frac=st.floats(0.0, 1.0), n=st.sampled_from([1, 3, 4]))
+def test_fill_height_inverts_capacity(frac, n):
+    shape = spec_shape(n)
+    ml = frac * cap.brimful_ml(shape)
+    h = cap.fill_height_for_volume(shape, ml)
+    assert body_profile(shape).z_ib - 1e-9 <= h <= shape.z_top + 1e-9
+    assert cap.capacity_ml(shape, h) == pytest.approx(ml, rel=1e-9, abs=1e-9)

@@ -106,7 +106,10 @@ class RenderController(QObject):
         self._timer.timeout.connect(self._start_pending)
         self._worker_tile.connect(self._on_worker_tile)
         self._worker_done.connect(self._on_worker_done)
-        self.threads = max(1, min(4, (os.cpu_count() or 2) - 1))
+        # why: leave one core to the GUI thread, or drags stutter while the tracer runs
+        cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 2)
+        self.threads = max(1, min(8, cores - 1))
+        self.held = False
         self.converged_generation = -1
         self.ended_generation = -1  # converged or failed: nothing more will come
         self.size = (0, 0)
@@ -117,10 +120,22 @@ class RenderController(QObject):
         self.cancel()
         self.generation += 1
         self._pending = (self.generation, design, dict(assets or {}))
-        self._timer.start()
+        if not self.held:
+            self._timer.start()
+
+    def hold(self, on: bool):
+        """While held (a drag in progress) edits cancel the job but start none; releasing
+        starts the newest pending render."""
+        self.held = bool(on)
+        if on:
+            self._timer.stop()
+            if self.job is not None:
+                self.job.cancel()
+        elif self._pending is not None:
+            self._timer.start()
 
     def cancel(self):
-        """Cancel the running job; its late tiles will be ignored."""
+        """Cancel the running job and any pending start; late tiles will be ignored."""
         self._timer.stop()
         self._pending = None
         if self.job is not None:

@@ -7,6 +7,8 @@ which refreshes only the views that depend on those fields.
 """
 from __future__ import annotations
 
+import sys
+
 
 from PySide6.QtCore import QSettings, Qt
 from PySide6.QtGui import QAction, QKeySequence, QUndoStack
@@ -17,6 +19,7 @@ from app.commands import DesignEditor
 from app.document import DocumentDialogs, RecentFiles
 from app.file_actions import FileActions
 from app.render_controller import RenderController
+from app.wireframe_controller import DerivedController
 from widgets.camera_panel import CameraPanel
 from widgets.materials_panel import MaterialsPanel
 from widgets.preview_view import PreviewView
@@ -45,6 +48,9 @@ class MainWindow(QMainWindow):
     def __init__(self, design, assets=None, path: str | None = None, *, settings: QSettings | None = None,
                  wireframe: bool = True, autosave_ms: int = 60_000, parent=None):
         super().__init__(parent)
+        # why: worker threads (tracer, wireframe) hold the GIL in numpy-heavy stretches; a short
+        # switch interval hands it back to the GUI thread quickly, so drags stay smooth.
+        sys.setswitchinterval(min(sys.getswitchinterval(), 0.001))
         self.setAttribute(Qt.WA_DeleteOnClose, False)
         self.resize(1500, 950)
         self.scene = engine_bridge.make_scene(design, assets)
@@ -59,6 +65,9 @@ class MainWindow(QMainWindow):
         self.trade_panel = TradeNumbersPanel()
         self.camera_panel = CameraPanel(self.editor)
         self.preview = PreviewView()
+        self.derived_controller = DerivedController(self)
+        self.derived_controller.resultReady.connect(self._on_derived)
+        self.derived_controller.failed.connect(lambda msg: self.statusBar().showMessage(msg, 5000))
         self.render_controller = RenderController(self)
         self.render_controller.tileReady.connect(self._on_tile)
         self.render_controller.progressed.connect(self._on_render_progress)
@@ -91,6 +100,7 @@ class MainWindow(QMainWindow):
 
         self.files = FileActions(self, path, autosave_ms)
         self._build_menus()
+        self.section_panel.canvas.dragging.connect(self.render_controller.hold)
         self.editor.refused.connect(lambda msg: self.statusBar().showMessage(f"Refused: {msg}", 8000))
         self.undo_stack.cleanChanged.connect(lambda clean: self.setWindowModified(not clean))
         self._unsubscribe = self.scene.subscribe(self.on_scene_changed)
@@ -129,15 +139,10 @@ class MainWindow(QMainWindow):
     def on_scene_changed(self, changed, scene=None):
         """Refresh what depends on ``changed`` (a set of Design field names)."""
         design = self.scene.design
-        geometry = bool(changed & {"shape", "liquid", "glass"})
-        if geometry:
-            self.trade_numbers = engine_bridge.trade_numbers(design)
-            self.materials_panel.trade_numbers = self.trade_numbers
-            self.trade_panel.refresh(self.trade_numbers)
+        if changed & {"shape", "liquid", "glass"}:
+            self.derived_controller.request(design)  # trade numbers, inner walls: off-thread
         if changed & {"shape", "liquid"}:
-            derived = {"inner": engine_bridge.inner_sections(design.shape),
-                       "fill_z": self.trade_numbers.get("fill_height_mm") if design.liquid else None}
-            self.section_panel.refresh(design, derived)
+            self.section_panel.refresh(design)
         if changed & {"glass", "liquid"}:
             self.materials_panel.refresh(design)
         if changed & {"camera", "environment", "render"}:
@@ -146,6 +151,18 @@ class MainWindow(QMainWindow):
             self.wireframe_controller.request(design.shape)
         if changed - {"name", "notes"}:
             self.restart_render()
+
+    def _on_derived(self, result):
+        design, numbers, inner = result
+        self.trade_numbers = numbers
+        self.materials_panel.trade_numbers = numbers
+        self.trade_panel.refresh(numbers)
+        fill_z = numbers.get("fill_height_mm") if design.liquid is not None else None
+        self.section_panel.set_derived(inner, fill_z)
+
+    def derived_idle(self) -> bool:
+        """Whether the trade numbers and inner walls shown are those of the current design."""
+        return self.derived_controller.is_idle()
 
     def restart_render(self):
         self.render_controller.start(self.scene.snapshot(), engine_bridge.scene_assets(self.scene))
@@ -195,6 +212,7 @@ class MainWindow(QMainWindow):
     def shutdown(self):
         """Stop workers, timers and observers; safe to call twice."""
         self.files.shutdown()
+        self.derived_controller.shutdown()
         self.render_controller.shutdown()
         if self.wireframe is not None:
             self.wireframe_controller.shutdown()

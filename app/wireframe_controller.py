@@ -1,10 +1,11 @@
-"""Rebuilds the wireframe off the GUI thread, always from the newest shape.
+"""Slow derived data computed off the GUI thread, always from the newest request.
 
-Design rule: ``request(shape)`` costs the GUI thread almost nothing: it stores the shape as the
-one pending request and wakes the worker. The worker takes the newest pending shape (older ones
-are simply overwritten, so a fast drag never queues stale work), tessellates it, and emits the
-lines through a queued signal. A result whose serial is older than the newest request already
-shown is dropped. ``shutdown`` stops and joins the worker thread.
+Design rule: ``request(value)`` costs the GUI thread almost nothing: it stores the value as the
+one pending request and wakes the worker. The worker takes the newest pending value (older ones
+are simply overwritten, so a fast drag never queues stale work), computes, and emits the result
+through a queued signal. A result older than one already shown is dropped. ``shutdown`` stops
+and joins the worker thread. :class:`WireframeController` builds the 3D wireframe this way;
+:class:`DerivedController` the trade numbers and inner walls.
 """
 from __future__ import annotations
 
@@ -16,25 +17,25 @@ from PySide6.QtCore import QObject, Signal
 from app import engine_bridge
 
 
-class WireframeController(QObject):
-    """Background wireframe builder.
+class LatestOnlyWorker(QObject):
+    """Runs ``compute(value)`` on one worker thread for the newest requested value.
 
     Signals
     -------
-    meshReady(object, object)
-        ``(points (N, 3), edges (M, 2))`` for the newest shape, on the GUI thread.
+    resultReady(object)
+        The result for the newest value, on the GUI thread.
     failed(str)
-        The tessellator refused the shape (the message says why).
+        ``compute`` raised (the message says why); the worker keeps going.
     """
 
-    meshReady = Signal(object, object)
+    resultReady = Signal(object)
     failed = Signal(str)
-    _built = Signal(int, object, object, float)
+    _built = Signal(int, object, float)
     _error = Signal(int, str)
+    thread_name = "latest-only-worker"
 
-    def __init__(self, parent=None, tol_mm: float = 0.5):
+    def __init__(self, parent=None):
         super().__init__(parent)
-        self.tol_mm = tol_mm
         self._cond = threading.Condition()
         self._pending = None
         self._serial = 0
@@ -48,13 +49,13 @@ class WireframeController(QObject):
         self._error.connect(self._on_error)
 
     def request(self, shape):
-        """Ask for the wireframe of ``shape`` (replaces any request not yet started)."""
+        """Ask for the result for ``shape`` (replaces any request not yet started)."""
         with self._cond:
             self._serial += 1
             self._pending = (self._serial, shape)
             self.requested_at[self._serial] = time.perf_counter()
             if self._thread is None:
-                self._thread = threading.Thread(target=self._work, name="wireframe", daemon=True)
+                self._thread = threading.Thread(target=self._work, name=self.thread_name, daemon=True)
                 self._thread.start()
             self._cond.notify()
 
@@ -73,19 +74,25 @@ class WireframeController(QObject):
                 self._pending = None
                 self._busy = True
             try:
-                points, edges = engine_bridge.wireframe_lines(shape, self.tol_mm)
-                self._built.emit(serial, points, edges, time.perf_counter())
-            except Exception as exc:  # why: a shape the tessellator refuses must not kill the thread
-                self._error.emit(serial, f"Wireframe: {exc}")
+                result = self.compute(shape)
+                self._built.emit(serial, result, time.perf_counter())
+            except Exception as exc:  # why: a value the engine refuses must not kill the thread
+                self._error.emit(serial, f"{self.what}: {exc}")
             finally:
                 with self._cond:
                     self._busy = False
 
-    def _on_built(self, serial, points, edges, _built_at):
+    what = "Worker"
+
+    def compute(self, value):
+        """The result for ``value`` (runs on the worker thread; override)."""
+        raise NotImplementedError
+
+    def _on_built(self, serial, result, _built_at):
         if serial < self._shown_serial:
             return
         self._shown_serial = serial
-        self.meshReady.emit(points, edges)
+        self.resultReady.emit(result)
         start = self.requested_at.pop(serial, None)
         if start is not None:
             self.latencies_s.append(time.perf_counter() - start)
@@ -104,3 +111,29 @@ class WireframeController(QObject):
         if self._thread is not None:
             self._thread.join(timeout)
             self._thread = None
+
+
+class WireframeController(LatestOnlyWorker):
+    """Background wireframe builder: ``meshReady(points (N, 3), edges (M, 2))``."""
+
+    meshReady = Signal(object, object)
+    thread_name = "wireframe"
+    what = "Wireframe"
+
+    def __init__(self, parent=None, tol_mm: float = 0.5):
+        super().__init__(parent)
+        self.tol_mm = tol_mm
+        self.resultReady.connect(lambda r: self.meshReady.emit(*r))
+
+    def compute(self, shape):
+        return engine_bridge.wireframe_lines(shape, self.tol_mm)
+
+
+class DerivedController(LatestOnlyWorker):
+    """Trade numbers and inner walls of a Design: ``resultReady((design, numbers, inner))``."""
+
+    thread_name = "derived-numbers"
+    what = "Trade numbers"
+
+    def compute(self, design):
+        return design, engine_bridge.trade_numbers(design), engine_bridge.inner_sections(design.shape)

@@ -56,25 +56,29 @@ def test_absorption_colour_round_trip():
     assert color_from_absorption(absorption_from_color(rgb)) == pytest.approx(rgb)
 
 
-def test_fill_by_volume_keeps_the_level_and_updates_trade_numbers(make_window):
+def test_fill_by_volume_keeps_the_level_and_updates_trade_numbers(make_window, qtbot):
     w = make_window()
+    qtbot.waitUntil(w.derived_idle)
     panel = w.materials_panel
     height = w.scene.design.liquid.fill_value
     fill_ml = w.trade_numbers["fill_ml"]
     panel.fill_mode.setCurrentText("volume")
+    qtbot.waitUntil(w.derived_idle)
     liquid = w.scene.design.liquid
     assert liquid.fill_mode == "volume"
     assert liquid.fill_value == pytest.approx(fill_ml, abs=0.01)
     assert w.trade_numbers["fill_height_mm"] == pytest.approx(height, abs=0.05)
     panel.fill_value.setValue(500.0)
+    qtbot.waitUntil(w.derived_idle)
     assert w.trade_numbers["fill_ml"] == pytest.approx(500.0, rel=1e-6)
     assert w.trade_panel.text("fill_ml") == "500.0 ml"
 
 
-def test_emptying_and_filling_the_bottle(make_window):
+def test_emptying_and_filling_the_bottle(make_window, qtbot):
     w = make_window()
     panel = w.materials_panel
     panel.filled.setChecked(False)
+    qtbot.waitUntil(w.derived_idle)
     assert w.scene.design.liquid is None
     assert w.trade_panel.text("fill_ml") == "\u2014"
     assert not panel.fill_value.isEnabled()
@@ -82,8 +86,9 @@ def test_emptying_and_filling_the_bottle(make_window):
     assert w.scene.design.liquid is not None
 
 
-def test_trade_numbers_follow_a_section_drag(make_window):
+def test_trade_numbers_follow_a_section_drag(make_window, qtbot):
     w = make_window()
+    qtbot.waitUntil(w.derived_idle)
     brimful = w.trade_numbers["brimful_ml"]
     glass = w.trade_numbers["glass_g"]
     canvas = w.section_panel.canvas
@@ -91,6 +96,7 @@ def test_trade_numbers_follow_a_section_drag(make_window):
     canvas.begin_drag(Handle("joint", 2, sec.segments[2].p1), "grow")
     canvas.drag_to((0.0, 20.0))
     canvas.end_drag()
+    qtbot.waitUntil(w.derived_idle)
     assert w.trade_numbers["brimful_ml"] > brimful + 50
     assert w.trade_numbers["glass_g"] > glass
     assert w.trade_panel.text("brimful_ml") == f"{w.trade_numbers['brimful_ml']:.1f} ml"

@@ -40,7 +40,7 @@ def test_the_wireframe_framebuffer_can_be_grabbed(make_window, qtbot):
     image = w.wireframe.grab_framebuffer()
     assert not image.isNull()
     colours = {image.pixel(x, image.height() // 2) for x in range(0, image.width(), 3)}
-    assert len(colours) > 2, "the bottle's lines are in the framebuffer"
+    assert len(colours) >= 2, "the bottle's lines are drawn over the background"
 
 
 def test_camera_from_the_3d_view_is_undoable(make_window, qtbot):

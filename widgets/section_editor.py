@@ -68,10 +68,13 @@ class SectionCanvas(QWidget):
         ``(new Section, undo label, merge key)`` for every drag step.
     selectionChanged(int)
         Index of the selected segment (-1: none).
+    dragging(bool)
+        A handle drag started (True) or ended (False): slow consumers may pause meanwhile.
     """
 
     sectionProposed = Signal(object, str, str)
     selectionChanged = Signal(int)
+    dragging = Signal(bool)
     _gesture_serial = 0
 
     def __init__(self, parent=None):
@@ -281,7 +284,7 @@ class SectionCanvas(QWidget):
         if handle is not None:
             SectionCanvas._gesture_serial += 1
             key = f"drag-{handle.kind}-{handle.index}-{SectionCanvas._gesture_serial}"
-            self._drag = (handle, self.section, key)
+            self.begin_drag(handle, key)
             if handle.kind != "joint":
                 self.select(handle.index)
             return
@@ -317,9 +320,12 @@ class SectionCanvas(QWidget):
     def begin_drag(self, handle: Handle, key: str):
         """Start dragging ``handle`` as the mouse does (also used by tests and benchmarks)."""
         self._drag = (handle, self.section, key)
+        self.dragging.emit(True)
 
     def end_drag(self):
-        self._drag = None
+        if self._drag is not None:
+            self._drag = None
+            self.dragging.emit(False)
 
     def mouseReleaseEvent(self, event):
         self._pan_from = None

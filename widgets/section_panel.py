@@ -1,8 +1,8 @@
 """The section editor panel: canvas, segment table, tools, cross-section kind and thicknesses.
 
 Design rule: the panel talks to the model only through ``editor.apply(label, merge_key,
-shape=...)`` (an undoable, validated edit) and is refreshed by ``refresh(design, derived)``
-with its widgets' signals blocked, so a refresh never echoes back as an edit. A refused edit
+shape=...)`` (an undoable, validated edit) and is refreshed by ``refresh(design)`` with its
+widgets' signals blocked, so a refresh never echoes back as an edit. A refused edit
 shows the engine's message in the panel's message line.
 """
 from __future__ import annotations
@@ -30,11 +30,14 @@ class SectionPanel(QWidget):
         self.editor = editor
         self.shape: BottleShape | None = None
         self.current_name = "profile"
+        self.derived = {"inner": {}, "fill_z": None}
         self.canvas = SectionCanvas()
         self.model = SectionTableModel(self)
         self.table = QTableView()
         self.table.setModel(self.model)
-        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.ResizeToContents)
+        # why: ResizeToContents asks every cell for its size on every change; size once per reset
+        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.Interactive)
+        self.model.modelReset.connect(self.table.resizeColumnsToContents)
         self.message = QLabel("")
         self.message.setWordWrap(True)
         self.message.setStyleSheet("color: #a02020")
@@ -98,8 +101,19 @@ class SectionPanel(QWidget):
         return s
 
     # ---------------------------------------------------------------- model → view
-    def refresh(self, design, derived: dict):
-        """Show ``design.shape``; ``derived`` holds ``inner`` (name -> segments) and ``fill_z``."""
+    def set_derived(self, inner: dict, fill_z):
+        """Inner walls (section name -> segments) and fill height (mm) computed off-thread for
+        the newest shape; shown with the section until newer ones arrive."""
+        self.derived = {"inner": dict(inner), "fill_z": fill_z}
+        if self.shape is not None:
+            self.canvas.show_section(self.canvas.section, self.derived["inner"].get(self.current_name),
+                                     fill_z, self.canvas.ghosts)
+
+    def refresh(self, design, derived: dict | None = None):
+        """Show ``design.shape`` (with the last derived inner walls and fill line)."""
+        if derived is not None:
+            self.derived = derived
+        derived = self.derived
         shape = design.shape
         self.shape = shape
         names = [n for n, _ in shape.sections]
@@ -148,10 +162,7 @@ class SectionPanel(QWidget):
                              field: value})
         label = {"wall_thickness": "Wall thickness", "base_thickness": "Base thickness"}.get(field, "Rotation")
         if not self.editor.apply(label, f"shape-{field}", shape=new):
-            self.refresh(self.editor.design, self._last_derived())
-
-    def _last_derived(self):
-        return {"inner": {self.current_name: self.canvas.inner}, "fill_z": self.canvas.fill_z}
+            self.refresh(self.editor.design)
 
     def set_cross_section(self, kind: str):
         """Change the cross-section kind; missing sections derive from the first one."""
@@ -168,13 +179,13 @@ class SectionPanel(QWidget):
             self.show_problem(str(exc))
             new = None
         if new is None or not self.editor.apply(f"Cross-section {kind}", None, shape=new):
-            self.refresh(self.editor.design, self._last_derived())
+            self.refresh(self.editor.design)
 
     def _on_name_chosen(self, name: str):
         if name and self.shape is not None and name != self.current_name:
             self.current_name = name
             self.canvas.select(-1)
-            self.refresh(self.editor.design, self._last_derived())
+            self.refresh(self.editor.design)
 
     def _on_canvas_selection(self, row: int):
         if row >= 0 and self.table.currentIndex().row() != row:

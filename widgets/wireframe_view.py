@@ -26,7 +26,9 @@ class WireframeView(QWidget):
         import pyvista as pv
         from pyvistaqt import QtInteractor
         self._pv = pv
-        self.plotter = QtInteractor(self, auto_update=False)
+        # why: multisampling costs ~20x per frame on software GL (Xvfb, remote desktops); a
+        # wireframe of thin lines does not need it, and drags must stay smooth
+        self.plotter = QtInteractor(self, auto_update=False, multi_samples=0)
         self.plotter.set_background("#202428")
         layout = QVBoxLayout(self)
         layout.setContentsMargins(0, 0, 0, 0)

@@ -8,8 +8,9 @@ For each oracle bottle (round, rounded square, ellipse foot) and tolerance, time
 :func:`engine.tessellate.tessellate_body` (best of 3) and measures the largest distance of the
 outer wall's triangles (centroids and edge middles) from the exact surface. The peer spends the
 same budget on the outer wall (same number of angles and rings) spread uniformly in angle and
-height, as a fixed-step mesher would; the ratio peer error / our error at equal triangles is the
-figure of merit. Writes ``benchmarks/out/tessellation.csv`` and ``tessellation.png``.
+height, as a fixed-step mesher would; a second peer splits arcs at a fixed turning step (as the
+SPEC's reference mesher does) with lines in one piece, scaled to about the same ring count. The
+ratio peer error / our error at (about) equal triangles is the figure of merit. Writes ``benchmarks/out/tessellation.csv`` and ``tessellation.png``.
 """
 from __future__ import annotations
 
@@ -71,6 +72,32 @@ def uniform_peer(body: BottleBody, n_theta: int, n_rings: int):
     theta = np.linspace(0.0, 2 * math.pi, n_theta, endpoint=False)
     z = np.linspace(0.0, body.profile.z_top, n_rings)
     p, _ = body.wall("outer", theta[None, :], z[:, None])
+    return _grid_faces(p)
+
+
+def _turn(seg) -> float:
+    """Tangent turning (rad) along a segment (monotone on wall segments)."""
+    if seg.kind == "line":
+        return 0.0
+    a, b = seg.tangent(0.0), seg.tangent(1.0)
+    return abs(math.atan2(a[0] * b[1] - a[1] * b[0], float(np.dot(a, b))))
+
+
+def turn_peer(body: BottleBody, n_theta: int, n_rings: int):
+    """Outer wall meshed like the SPEC's reference mesher: a fixed turning step per arc (scaled
+    to about ``n_rings`` rings), lines in one piece, ``n_theta`` uniform angles."""
+    chains = [sp.outer_wall for sp in body.profile.sections]
+    total = sum(_turn(seg) for c in chains for seg in c)
+    n_joints = sum(len(c) for c in chains) + 1
+    step = total / max(n_rings - n_joints, 1)
+    z = np.unique(np.concatenate([seg.point(np.linspace(0, 1, max(1, math.ceil(_turn(seg) / step)) + 1))[:, 1]
+                                  for c in chains for seg in c]))
+    theta = np.linspace(0.0, 2 * math.pi, n_theta, endpoint=False)
+    p, _ = body.wall("outer", theta[None, :], z[:, None])
+    return _grid_faces(p)
+
+
+def _grid_faces(p):
     idx = np.arange(p.shape[0] * p.shape[1]).reshape(p.shape[:2])
     a0, b0 = idx[:-1], idx[1:]
     a1, b1 = np.roll(a0, -1, axis=1), np.roll(b0, -1, axis=1)
@@ -101,15 +128,19 @@ def main(argv=None) -> int:
             n_rings = len(outer) // (2 * n_theta) + 1
             pv, pf = uniform_peer(body, n_theta, n_rings)
             peer_err = outer_deviation(body, _probe_points(pv, pf))
-            rows.append((label, tol, len(mesh.faces), len(outer), best * 1e3, err, peer_err))
+            tv, tf = turn_peer(body, n_theta, n_rings)
+            turn_err = outer_deviation(body, _probe_points(tv, tf))
+            rows.append((label, tol, len(mesh.faces), len(outer), best * 1e3, err, peer_err,
+                         len(tf), turn_err))
     print(f"{'bottle':15s} {'tol mm':>7s} {'triangles':>9s} {'outer':>7s} {'time ms':>8s} "
-          f"{'max err':>8s} {'peer err':>8s} {'peer/ours':>9s}")
+          f"{'max err':>8s} {'uniform':>8s} {'ratio':>6s} {'turn tri':>8s} {'turn err':>8s} {'ratio':>6s}")
     for r in rows:
-        print(f"{r[0]:15s} {r[1]:7.3f} {r[2]:9d} {r[3]:7d} {r[4]:8.1f} {r[5]:8.4f} {r[6]:8.4f} {r[6] / r[5]:9.1f}")
+        print(f"{r[0]:15s} {r[1]:7.3f} {r[2]:9d} {r[3]:7d} {r[4]:8.1f} {r[5]:8.4f} {r[6]:8.4f} "
+              f"{r[6] / r[5]:6.1f} {r[7]:8d} {r[8]:8.4f} {r[8] / r[5]:6.1f}")
     with open(os.path.join(OUT, "tessellation.csv"), "w", newline="") as fh:
         w = csv.writer(fh)
         w.writerow(["bottle", "tol_mm", "triangles", "outer_triangles", "time_ms", "max_err_mm",
-                    "uniform_peer_err_mm"])
+                    "uniform_peer_err_mm", "turn_peer_triangles", "turn_peer_err_mm"])
         w.writerows(rows)
     _chart(rows)
     return 0
@@ -125,6 +156,8 @@ def _chart(rows):
         line, = ax.loglog([r[3] for r in rr], [r[5] for r in rr], "o-", label=f"{label}: chordal tolerance")
         ax.loglog([r[3] for r in rr], [r[6] for r in rr], "x--", color=line.get_color(),
                   label=f"{label}: uniform peer")
+        ax.loglog([r[7] for r in rr], [r[8] for r in rr], "^:", color=line.get_color(),
+                  label=f"{label}: fixed-turn peer")
     ax.set_xlabel("outer-wall triangles")
     ax.set_ylabel("max distance to exact surface (mm)")
     ax.set_title("Tessellation error vs triangles")

@@ -88,14 +88,7 @@ class FileActions(QObject):
     def replace_document(self, design, assets, path: str | None, dirty: bool = False):
         """Show ``design`` as the open document (clears undo history)."""
         w = self.window
-        scene = w.scene
-        if hasattr(scene, "load"):
-            scene.load(design, assets)
-        else:
-            with scene.batch():
-                scene.set_design(design)
-                for name, data in assets.items():
-                    scene.set_asset(name, data)
+        w.scene.load(design, assets)  # one notification for design and assets
         w.undo_stack.clear()
         if dirty:
             w.undo_stack.resetClean()

@@ -9,69 +9,11 @@ is debounced (``restart_delay_ms``) so a drag does not build a render scene per 
 from __future__ import annotations
 
 import os
-import threading
 
 import numpy as np
 from PySide6.QtCore import QObject, QTimer, Signal
 
 from app import engine_bridge
-
-
-class _StandInJob:
-    """A stand-in for ``engine.tracer.job.RenderJob`` while the tracer has not landed: it fills
-    tiles with a grey gradient and says so in the status bar (``stand_in`` is True)."""
-
-    stand_in = True
-
-    def __init__(self, design, assets=None, *, width=None, height=None, spp=None, threads=None,
-                 tile=32, on_tile=None, on_done=None):
-        self.width, self.height = width or design.render.width, height or design.render.height
-        self.tile, self.on_tile, self.on_done = tile, on_tile, on_done
-        self._image = np.zeros((self.height, self.width, 3), np.float32)
-        self._cancel = threading.Event()
-        self._thread = threading.Thread(target=self._run, name="stand-in-render", daemon=True)
-        self.done = self.cancelled = False
-        self.error = None
-        self._count = 0
-
-    def start(self):
-        self._thread.start()
-        return self
-
-    def cancel(self):
-        self._cancel.set()
-
-    def wait(self, timeout=None):
-        self._thread.join(timeout)
-        return not self._thread.is_alive()
-
-    @property
-    def progress(self) -> float:
-        total = -(-self.width // self.tile) * -(-self.height // self.tile)
-        return self._count / max(total, 1)
-
-    def image(self):
-        return self._image
-
-    def _run(self):
-        from types import SimpleNamespace
-        for y0 in range(0, self.height, self.tile):
-            for x0 in range(0, self.width, self.tile):
-                if self._cancel.is_set():
-                    self.cancelled = True
-                    self.done = True
-                    if self.on_done:
-                        self.on_done(self)
-                    return
-                x1, y1 = min(x0 + self.tile, self.width), min(y0 + self.tile, self.height)
-                ys = np.linspace(y0 / self.height, y1 / self.height, y1 - y0)[:, None, None]
-                self._image[y0:y1, x0:x1] = 0.2 + 0.5 * ys
-                self._count += 1
-                if self.on_tile:
-                    self.on_tile(self, SimpleNamespace(x0=x0, y0=y0, x1=x1, y1=y1, wave=0))
-        self.done = True
-        if self.on_done:
-            self.on_done(self)
 
 
 class RenderController(QObject):
@@ -168,7 +110,7 @@ class RenderController(QObject):
             return
         generation, design, assets = self._pending
         self._pending = None
-        job_class = engine_bridge.tracer_job_class() or _StandInJob
+        job_class = engine_bridge.tracer_job_class()
         r = design.render
         try:
             job = job_class(design, assets, width=r.width, height=r.height, spp=r.spp,

@@ -12,7 +12,7 @@ import sys
 
 from PySide6.QtCore import QSettings, Qt
 from PySide6.QtGui import QAction, QKeySequence, QUndoStack
-from PySide6.QtWidgets import QDockWidget, QMainWindow, QSplitter
+from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QProgressBar, QSplitter
 
 from app import engine_bridge
 from app.commands import DesignEditor
@@ -101,6 +101,13 @@ class MainWindow(QMainWindow):
         self.files = FileActions(self, path, autosave_ms)
         self._build_menus()
         self.section_panel.canvas.dragging.connect(self.render_controller.hold)
+        # Render state lives in permanent widgets so edit messages do not hide it.
+        self.render_state = QLabel("")
+        self.render_progress = QProgressBar()
+        self.render_progress.setRange(0, 100)
+        self.render_progress.setMaximumWidth(160)
+        self.statusBar().addPermanentWidget(self.render_state)
+        self.statusBar().addPermanentWidget(self.render_progress)
         self.editor.refused.connect(lambda msg: self.statusBar().showMessage(f"Refused: {msg}", 8000))
         self.undo_stack.cleanChanged.connect(lambda clean: self.setWindowModified(not clean))
         self._unsubscribe = self.scene.subscribe(self.on_scene_changed)
@@ -173,12 +180,15 @@ class MainWindow(QMainWindow):
     def _on_render_progress(self, generation, fraction, width, height):
         if self.preview.image_size() != (width, height):
             self.preview.reset(width, height)
-        self.statusBar().showMessage(f"Rendering {fraction * 100:.0f}%")
+        self.render_progress.setValue(int(round(fraction * 100)))
+        self.render_state.setText(f"Rendering {width}\u00d7{height}")
 
     def _on_render_finished(self, generation):
-        self.statusBar().showMessage("Render converged", 4000)
+        self.render_progress.setValue(100)
+        self.render_state.setText("Render converged")
 
     def _on_render_failed(self, generation, message):
+        self.render_state.setText("Render failed")
         self.statusBar().showMessage(f"Render failed: {message}")
 
     def _orbit_from_preview(self, d_azimuth, d_elevation, finished):

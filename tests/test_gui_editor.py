@@ -176,3 +176,20 @@ def test_zoom_and_pan_change_the_mapping_only(make_window, qtbot):
     qtbot.mouseRelease(canvas, Qt.MiddleButton, pos=QPoint(40, 30))
     assert canvas.origin != origin
     assert w.scene.design == before
+
+
+def test_keyboard_delete_and_escape_on_the_canvas(make_window, qtbot):
+    w = _window(make_window)
+    canvas = w.section_panel.canvas
+    n = len(w.scene.design.shape.primary.segments)
+    sec = w.scene.design.shape.primary
+    # Click on the middle of the straight body to select it.
+    qtbot.mouseClick(canvas, Qt.LeftButton, pos=_px(canvas, tuple(sec.segments[2].point(0.5))))
+    assert canvas.selected == 2
+    assert w.section_panel.table.currentIndex().row() == 2
+    qtbot.keyClick(canvas, Qt.Key_S)
+    assert len(w.scene.design.shape.primary.segments) == n + 1
+    qtbot.keyClick(canvas, Qt.Key_Delete)
+    assert len(w.scene.design.shape.primary.segments) == n
+    qtbot.keyClick(canvas, Qt.Key_Escape)
+    assert canvas.selected == -1

@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import QColor, QPainter, QPainterPath, QPen, QPolygonF
 from PySide6.QtWidgets import QSizePolicy, QWidget
@@ -70,11 +71,14 @@ class SectionCanvas(QWidget):
         Index of the selected segment (-1: none).
     dragging(bool)
         A handle drag started (True) or ended (False): slow consumers may pause meanwhile.
+    toolRequested(str)
+        A keyboard shortcut asked for a segment tool (``"delete"``, ``"split"``).
     """
 
     sectionProposed = Signal(object, str, str)
     selectionChanged = Signal(int)
     dragging = Signal(bool)
+    toolRequested = Signal(str)
     _gesture_serial = 0
 
     def __init__(self, parent=None):
@@ -264,7 +268,9 @@ class SectionCanvas(QWidget):
         r, z = self.to_mm(pos)
         best, best_d = -1, 6.0 / self.scale
         for i, seg in enumerate(self.section.segments):
-            pts = edits.section_polyline([seg], 48)
+            # why: dense samples of every kind (a line drawn from its two ends has no middle)
+            n = int(min(2000, max(16, seg.length * self.scale / 2)))
+            pts = np.atleast_2d(seg.point(np.linspace(0.0, 1.0, n)))
             d = float(((pts[:, 0] - r) ** 2 + (pts[:, 1] - z) ** 2).min()) ** 0.5
             if d < best_d:
                 best, best_d = i, d
@@ -330,6 +336,19 @@ class SectionCanvas(QWidget):
     def mouseReleaseEvent(self, event):
         self._pan_from = None
         self.end_drag()
+
+    def keyPressEvent(self, event):
+        key = event.key()
+        if key in (Qt.Key_Delete, Qt.Key_Backspace):
+            self.toolRequested.emit("delete")
+        elif key == Qt.Key_S and not event.modifiers():
+            self.toolRequested.emit("split")
+        elif key == Qt.Key_Escape:
+            self.select(-1)
+        elif key == Qt.Key_F:
+            self.fit()
+        else:
+            super().keyPressEvent(event)
 
     def wheelEvent(self, event):
         factor = 1.0015 ** event.angleDelta().y()

@@ -82,6 +82,7 @@ class SectionPanel(QWidget):
         self.model.sectionProposed.connect(self.propose_section)
         self.model.problem.connect(self.show_problem)
         self.canvas.selectionChanged.connect(self._on_canvas_selection)
+        self.canvas.toolRequested.connect(self.run_tool)
         self.table.selectionModel().currentRowChanged.connect(lambda cur, _: self.canvas.select(cur.row()))
         self.name_combo.currentTextChanged.connect(self._on_name_chosen)
         self.kind_combo.currentTextChanged.connect(self.set_cross_section)

@@ -34,21 +34,31 @@ class ReplacePartsCommand(QUndoCommand):
     own change notification then updates every view.
     """
 
-    def __init__(self, scene, label: str, before: dict, after: dict, merge_key: str | None = None):
+    def __init__(self, scene, label: str, before: dict, after: dict, merge_key: str | None = None,
+                 assets_before: dict | None = None, assets_after: dict | None = None):
         super().__init__(label)
         self._scene = scene
         self.before = dict(before)
         self.after = dict(after)
+        self.assets_before = dict(assets_before or {})
+        self.assets_after = dict(assets_after or {})
         self._id = merge_id(merge_key)
 
     def id(self) -> int:  # noqa: A003 - Qt's name
         return self._id
 
+    def _set(self, parts: dict, assets: dict):
+        with self._scene.batch():  # one notification for parts and assets together
+            for name, data in assets.items():
+                self._scene.set_asset(name, data)
+            if parts:
+                self._scene.replace(**parts)
+
     def redo(self):
-        self._scene.replace(**self.after)
+        self._set(self.after, self.assets_after)
 
     def undo(self):
-        self._scene.replace(**self.before)
+        self._set(self.before, self.assets_before)
 
     def mergeWith(self, other: QUndoCommand) -> bool:
         if not isinstance(other, ReplacePartsCommand) or other.id() != self._id or self._id < 0:
@@ -56,6 +66,9 @@ class ReplacePartsCommand(QUndoCommand):
         for key, value in other.after.items():
             self.before.setdefault(key, other.before[key])
             self.after[key] = value
+        for key, value in other.assets_after.items():
+            self.assets_before.setdefault(key, other.assets_before[key])
+            self.assets_after[key] = value
         return True
 
 
@@ -93,11 +106,15 @@ class DesignEditor(QObject):
         self._drag_serial += 1
         return f"{what}#{self._drag_serial}"
 
-    def apply(self, label: str, merge_key: str | None = None, **parts) -> bool:
-        """Push a command setting ``parts`` (Design field -> value); ``False`` if refused."""
+    def apply(self, label: str, merge_key: str | None = None, *, assets: dict | None = None,
+              **parts) -> bool:
+        """Push a command setting ``parts`` (Design field -> value) and ``assets`` (name ->
+        bytes, ``None`` removes); ``False`` if refused."""
         current = self.scene.design
         changed = {k: v for k, v in parts.items() if getattr(current, k) != v}
-        if not changed:
+        old_assets = self.scene.assets
+        assets = {k: v for k, v in (assets or {}).items() if old_assets.get(k) != v}
+        if not changed and not assets:
             return True
         try:
             candidate = dataclasses.replace(current, **changed)
@@ -110,5 +127,7 @@ class DesignEditor(QObject):
                 self.refused.emit(problem)
                 return False
         before = {k: getattr(current, k) for k in changed}
-        self.stack.push(ReplacePartsCommand(self.scene, label, before, changed, merge_key))
+        assets_before = {k: old_assets.get(k) for k in assets}
+        self.stack.push(ReplacePartsCommand(self.scene, label, before, changed, merge_key,
+                                            assets_before, assets))
         return True

@@ -115,3 +115,35 @@ def test_camera_orbit_spin_boxes(make_window):
     w.undo_stack.undo()
     w.undo_stack.undo()
     assert cam_panel.azimuth.value() == pytest.approx(0.0, abs=0.05)
+
+
+def _write_sky_exr(path):
+    """A tiny equirectangular environment: bright sky over a dark floor."""
+    import numpy as np
+    import OpenImageIO as oiio
+    pixels = np.zeros((16, 32, 3), np.float32)
+    pixels[:8] = (1.5, 1.6, 1.8)
+    pixels[8:] = (0.1, 0.08, 0.05)
+    out = oiio.ImageOutput.create(str(path))
+    out.open(str(path), oiio.ImageSpec(32, 16, 3, "float"))
+    out.write_image(pixels)
+    out.close()
+
+
+def test_environment_image_is_embedded_with_one_undoable_step(make_window, qtbot, tmp_path):
+    w = make_window()
+    studio = tmp_path / "studio.exr"
+    _write_sky_exr(studio)
+    w.camera_panel.choose_environment_file = lambda: str(studio)
+    w.camera_panel.env_load.click()
+    env = w.scene.design.environment
+    assert (env.kind, env.asset) == ("file", "studio.exr")
+    assert w.scene.assets["studio.exr"][:4] == b"\x76\x2f\x31\x01"  # OpenEXR magic
+    assert w.camera_panel.env_kind.currentText() == "file"
+    rc = w.render_controller
+    qtbot.waitUntil(lambda: rc.ended_generation == rc.generation, timeout=60_000)
+    assert rc.converged_generation == rc.generation, "the tracer lit the bottle with the image"
+    w.undo_stack.undo()
+    assert w.scene.design.environment.kind == "studio"
+    assert "studio.exr" not in w.scene.assets
+    assert w.camera_panel.env_kind.currentText() == "studio"

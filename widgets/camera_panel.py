@@ -9,10 +9,11 @@ from __future__ import annotations
 
 import dataclasses
 import math
+from pathlib import Path
 
 from PySide6.QtCore import QSignalBlocker, Signal
-from PySide6.QtWidgets import (QDoubleSpinBox, QFormLayout, QGroupBox, QPushButton, QSpinBox,
-                               QVBoxLayout, QWidget)
+from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFileDialog, QFormLayout, QGroupBox,
+                               QPushButton, QSpinBox, QVBoxLayout, QWidget)
 
 from engine.design import Camera
 
@@ -64,6 +65,9 @@ class CameraPanel(QWidget):
         self.distance = _spin(10, 20000, 10, " mm")
         self.target_z = _spin(-1000, 5000, 5, " mm")
         self.fov = _spin(1, 120, 1, " \u00b0")
+        self.env_kind = QComboBox()
+        self.env_kind.addItems(["studio", "file"])
+        self.env_load = QPushButton("Load environment image\u2026")
         self.env_scale = _spin(0, 100, 0.1, "", 2)
         self.env_rotation = _spin(-180, 180, 5, " \u00b0")
         self.width_px = QSpinBox()
@@ -82,6 +86,8 @@ class CameraPanel(QWidget):
         cf.addRow(self.sync_button)
         env_box = QGroupBox("Environment and render")
         ef = QFormLayout(env_box)
+        ef.addRow("Environment", self.env_kind)
+        ef.addRow(self.env_load)
         ef.addRow("Light strength", self.env_scale)
         ef.addRow("Turn", self.env_rotation)
         ef.addRow("Width px", self.width_px)
@@ -101,10 +107,42 @@ class CameraPanel(QWidget):
         self.height_px.valueChanged.connect(lambda v: self._render("Image height", height=v))
         self.spp.valueChanged.connect(lambda v: self._render("Samples per pixel", spp=v))
         self.sync_button.clicked.connect(self.syncFromWireframe)
+        self.env_kind.currentTextChanged.connect(self._env_kind_chosen)
+        self.env_load.clicked.connect(self.load_environment)
+
+    def choose_environment_file(self) -> str | None:
+        """Ask for an equirectangular image (EXR/HDR/PNG); tests replace this method."""
+        path, _ = QFileDialog.getOpenFileName(self, "Environment image", "",
+                                              "Images (*.exr *.hdr *.png *.jpg *.tif)")
+        return path or None
+
+    def load_environment(self) -> bool:
+        """Embed an image in the project and light the scene with it (one undo step)."""
+        path = self.choose_environment_file()
+        if not path:
+            return False
+        try:
+            data = Path(path).read_bytes()
+        except OSError as exc:
+            self.env_load.setToolTip(str(exc))
+            return False
+        name = Path(path).name
+        env = dataclasses.replace(self.editor.design.environment, kind="file", asset=name)
+        return self.editor.apply(f"Environment {name}", None, assets={name: data}, environment=env)
+
+    def _env_kind_chosen(self, kind: str):
+        env = self.editor.design.environment
+        if kind == env.kind:
+            return
+        if kind == "file" and not env.asset:
+            if not self.load_environment():
+                self.refresh(self.editor.design)
+            return
+        self._env(f"Environment {kind}", None, kind=kind)
 
     def refresh(self, design):
         widgets = (self.azimuth, self.elevation, self.distance, self.target_z, self.fov,
-                   self.env_scale, self.env_rotation, self.width_px, self.height_px, self.spp)
+                   self.env_kind, self.env_scale, self.env_rotation, self.width_px, self.height_px, self.spp)
         blockers = [QSignalBlocker(w) for w in widgets]
         az, el, dist = camera_to_orbit(design.camera)
         self.azimuth.setValue(az)
@@ -112,6 +150,7 @@ class CameraPanel(QWidget):
         self.distance.setValue(dist)
         self.target_z.setValue(design.camera.target[2])
         self.fov.setValue(design.camera.fov_y_deg)
+        self.env_kind.setCurrentText(design.environment.kind)
         self.env_scale.setValue(design.environment.scale)
         self.env_rotation.setValue(design.environment.rotation_deg)
         self.width_px.setValue(design.render.width)

@@ -1,7 +1,7 @@
 """Inner sections and the derived body profile: the wall offset inwards, clipped at the inner base.
 
 Design rule: pure functions of segments and thicknesses (mm). A section splits at the *standing
-ring* (first joint at z = 0, :func:`wall_start_index`) into the **base part** (axis -> ring) and
+ring* (where it first reaches z = 0, :func:`split_at_ring`) into the **base part** (axis -> ring) and
 the **wall part** (ring -> mouth). The inner wall is the wall part offset inwards in its own
 (r, z) plane (SPEC 4.2: ``P(t) - w n(t)``) and clipped where it meets the inner base; the inner
 base is the base part offset by ``base_thickness`` (flat base: exactly the plane
@@ -49,11 +49,6 @@ def subsegment(seg: Segment, t0: float, t1: float) -> Segment:
     raise TypeError(f"unknown segment type {type(seg).__name__}")
 
 
-def _wrap_to_unit(d_angle, sweep: float):  # angle past the start -> t on an arc of ``sweep``
-    d = np.mod(np.asarray(d_angle) * math.copysign(1.0, sweep) + math.pi, 2 * math.pi) - math.pi
-    return np.clip(d / abs(sweep), 0.0, 1.0)
-
-
 def param_at_z(seg: Segment, z) -> np.ndarray:
     """Parameter(s) ``t`` where the z-monotone segment ``seg`` is at height ``z`` (mm).
 
@@ -71,7 +66,8 @@ def param_at_z(seg: Segment, z) -> np.ndarray:
         mid = float(seg.angle(0.5))
         if math.cos(mid) < 0.0:  # the arc lies on the half nearer the axis
             s = math.pi - s
-        return _wrap_to_unit(s - seg.angle0, seg.sweep)
+        d = np.mod((s - seg.angle0) * math.copysign(1.0, seg.sweep) + math.pi, 2 * math.pi) - math.pi
+        return np.clip(d / abs(seg.sweep), 0.0, 1.0)  # angle past the start, as a fraction
     if isinstance(seg, OffsetEllipseArc):
         return _offset_param_at_z(seg, z)
     raise TypeError(f"unknown segment type {type(seg).__name__}")
@@ -106,11 +102,9 @@ def _offset_param_at_z(seg: OffsetEllipseArc, z) -> np.ndarray:
 
 
 def locate(segments, z):
-    """``(index, t)`` arrays shaped like ``z``: the segment holding height ``z`` (mm) and its
-    parameter there, on a chain rising (a wall) or descending (a punt's base) in z. Heights
-    outside the chain's range get index -1 and ``t = nan``."""
-    z = np.asarray(z, dtype=float)
-    n = len(segments)
+    """``(index, t)`` shaped like ``z``: segment holding height ``z`` (mm) and its parameter, on a
+    chain rising or descending in z; heights outside its range get index -1 and ``t = nan``."""
+    z, n = np.asarray(z, dtype=float), len(segments)
     rising = segments[-1].p1[1] >= segments[0].p0[1]
     order = range(n) if rising else range(n - 1, -1, -1)
     tops = np.array([max(segments[i].p0[1], segments[i].p1[1]) for i in order])
@@ -122,9 +116,8 @@ def locate(segments, z):
         t[m] = param_at_z(segments[i], z[m])
     z_lo, z_hi = sorted((segments[0].p0[1], segments[-1].p1[1]))
     outside = (z < z_lo - Z_TOL_MM) | (z > z_hi + Z_TOL_MM)
-    idx = np.where(outside, -1, idx)
     t[outside] = np.nan
-    return idx, t
+    return np.where(outside, -1, idx), t
 
 
 def radius_at(segments, z) -> np.ndarray:
@@ -139,22 +132,32 @@ def radius_at(segments, z) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------- base / wall split
-def wall_start_index(section) -> int:
-    """Index of the first wall segment: the one after the first joint at z = 0 (the standing
-    ring). 1 for a SPEC flat base; later for a punt. ``SectionError`` when no joint is at z = 0."""
+def split_at_ring(section):
+    """``(base, wall, k)``: ``section`` cut at its standing ring, the first place it reaches z = 0.
+
+    The ring is a joint at z = 0, or the lowest point of an arc / ellipse arc that touches z = 0
+    inside (as a drawn heel often does); that segment is then split there. ``k`` is the section
+    index of ``wall[0]``: ``wall[i]`` is (part of) segment ``k + i``, ``base[i]`` (part of)
+    segment ``i``. A SPEC section gives ``k = 1``. ``SectionError`` when z = 0 is never reached.
+    """
     segs = section.segments
     for i, s in enumerate(segs[:-1]):
         if abs(s.p1[1]) <= Z_TOL_MM:
-            return i + 1
-    raise SectionError(0, "the base never reaches the standing plane z = 0 at a joint before the finish")
+            return segs[:i + 1], segs[i + 1:], i + 1
+        if isinstance(s, (Arc, EllipseArc)):
+            d = ((-math.pi / 2 - s.angle0) * math.copysign(1.0, s.sweep)) % (2 * math.pi)
+            if 1e-9 < d < abs(s.sweep) - 1e-9 and abs(float(s.point(d / abs(s.sweep))[1])) <= Z_TOL_MM:
+                t = d / abs(s.sweep)
+                return segs[:i] + (subsegment(s, 0.0, t),), (subsegment(s, t, 1.0),) + segs[i + 1:], i
+    raise SectionError(0, "the base never reaches the standing plane z = 0 before the finish")
 
 
 # --------------------------------------------------------------------------- offsetting
 def _offset(seg: Segment, w: float, index: int) -> Segment:
-    try:  # Arc.offset raises SectionError for a radius <= 0; here that is the wall's fault
+    try:  # Arc.offset raises SectionError for a radius <= 0: here that is the wall's fault
         return seg.offset(w)
     except SectionError as exc:
-        raise WallError(f"segment {index}: wall {w:g} mm is too thick for this arc ({exc})") from None
+        raise WallError(f"segment {index}: {w:g} mm of glass is too thick for this arc ({exc})") from None
 
 
 def _crossing(a: Segment, b: Segment):
@@ -250,7 +253,7 @@ def inner_section(section, wall, z_ib: float) -> tuple[Segment, ...]:
     Parameters
     ----------
     section : Section
-        A valid section (its wall part starts at :func:`wall_start_index`).
+        A valid section (its wall part starts at the ring, :func:`split_at_ring`).
     wall : float or sequence of float
         Wall thickness (mm), or one per wall segment.
     z_ib : float
@@ -262,8 +265,7 @@ def inner_section(section, wall, z_ib: float) -> tuple[Segment, ...]:
         A z-rising chain of ``Line`` / ``Arc`` / ``OffsetEllipseArc`` (each wall segment moved
         ``P - w n``, joints trimmed or bridged) from height ``z_ib`` to ``section.z_top``.
     """
-    k = wall_start_index(section)
-    wall_segs = section.segments[k:]
+    _, wall_segs, k = split_at_ring(section)
     walls = [float(wall)] * len(wall_segs) if np.ndim(wall) == 0 else [float(w) for w in wall]
     if len(walls) != len(wall_segs):
         raise WallError(f"{len(walls)} wall thicknesses given for {len(wall_segs)} wall segments")
@@ -288,13 +290,11 @@ class SectionProfile:
     inner_wall: tuple[Segment, ...]
 
     @property
-    def r_top(self) -> float:
-        """Outer radius at the mouth (mm)."""
+    def r_top(self) -> float:  # outer radius at the mouth, mm
         return self.outer_wall[-1].p1[0]
 
     @property
-    def r_in_top(self) -> float:
-        """Inner radius at the mouth (mm): the inner edge of the rim."""
+    def r_in_top(self) -> float:  # inner radius at the mouth (the rim's inner edge), mm
         return self.inner_wall[-1].p1[0]
 
 
@@ -316,11 +316,8 @@ class BodyProfile:
     rotation_deg: float = 0.0
 
     def section(self, name: str) -> SectionProfile:
-        """The profile of the section called ``name``."""
-        for s in self.sections:
-            if s.name == name:
-                return s
-        raise KeyError(f"no section {name!r} in this {self.cross_section} profile")
+        """The profile of the section called ``name`` (``KeyError`` if there is none)."""
+        return {s.name: s for s in self.sections}[name]
 
     @property
     def r_top(self) -> float:  # outer radius of the (round) mouth, mm
@@ -329,9 +326,9 @@ class BodyProfile:
 
 def is_flat_base(section) -> bool:
     """True when the base part is the SPEC flat base: one horizontal line at z = 0."""
-    s0 = section.segments[0]
-    return (wall_start_index(section) == 1 and isinstance(s0, Line)
-            and abs(s0.p0[1]) <= Z_TOL_MM and abs(s0.p1[1]) <= Z_TOL_MM)
+    base = split_at_ring(section)[0]
+    return (len(base) == 1 and isinstance(base[0], Line)
+            and max(abs(base[0].p0[1]), abs(base[0].p1[1])) <= Z_TOL_MM)
 
 
 def _punt_junction(inner_base, inner_wall_full, name):
@@ -370,22 +367,24 @@ def build_body_profile(shape: BottleShape) -> BodyProfile:
     profiles = []
     z_ib = bt
     for name, sec in shape.sections:
-        k = wall_start_index(sec)
+        base, wall, k = split_at_ring(sec)
         walls = shape.wall_per_segment if shape.wall_per_segment is not None else shape.wall_thickness
-        walls = [float(walls)] * (len(sec) - k) if np.ndim(walls) == 0 else list(walls)
-        if len(walls) != len(sec) - k:
-            raise WallError(f"{len(walls)} wall thicknesses given for {len(sec) - k} wall segments")
-        full = offset_chain(sec.segments[k:], walls, k)
+        walls = [float(walls)] * len(wall) if np.ndim(walls) == 0 else list(walls)
+        if len(walls) != len(wall):
+            raise WallError(f"{len(walls)} wall thicknesses given for {len(wall)} wall segments")
+        full = offset_chain(wall, walls, k)
         if flat:
             inner_wall = clip_from_z(full, bt)
             inner_base = (Line((0.0, bt), inner_wall[0].p0),)
         else:
-            base_off = offset_chain(sec.segments[:k], [bt] * k, 0)
+            base_off = offset_chain(base, [bt] * len(base), 0)
+            (re, ze), r_wall = base_off[-1].p1, float(radius_at(full, base_off[-1].p1[1]))
+            if re < r_wall:  # ends inside the inner wall (thinner wall): go on level, as a flat base
+                base_off += (Line((re, ze), (r_wall, ze)),)
             m, tj, z_ib = _punt_junction(base_off, full, name)
             inner_wall = clip_from_z(full, z_ib)
             inner_base = base_off[:m] + ((subsegment(base_off[m], 0.0, tj),) if tj > 1e-12 else ())
-        profiles.append(SectionProfile(name, tuple(sec.segments[:k]), tuple(sec.segments[k:]),
-                                       tuple(inner_base), tuple(inner_wall)))
+        profiles.append(SectionProfile(name, tuple(base), tuple(wall), tuple(inner_base), tuple(inner_wall)))
     return BodyProfile(shape.cross_section, tuple(profiles), float(z_ib), float(shape.z_top),
                        not flat, shape.rotation_deg)
 

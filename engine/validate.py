@@ -7,7 +7,8 @@ Tolerances: 1e-6 mm for points and 1e-6 rad for tangency (SPEC 4.1).
 What a valid section is (SPEC 4.1, extended by the punt):
 
 * ``segments[0]`` starts on the axis (r = 0). The **base part** runs from there to the
-  **standing ring**, the first joint at z = 0 (:func:`engine.offset.wall_start_index`).
+  **standing ring**, where the section first reaches z = 0: a joint, or the lowest point of an
+  arc / ellipse arc, which is then split there (:func:`engine.offset.split_at_ring`).
   - *Flat base* (SPEC): the base part is one horizontal ``Line`` from ``(0, 0)`` to ``(r_base, 0)``.
   - *Punt* (round bottles only): the section starts at ``(0, h_punt)``, ``h_punt > 0``, leaving the
     axis horizontally (tangent within 1e-6 rad of +r); along the base part r rises strictly and z
@@ -27,7 +28,7 @@ import numpy as np
 
 from . import crosssection
 from .errors import SectionError, WallError
-from .offset import build_body_profile, is_flat_base, locate, radius_at, wall_start_index
+from .offset import build_body_profile, is_flat_base, locate, radius_at, split_at_ring
 from .segments import Arc, EllipseArc, Line, POINT_TOL_MM
 
 ANGLE_TOL_RAD = 1e-6
@@ -110,10 +111,9 @@ def validate_section(section) -> None:
             if abs(turn) > ANGLE_TOL_RAD:
                 raise SectionError(i + 1, f"joint {i} is set smooth but the tangent turns "
                                           f"{math.degrees(turn):.4g} deg there")
-    k = wall_start_index(section)
-    _check_base(section, k)
-    for i in range(k, len(segs)):
-        seg = segs[i]
+    base, wall, k = split_at_ring(section)
+    _check_base(section, base, wall, k)
+    for i, seg in enumerate(wall, start=k):
         if not (seg.p1[1] > seg.p0[1] + POINT_TOL_MM) or not _monotone(seg, 1):
             raise SectionError(i, "the wall must rise: z has to increase strictly along it "
                                   "(no overhang or horizontal part)")
@@ -124,7 +124,7 @@ def validate_section(section) -> None:
         raise SectionError(len(segs) - 1, "the last segment must be a vertical line (the finish)")
 
 
-def _check_base(section, k: int) -> None:
+def _check_base(section, base, wall, k: int) -> None:
     """The base part: the SPEC flat base, or a punt descending from the axis to the ring."""
     segs = section.segments
     if is_flat_base(section):
@@ -137,15 +137,13 @@ def _check_base(section, k: int) -> None:
     t0 = segs[0].tangent(0.0)
     if abs(math.atan2(t0[1], t0[0])) > ANGLE_TOL_RAD:
         raise SectionError(0, "a punt must leave the axis horizontally (else it has a cone tip)")
-    for i in range(k):
-        seg = segs[i]
+    for i, seg in enumerate(base):
         if not (seg.p1[0] > seg.p0[0]) or not _monotone(seg, 0):
             raise SectionError(i, "along the base r must increase strictly from the axis to the ring")
         if seg.p1[1] > seg.p0[1] + POINT_TOL_MM or not _monotone(seg, 1):
             raise SectionError(i, "a punt must descend from the axis to the standing ring (z may not rise)")
-    base_r = np.concatenate([s.point(np.linspace(0, 1, 65))[:, 0] for s in segs[:k]])
-    base_z = np.concatenate([s.point(np.linspace(0, 1, 65))[:, 1] for s in segs[:k]])
-    wall = segs[k:]
+    base_r = np.concatenate([s.point(np.linspace(0, 1, 65))[:, 0] for s in base])
+    base_z = np.concatenate([s.point(np.linspace(0, 1, 65))[:, 1] for s in base])
     inside = (base_z >= wall[0].p0[1]) & (base_z <= wall[-1].p1[1])
     r_wall = radius_at(wall, base_z[inside])
     crossing = r_wall < base_r[inside] - POINT_TOL_MM
@@ -234,12 +232,11 @@ def _check_cross_sections(kind, chains, z_lo, z_hi, which, err=SectionError) -> 
 def _check_walls(shape) -> None:
     """Wall thinner than convex radii of curvature; inner walls off the axis, rising and valid."""
     for name, sec in shape.sections:
-        k = wall_start_index(sec)
-        walls = shape.wall_per_segment or [shape.wall_thickness] * (len(sec) - k)
-        if len(walls) != len(sec) - k:
-            raise WallError(f"{len(walls)} wall thicknesses given for {len(sec) - k} wall segments")
-        for i, w in zip(range(k, len(sec)), walls):
-            seg = sec.segments[i]
+        _, wall, k = split_at_ring(sec)
+        walls = shape.wall_per_segment or [shape.wall_thickness] * len(wall)
+        if len(walls) != len(wall):
+            raise WallError(f"{len(walls)} wall thicknesses given for {len(wall)} wall segments")
+        for i, w, seg in zip(range(k, len(sec)), walls, wall):
             if not isinstance(seg, Line) and seg.direction == "ccw":
                 kappa = float(np.max(seg.curvature(np.linspace(0.0, 1.0, 513))))
                 if isinstance(seg, EllipseArc):
@@ -252,8 +249,7 @@ def _check_walls(shape) -> None:
                                     f"radius of curvature {1 / kappa:.4g} mm of this convex part")
     prof = build_body_profile(shape)
     for sp, (name, sec) in zip(prof.sections, shape.sections):
-        outer = sec.segments[wall_start_index(sec):]
-        k = wall_start_index(sec)
+        outer, k = sp.outer_wall, split_at_ring(sec)[2]
         for seg in sp.inner_wall:
             p = seg.point(np.linspace(0.0, 1.0, 65))
             j = k + max(int(locate(outer, np.clip(p[:, 1], outer[0].p0[1], outer[-1].p1[1]))[0][0]), 0)

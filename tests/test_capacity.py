@@ -148,9 +148,11 @@ def test_per_segment_walls_match_parameter_integral():
     assert cap.capacity_ml(shape, 50.0) * 1000 == pytest.approx(math.pi * 26.0 ** 2 * 44.0, rel=1e-9)
 
 
-def test_cornered_punt_matches_parameter_integral():
-    from tests.test_offset import cornered_punt_section
-    shape = round_shape(cornered_punt_section(), 2.5, 4.0)
+@pytest.mark.parametrize("which", ["cornered", "heel through ring"])
+def test_cornered_punt_matches_parameter_integral(which):
+    from tests.test_offset import cornered_punt_section, heel_through_ring_section
+    sec = cornered_punt_section() if which == "cornered" else heel_through_ring_section()
+    shape = round_shape(sec, 2.5, 4.0 if which == "cornered" else 3.0)
     sp = body_profile(shape).sections[0]
     expect = _t_integral(sp.inner_wall) + _t_integral(sp.inner_base)
     assert cap.brimful_ml(shape) * 1000 == pytest.approx(expect, rel=1e-7)

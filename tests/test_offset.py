@@ -6,8 +6,7 @@ import numpy as np
 import pytest
 
 from engine.errors import WallError
-from engine.offset import (body_profile, inner_section, param_at_z, radius_at, subsegment,
-                           wall_start_index)
+from engine.offset import body_profile, inner_section, param_at_z, radius_at, split_at_ring, subsegment
 from engine.section import Section
 from engine.segments import Arc, EllipseArc, Line, OffsetEllipseArc
 from engine.shape import BottleShape
@@ -118,11 +117,27 @@ def test_per_segment_walls_bridge_thicker_heel():
     assert radius_at(inner, np.array([50.0, 160.0])) == pytest.approx([26.0, 10.0])
 
 
-def test_wall_start_index_for_flat_base_and_punt():
-    assert wall_start_index(spec_shape(1).primary) == 1
-    assert wall_start_index(punt_section()) == 1
+def test_split_at_ring_for_flat_base_and_punt():
+    assert split_at_ring(spec_shape(1).primary)[2] == 1
+    assert split_at_ring(punt_section())[2] == 1
     two_part = Section((Line((0, 10), (8, 6)), Line((8, 6), (20, 0)), Line((20, 0), (20, 50))), (False, False))
-    assert wall_start_index(two_part) == 2
+    base, wall, k = split_at_ring(two_part)
+    assert k == 2 and len(base) == 2 and wall == two_part.segments[2:]
+
+
+def heel_through_ring_section() -> Section:
+    """A punt whose single heel arc passes through its lowest point, the ring, as drawn in CAD."""
+    heel = Arc((30.0, 4.0), 4.0, (30.0 - 2 * math.sqrt(3.0), 2.0), (34.0, 4.0), "ccw")
+    big_r = (heel.p0[0] ** 2 + 100.0) / 20.0  # dome about (0, 12 - R) through (0, 12) and heel.p0
+    dome = Arc((0.0, 12.0 - big_r), big_r, (0.0, 12.0), heel.p0, "cw")
+    return Section((dome, heel, Line((34.0, 4.0), (34.0, 150.0))), (False, True))
+
+
+def test_ring_inside_an_arc_splits_it():
+    base, wall, k = split_at_ring(heel_through_ring_section())
+    assert k == 1 and len(base) == 2 and len(wall) == 2
+    assert base[-1].p1 == pytest.approx((30.0, 0.0)) and wall[0].p0 == base[-1].p1
+    assert wall[0].kind == "arc" and wall[0].radius == 4.0
 
 
 def test_body_profile_flat_and_punt():

@@ -11,7 +11,8 @@ from engine.body import BottleBody
 from engine.offset import body_profile
 from engine.shape import BottleShape
 from engine.tessellate import BODY_PARTS, tessellate_body, tessellate_liquid
-from tests.test_offset import cornered_punt_section, punt_section, spec_shape, stepped_section
+from tests.test_offset import (cornered_punt_section, heel_through_ring_section, punt_section, spec_shape,
+                               stepped_section)
 
 
 def oval_shape():
@@ -26,7 +27,8 @@ def punt_shape():
 
 SHAPES = {"round": lambda: spec_shape(1), "square": lambda: spec_shape(3), "ellipse": lambda: spec_shape(4),
           "oval": oval_shape, "punt": punt_shape,
-          "cornered punt": lambda: BottleShape("round", {"profile": cornered_punt_section()}, 2.5, 4.0)}
+          "cornered punt": lambda: BottleShape("round", {"profile": cornered_punt_section()}, 2.5, 4.0),
+          "heel punt": lambda: BottleShape("round", {"profile": heel_through_ring_section()}, 2.5, 3.0)}
 
 
 @pytest.mark.parametrize("name", SHAPES)
@@ -55,7 +57,7 @@ def _samples(mesh, part_id):
     return np.concatenate([v.mean(axis=1), 0.5 * (v[:, 0] + v[:, 1]), 0.5 * (v[:, 1] + v[:, 2])])
 
 
-@pytest.mark.parametrize("name", ["round", "ellipse", "punt", "cornered punt"])
+@pytest.mark.parametrize("name", ["round", "ellipse", "punt", "cornered punt", "heel punt"])
 def test_round_chordal_deviation_within_tolerance(name):
     tol = 0.1
     shape = SHAPES[name]()

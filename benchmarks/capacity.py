@@ -110,7 +110,7 @@ def main(argv=None) -> int:
         built = [r for r in rows if r[0] == name and r[1] == "quadrature (profile built)"][0]
         print(f"{name}: time ratio peer(N=1e5) / quadrature: x{peer[3] / built[3]:.0f} (profile built), "
               f"x{peer[3] / ours[3]:.1f} (cold); error quadrature {ours[4]:.1e} vs peer {peer[4]:.1e}")
-    typical = BottleShape("rounded_square", body_profile_shape_square().sections, 2.5, 5.5)
+    typical = BottleShape("rounded_square", oracle_square_bottle().sections, 2.5, 5.5)
 
     def both():
         fresh = _fresh(typical)
@@ -126,7 +126,7 @@ def main(argv=None) -> int:
     return 0
 
 
-def body_profile_shape_square():
+def oracle_square_bottle():
     """The rounded-square bottle of oracle scene public_3 (u and v sections)."""
     import json
     b = json.load(open("/work/shared/oracle/specs/public_3.json"))["bottle"]["cross_section"]

@@ -14,7 +14,7 @@ from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFormLayout, QHBoxLayo
 from engine.shape import SECTION_NAMES, BottleShape
 from widgets import section_edits as edits
 from widgets.section_editor import SectionCanvas
-from widgets.section_table import SectionTableModel
+from widgets.section_table import KindDelegate, SectionTableModel
 
 #: Radial scale of the first section used to make the others when the kind changes. All 1:
 #: every kind must meet in a round finish at the mouth, and equal sections are the one start
@@ -35,6 +35,7 @@ class SectionPanel(QWidget):
         self.model = SectionTableModel(self)
         self.table = QTableView()
         self.table.setModel(self.model)
+        self.table.setItemDelegateForColumn(0, KindDelegate(self.table))
         # why: ResizeToContents asks every cell for its size on every change; size once per reset
         self.table.horizontalHeader().setSectionResizeMode(QHeaderView.Interactive)
         self.model.modelReset.connect(self.table.resizeColumnsToContents)

@@ -8,6 +8,7 @@ value leaves the table showing the model's numbers.
 from __future__ import annotations
 
 from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, Signal
+from PySide6.QtWidgets import QComboBox, QStyledItemDelegate
 
 from engine.section import Section
 from engine.segments import Arc, EllipseArc
@@ -147,3 +148,18 @@ class SectionTableModel(QAbstractTableModel):
             return False
         self.sectionProposed.emit(proposal, f"Edit {COLUMNS[col]} of segment {index.row()}", "")
         return True
+
+
+class KindDelegate(QStyledItemDelegate):
+    """Edits the ``type`` column with a list of the segment kinds instead of free text."""
+
+    def createEditor(self, parent, option, index):
+        combo = QComboBox(parent)
+        combo.addItems(list(KINDS))
+        return combo
+
+    def setEditorData(self, editor, index):
+        editor.setCurrentText(str(index.data(Qt.EditRole)))
+
+    def setModelData(self, editor, model, index):
+        model.setData(index, editor.currentText(), Qt.EditRole)

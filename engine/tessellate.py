@@ -178,7 +178,9 @@ def refine_heights(body: BottleBody, part: str, z, theta, tol_mm: float) -> np.n
 
 # --------------------------------------------------------------------------- assembly
 class _Builder:
-    """Collects vertex blocks and face groups (one per band or fan) per part."""
+    """Collects vertex blocks and faces per part. Winding is fixed by construction (which side
+    a band or fan faces follows from the walking direction), never guessed from the vertex
+    normals: at a crease those can point almost anywhere."""
 
     def __init__(self, names):
         self.names, self.v, self.n, self.f, self.p, self.count = names, [], [], [], [], 0
@@ -194,39 +196,39 @@ class _Builder:
         self.f.append(np.asarray(tris, np.int64).reshape(-1, 3))
         self.p.append(np.full(len(self.f[-1]), self.names.index(part)))
 
-    def band(self, part, ring_a, ring_b) -> None:
+    def band(self, part, ring_a, ring_b, flip: bool = False) -> None:
+        """Faces between two rings (angles increasing). Walking the section from ``ring_a`` to
+        ``ring_b``, they face the section's outward side ``n = (T_z, -T_r)``; ``flip`` turns them."""
         a0, b0 = ring_a, ring_b
         a1, b1 = np.roll(ring_a, -1), np.roll(ring_b, -1)
-        self.faces(part, np.concatenate([np.stack([a0, a1, b1], 1), np.stack([a0, b1, b0], 1)]))
+        tris = np.concatenate([np.stack([a0, a1, b1], 1), np.stack([a0, b1, b0], 1)])
+        self.faces(part, tris[:, ::-1] if flip else tris)
 
-    def fan(self, part, centre: int, ring) -> None:
-        self.faces(part, np.stack([np.full(len(ring), centre), ring, np.roll(ring, -1)], 1))
+    def fan(self, part, centre: int, ring, flip: bool = False) -> None:
+        """Faces from a centre vertex to a ring (angles increasing): facing +z unless ``flip``."""
+        tris = np.stack([np.full(len(ring), centre), ring, np.roll(ring, -1)], 1)
+        self.faces(part, tris[:, ::-1] if flip else tris)
 
-    def grid(self, part, pts, nrm) -> list:
+    def grid(self, part, pts, nrm, flip: bool = False) -> list:
         """Rings from a ``(K, M, 3)`` block, banded together; returns the ring index arrays."""
         idx = self.add(pts, nrm).reshape(pts.shape[:2])
         for k in range(len(idx) - 1):
-            self.band(part, idx[k], idx[k + 1])
+            self.band(part, idx[k], idx[k + 1], flip)
         return list(idx)
 
     def mesh(self) -> Mesh:
-        """Orient each band or fan as a whole (its faces' winding summed against the vertex
-        normals, so a crease ring with very different normals cannot flip single faces)."""
         v, n = np.concatenate(self.v), np.concatenate(self.n)
-        groups = []
-        for f in self.f:
-            g = np.cross(v[f[:, 1]] - v[f[:, 0]], v[f[:, 2]] - v[f[:, 0]])
-            score = np.einsum("ij,ij->i", g, n[f].sum(axis=1)).sum()
-            groups.append(f[:, ::-1] if score < 0 else f)
-        return Mesh(v, np.concatenate(groups), n, np.concatenate(self.p), self.names)
+        return Mesh(v, np.concatenate(self.f), n, np.concatenate(self.p), self.names)
 
 
 def _wall(b, body, part, label, theta, tol, z_lo, z_hi, flip=1.0):
     """Rings of a wall from ``z_lo`` to ``z_hi`` banded together; returns the ring indices.
 
     Round walls revolve the section's own samples; other walls take ring heights from every
-    section (:func:`wall_heights`, :func:`refine_heights`). ``flip`` -1 turns the normals round.
+    section (:func:`wall_heights`, :func:`refine_heights`). ``flip`` -1 turns the normals round
+    (a liquid faces out of the cavity). Faces face the way the normals do.
     """
+    faces_in = (part == "inner") == (flip > 0)  # the glass's inner wall faces against n
     chains = [sp.outer_wall if part == "outer" else sp.inner_wall for sp in body.profile.sections]
     if body.kind == "round":
         r, z, tr, tz = section_stations(chains[0], tol, z_hi)
@@ -235,10 +237,10 @@ def _wall(b, body, part, label, theta, tol, z_lo, z_hi, flip=1.0):
         pts = np.stack(np.broadcast_arrays(r[:, None] * c, r[:, None] * s, z[:, None]), axis=-1)
         nrm = np.stack(np.broadcast_arrays(sign * tz[:, None] * c, sign * tz[:, None] * s,
                                            -sign * tr[:, None] + 0 * c), axis=-1)
-        return b.grid(label, pts, nrm)
+        return b.grid(label, pts, nrm, faces_in)
     z = refine_heights(body, part, wall_heights(chains, tol, z_lo, z_hi), theta, tol)
     pts, nrm = body.wall(part, theta[None, :], z[:, None])
-    return b.grid(label, pts, flip * nrm)
+    return b.grid(label, pts, flip * nrm, faces_in)
 
 
 def _copy_ring(b: _Builder, ring, normals) -> np.ndarray:
@@ -255,11 +257,13 @@ def _base(b, body, part, label, theta, edge_ring, tol_mm, s_stop=None):
     liquid's base, whose normals face down, out of the liquid.
     """
     flip = -1.0 if label == "base" else 1.0
+    # Bands walked outwards from the axis face down (n of the base chain); fans face up.
+    down = part == "base_outer" or label == "base"
     if not body.profile.punt:
         normal = body.point_normal(part, 0.0, 0.5)[1] * flip
         ring = _copy_ring(b, edge_ring, normal)
         centre = np.concatenate(b.v)[edge_ring[0]] * [0.0, 0.0, 1.0]
-        b.fan(label, int(b.add(centre, normal)[0]), ring)
+        b.fan(label, int(b.add(centre, normal)[0]), ring, flip=down)
         return None
     chain = body.profile.sections[0].outer_base if part == "base_outer" else body.profile.sections[0].inner_base
     s = chain_stations(chain, tol_mm)
@@ -273,13 +277,13 @@ def _base(b, body, part, label, theta, edge_ring, tol_mm, s_stop=None):
     first = None
     if s_stop is None:
         p0, n0 = body.point_normal(part, 0.0, 0.0)
-        b.fan(label, int(b.add(p0, flip * n0)[0]), rings[0])
+        b.fan(label, int(b.add(p0, flip * n0)[0]), rings[0], flip=down)
     else:
         p0, n0 = body.point_normal(part, theta, s_stop)
         first = b.add(p0, flip * n0)
         rings.insert(0, first)
     for ring_a, ring_b in zip(rings[:-1], rings[1:]):
-        b.band(label, ring_a, ring_b)
+        b.band(label, ring_a, ring_b, flip=not down)
     return first
 
 
@@ -323,7 +327,7 @@ def tessellate_body(shape, tol_mm: float = 0.05) -> Mesh:
     _base(b, body, "base_outer", "base_outer", theta, outer[0], tol)
     _base(b, body, "base_inner", "base_inner", theta, inner[0], tol)
     up = np.array([0.0, 0.0, 1.0])
-    b.band("rim", _copy_ring(b, inner[-1], up), _copy_ring(b, outer[-1], up))
+    b.band("rim", _copy_ring(b, inner[-1], up), _copy_ring(b, outer[-1], up), flip=True)  # walked outwards
     return b.mesh()
 
 
@@ -348,7 +352,7 @@ def tessellate_liquid(shape, fill_height: float, tol_mm: float = 0.05) -> Mesh:
     if prof.punt and fill < base_chain[0].p0[1]:
         i, t = locate(base_chain, np.array([fill]))
         first = _base(b, body, "base_inner", "base", theta, wall[0], tol, float((i[0] + t[0]) / len(base_chain)))
-        b.band("surface", _copy_ring(b, first, up), _copy_ring(b, wall[-1], up))
+        b.band("surface", _copy_ring(b, first, up), _copy_ring(b, wall[-1], up), flip=True)
     else:
         _base(b, body, "base_inner", "base", theta, wall[0], tol)
         ring = _copy_ring(b, wall[-1], up)

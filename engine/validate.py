@@ -189,6 +189,8 @@ def validate_shape(shape) -> None:
         raise WallError(f"the wall thickness must be a positive number of mm, got {w:g}")
     if not (bt >= w and math.isfinite(bt)):
         raise WallError(f"the base ({bt:g} mm) must be at least as thick as the wall ({w:g} mm)")
+    if not math.isfinite(shape.rotation_deg):
+        raise SectionError(None, f"the rotation must be a finite number of degrees, got {shape.rotation_deg}")
     if bt >= shape.z_top:
         raise WallError(f"the base ({bt:g} mm) is as thick as the bottle is high ({shape.z_top:g} mm)")
     if shape.wall_per_segment is not None:

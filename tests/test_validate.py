@@ -106,6 +106,8 @@ def test_wall_errors():
         validate_shape(BottleShape("round", {"profile": thin_neck}, 3.5, 6.0))
     with pytest.raises(WallError, match="segment 1: 4 mm of glass is too thick for this arc"):
         validate_shape(BottleShape("round", {"profile": heel_through_ring_section()}, 2.5, 4.0))
+    with pytest.raises(SectionError, match="rotation"):
+        validate_shape(BottleShape("round", {"profile": sec}, 3.0, 6.0, rotation_deg=float("nan")))
     with pytest.raises(WallError, match="at least as thick"):
         validate_shape(BottleShape("round", {"profile": sec}, 3.0, 2.0))
 

@@ -3,6 +3,7 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
 from engine import capacity as cap
 from engine.offset import body_profile
@@ -158,9 +159,6 @@ def test_cornered_punt_matches_parameter_integral(which):
     assert cap.brimful_ml(shape) * 1000 == pytest.approx(expect, rel=1e-7)
     h = cap.fill_height_for_volume(shape, 0.001 * cap.brimful_ml(shape))
     assert cap.capacity_ml(shape, h) == pytest.approx(0.001 * cap.brimful_ml(shape), rel=1e-9)
-
-
-from hypothesis import given, settings, strategies as st  # noqa: E402
 
 
 @settings(max_examples=25, deadline=None)

@@ -3,11 +3,13 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings, strategies as st
 from scipy.spatial import cKDTree
 
 from engine import capacity as cap
 from engine import crosssection
 from engine.body import BottleBody
+from engine.errors import SectionError, WallError
 from engine.offset import body_profile
 from engine.shape import BottleShape
 from engine.tessellate import BODY_PARTS, tessellate_body, tessellate_liquid
@@ -140,11 +142,6 @@ def test_per_segment_wall_step_is_meshed_as_a_ledge():
     at_step = inner[np.abs(inner[:, 2] - 100.0) < 1e-9]
     radii = np.unique(np.round(np.hypot(at_step[:, 0], at_step[:, 1]), 6))
     assert radii.min() == pytest.approx(26.0) and radii.max() > 26.5  # both sides of the ledge
-
-
-from hypothesis import assume, given, settings, strategies as st  # noqa: E402
-
-from engine.errors import SectionError, WallError  # noqa: E402
 
 
 @settings(max_examples=12, deadline=None)

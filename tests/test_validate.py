@@ -1,12 +1,16 @@
 """Section and shape validation (engine.validate): each error names what and where."""
 import math
 
+import numpy as np
 import pytest
+from hypothesis import assume, event, given, settings, strategies as st
 
-from engine.errors import SectionError, WallError
+from engine import capacity
+from engine.errors import GlassbenchError, SectionError, WallError
 from engine.section import Section
 from engine.segments import Arc, EllipseArc, Line
 from engine.shape import BottleShape
+from engine.tessellate import tessellate_body
 from engine.validate import validate_section, validate_shape
 from tests.test_offset import (heel_through_ring_section, punt_section, spec_shape, stepped_section,
                                torus_foot_section)
@@ -141,14 +145,6 @@ def test_inner_cross_section_checked():
     with pytest.raises(SectionError, match="corner"):
         validate_shape(BottleShape("rounded_rect", {"half_width": hw, "half_depth": hd, "corner": corner}, 2.0, 5.0))
 
-
-from hypothesis import assume, event, given, settings, strategies as st  # noqa: E402
-
-import numpy as np  # noqa: E402
-
-from engine import capacity  # noqa: E402
-from engine.errors import GlassbenchError  # noqa: E402
-from engine.tessellate import tessellate_body  # noqa: E402
 
 @settings(max_examples=60, deadline=None)
 @given(steps=st.lists(st.tuples(st.floats(2.0, 60.0), st.floats(-3.0, 40.0)), min_size=1, max_size=5),

@@ -149,6 +149,27 @@ class BottleBody:
             return self._rim(theta, s)
         raise ValueError(f"unknown part {part!r}; expected one of {', '.join(PARTS)}")
 
+    def wall_implicit(self, part: str, points):
+        """Implicit function of the ``outer`` / ``inner`` wall at world points ``(..., 3)`` (mm).
+
+        Returns ``(g, grad)``: ``g = sd(x, y; radii(z))`` (mm, :func:`engine.crosssection.
+        signed_distance` of the cross-section at the point's height) is negative inside the
+        surface (inside the glass's outline for ``outer``, inside the cavity for ``inner``) and
+        zero on it; ``grad (..., 3)`` is its world-frame gradient, with ``dg/dz = sum_k
+        d sd/d radius_k * T_r,k / T_z,k``. ``g / |grad|`` is the distance to first order, which is
+        what a tracer needs to refine a mesh hit onto the exact surface by Newton steps.
+        Heights are clamped to the wall's range.
+        """
+        p = np.asarray(points, float)
+        x = self._cos * p[..., 0] + self._sin * p[..., 1]
+        y = -self._sin * p[..., 0] + self._cos * p[..., 1]
+        states = self.wall_radii(part, p[..., 2])
+        g, gx, gy, d_r = crosssection.signed_distance(self.kind, [st[0] for st in states], x, y)
+        gz = sum(d_r[k] * st[1] / np.maximum(st[2], 1e-12) for k, st in enumerate(states))
+        grad = np.stack([self._cos * gx - self._sin * gy, self._sin * gx + self._cos * gy,
+                         np.broadcast_to(gz, np.shape(g))], axis=-1)
+        return g, grad
+
     def wall_range(self, part: str) -> tuple[float, float]:
         """Heights ``(z_lo, z_hi)`` (mm) the ``outer`` / ``inner`` wall spans."""
         return (0.0, self.profile.z_top) if part == "outer" else (self.profile.z_ib, self.profile.z_top)

@@ -82,3 +82,21 @@ def test_rotation_turns_the_face_normal():
     turned = BottleShape(base.cross_section, base.sections, 2.5, 5.5, rotation_deg=90.0)
     _, n = BottleBody(turned).point_normal("outer", 0.0, 50.0)
     assert n[0] == pytest.approx(0.0, abs=1e-12) and n[1] > 0.99
+
+
+@pytest.mark.parametrize("shape", shapes(), ids=["round", "square", "ellipse", "oval", "punt"])
+def test_wall_implicit_vanishes_on_the_wall_with_gradient_along_the_normal(shape):
+    body = BottleBody(shape)
+    for part in ("outer", "inner"):
+        lo, hi = body.wall_range(part)
+        th, z = np.meshgrid(TH, np.linspace(lo + 0.5, hi - 0.5, 17), indexing="ij")
+        p, n = body.point_normal(part, th, z)
+        g, grad = body.wall_implicit(part, p)
+        np.testing.assert_allclose(g, 0.0, atol=1e-9)
+        unit = grad / np.linalg.norm(grad, axis=-1, keepdims=True)
+        sign = 1.0 if part == "outer" else -1.0  # the inner wall's normal faces the cavity, -grad
+        np.testing.assert_allclose(unit, sign * n, atol=1e-6)
+        # a step along the gradient changes g by |grad| * step (first order)
+        h = 1e-4
+        g2, _ = body.wall_implicit(part, p + h * unit)
+        np.testing.assert_allclose(g2 - g, h * np.linalg.norm(grad, axis=-1), rtol=1e-3, atol=1e-9)

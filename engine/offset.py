@@ -191,17 +191,17 @@ def _crossing(a: Segment, b: Segment):
 
 
 def _join(a: Segment, b: Segment, corner, w_equal: float | None, index: int):
-    """Join consecutive offset segments ``a``, ``b``: returns ``(a', bridge, b')``.
-
-    Where they meet nothing changes; where they cross (the inside of a convex corner) both are
-    trimmed at the crossing; where they part, the gap is bridged: by the exact arc of radius
-    ``w`` about the corner for equal walls, else by a line, or, where walls of different
-    thickness leave ``b`` starting below ``a``'s end on a rising wall, by cutting ``b`` at that
-    height and stepping across horizontally.
-    """
+    """Join consecutive offset segments ``a``, ``b``: returns ``(a', bridge, b')``. Where they
+    meet nothing changes; where they cross (inside a convex corner) both are trimmed there; a gap
+    is bridged by the exact arc of radius ``w`` about the corner (equal walls), else by a line,
+    or, where a thicker wall leaves ``b`` starting below ``a``'s end, by cutting ``b`` at that
+    height and stepping across level."""
     (ar, az), (br, bz) = a.p1, b.p0
-    if math.hypot(ar - br, az - bz) <= JOINT_TOL_MM:
-        return a, (), b
+    gap = math.hypot(ar - br, az - bz)
+    if gap <= 1e-5:  # tangent to 1e-6 rad (validation) times a sane wall: a tiny level step
+        if bz < az and a.p0[1] < bz:  # a rising wall: cut a at b's height so nothing descends
+            a = subsegment(a, 0.0, float(param_at_z(a, bz)))
+        return a, ((Line(a.p1, b.p0),) if math.dist(a.p1, b.p0) > JOINT_TOL_MM else ()), b
     hit = _crossing(a, b)
     if hit is not None and 1e-12 < hit[0] and hit[1] < 1 - 1e-12:
         a2, b2 = subsegment(a, 0.0, hit[0]), subsegment(b, hit[1], 1.0)

@@ -180,3 +180,20 @@ def test_cornered_punt_base_is_offset_and_joined():
         dome_out.center, dome_out.radius_r, dome_out.radius_z)
     assert dome_in.p0 == pytest.approx((0.0, 16.0))
     assert sp.inner_wall[0].p0[1] == pytest.approx(body_profile(shape).z_ib)
+
+
+def test_nearly_tangent_joint_offsets_without_a_descent():
+    # joint 1 is smooth only to 8e-7 rad (inside the 1e-6 rad tolerance): the offsets miss by
+    # a few micrometres and must still join into a rising inner wall
+    eps = 8e-7
+    c = (25.0 - 10 * (1 - math.cos(eps)), 140.0 - 10 * math.sin(eps))
+    arc = Arc(c, 10.0, (35.0, 140.0), (c[0] + 10 * math.cos(0.9), c[1] + 10 * math.sin(0.9)), "ccw")
+    sec = Section((Line((0, 0), (35, 0)), Line((35, 0), (35, 140)), arc,
+                   Line(arc.p1, (arc.p1[0], arc.p1[1] + 30))), (False, True, False))
+    for w in (3.0, 8.0):
+        inner = body_profile(BottleShape("round", {"profile": sec}, w, w + 1)).sections[0].inner_wall
+        for a, b in zip(inner[:-1], inner[1:]):
+            assert math.dist(a.p1, b.p0) < 1e-9
+            assert b.p0[1] >= a.p0[1]
+        z = np.concatenate([s.point(np.linspace(0, 1, 33))[:, 1] for s in inner])
+        assert np.all(np.diff(z) >= -1e-12)

@@ -131,6 +131,7 @@ def format_table(numbers: dict) -> str:
 
 
 def cmd_info(args) -> int:
+    """``info PROJECT [--json]``: trade numbers (ml, mm, cm^3, g) as a table or JSON."""
     from .project import load_project
     design, _ = load_project(args.project)
     numbers = trade_numbers(design)
@@ -144,6 +145,7 @@ def cmd_info(args) -> int:
 # --------------------------------------------------------------------------- export-mesh
 
 def cmd_export_mesh(args) -> int:
+    """``export-mesh PROJECT OUT [--tol MM]``: the glass body as a mesh (format from OUT's suffix)."""
     from .project import load_project
     design, _ = load_project(args.project)
     if not (math.isfinite(args.tol) and args.tol > 0):
@@ -180,6 +182,8 @@ def max_radius(shape: BottleShape) -> float:
 
 
 def cmd_new(args) -> int:
+    """``new --from-dxf FILE.dxf OUT.glassbench``: a round bottle (wall/base in mm) from a DXF
+    section, framed by a camera; refuses to write an invalid design."""
     from .dxf_import import section_from_dxf
     from .project import SUFFIX, check_design, save_project
     if not args.out.endswith(SUFFIX):
@@ -202,6 +206,7 @@ def cmd_new(args) -> int:
 # -------------------------------------------------------------------------------- render
 
 def cmd_render(args) -> int:
+    """``render PROJECT -o OUT``: hand the project to the tracer's render command."""
     ext = os.path.splitext(args.output)[1].lower()
     if ext not in (".png", ".exr", ".tif", ".tiff"):
         raise CliError(f"the output must end in .png, .exr or .tif, got {args.output!r}")

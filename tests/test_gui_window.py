@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import subprocess
 import sys
 
 import pytest
@@ -13,7 +14,8 @@ from engine.project import load_project, save_project
 
 pytestmark = pytest.mark.usefixtures("no_leaks")
 
-RESOURCES = os.path.join(os.path.dirname(__file__), os.pardir, "resources")
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+RESOURCES = os.path.join(REPO, "resources")
 
 
 def test_save_then_open_round_trips_through_the_window(make_window, tmp_path):
@@ -120,16 +122,20 @@ def test_export_mesh(make_window, tmp_path):
     assert out.stat().st_size > 1000
 
 
-def test_screenshot_entry_saves_a_picture_and_exits(qapp, gui_paths, tiny_design, monkeypatch, no_leaks):
-    import app.startup as startup
-    monkeypatch.setattr(startup, "sample_design", lambda: (tiny_design, {}, None))
+def test_screenshot_entry_saves_a_picture_and_exits(gui_paths, tiny_design, no_leaks):
+    # A separate process, as a user runs it: `glassbench --screenshot OUT.png PROJECT`.
+    project = gui_paths / "tiny.glassbench"
+    save_project(project, tiny_design, {})
     out = gui_paths / "shot.png"
-    assert startup.run(None, str(out)) == 0
+    done = subprocess.run([sys.executable, "-m", "app.main", "--screenshot", str(out), str(project)],
+                          cwd=REPO, capture_output=True, text=True, timeout=240)
+    assert done.returncode == 0, done.stderr
     from PySide6.QtGui import QImage
     img = QImage(str(out))
     assert img.width() > 600 and img.height() > 400
-    # The VTK view was painted in: its area is not the empty widget background.
-    assert len({img.pixel(x, img.height() // 2) for x in range(img.width() // 2, img.width(), 7)}) > 5
+    # The VTK view was painted in: its area is not one flat colour.
+    view_row = {img.pixel(x, img.height() // 2) for x in range(img.width() // 2, img.width(), 7)}
+    assert len(view_row) > 5
 
 
 def test_screenshot_of_a_missing_project_fails_cleanly(qapp, gui_paths, capsys, no_leaks):

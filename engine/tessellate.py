@@ -118,10 +118,12 @@ def wall_heights(chains, tol_mm: float, z_lo: float, z_hi: float) -> np.ndarray:
 
 
 def section_stations(chain, tol_mm: float, z_hi: float | None = None):
-    """Samples ``(r, z, T_r, T_z)`` along a rising chain (joints once), up to height ``z_hi``.
+    """Samples ``(r, z, T_r, T_z)`` along a rising chain up to height ``z_hi``.
 
     Used for round walls: rings come straight from the section (no inversion of r(z)), which
-    also keeps a horizontal step of a per-segment wall as two rings at one height.
+    also keeps a horizontal step of a per-segment wall as two rings at one height. A smooth
+    joint is sampled once; a corner twice, at the same position, with each side's tangent (so
+    both sides shade with their own exact normal).
     """
     out = []
     for i, seg in enumerate(chain):
@@ -132,9 +134,15 @@ def section_stations(chain, tol_mm: float, z_hi: float | None = None):
         if last:
             t_fill = float(param_at_z(seg, z_hi))
             t = np.append(t[t < t_fill - 1e-9], t_fill)
-        t = t if i == 0 else t[1:]
         p, tan = seg.point(t), seg.tangent(t)
-        out.append(np.column_stack([p, tan]))
+        rows = np.column_stack([p, tan])
+        if i > 0:
+            prev = out[-1][-1]
+            if abs(prev[2] * tan[0, 1] - prev[3] * tan[0, 0]) <= 1e-6:  # smooth: joint once
+                rows = rows[1:]
+            else:
+                rows[0, :2] = prev[:2]  # same position bit for bit, the new side's tangent
+        out.append(rows)
         if last:
             break
     st = np.concatenate(out)
@@ -210,10 +218,12 @@ class _Builder:
         self.faces(part, tris[:, ::-1] if flip else tris)
 
     def grid(self, part, pts, nrm, flip: bool = False) -> list:
-        """Rings from a ``(K, M, 3)`` block, banded together; returns the ring index arrays."""
+        """Rings from a ``(K, M, 3)`` block, banded together (not where two rings coincide: a
+        crease's two copies); returns the ring index arrays."""
         idx = self.add(pts, nrm).reshape(pts.shape[:2])
         for k in range(len(idx) - 1):
-            self.band(part, idx[k], idx[k + 1], flip)
+            if not np.array_equal(pts[k], pts[k + 1]):
+                self.band(part, idx[k], idx[k + 1], flip)
         return list(idx)
 
     def mesh(self) -> Mesh:

@@ -161,3 +161,17 @@ def test_random_bottles_are_watertight_and_close_in_volume(u, ratio, neck, w, ki
     v = mesh.vertices[mesh.faces]
     area = 0.5 * np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1).sum()
     assert abs(mesh.signed_volume() - exact) <= 0.1 * area * 0.5
+
+
+def test_corner_rings_carry_each_sides_exact_normal():
+    shape = BottleShape("round", {"profile": stepped_section(30.0, 100.0, 12.0, 130.0, 170.0)}, 2.0, 6.0)
+    mesh = tessellate_body(shape, 0.1)
+    assert mesh.is_watertight()
+    outer = mesh.faces[mesh.part == 0]
+    z_mid = mesh.vertices[outer][..., 2].mean(axis=1)
+    body_faces = outer[z_mid < 100.0]  # the vertical body: every vertex normal exactly radial
+    assert np.abs(mesh.normals[body_faces][..., 2]).max() < 1e-12
+    shoulder = outer[(z_mid > 100.0) & (z_mid < 130.0)]
+    n = mesh.normals[shoulder]
+    expect_nz = 18.0 / math.hypot(18.0, 30.0)  # outward normal of the shoulder line, z part
+    np.testing.assert_allclose(n[..., 2], expect_nz, atol=1e-12)

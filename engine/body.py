@@ -34,14 +34,18 @@ from .offset import BodyProfile, body_profile, locate
 PARTS = ("outer", "inner", "base_outer", "base_inner", "rim")
 
 
-def chain_state(chain, z):
+def chain_state(chain, z, above: bool = False):
     """Radius and unit tangent ``(r, T_r, T_z)`` of a z-monotone chain at heights ``z`` (mm).
 
-    Heights are clamped to the chain's range.
+    Heights are clamped to the chain's range. At a joint the lower segment answers, or the
+    upper one with ``above`` (rising chains: the other side of a corner).
     """
     z = np.asarray(z, float)
     lo, hi = sorted((chain[0].p0[1], chain[-1].p1[1]))
     idx, t = locate(chain, np.clip(z, lo, hi))
+    if above:
+        up = (t >= 1.0 - 1e-12) & (idx < len(chain) - 1)
+        idx, t = np.where(up, idx + 1, idx), np.where(up, 0.0, t)
     r, tr, tz = (np.empty(z.shape) for _ in range(3))
     for i in np.unique(idx):
         m = idx == i
@@ -83,15 +87,16 @@ class BottleBody:
     def _world(self, x, y, z):
         return np.stack([self._cos * x - self._sin * y, self._sin * x + self._cos * y, z], axis=-1)
 
-    def wall_radii(self, part: str, z):
+    def wall_radii(self, part: str, z, above: bool = False):
         """Per-section ``(r, T_r, T_z)`` of the outer or inner wall at heights ``z`` (mm)."""
         chains = [sp.outer_wall if part == "outer" else sp.inner_wall for sp in self.profile.sections]
-        return [chain_state(c, z) for c in chains]
+        return [chain_state(c, z, above) for c in chains]
 
-    def wall(self, part: str, theta, z):
-        """Points ``(..., 3)`` and unit normals ``(..., 3)`` on the ``outer`` / ``inner`` wall."""
+    def wall(self, part: str, theta, z, above: bool = False):
+        """Points ``(..., 3)`` and unit normals ``(..., 3)`` on the ``outer`` / ``inner`` wall
+        (at a section's corner, the normal of the side below, or above with ``above``)."""
         theta, z = np.broadcast_arrays(np.asarray(theta, float), np.asarray(z, float))
-        states = self.wall_radii(part, z)
+        states = self.wall_radii(part, z, above)
         radii = [st[0] for st in states]
         x, y, nx, ny = crosssection.boundary(self.kind, radii, theta)
         _, _, _, d_r = crosssection.signed_distance(self.kind, radii, x, y)

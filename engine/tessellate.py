@@ -250,7 +250,23 @@ def _wall(b, body, part, label, theta, tol, z_lo, z_hi, flip=1.0):
         return b.grid(label, pts, nrm, faces_in)
     z = refine_heights(body, part, wall_heights(chains, tol, z_lo, z_hi), theta, tol)
     pts, nrm = body.wall(part, theta[None, :], z[:, None])
+    corners = np.nonzero(np.isin(z, _corner_heights(chains)))[0]
+    if len(corners):  # a second ring at each corner: same positions, the upper side's normals
+        _, n_up = body.wall(part, theta[None, :], z[corners, None], above=True)
+        pts = np.insert(pts, corners + 1, pts[corners], axis=0)
+        nrm = np.insert(nrm, corners + 1, n_up, axis=0)
     return b.grid(label, pts, flip * nrm, faces_in)
+
+
+def _corner_heights(chains) -> np.ndarray:
+    """Heights (mm) of the joints where some section's tangent turns (more than 1e-6 rad)."""
+    zs = []
+    for c in chains:
+        for a, b in zip(c[:-1], c[1:]):
+            ta, tb = a.tangent(1.0), b.tangent(0.0)
+            if abs(ta[0] * tb[1] - ta[1] * tb[0]) > 1e-6:
+                zs.append(a.p1[1])
+    return np.array(zs)
 
 
 def _copy_ring(b: _Builder, ring, normals) -> np.ndarray:

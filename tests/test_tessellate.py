@@ -175,3 +175,11 @@ def test_corner_rings_carry_each_sides_exact_normal():
     n = mesh.normals[shoulder]
     expect_nz = 18.0 / math.hypot(18.0, 30.0)  # outward normal of the shoulder line, z part
     np.testing.assert_allclose(n[..., 2], expect_nz, atol=1e-12)
+    # the same on a non-round bottle whose sections turn at the same heights
+    oval = tessellate_body(oval_shape(), 0.1)
+    assert oval.is_watertight()
+    outer = oval.faces[oval.part == 0]
+    z_mid = oval.vertices[outer][..., 2].mean(axis=1)
+    assert np.abs(oval.normals[outer[z_mid < 100.0]][..., 2]).max() < 1e-9
+    # shoulders 30 -> 12 and 20 -> 12 mm over 30 mm: n_z between 8/hypot(8, 30) and 18/hypot(18, 30)
+    assert oval.normals[outer[(z_mid > 100.0) & (z_mid < 130.0)]][..., 2].min() > 0.25

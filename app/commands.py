@@ -93,10 +93,20 @@ class DesignEditor(QObject):
     def design(self) -> Design:
         return self.scene.design
 
-    def check(self, design: Design) -> str | None:
-        """``None`` when ``design`` may be shown, else the message that says why not."""
+    def check(self, design: Design, changed=frozenset({"shape"}), assets=None) -> str | None:
+        """``None`` when ``design`` may be shown, else the message that says why not.
+
+        Only what ``changed`` can break is checked: the geometry for a shape edit (the costly
+        part, run on every drag step), ranges and asset references for the rest, the fill level
+        for a liquid edit.
+        """
         try:
-            engine_bridge.validate_shape(design.shape)
+            if "shape" in changed:
+                engine_bridge.validate_shape(design.shape)
+            if changed & {"glass", "liquid", "render", "environment", "labels"}:
+                engine_bridge.check_design(design, self.scene.assets if assets is None else assets)
+            if "liquid" in changed and design.liquid is not None:
+                engine_bridge.check_fill_level(design)
         except (GlassbenchError, ValueError) as exc:
             return str(exc)
         return None
@@ -121,11 +131,11 @@ class DesignEditor(QObject):
         except (TypeError, ValueError) as exc:
             self.refused.emit(str(exc))
             return False
-        if "shape" in changed:
-            problem = self.check(candidate)
-            if problem is not None:
-                self.refused.emit(problem)
-                return False
+        new_assets = {**self.scene.assets, **{k: v for k, v in assets.items() if v is not None}}
+        problem = self.check(candidate, frozenset(changed), new_assets)
+        if problem is not None:
+            self.refused.emit(problem)
+            return False
         before = {k: getattr(current, k) for k in changed}
         assets_before = {k: old_assets.get(k) for k in assets}
         self.stack.push(ReplacePartsCommand(self.scene, label, before, changed, merge_key,

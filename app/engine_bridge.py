@@ -38,6 +38,26 @@ def validate_shape(shape: BottleShape) -> None:
     validate.validate_shape(shape)
 
 
+def check_design(design: Design, assets) -> None:
+    """Raise :class:`ProjectError` for what a project may not hold (ranges, missing assets,
+    invalid geometry): the same rules as saving and loading."""
+    project.check_design(design, assets)
+
+
+def check_fill_level(design: Design) -> None:
+    """Raise ``ValueError`` when the liquid cannot stand at the requested level."""
+    liquid, shape = design.liquid, design.shape
+    if liquid.fill_mode == "height":
+        if not shape.base_thickness < liquid.fill_value < shape.z_top:
+            raise ValueError(f"the fill height must lie between the inner base ({shape.base_thickness:g} mm) "
+                             f"and the mouth ({shape.z_top:g} mm), got {liquid.fill_value:g} mm")
+    else:
+        brimful = capacity.brimful_ml(shape)
+        if not 0.0 < liquid.fill_value < brimful:
+            raise ValueError(f"the fill volume must lie between 0 and the brimful capacity "
+                             f"({brimful:.1f} ml), got {liquid.fill_value:g} ml")
+
+
 def inner_sections(shape: BottleShape) -> dict:
     """Inner wall per section name (a tuple of segments); a section whose inner wall cannot be
     built is left out (validation reports why)."""

@@ -108,7 +108,7 @@ class MainWindow(QMainWindow):
         self.render_progress.setMaximumWidth(160)
         self.statusBar().addPermanentWidget(self.render_state)
         self.statusBar().addPermanentWidget(self.render_progress)
-        self.editor.refused.connect(lambda msg: self.statusBar().showMessage(f"Refused: {msg}", 8000))
+        self.editor.refused.connect(self._on_refused)
         self.undo_stack.cleanChanged.connect(lambda clean: self.setWindowModified(not clean))
         self._unsubscribe = self.scene.subscribe(self.on_scene_changed)
         self.on_scene_changed(ALL_FIELDS, self.scene)
@@ -158,6 +158,13 @@ class MainWindow(QMainWindow):
             self.wireframe_controller.request(design.shape)
         if changed - {"name", "notes"}:
             self.restart_render()
+
+    def _on_refused(self, message: str):
+        """A refused edit: say why, and put the widget that asked for it back to the model."""
+        self.statusBar().showMessage(f"Refused: {message}", 8000)
+        design = self.scene.design
+        self.materials_panel.refresh(design)
+        self.camera_panel.refresh(design)
 
     def _on_derived(self, result):
         design, numbers, inner = result

@@ -147,3 +147,18 @@ def test_environment_image_is_embedded_with_one_undoable_step(make_window, qtbot
     assert w.scene.design.environment.kind == "studio"
     assert "studio.exr" not in w.scene.assets
     assert w.camera_panel.env_kind.currentText() == "studio"
+
+
+def test_a_fill_level_above_the_mouth_is_refused(make_window):
+    w = make_window()
+    before = w.scene.design
+    w.materials_panel.fill_value.setValue(5000.0)
+    assert w.scene.design == before
+    assert "fill height" in w.statusBar().currentMessage()
+    assert w.materials_panel.fill_value.value() == pytest.approx(before.liquid.fill_value)
+
+
+def test_a_refractive_index_below_one_is_refused(make_window):
+    w = make_window()
+    assert not w.editor.apply("Glass IOR", None, glass=Glass(ior=0.5))
+    assert w.scene.design.glass.ior == pytest.approx(1.52)

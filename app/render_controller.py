@@ -3,7 +3,7 @@
 Design rule: each ``start`` bumps a *generation* number and cancels the running job at once;
 the worker threads' ``on_tile`` callbacks only emit a queued signal carrying their generation,
 and the GUI-thread slot drops anything from an older generation, so a stale tile is never
-shown. A job's failure is reported through ``failed`` and the controller stays usable. Starting
+shown. Finished tiles are collected and painted together at most ~30 times a second. A job's failure is reported through ``failed`` and the controller stays usable. Starting
 is debounced (``restart_delay_ms``) so a drag does not build a render scene per mouse event.
 """
 from __future__ import annotations
@@ -36,7 +36,7 @@ class RenderController(QObject):
     _worker_tile = Signal(int, object, object)
     _worker_done = Signal(int, object)
 
-    def __init__(self, parent=None, restart_delay_ms: int = 40):
+    def __init__(self, parent=None, restart_delay_ms: int = 40, flush_ms: int = 33):
         super().__init__(parent)
         self.generation = 0
         self.job = None
@@ -46,6 +46,11 @@ class RenderController(QObject):
         self._timer.setSingleShot(True)
         self._timer.setInterval(restart_delay_ms)
         self._timer.timeout.connect(self._start_pending)
+        self._dirty: list = []
+        self._flush_timer = QTimer(self)
+        self._flush_timer.setSingleShot(True)
+        self._flush_timer.setInterval(flush_ms)
+        self._flush_timer.timeout.connect(self.flush_tiles)
         self._worker_tile.connect(self._on_worker_tile)
         self._worker_done.connect(self._on_worker_done)
         # why: leave one core to the GUI thread, or drags stutter while the tracer runs
@@ -79,6 +84,8 @@ class RenderController(QObject):
     def cancel(self):
         """Cancel the running job and any pending start; late tiles will be ignored."""
         self._timer.stop()
+        self._flush_timer.stop()
+        self._dirty = []
         self._pending = None
         if self.job is not None:
             self.job.cancel()
@@ -130,21 +137,45 @@ class RenderController(QObject):
     def _on_worker_tile(self, generation, job, tile):
         if generation != self.generation or job is not self.job:
             return  # stale: from a job that an edit cancelled
+        # why: early waves finish many tiles per frame; one image() copy per flush, not per tile
+        self._dirty.append(tile)
+        if not self._flush_timer.isActive():
+            self._flush_timer.start()
+
+    def flush_tiles(self):
+        """Tone-map and hand out the tiles finished since the last flush (GUI thread)."""
+        self._flush_timer.stop()
+        tiles, self._dirty = self._dirty, []
+        job = self.job
+        if not tiles or job is None:
+            return
+        generation = self.generation
         try:
-            region = np.asarray(job.image())[tile.y0:tile.y1, tile.x0:tile.x1]
-            rgb8 = np.ascontiguousarray(engine_bridge.tonemap_srgb8(region)[..., :3])
+            image = np.asarray(job.image())
+            for tile in _latest_per_area(tiles):
+                region = image[tile.y0:tile.y1, tile.x0:tile.x1]
+                rgb8 = np.ascontiguousarray(engine_bridge.tonemap_srgb8(region)[..., :3])
+                self.tileReady.emit(generation, tile.x0, tile.y0, rgb8)
         except Exception as exc:  # why: a bad tile is reported, the job keeps running
             self.failed.emit(generation, f"tile: {exc}")
             return
-        self.tileReady.emit(generation, tile.x0, tile.y0, rgb8)
         self.progressed.emit(generation, float(job.progress), *self.size)
 
     def _on_worker_done(self, generation, job):
         if generation != self.generation or job is not self.job:
             return
+        self.flush_tiles()  # the last tiles before the verdict
         self.ended_generation = generation
         if getattr(job, "error", None) is not None:
             self.failed.emit(generation, str(job.error))
         elif not getattr(job, "cancelled", False):
             self.converged_generation = generation
             self.finished.emit(generation)
+
+
+def _latest_per_area(tiles):
+    """One tile per pixel area (a later wave repaints the same area): the last one wins."""
+    by_area = {}
+    for tile in tiles:
+        by_area[(tile.x0, tile.y0, tile.x1, tile.y1)] = tile
+    return list(by_area.values())

@@ -122,3 +122,21 @@ def test_orbit_drag_in_the_preview_is_one_camera_step(make_window):
     w.undo_stack.undo()
     assert w.scene.design.camera == before
     assert dataclasses.asdict(before) == dataclasses.asdict(w.scene.design.camera)
+
+
+def test_no_render_starts_while_a_handle_is_dragged(make_window, qtbot):
+    from widgets.section_editor import Handle
+    w = make_window()
+    rc = w.render_controller
+    _wait_converged(qtbot, w)
+    generation = rc.generation
+    canvas = w.section_panel.canvas
+    sec = w.scene.design.shape.primary
+    canvas.begin_drag(Handle("joint", 2, sec.segments[2].p1), "held")
+    canvas.drag_to((0.0, 4.0))
+    canvas.drag_to((0.0, 8.0))
+    assert rc.generation == generation + 2
+    assert rc.held and rc.job is None and rc.is_idle() is False
+    with qtbot.waitSignal(rc.finished, timeout=60_000) as blocker:
+        canvas.end_drag()
+    assert blocker.args == [rc.generation]

@@ -144,3 +144,17 @@ def test_screenshot_of_a_missing_project_fails_cleanly(qapp, gui_paths, capsys, 
     assert "nope.glassbench" in capsys.readouterr().err
     assert sys.modules["app.window"]
     assert dataclasses.is_dataclass(Glass)
+
+
+def test_recent_files_menu_reopens_a_project(make_window, tmp_path):
+    w = make_window()
+    path = tmp_path / "again.glassbench"
+    w.editor.apply("Glass IOR", None, glass=Glass(ior=1.63))
+    assert w.files.save_to(str(path))
+    w.editor.apply("Glass IOR", None, glass=Glass(ior=1.5))
+    w.files.recent_menu.aboutToShow.emit()
+    actions = {a.text(): a for a in w.files.recent_menu.actions()}
+    assert str(path.resolve()) in actions
+    w.dialogs.unsaved_answer = "discard"
+    actions[str(path.resolve())].trigger()
+    assert w.scene.design.glass.ior == pytest.approx(1.63)

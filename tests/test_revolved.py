@@ -201,7 +201,7 @@ def test_cone_and_quadratic_edge_cases():
 
 @pytest.mark.parametrize("name", ["offset_dome", "offset_concave"])
 def test_offset_arc_hits_are_exact_and_no_pair_hides_between_samples(name, monkeypatch):
-    import engine.intersect.revolved as revolved
+    import engine.intersect.offset_arc as offset_arc
     from engine.intersect import offset_arc_parameter
 
     seg = SEGMENTS[name]
@@ -214,11 +214,11 @@ def test_offset_arc_hits_are_exact_and_no_pair_hides_between_samples(name, monke
     foot = seg.point(offset_arc_parameter(m, seg))
     assert np.hypot(*(m - foot).T).max() < 1e-8  # on the offset curve to 10 nm
     # 16x finer sampling finds exactly the same hits (pairs a step apart included)
-    monkeypatch.setattr(revolved, "_OFFSET_SAMPLES", 1024)
-    revolved._offset_grid.cache_clear()
+    monkeypatch.setattr(offset_arc, "_OFFSET_SAMPLES", 1024)
+    offset_arc._offset_grid.cache_clear()
     try:
         fine = revolved_hits(o, d, seg)
     finally:
-        revolved._offset_grid.cache_clear()
+        offset_arc._offset_grid.cache_clear()
     assert np.array_equal(np.isfinite(fine), ok)
     assert np.nanmax(np.abs(fine - coarse)) < 1e-8

@@ -1,4 +1,5 @@
-"""Ray intersection with quadrics of revolution about z: cone frusta, cylinders, annuli, spheroids.
+"""Ray intersection with quadrics of revolution about z: cone frusta, cylinders, annuli, spheroids,
+and the cheap ray culling test against a revolved box (two cylinders and two planes).
 
 Design rule: candidates come from a numerically stable quadratic formed after the ray origin
 has been moved to its closest approach to the surface's centre (so far-away origins lose no
@@ -7,8 +8,8 @@ equation. Squaring ``n_r rho = c - n_z z`` adds the mirror nappe ``-n_r rho = c 
 candidates nearer the mirror than the surface are dropped. No absolute epsilons: tolerances
 are fractions of the segment's own size.
 
-Every function returns an (N, 2) float64 array of hit distances ``t`` (mm), ascending per ray,
-NaN-padded, for rays ``p(t) = origin + t direction`` with unit directions.
+The intersection functions return an (N, 2) float64 array of hit distances ``t`` (mm),
+ascending per ray, NaN-padded, for rays ``p(t) = origin + t direction`` with unit directions.
 """
 from __future__ import annotations
 
@@ -159,3 +160,41 @@ def ray_spheroid_hits(origins, directions, a, b, zc=0.0, tmin=None):
         u = np.sqrt((1.0 - m) * (1.0 + m))
     t = np.stack([(s0 - u) / speed, (s0 + u) / speed], axis=1)
     return np.where(t > tmin[:, None], t, np.nan)
+
+
+def rays_touching_bounds(origins, directions, bounds, tmin=0.0, tmax=np.inf):
+    """Mask (N,) of rays whose part ``tmin < t < tmax`` can meet the revolved box ``bounds``.
+
+    ``bounds = (rmin, rmax, zmin, zmax)`` (mm) describes the solid between two cylinders and
+    two planes; the test is conservative (never culls a ray that meets it) and is meant to
+    skip segments cheaply before calling :func:`engine.intersect.revolved_hits`.
+    """
+    rmin, rmax, zmin, zmax = (float(v) for v in bounds)
+    o = np.asarray(origins, dtype=float).reshape(-1, 3)
+    d = np.asarray(directions, dtype=float).reshape(-1, 3)
+    pad = 1e-9 * (abs(rmax) + abs(zmax) + abs(zmin) + (zmax - zmin))
+    zmin, zmax, rmin, rmax = zmin - pad, zmax + pad, max(rmin - pad, 0.0), rmax + pad
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ta = (zmin - o[:, 2]) / d[:, 2]
+        tb = (zmax - o[:, 2]) / d[:, 2]
+    flat = d[:, 2] == 0.0
+    inside_slab = (o[:, 2] >= zmin) & (o[:, 2] <= zmax)
+    lo = np.where(flat, np.where(inside_slab, -np.inf, np.inf), np.minimum(ta, tb))
+    hi = np.where(flat, np.where(inside_slab, np.inf, -np.inf), np.maximum(ta, tb))
+    lo, hi = np.maximum(lo, tmin), np.minimum(hi, tmax)
+    # rho^2 along the ray is a convex quadratic: its minimum on [lo, hi] is at the clamped
+    # closest approach to the axis, its maximum at an end of the interval.
+    E = d[:, 0] ** 2 + d[:, 1] ** 2
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s_axis = np.where(E > 0, -(o[:, 0] * d[:, 0] + o[:, 1] * d[:, 1]) / E, 0.0)
+    s_near = np.clip(s_axis, lo, hi)
+
+    def rho_at(s):
+        with np.errstate(invalid="ignore"):
+            x = o[:, 0] + np.where(np.isfinite(s), s, 0.0) * d[:, 0]
+            y = o[:, 1] + np.where(np.isfinite(s), s, 0.0) * d[:, 1]
+        return np.where(np.isfinite(s) | (E == 0), np.hypot(x, y), np.inf)
+
+    rho_near = rho_at(s_near)
+    rho_far = np.maximum(rho_at(lo), rho_at(hi))
+    return (lo <= hi) & (rho_near <= rmax) & (rho_far >= rmin)

@@ -15,7 +15,9 @@ coefficients cancel catastrophically. Here, per ray:
    this keeps the sign of ``f`` right to a few ulps of the geometry.
 3. The critical points of ``f`` (roots of the depressed cubic ``f'``, closed form and Newton
    polished) split ``[-R'-1, R'+1]`` into at most four monotone pieces. A piece whose ends
-   differ in sign holds exactly one root, found by Newton steps safeguarded by bisection.
+   differ in sign holds exactly one root, found by Newton steps on the vanishing factor,
+   safeguarded by Illinois false position on the bracket, until the factor is at the
+   rounding noise of its own evaluation.
 4. Roots on the mirror sheet (``|g_in| < |g_out|``: the inner "lemon" of a spindle torus)
    are dropped, and so is every root with ``t <= tmin``.
 
@@ -213,8 +215,10 @@ def ray_torus_hits(origins, directions, R, a, b=None, tmin=None, sheet="outer"):
     Returns
     -------
     numpy.ndarray, shape (N, 4)
-        Hit distances ``t`` (mm) per ray, ascending, NaN-padded. Each is accurate to about
-        1e-12 tube radii (relative to the size of the scene). Tangent touches are omitted.
+        Hit distances ``t`` (mm) per ray, ascending, NaN-padded. Transversal hits are
+        accurate to about 1e-12 of the scene's size in tube radii; the two hits of a ray
+        within ~1e-6 tube radii of tangency are ill-conditioned (errors up to ~1e-7 tube
+        radii on the shared hard cases). Tangent touches are omitted.
         When ``R < 1e-9 a`` the tube centre is taken to be on the axis (a spheroid; the
         surface moves by less than 1e-9 tube radii).
     """

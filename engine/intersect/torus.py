@@ -106,7 +106,7 @@ def _false_position(lo, hi, f_lo, f_hi):
     return np.where((x > lo) & (x < hi), x, 0.5 * (lo + hi))
 
 
-def _solve_pieces(rays, p, q, bounds):
+def _solve_pieces(rays, bounds):
     """Roots of ``f`` inside every monotone piece that changes sign; NaN elsewhere.
 
     ``bounds`` is (N, 5): ``-B, c1, c2, c3, B``. Returns the roots (N, 4) in scaled units.
@@ -155,8 +155,8 @@ def _solve_pieces(rays, p, q, bounds):
             xn = x - np.where(outer, g_out, g_in) / slope
         inside = (xn > lo) & (xn < hi)
         xn = np.where(inside, xn, _false_position(lo, hi, f_lo, f_hi))
-        # Done when the step or the bracket is at rounding level of the geometry's size.
-        # Or when the factor is at the rounding noise of its own evaluation.
+        # Done when the factor is at the rounding noise of its own evaluation, or the step
+        # or the bracket is at the rounding level of the geometry's size.
         tol = 4e-16 * (np.abs(xn) + Rn + 1.0)
         g_here = np.where(outer, g_out, g_in)
         size2 = np.where(outer, rho * np.abs(d) + d * d, (rho + Rn) ** 2) + z * z + 1.0
@@ -259,7 +259,7 @@ def ray_torus_hits(origins, directions, R, a, b=None, tmin=None, sheet="outer"):
     crit = _cubic_critical_points(p, q)
     crit = np.clip(crit, -half[:, None], half[:, None])
     bounds = np.column_stack([-half, crit, half])
-    u = _solve_pieces(sub, p, q, bounds)
+    u = _solve_pieces(sub, bounds)
     vertical = E == 0.0
     if np.any(vertical):
         u[vertical] = _axis_parallel_roots(Q0[vertical], D[vertical], Rn[vertical], inner)

@@ -7,6 +7,7 @@ from types import SimpleNamespace
 
 import numpy as np
 import pytest
+from PySide6.QtCore import QPoint, Qt
 
 from app import engine_bridge
 from engine.design import Glass
@@ -95,9 +96,16 @@ def test_an_error_inside_the_job_is_reported(make_window, qtbot, monkeypatch):
 def test_zoom_modes_and_export_image(make_window, qtbot, tmp_path):
     w = make_window()
     _wait_converged(qtbot, w)
+    w.preview.resize(300, 300)
     w.preview.zoom_one_to_one()
     assert not w.preview.fit
+    assert w.preview._target_rect().width() == 48
+    qtbot.mousePress(w.preview, Qt.MiddleButton, pos=QPoint(100, 100))
+    qtbot.mouseMove(w.preview, QPoint(130, 110))
+    qtbot.mouseRelease(w.preview, Qt.MiddleButton, pos=QPoint(130, 110))
+    assert (w.preview.pan.x(), w.preview.pan.y()) == (30, 10)
     w.preview.zoom_fit()
+    assert w.preview._target_rect().width() > 48
     assert w.preview.fit
     out = tmp_path / "render.png"
     w.dialogs.save_path = str(out)

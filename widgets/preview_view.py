@@ -3,7 +3,7 @@
 Design rule: the view holds a ``QImage`` the size of the render and only ever writes tiles
 handed to it on the GUI thread (``paint_tile``); it knows nothing of jobs or generations.
 Dragging in the view asks for a camera orbit (``orbitRequested``); the window turns that
-into an undoable camera edit, which restarts the render.
+into an undoable camera edit, which restarts the render. At 1:1 the middle button pans.
 """
 from __future__ import annotations
 
@@ -32,6 +32,8 @@ class PreviewView(QWidget):
         self.fit = True
         self.tiles_painted = 0
         self._press = None
+        self._pan_from = None
+        self.pan = QPointF(0.0, 0.0)  # offset (px) of the 1:1 image from centred
 
     # ----------------------------------------------------------------------- image
     def image_size(self) -> tuple[int, int]:
@@ -68,6 +70,7 @@ class PreviewView(QWidget):
     # ------------------------------------------------------------------------ zoom
     def zoom_one_to_one(self):
         self.fit = False
+        self.pan = QPointF(0.0, 0.0)
         self.update()
 
     def zoom_fit(self):
@@ -80,7 +83,8 @@ class PreviewView(QWidget):
             return QRectF()
         scale = min(self.width() / iw, self.height() / ih) if self.fit else 1.0
         w, h = iw * scale, ih * scale
-        return QRectF((self.width() - w) / 2, (self.height() - h) / 2, w, h)
+        offset = QPointF(0.0, 0.0) if self.fit else self.pan
+        return QRectF((self.width() - w) / 2 + offset.x(), (self.height() - h) / 2 + offset.y(), w, h)
 
     def paintEvent(self, event):
         p = QPainter(self)
@@ -95,13 +99,20 @@ class PreviewView(QWidget):
     def mousePressEvent(self, event):
         if event.button() == Qt.LeftButton:
             self._press = event.position()
+        elif event.button() == Qt.MiddleButton and not self.fit:
+            self._pan_from = event.position()
 
     def mouseMoveEvent(self, event):
-        if self._press is not None:
+        if self._pan_from is not None:
+            self.pan = self.pan + (event.position() - self._pan_from)
+            self._pan_from = event.position()
+            self.update()
+        elif self._press is not None:
             d = event.position() - self._press
             self.orbitRequested.emit(-d.x() * 0.4, d.y() * 0.3, False)
 
     def mouseReleaseEvent(self, event):
+        self._pan_from = None
         if self._press is not None:
             self._press = None
             self.orbitRequested.emit(0.0, 0.0, True)

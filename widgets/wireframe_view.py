@@ -53,6 +53,7 @@ class WireframeView(QWidget):
             self.actor = self.plotter.add_mesh(self.poly, color="#d8e4f0", line_width=1.0)
             self.plotter.view_xz()
             self.plotter.reset_camera()
+            self.plotter.camera.zoom(1.5)  # why: reset_camera leaves a wide margin around the bottle
         else:
             self.poly.copy_from(new)
         self.plotter.render()

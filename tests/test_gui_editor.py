@@ -193,3 +193,19 @@ def test_keyboard_delete_and_escape_on_the_canvas(make_window, qtbot):
     assert len(w.scene.design.shape.primary.segments) == n
     qtbot.keyClick(canvas, Qt.Key_Escape)
     assert canvas.selected == -1
+
+
+def test_snap_puts_a_dragged_joint_on_the_grid(make_window, qtbot):
+    w = _window(make_window)
+    canvas = w.section_panel.canvas
+    canvas.zoom(3.0)
+    sec = w.scene.design.shape.primary
+    joint = sec.segments[5].p1  # the mouth: a stretch moves it straight up
+    start = _px(canvas, joint)
+    qtbot.mousePress(canvas, Qt.LeftButton, pos=start)
+    qtbot.mouseMove(canvas, start - QPoint(0, 17))
+    qtbot.mouseRelease(canvas, Qt.LeftButton, pos=start - QPoint(0, 17))
+    z = w.scene.design.shape.z_top
+    assert z > joint[1] and (z / 0.5) == pytest.approx(round(z / 0.5), abs=1e-9)
+    w.section_panel.tool_buttons["snap"].click()
+    assert canvas.snap_mm == 0.0

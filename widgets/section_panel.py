@@ -60,13 +60,17 @@ class SectionPanel(QWidget):
         self.tool_buttons = {}
         for key, text in (("split", "Split"), ("delete", "Delete"), ("insert", "Insert line"),
                           ("line", "\u2192 line"), ("arc", "\u2192 arc"), ("ellipse_arc", "\u2192 ellipse"),
-                          ("smooth", "Smooth"), ("fit", "Fit")):
+                          ("smooth", "Smooth"), ("snap", "Snap"), ("fit", "Fit")):
             b = QToolButton()
             b.setText(text)
             b.clicked.connect(lambda _=False, k=key: self.run_tool(k))
             tools.addWidget(b)
             self.tool_buttons[key] = b
         self.tool_buttons["smooth"].setCheckable(True)
+        snap = self.tool_buttons["snap"]
+        snap.setCheckable(True)
+        snap.setChecked(True)
+        snap.setToolTip("Snap dragged points to a 0.5 mm grid (hold Ctrl to drag freely)")
         tools.addStretch(1)
 
         split = QSplitter(Qt.Vertical)
@@ -205,6 +209,9 @@ class SectionPanel(QWidget):
         """Run a segment tool on the selected segment; ``False`` when refused or impossible."""
         if key == "fit":
             self.canvas.fit()
+            return True
+        if key == "snap":
+            self.canvas.snap_mm = 0.5 if self.tool_buttons["snap"].isChecked() else 0.0
             return True
         sec, row = self.model.section, self.canvas.selected
         if sec is None or not 0 <= row < len(sec.segments):

@@ -128,14 +128,29 @@ def export_mesh(shape: BottleShape, path: str) -> None:
 
 
 # ---------------------------------------------------------------------------- meshes
+#: Mesh parts the wireframe shows: the outside of the glass (the inner wall would double
+#: every line and hide the form).
+WIREFRAME_PARTS = ("outer", "base_outer", "rim")
+
+
 def wireframe_lines(shape: BottleShape, tol_mm: float = 0.5):
-    """``(points (N, 3), edges (M, 2) index pairs)``: the edges of the glass mesh of ``shape``
-    tessellated to ``tol_mm`` (coarse: this is a view, not an export)."""
+    """``(points (N, 3), edges (M, 2) index pairs)``: rings and meridians of the outer glass
+    surface of ``shape`` tessellated to ``tol_mm`` (coarse: this is a view, not an export).
+
+    The triangles' diagonals are left out: a diagonal joins two rings at different polar angles,
+    a meridian at (nearly) the same angle, a ring edge stays at one height.
+    """
     mesh = tessellate.tessellate_body(shape, tol_mm)
-    faces = np.asarray(mesh.faces, dtype=np.int64).reshape(-1, 3)
+    wanted = [i for i, name in enumerate(mesh.part_names) if name in WIREFRAME_PARTS]
+    faces = np.asarray(mesh.faces, dtype=np.int64)[np.isin(mesh.part, wanted)]
     edges = np.concatenate([faces[:, [0, 1]], faces[:, [1, 2]], faces[:, [2, 0]]])
     edges = np.unique(np.sort(edges, axis=1), axis=0)
-    return np.asarray(mesh.vertices, dtype=float), edges
+    v = np.asarray(mesh.vertices, dtype=float)
+    flat = np.abs(v[edges[:, 0], 2] - v[edges[:, 1], 2]) < 1e-9
+    theta = np.arctan2(v[:, 1], v[:, 0])
+    turn = np.abs((theta[edges[:, 0]] - theta[edges[:, 1]] + np.pi) % (2 * np.pi) - np.pi)
+    step = float(np.median(turn[flat])) if flat.any() else np.pi
+    return v, edges[flat | (turn < 0.3 * step)]
 
 
 # ---------------------------------------------------------------------------- tracer

@@ -10,11 +10,14 @@ Drives a real window (the bundled sample, wireframe on, preview rendering unless
   rendered), for the edits that were shown (newer ones supersede older ones);
 * the latency of the final edit after the drag stops, and how many uploads the drag caused.
 
-Run: ``xvfb-run -a .venv/bin/python -m benchmarks.wireframe [--events 120] [--no-render]``
+Run: ``xvfb-run -a .venv/bin/python -m benchmarks.wireframe [--events 120] [--no-render]``;
+prints a summary and writes the per-event times to ``benchmarks/out/wireframe.csv``.
 """
 from __future__ import annotations
 
 import argparse
+import csv
+import os
 import statistics
 import sys
 import time
@@ -93,7 +96,7 @@ def run(events: int, render: bool, frame_s: float = 1 / 60) -> dict:
         "latency_ms_median": statistics.median(lat_ms) if lat_ms else float("nan"),
         "latency_ms_p95": _percentile(lat_ms, 0.95), "final_edit_ms": final_ms,
         "uploads": w.wireframe.uploads - uploads0, "upload_ms_last": w.wireframe.last_upload_s * 1000,
-        "undo_steps": w.undo_stack.count(),
+        "undo_steps": w.undo_stack.count(), "gui_ms": gui_ms, "latency_ms": lat_ms,
     }
     w.undo_stack.setClean()
     w.close()
@@ -113,6 +116,16 @@ def main(argv=None) -> int:
           f"p95 {r['latency_ms_p95']:.0f} ms; final edit shown {r['final_edit_ms']:.0f} ms after release")
     print(f"wireframe uploads during the drag: {r['uploads']} (last upload {r['upload_ms_last']:.1f} ms); "
           f"undo steps: {r['undo_steps']}")
+    out = os.path.join(os.path.dirname(__file__), "out")
+    os.makedirs(out, exist_ok=True)
+    path = os.path.join(out, "wireframe.csv")
+    with open(path, "w", newline="") as f:
+        rows = csv.writer(f)
+        rows.writerow(["event", "gui_ms", "latency_ms_of_shown_edit"])
+        for k, ms in enumerate(r["gui_ms"]):
+            lat = r["latency_ms"][k] if k < len(r["latency_ms"]) else ""
+            rows.writerow([k, f"{ms:.3f}", f"{lat:.3f}" if lat != "" else ""])
+    print(f"per-event times: {path}")
     return 0
 
 

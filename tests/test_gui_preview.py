@@ -2,7 +2,6 @@
 a failing render is reported and the window keeps working."""
 from __future__ import annotations
 
-import dataclasses
 from types import SimpleNamespace
 
 import numpy as np
@@ -129,7 +128,6 @@ def test_orbit_drag_in_the_preview_is_one_camera_step(make_window):
     assert dist(after) == pytest.approx(dist(before))
     w.undo_stack.undo()
     assert w.scene.design.camera == before
-    assert dataclasses.asdict(before) == dataclasses.asdict(w.scene.design.camera)
 
 
 def test_no_render_starts_while_a_handle_is_dragged(make_window, qtbot):

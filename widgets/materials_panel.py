@@ -15,7 +15,7 @@ from PySide6.QtGui import QColor
 from PySide6.QtWidgets import (QCheckBox, QColorDialog, QComboBox, QDoubleSpinBox, QFormLayout,
                                QGroupBox, QPushButton, QVBoxLayout, QWidget)
 
-from engine.design import Glass, Liquid
+from engine.design import Liquid
 
 #: Path length (mm) over which a tint colour is the transmitted colour of white light.
 TINT_PATH_MM = 100.0
@@ -159,4 +159,4 @@ class MaterialsPanel(QWidget):
             self._liquid("Liquid colour", None, absorption=absorption_from_color(rgb))
 
 
-__all__ = ["MaterialsPanel", "absorption_from_color", "color_from_absorption", "Glass"]
+__all__ = ["MaterialsPanel", "absorption_from_color", "color_from_absorption"]

@@ -75,9 +75,9 @@ class RenderController(QObject):
         starts the newest pending render."""
         self.held = bool(on)
         if on:
+            # why: the running job stays until an edit really arrives (a refused drag changes
+            # nothing, and must not leave the preview half rendered)
             self._timer.stop()
-            if self.job is not None:
-                self.job.cancel()
         elif self._pending is not None:
             self._timer.start()
 

@@ -146,3 +146,19 @@ def test_no_render_starts_while_a_handle_is_dragged(make_window, qtbot):
     with qtbot.waitSignal(rc.finished, timeout=60_000) as blocker:
         canvas.end_drag()
     assert blocker.args == [rc.generation]
+
+
+def test_a_refused_drag_leaves_the_render_running(make_window, qtbot):
+    from widgets.section_editor import Handle
+    w = make_window()
+    rc = w.render_controller
+    rc.wait_until_idle(0)
+    job, generation = rc.job, rc.generation
+    canvas = w.section_panel.canvas
+    sec = w.scene.design.shape.primary
+    canvas.begin_drag(Handle("joint", 4, sec.segments[4].p1), "refused")
+    canvas.drag_to((-60.0, 0.0), local=True)  # through the axis: refused
+    canvas.end_drag()
+    assert rc.generation == generation and rc.job is job and not job.cancelled
+    _wait_converged(qtbot, w)
+    assert rc.converged_generation == generation

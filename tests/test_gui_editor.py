@@ -209,3 +209,28 @@ def test_snap_puts_a_dragged_joint_on_the_grid(make_window, qtbot):
     assert z > joint[1] and (z / 0.5) == pytest.approx(round(z / 0.5), abs=1e-9)
     w.section_panel.tool_buttons["snap"].click()
     assert canvas.snap_mm == 0.0
+
+
+def test_typing_in_the_table_view_edits_the_model(make_window, qtbot):
+    from PySide6.QtWidgets import QComboBox, QDoubleSpinBox
+    w = _window(make_window)
+    table = w.section_panel.table
+    model = w.section_panel.model
+    index = model.index(2, 2)  # end z of the straight body
+    table.setCurrentIndex(index)
+    table.edit(index)
+    editor = table.viewport().findChild(QDoubleSpinBox)
+    assert editor is not None and editor.maximum() > 1000, "bottle heights exceed 99.99 mm"
+    editor.lineEdit().selectAll()
+    qtbot.keyClicks(editor.lineEdit(), "200")
+    qtbot.keyClick(editor.lineEdit(), Qt.Key_Return)
+    qtbot.waitUntil(lambda: w.undo_stack.count() == 1)  # the delegate commits on a queued call
+    assert w.scene.design.shape.primary.segments[2].p1[1] == pytest.approx(200.0)
+    kind = model.index(1, 0)
+    table.setCurrentIndex(kind)
+    table.edit(kind)
+    combo = table.viewport().findChild(QComboBox)
+    combo.setCurrentText("ellipse_arc")
+    table.commitData(combo)
+    assert isinstance(w.scene.design.shape.primary.segments[1], EllipseArc)
+    assert w.undo_stack.count() == 2

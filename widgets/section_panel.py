@@ -14,7 +14,7 @@ from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFormLayout, QHBoxLayo
 from engine.shape import SECTION_NAMES, BottleShape
 from widgets import section_edits as edits
 from widgets.section_editor import SectionCanvas
-from widgets.section_table import KindDelegate, SectionTableModel
+from widgets.section_table import KindDelegate, MillimetreDelegate, SectionTableModel
 
 #: Radial scale of the first section used to make the others when the kind changes. All 1:
 #: every kind must meet in a round finish at the mouth, and equal sections are the one start
@@ -36,6 +36,9 @@ class SectionPanel(QWidget):
         self.table = QTableView()
         self.table.setModel(self.model)
         self.table.setItemDelegateForColumn(0, KindDelegate(self.table))
+        self._mm_delegate = MillimetreDelegate(self.table)
+        for column in range(1, 7):
+            self.table.setItemDelegateForColumn(column, self._mm_delegate)
         # why: ResizeToContents asks every cell for its size on every change; size once per reset
         self.table.horizontalHeader().setSectionResizeMode(QHeaderView.Interactive)
         self.model.modelReset.connect(self.table.resizeColumnsToContents)

@@ -8,7 +8,7 @@ value leaves the table showing the model's numbers.
 from __future__ import annotations
 
 from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, Signal
-from PySide6.QtWidgets import QComboBox, QStyledItemDelegate
+from PySide6.QtWidgets import QComboBox, QDoubleSpinBox, QStyledItemDelegate
 
 from engine.section import Section
 from engine.segments import Arc, EllipseArc
@@ -163,3 +163,23 @@ class KindDelegate(QStyledItemDelegate):
 
     def setModelData(self, editor, model, index):
         model.setData(index, editor.currentText(), Qt.EditRole)
+
+
+class MillimetreDelegate(QStyledItemDelegate):
+    """Edits a length with 4 decimals over a bottle-sized range (Qt's default spin box stops at
+    99.99, which no bottle height respects)."""
+
+    def createEditor(self, parent, option, index):
+        spin = QDoubleSpinBox(parent)
+        spin.setRange(-100000.0, 100000.0)
+        spin.setDecimals(4)
+        spin.setSuffix(" mm")
+        return spin
+
+    def setEditorData(self, editor, index):
+        value = index.data(Qt.EditRole)
+        editor.setValue(float(value) if value is not None else 0.0)
+
+    def setModelData(self, editor, model, index):
+        editor.interpretText()
+        model.setData(index, editor.value(), Qt.EditRole)

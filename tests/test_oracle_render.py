@@ -13,7 +13,8 @@ SPECS = "/work/shared/oracle/specs"
 @pytest.mark.parametrize("name", ["public_1", "public_2", "public_3", "public_4"])
 def test_public_scene_matches_its_reference_within_two_percent(name):
     spec = f"{SPECS}/{name}.json"
-    img, secs, job = render_spec(spec, threads=2)
+    # A looser adaptive target than the oracle default keeps the test quick (measured ~1.2 % worst).
+    img, secs, job = render_spec(spec, threads=2, noise_target=0.03)
     ref = read_radiance_image(reference_path(spec))
     assert img.shape == ref.shape == (256, 256, 3)
     assert np.all(np.isfinite(img)) and img.min() >= 0

@@ -88,7 +88,7 @@ def mutate(data, doc) -> dict:
                 del parent[path[-1]]
             elif isinstance(parent, dict):
                 parent[data.draw(st.text(max_size=8))] = data.draw(json_value)
-            else:
+            elif isinstance(parent, list):
                 parent.append(data.draw(json_value))
         except (KeyError, IndexError, TypeError):
             continue  # an earlier mutation removed or replaced this path

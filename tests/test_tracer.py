@@ -166,3 +166,13 @@ def test_non_finite_weights_never_reach_the_image():
     d = np.array([[0, 1.0, 0], [0, 0, 1.0]])
     acc = trace(g, Materials.from_design(design), env, o, d, np.array([0, 1]), 2)
     assert np.all(np.isfinite(acc))
+
+
+def test_volume_fill_mode_puts_the_free_surface_at_the_solved_height():
+    from engine.capacity import fill_height_for_volume
+
+    design = simple_design(40.0)
+    design = dataclasses.replace(design, liquid=dataclasses.replace(design.liquid, fill_mode="volume", fill_value=30.0))
+    g = render_geometry_for(design)
+    want = fill_height_for_volume(design.shape, 30.0)
+    assert g.z_ib < want < g.z_top and abs(g.fill_height - want) < 1e-9

@@ -68,12 +68,19 @@ class Light:
 
 @dataclass(frozen=True)
 class RenderSettings:
-    """Image size (pixels), anti-aliasing samples per pixel and the tree cut-offs."""
+    """Image size (pixels), anti-aliasing samples per pixel and the tree cut-offs.
+
+    A branch of the reflection/refraction tree ends when its weight (product of Fresnel terms
+    and absorption) falls below ``min_weight`` or after ``max_depth`` boundaries. Light trapped
+    by total internal reflection in a thick base needs many bounces: on the oracle's public_1
+    scene depth 24 darkens the image by 6.9 % and depth 64 by 3.0 % against depth 256
+    (``python -m benchmarks.tracer``), so 64 is the default.
+    """
 
     width: int = 480
     height: int = 640
     spp: int = 16
-    max_depth: int = 24
+    max_depth: int = 64
     min_weight: float = 1e-3
 
 

@@ -25,6 +25,7 @@ from engine.offset import body_profile
 from engine.section import Section
 from engine.segments import Arc, Line
 from engine.shape import BottleShape
+from benchmarks.paths import ORACLE_SPECS
 
 OUT = os.path.join(os.path.dirname(__file__), "out")
 
@@ -129,7 +130,7 @@ def main(argv=None) -> int:
 def oracle_square_bottle():
     """The rounded-square bottle of oracle scene public_3 (u and v sections)."""
     import json
-    b = json.load(open("/work/shared/oracle/specs/public_3.json"))["bottle"]["cross_section"]
+    b = json.load(open(ORACLE_SPECS / "public_3.json"))["bottle"]["cross_section"]
     return BottleShape("rounded_square", {"u": Section.from_dicts(b["profile_u"]),
                                           "v": Section.from_dicts(b["profile_v"])}, 2.5, 5.5)
 

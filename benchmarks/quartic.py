@@ -34,8 +34,9 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from engine.intersect import ray_torus_hits  # noqa: E402
+from benchmarks.paths import QUARTIC_CASES
 
-CASES = Path("/work/shared/quartic/public_cases.json")
+CASES = QUARTIC_CASES
 OUT = ROOT / "benchmarks" / "out"
 EPS = 1e-9
 

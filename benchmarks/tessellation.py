@@ -29,9 +29,10 @@ from engine.body import BottleBody
 from engine.section import Section
 from engine.shape import BottleShape
 from engine.tessellate import tessellate_body
+from benchmarks.paths import ORACLE_SPECS
 
 OUT = os.path.join(os.path.dirname(__file__), "out")
-SPECS = "/work/shared/oracle/specs/public_{}.json"
+SPECS = str(ORACLE_SPECS / "public_{}.json")
 
 
 def spec_shape(n: int) -> BottleShape:

@@ -10,8 +10,9 @@ from engine.offset import body_profile, inner_section, param_at_z, radius_at, sp
 from engine.section import Section
 from engine.segments import Arc, EllipseArc, Line, OffsetEllipseArc
 from engine.shape import BottleShape
+from benchmarks.paths import ORACLE_SPECS
 
-SPECS = "/work/shared/oracle/specs/public_{}.json"
+SPECS = str(ORACLE_SPECS / "public_{}.json")
 
 
 def spec_shape(n: int) -> BottleShape:

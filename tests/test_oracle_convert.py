@@ -9,8 +9,9 @@ import pytest
 from benchmarks.oracle import main, spec_to_design
 from engine.errors import ProjectError
 from engine.project import load_project
+from benchmarks.paths import ORACLE_SPECS
 
-SPECS = Path("/work/shared/oracle/specs")
+SPECS = ORACLE_SPECS
 SPEC_FILES = sorted(SPECS.glob("public_*.json"))
 
 

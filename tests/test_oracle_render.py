@@ -6,8 +6,9 @@ import pytest
 
 from benchmarks.oracle_render import reference_path, rel_rmse, render_spec
 from engine.environment import read_radiance_image
+from benchmarks.paths import ORACLE_SPECS
 
-SPECS = "/work/shared/oracle/specs"
+SPECS = str(ORACLE_SPECS)
 
 
 @pytest.mark.parametrize("name", ["public_1", "public_2", "public_3", "public_4"])

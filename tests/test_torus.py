@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 from engine.intersect import ray_torus_hits
+from benchmarks.paths import QUARTIC_CASES
 
-CASES = Path("/work/shared/quartic/public_cases.json")
+CASES = QUARTIC_CASES
 TOL_TUBE = 1e-6  # largest accepted error, in tube radii
 
 

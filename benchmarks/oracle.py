@@ -62,6 +62,27 @@ def _section(items, where) -> Section:
         raise ProjectError(f"SPEC {where}: {exc}") from None
 
 
+def shape_from_spec(bottle: dict) -> BottleShape:
+    """The ``BottleShape`` of a SPEC ``bottle`` object (sections, wall, base, rotation in mm/deg).
+
+    Raises ``ProjectError`` naming the first missing or malformed field.
+    """
+    xs = _get(bottle, "cross_section", "bottle")
+    kind = _get(xs, "kind", "bottle.cross_section", (str,))
+    if kind == "round":
+        sections = (("profile", _section(_get(bottle, "profile", "bottle", (list,)), "bottle.profile")),)
+    elif kind == "rounded_square":
+        sections = tuple((name, _section(_get(xs, key, "bottle.cross_section", (list,)),
+                                         f"bottle.cross_section.{key}"))
+                         for name, key in (("u", "profile_u"), ("v", "profile_v")))
+    else:
+        raise ProjectError(f"SPEC cross-section kind {kind!r} is not round or rounded_square")
+    return BottleShape(kind, sections, wall_thickness=_num(bottle, "wall_thickness", "bottle"),
+                       base_thickness=_num(bottle, "base_thickness", "bottle"),
+                       rotation_deg=_num(bottle, "rotation_deg", "bottle")
+                       if "rotation_deg" in bottle else 0.0)
+
+
 def spec_to_design(spec_path: str | os.PathLike, spp: int = DEFAULT_SPP
                    ) -> tuple[Design, dict[str, bytes]]:
     """Read a SPEC scene file; returns ``(design, assets)`` with the environment map embedded.
@@ -103,20 +124,7 @@ def spec_to_design(spec_path: str | os.PathLike, spp: int = DEFAULT_SPP
                               scale=_num(env, "scale", "environment") if "scale" in env else 1.0)
 
     bottle = _get(spec, "bottle", "scene")
-    xs = _get(bottle, "cross_section", "bottle")
-    kind = _get(xs, "kind", "bottle.cross_section", (str,))
-    if kind == "round":
-        sections = (("profile", _section(_get(bottle, "profile", "bottle", (list,)), "bottle.profile")),)
-    elif kind == "rounded_square":
-        sections = tuple((name, _section(_get(xs, key, "bottle.cross_section", (list,)),
-                                         f"bottle.cross_section.{key}"))
-                         for name, key in (("u", "profile_u"), ("v", "profile_v")))
-    else:
-        raise ProjectError(f"SPEC cross-section kind {kind!r} is not round or rounded_square")
-    shape = BottleShape(kind, sections, wall_thickness=_num(bottle, "wall_thickness", "bottle"),
-                        base_thickness=_num(bottle, "base_thickness", "bottle"),
-                        rotation_deg=_num(bottle, "rotation_deg", "bottle")
-                        if "rotation_deg" in bottle else 0.0)
+    shape = shape_from_spec(bottle)
     g = _get(bottle, "glass", "bottle")
     glass = Glass(ior=_num(g, "ior", "glass"), absorption=_vec(g, "sigma_a", "glass", 3))
 

@@ -26,9 +26,9 @@ from scipy.spatial import cKDTree
 
 from engine import crosssection
 from engine.body import BottleBody
-from engine.section import Section
 from engine.shape import BottleShape
 from engine.tessellate import tessellate_body
+from benchmarks.oracle import shape_from_spec
 from benchmarks.paths import ORACLE_SPECS
 
 OUT = os.path.join(os.path.dirname(__file__), "out")
@@ -37,13 +37,7 @@ SPECS = str(ORACLE_SPECS / "public_{}.json")
 
 def spec_shape(n: int) -> BottleShape:
     """The bottle of oracle scene ``public_n``."""
-    b = json.load(open(SPECS.format(n)))["bottle"]
-    cs = b["cross_section"]
-    if cs["kind"] == "round":
-        secs = {"profile": Section.from_dicts(b["profile"])}
-    else:
-        secs = {"u": Section.from_dicts(cs["profile_u"]), "v": Section.from_dicts(cs["profile_v"])}
-    return BottleShape(cs["kind"], secs, b["wall_thickness"], b["base_thickness"], b.get("rotation_deg", 0.0))
+    return shape_from_spec(json.load(open(SPECS.format(n)))["bottle"])
 
 
 def _probe_points(vertices, faces):

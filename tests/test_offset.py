@@ -10,6 +10,7 @@ from engine.offset import body_profile, inner_section, param_at_z, radius_at, sp
 from engine.section import Section
 from engine.segments import Arc, EllipseArc, Line, OffsetEllipseArc
 from engine.shape import BottleShape
+from benchmarks.oracle import shape_from_spec
 from benchmarks.paths import ORACLE_SPECS
 
 SPECS = str(ORACLE_SPECS / "public_{}.json")
@@ -17,13 +18,7 @@ SPECS = str(ORACLE_SPECS / "public_{}.json")
 
 def spec_shape(n: int) -> BottleShape:
     """The bottle of oracle scene ``public_n`` as a BottleShape."""
-    b = json.load(open(SPECS.format(n)))["bottle"]
-    cs = b["cross_section"]
-    if cs["kind"] == "round":
-        secs = {"profile": Section.from_dicts(b["profile"])}
-    else:
-        secs = {"u": Section.from_dicts(cs["profile_u"]), "v": Section.from_dicts(cs["profile_v"])}
-    return BottleShape(cs["kind"], secs, b["wall_thickness"], b["base_thickness"], b.get("rotation_deg", 0.0))
+    return shape_from_spec(json.load(open(SPECS.format(n)))["bottle"])
 
 
 def cylinder_section(radius: float, height: float) -> Section:

@@ -12,10 +12,11 @@ from engine.design import Camera, Design, Glass, Liquid, RenderSettings
 from engine.environment import EnvironmentMap
 from engine.section import Section
 from engine.segments import Arc, Line
+from engine.offset import radius_at
 from engine.shape import BottleShape
 from engine.tracer.embree_scene import SURFACE_EPS_MM
 from engine.tracer.geometry import (AIR, GLASS, INNER_WALL, LIQUID, OUTER_WALL, render_geometry_for)
-from engine.tracer.integrator import Materials, TraceStats, trace, trace_pixels
+from engine.tracer.integrator import Materials, TraceStats, exact_hits, trace, trace_pixels
 
 SPECS = "/work/shared/oracle/specs"
 
@@ -71,7 +72,7 @@ def _wall_points(g, n=400, seed=0, z_range=(1.0, 59.0)):
     rng = np.random.default_rng(seed)
     z = rng.uniform(*z_range, n)
     th = rng.uniform(0, 2 * np.pi, n)
-    r, _ = g.outer_u.radius_at(z)
+    r = radius_at(g.body.profile.sections[0].outer_wall, z)
     p = np.stack([r * np.cos(th), r * np.sin(th), z], 1)
     return p, g.exact_normals(p, np.full(n, OUTER_WALL, np.int8)), rng
 
@@ -83,13 +84,20 @@ def test_rays_leaving_a_surface_never_hit_it_again_at_zero_distance():
     d /= np.linalg.norm(d, axis=1, keepdims=True)
     d = np.where((np.einsum("ij,ij->i", d, n) < 0.2)[:, None], d + 1.2 * n, d)
     d /= np.linalg.norm(d, axis=1, keepdims=True)
-    t, prim = g.triangles.intersect(p + SURFACE_EPS_MM * n, d)
-    assert np.all(t[prim >= 0] > 0.5)
+    t, surf = _leave(g, p + SURFACE_EPS_MM * n, d, OUTER_WALL, 1)
+    assert np.all(t[surf >= 0] > 0.5)
     # Into the glass: the next surface is at least about a wall thickness away.
     d_in = -n + 0.3 * rng.normal(size=p.shape)
     d_in /= np.linalg.norm(d_in, axis=1, keepdims=True)
-    t, prim = g.triangles.intersect(p - SURFACE_EPS_MM * n, d_in)
-    assert np.all(prim >= 0) and np.all(t > 1.0)
+    t, surf = _leave(g, p - SURFACE_EPS_MM * n, d_in, OUTER_WALL, -1)
+    assert np.all(surf >= 0) and np.all(t > 1.0)
+
+
+def _leave(g, o, d, surface, side):
+    """Exact hits of rays that just left ``surface`` towards ``side`` (+1 front, -1 back)."""
+    n = len(o)
+    t, surf, _, _ = exact_hits(g, o, d, np.full(n, surface, np.int8), np.full(n, side, np.int8))
+    return t, surf
 
 
 def test_closed_interfaces_are_always_hit_from_inside_with_the_right_medium():
@@ -99,19 +107,16 @@ def test_closed_interfaces_are_always_hit_from_inside_with_the_right_medium():
     m = 2000
     z = rng.uniform(10.0, 55.0, m)
     th = rng.uniform(0, 2 * np.pi, m)
-    r_out, _ = g.outer_u.radius_at(z)
-    r_in, _ = g.inner_u.radius_at(z)
+    r_out = radius_at(g.body.profile.sections[0].outer_wall, z)
+    r_in = radius_at(g.body.profile.sections[0].inner_wall, z)
     for rho, zz, medium in ((0.5 * (r_out + r_in), z, GLASS),
                             (rng.uniform(0, 1, m) * r_in * 0.99, np.minimum(z, 39.0), LIQUID)):
         p = np.stack([rho * np.cos(th), rho * np.sin(th), zz], 1)
         d = rng.normal(size=(m, 3))
         d /= np.linalg.norm(d, axis=1, keepdims=True)
-        t, prim = g.triangles.intersect(p, d)
-        assert np.all(prim >= 0)
-        hit = p + t[:, None] * d
-        surf = g.surface_of_triangle[prim]
+        t, surf, hit, n = exact_hits(g, p, d, np.full(m, -1, np.int8), np.zeros(m, np.int8))
+        assert np.all(surf >= 0)
         front, back = g.media(surf, hit[:, 2])
-        n = g.exact_normals(hit, surf)
         incident = np.where(np.einsum("ij,ij->i", d, n) < 0, front, back)
         assert np.all(incident == medium)
 
@@ -140,7 +145,8 @@ def test_rounded_square_flat_side_normal_follows_the_rotation():
     design, _ = spec_to_design(f"{SPECS}/public_3.json")
     g = render_geometry_for(design)
     z = 50.0
-    u, du = g.outer_u.radius_at(np.array([z]))
+    u, tr, tz = g.body.wall_radii("outer", np.array([z]))[0]
+    du = tr / tz
     a = math.radians(design.shape.rotation_deg)
     p = np.array([[u[0] * math.cos(a), u[0] * math.sin(a), z]])  # middle of the +x face, turned
     n = g.exact_normals(p, np.array([OUTER_WALL], np.int8))[0]

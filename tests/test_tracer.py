@@ -17,8 +17,9 @@ from engine.shape import BottleShape
 from engine.tracer.embree_scene import SURFACE_EPS_MM
 from engine.tracer.geometry import (AIR, GLASS, INNER_WALL, LIQUID, OUTER_WALL, render_geometry_for)
 from engine.tracer.integrator import Materials, TraceStats, exact_hits, trace, trace_pixels
+from benchmarks.paths import ORACLE_SPECS
 
-SPECS = "/work/shared/oracle/specs"
+SPECS = str(ORACLE_SPECS)
 
 
 def simple_design(fill=40.0, glass_absorption=(0.0, 0.0, 0.0), liquid_absorption=(0.0, 0.0, 0.0),

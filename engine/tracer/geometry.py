@@ -40,9 +40,12 @@ from .embree_scene import EmbreeTriangles
 AIR, GLASS, LIQUID = 0, 1, 2
 OUTER_WALL, BOTTOM, INNER_WALL, INNER_BASE, RIM, FREE_SURFACE = range(6)
 #: Chordal tolerance (mm) of the render mesh. Hits are refined onto the exact surfaces
-#: (:mod:`engine.tracer.refine`), so the mesh only decides which surface a ray meets; the
-#: tolerance moves silhouettes by at most this much (measured: see ``benchmarks/tracer.py``).
-MESH_TOL_MM = 0.05
+#: (:mod:`engine.tracer.refine`), so the mesh only decides which surface a ray meets and moves
+#: silhouettes by at most this much. Measured (``benchmarks/tracer.py``, 96 px, 2 spp): a
+#: coarser mesh is not faster (more candidates to pass, more lost rays to recover) but less
+#: accurate: image change vs 0.005 mm of 0.7 % / 1.7 % / 8 % (public_1) at 0.02 / 0.05 / 0.2 mm;
+#: 0.02 mm keeps the build at ~0.2 s for a rounded square (0.9 s at 0.005 mm).
+MESH_TOL_MM = 0.02
 #: Tessellation part -> surface id (module table).
 SURFACE_OF_PART = {"outer": OUTER_WALL, "base_outer": BOTTOM, "inner": INNER_WALL,
                    "base_inner": INNER_BASE, "rim": RIM}

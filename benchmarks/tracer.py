@@ -23,8 +23,9 @@ import os
 import time
 
 import numpy as np
+from benchmarks.paths import ORACLE_SPECS
 
-SPECS = "/work/shared/oracle/specs"
+SPECS = str(ORACLE_SPECS)
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "out")
 
 
@@ -139,8 +140,6 @@ def error_vs_time(names, configs):
         render_spec(spec, 1, 2)  # warm the geometry cache so times are render times
         for spp, target in configs:
             kw = {"noise_target": target} if target else {}
-            from engine.tracer import job as job_module
-
             if target is None:
                 img, secs, job = _uniform(spec, spp)
             else:

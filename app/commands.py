@@ -14,7 +14,7 @@ from PySide6.QtCore import QObject, Signal
 from PySide6.QtGui import QUndoCommand, QUndoStack
 
 from app import engine_bridge
-from engine.design import Design
+from engine.model.design import Design
 from engine.errors import GlassbenchError
 
 _merge_ids: dict[str, int] = {}

@@ -12,12 +12,14 @@ import dataclasses
 
 import numpy as np
 
-from engine import capacity, dxf_import, mesh_export, offset, project, tessellate, validate
-from engine.design import Design
+from engine.geometry import capacity, offset, tessellate, validate
+
+from engine.files import dxf_import, mesh_export, project
+from engine.model.design import Design
 from engine.errors import GlassbenchError
-from engine.scene import Scene
-from engine.section import Section
-from engine.shape import BottleShape
+from engine.model.scene import Scene
+from engine.geometry.section import Section
+from engine.geometry.shape import BottleShape
 from engine.tracer import job as tracer_job
 
 

@@ -9,10 +9,10 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
-from engine.design import Design, Liquid, RenderSettings
-from engine.section import Section
-from engine.segments import Arc, EllipseArc, Line
-from engine.shape import BottleShape
+from engine.model.design import Design, Liquid, RenderSettings
+from engine.geometry.section import Section
+from engine.geometry.segments import Arc, EllipseArc, Line
+from engine.geometry.shape import BottleShape
 
 RESOURCES = Path(__file__).resolve().parent.parent / "resources"
 SAMPLE_PROJECT = RESOURCES / "bordeaux.glassbench"

@@ -5,7 +5,7 @@ Usage::
     python -m benchmarks.capacity [--repeat N]
 
 Prints a table, writes ``benchmarks/out/capacity.csv`` and ``benchmarks/out/capacity.png``.
-The engine's method (:mod:`engine.capacity`: Gauss-Legendre per piece between joints, cosine
+The engine's method (:mod:`engine.geometry.capacity`: Gauss-Legendre per piece between joints, cosine
 substitution) is timed cold (a fresh shape: validation, offsetting and quadrature, what the GUI
 pays on every edit) and warm (cached); the peer samples the cavity area at N uniform heights
 and integrates with the trapezoid rule. Errors are relative to closed-form cavity volumes.
@@ -20,11 +20,11 @@ import time
 
 import numpy as np
 
-from engine import capacity
-from engine.offset import body_profile
-from engine.section import Section
-from engine.segments import Arc, Line
-from engine.shape import BottleShape
+from engine.geometry import capacity
+from engine.geometry.offset import body_profile
+from engine.geometry.section import Section
+from engine.geometry.segments import Arc, Line
+from engine.geometry.shape import BottleShape
 from benchmarks.paths import ORACLE_SPECS
 
 OUT = os.path.join(os.path.dirname(__file__), "out")

@@ -20,10 +20,10 @@ import math
 import os
 import sys
 
-from engine.design import Camera, Design, Environment, Glass, Liquid, RenderSettings
+from engine.model.design import Camera, Design, Environment, Glass, Liquid, RenderSettings
 from engine.errors import GlassbenchError, ProjectError
-from engine.section import Section
-from engine.shape import BottleShape
+from engine.geometry.section import Section
+from engine.geometry.shape import BottleShape
 
 #: Samples per pixel written into converted projects (the references used far more).
 DEFAULT_SPP = 64
@@ -142,7 +142,7 @@ def spec_to_design(spec_path: str | os.PathLike, spp: int = DEFAULT_SPP
 
 def convert(spec_path: str, out_path: str, spp: int = DEFAULT_SPP) -> None:
     """Write the SPEC scene at ``spec_path`` as a checked ``.glassbench`` project."""
-    from engine.project import check_design, save_project
+    from engine.files.project import check_design, save_project
     design, assets = spec_to_design(spec_path, spp)
     check_design(design, assets)
     save_project(out_path, design, assets)

@@ -5,7 +5,7 @@ Usage::
     python -m benchmarks.tessellation [--tols 0.4,0.2,0.1,0.05,0.025]
 
 For each oracle bottle (round, rounded square, ellipse foot) and tolerance, times
-:func:`engine.tessellate.tessellate_body` (best of 3) and measures the largest distance of the
+:func:`engine.geometry.tessellate.tessellate_body` (best of 3) and measures the largest distance of the
 outer wall's triangles (centroids and edge middles) from the exact surface. The peer spends the
 same budget on the outer wall (same number of angles and rings) spread uniformly in angle and
 height, as a fixed-step mesher would; a second peer splits arcs at a fixed turning step (as the
@@ -24,10 +24,10 @@ import time
 import numpy as np
 from scipy.spatial import cKDTree
 
-from engine import crosssection
-from engine.body import BottleBody
-from engine.shape import BottleShape
-from engine.tessellate import tessellate_body
+from engine.geometry import crosssection
+from engine.geometry.body import BottleBody
+from engine.geometry.shape import BottleShape
+from engine.geometry.tessellate import tessellate_body
 from benchmarks.oracle import shape_from_spec
 from benchmarks.paths import ORACLE_SPECS
 

@@ -131,7 +131,7 @@ def thread_speedup(name, size, spp):
 def error_vs_time(names, configs):
     """rel RMSE and time per scene for each (spp, adaptive noise target or None)."""
     from benchmarks.oracle_render import reference_path, rel_rmse, render_spec
-    from engine.environment import read_radiance_image
+    from engine.tracer.environment import read_radiance_image
 
     rows = []
     for name in names:

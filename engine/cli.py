@@ -14,9 +14,9 @@ import os
 import sys
 from pathlib import Path
 
-from .design import Camera, Design, RenderSettings
+from .model.design import Camera, Design, RenderSettings
 from .errors import GlassbenchError, ProjectError
-from .shape import BottleShape
+from .geometry.shape import BottleShape
 
 SUBCOMMANDS = ("info", "export-mesh", "new", "render")
 EXIT_ERROR = 2
@@ -90,7 +90,7 @@ def trade_numbers(design: Design) -> dict:
     ``fill_ml``/``fill_height_mm`` follow the liquid's fill mode: a height is converted to
     the volume below it, a volume to the height that holds it.
     """
-    from . import capacity
+    from .geometry import capacity
     shape = design.shape
     out = {"name": design.name,
            "brimful_ml": capacity.brimful_ml(shape),
@@ -132,7 +132,7 @@ def format_table(numbers: dict) -> str:
 
 def cmd_info(args) -> int:
     """``info PROJECT [--json]``: trade numbers (ml, mm, cm^3, g) as a table or JSON."""
-    from .project import load_project
+    from .files.project import load_project
     design, _ = load_project(args.project)
     numbers = trade_numbers(design)
     if args.json:
@@ -146,12 +146,12 @@ def cmd_info(args) -> int:
 
 def cmd_export_mesh(args) -> int:
     """``export-mesh PROJECT OUT [--tol MM]``: the glass body as a mesh (format from OUT's suffix)."""
-    from .project import load_project
+    from .files.project import load_project
     design, _ = load_project(args.project)
     if not (math.isfinite(args.tol) and args.tol > 0):
         raise CliError(f"--tol must be a positive number of mm, got {args.tol}")
     try:
-        from .mesh_export import export_mesh
+        from .files.mesh_export import export_mesh
     except ImportError as exc:
         raise CliError(f"mesh export is not available in this build ({exc})") from None
     export_mesh(design.shape, args.out, args.tol)
@@ -177,15 +177,15 @@ def framing_camera(shape: BottleShape, width: int, height: int, fov_y_deg: float
 
 def max_radius(shape: BottleShape) -> float:
     """Largest distance (mm) of the outer surface from the axis (half the maximum diameter)."""
-    from . import capacity
+    from .geometry import capacity
     return 0.5 * float(capacity.max_diameter_mm(shape))
 
 
 def cmd_new(args) -> int:
     """``new --from-dxf FILE.dxf OUT.glassbench``: a round bottle (wall/base in mm) from a DXF
     section, framed by a camera; refuses to write an invalid design."""
-    from .dxf_import import section_from_dxf
-    from .project import SUFFIX, check_design, save_project
+    from .files.dxf_import import section_from_dxf
+    from .files.project import SUFFIX, check_design, save_project
     if not args.out.endswith(SUFFIX):
         raise CliError(f"the project file name must end in {SUFFIX}: {args.out}")
     section = section_from_dxf(args.from_dxf)

@@ -2,8 +2,8 @@
 
 Design rule: every sample is constructed from a few designer-facing numbers (mm), solved so
 that its trade numbers are right (the Bordeaux holds 750 ml at a normal fill point and about
-776 ml brimful), validated, checked with :mod:`engine.capacity`, and saved with
-:func:`engine.project.save_project`. The ``.glassbench`` files are committed; rerun this
+776 ml brimful), validated, checked with :mod:`engine.geometry.capacity`, and saved with
+:func:`engine.files.project.save_project`. The ``.glassbench`` files are committed; rerun this
 script after changing the format or the shapes. Writes:
 
 * ``bordeaux.glassbench``: 750 ml Bordeaux wine bottle, punted base, circular-arc shoulder,
@@ -21,14 +21,14 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-from engine import capacity  # noqa: E402
+from engine.geometry import capacity# noqa: E402
 from engine.cli import framing_camera  # noqa: E402
-from engine.design import Design, Glass, Liquid, RenderSettings  # noqa: E402
-from engine.dxf_import import section_to_dxf  # noqa: E402
-from engine.project import check_design, save_project  # noqa: E402
-from engine.section import Section  # noqa: E402
-from engine.segments import Arc, Line  # noqa: E402
-from engine.shape import BottleShape  # noqa: E402
+from engine.model.design import Design, Glass, Liquid, RenderSettings  # noqa: E402
+from engine.files.dxf_import import section_to_dxf  # noqa: E402
+from engine.files.project import check_design, save_project  # noqa: E402
+from engine.geometry.section import Section  # noqa: E402
+from engine.geometry.segments import Arc, Line  # noqa: E402
+from engine.geometry.shape import BottleShape  # noqa: E402
 
 RENDER = RenderSettings(width=360, height=480, spp=16)
 #: The Bordeaux's brimful capacity (ml): with its 29 mm neck, 750 ml then stand ~63 mm below

@@ -20,7 +20,7 @@ def gui_paths(tmp_path, monkeypatch):
 def tiny_design():
     """The built-in sample rendered at 48 x 64 pixels, 1 sample per pixel."""
     from app.sample_design import built_in_design
-    from engine.design import RenderSettings
+    from engine.model.design import RenderSettings
     return dataclasses.replace(built_in_design(), render=RenderSettings(width=48, height=64, spp=1))
 
 

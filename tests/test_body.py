@@ -1,11 +1,11 @@
-"""Surface evaluation (engine.body): points on the surfaces, exact normals out of the glass."""
+"""Surface evaluation (engine.geometry.body): points on the surfaces, exact normals out of the glass."""
 import math
 
 import numpy as np
 import pytest
 
-from engine.body import PARTS, BottleBody
-from engine.shape import BottleShape
+from engine.geometry.body import PARTS, BottleBody
+from engine.geometry.shape import BottleShape
 from tests.test_offset import punt_section, spec_shape, stepped_section
 
 TH = np.linspace(0.0, 2 * math.pi, 37)[:-1]

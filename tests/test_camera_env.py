@@ -6,9 +6,9 @@ import math
 import numpy as np
 import pytest
 
-from engine.camera import PinholeCamera, pixel_offsets
-from engine.design import Camera, Environment
-from engine.environment import EnvironmentMap, environment_from_design, studio_texels
+from engine.tracer.camera import PinholeCamera, pixel_offsets
+from engine.model.design import Camera, Environment
+from engine.tracer.environment import EnvironmentMap, environment_from_design, studio_texels
 
 
 def _cam(w=40, h=20):

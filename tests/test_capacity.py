@@ -1,15 +1,15 @@
-"""Trade numbers (engine.capacity) against closed forms and an independent integration."""
+"""Trade numbers (engine.geometry.capacity) against closed forms and an independent integration."""
 import math
 
 import numpy as np
 import pytest
 from hypothesis import given, settings, strategies as st
 
-from engine import capacity as cap
-from engine.offset import body_profile
-from engine.section import Section
-from engine.segments import Line
-from engine.shape import BottleShape
+from engine.geometry import capacity as cap
+from engine.geometry.offset import body_profile
+from engine.geometry.section import Section
+from engine.geometry.segments import Line
+from engine.geometry.shape import BottleShape
 from tests.test_offset import (cylinder_section, punt_section, spec_shape, sphere_section,
                                stepped_section, torus_foot_section)
 

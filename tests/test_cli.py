@@ -11,12 +11,12 @@ import pytest
 
 import app.main as app_main
 from engine import cli
-from engine.design import Design, Liquid, RenderSettings
-from engine.dxf_import import section_to_dxf
-from engine.project import load_project, save_project
-from engine.section import Section
-from engine.segments import Line
-from engine.shape import BottleShape
+from engine.model.design import Design, Liquid, RenderSettings
+from engine.files.dxf_import import section_to_dxf
+from engine.files.project import load_project, save_project
+from engine.geometry.section import Section
+from engine.geometry.segments import Line
+from engine.geometry.shape import BottleShape
 
 INFO_KEYS = {"brimful_ml", "fill_ml", "fill_height_mm", "glass_volume_cm3", "glass_mass_g",
              "height_mm", "max_diameter_mm"}
@@ -173,7 +173,7 @@ def test_samples_are_up_to_date_and_valid():
     assert built["jar"].shape.primary.r_top > 30.0  # a wide mouth
     red = built["bordeaux"].liquid.absorption
     assert red[0] < red[1] and red[0] < red[2]  # wine passes red
-    from engine.dxf_import import section_from_dxf
+    from engine.files.dxf_import import section_from_dxf
     dxf = section_from_dxf(RESOURCES / "bordeaux_profile.dxf")
     assert len(dxf) == len(built["bordeaux"].shape.primary)
     assert dxf.z_top == pytest.approx(300.0)
@@ -182,8 +182,8 @@ def test_samples_are_up_to_date_and_valid():
 def test_unexpected_failure_is_one_line_not_a_traceback(project, monkeypatch, capsys):
     def broken(*a, **k):
         raise RuntimeError("boom\nsecond line")
-    import engine.capacity
-    monkeypatch.setattr(engine.capacity, "brimful_ml", broken)
+    import engine.geometry.capacity
+    monkeypatch.setattr(engine.geometry.capacity, "brimful_ml", broken)
     monkeypatch.delenv("GLASSBENCH_DEBUG", raising=False)
     assert cli.main(["info", str(project)]) == 2
     err = capsys.readouterr().err

@@ -1,10 +1,10 @@
-"""Cross-sections (engine.crosssection): areas, boundary points, normals, signed distance."""
+"""Cross-sections (engine.geometry.crosssection): areas, boundary points, normals, signed distance."""
 import math
 
 import numpy as np
 import pytest
 
-from engine import crosssection as cs
+from engine.geometry import crosssection as cs
 
 CASES = [("round", (25.0,)), ("rounded_square", (30.0, 36.0)), ("rounded_square", (30.0, 30.0)),
          ("rounded_rect", (30.0, 18.0, 7.0)), ("oval", (30.0, 18.0))]

@@ -7,9 +7,9 @@ import ezdxf
 import numpy as np
 import pytest
 
-from engine.dxf_import import DxfImportError, section_from_dxf, section_to_dxf
-from engine.section import Section
-from engine.segments import Arc, EllipseArc, Line
+from engine.files.dxf_import import DxfImportError, section_from_dxf, section_to_dxf
+from engine.geometry.section import Section
+from engine.geometry.segments import Arc, EllipseArc, Line
 
 
 def bottle_section() -> Section:
@@ -168,7 +168,7 @@ def test_punt_stands_on_its_ring(tmp_path):
 from hypothesis import given, settings  # noqa: E402
 from hypothesis import strategies as st  # noqa: E402
 
-from engine.dxf_import import section_from_document  # noqa: E402
+from engine.files.dxf_import import section_from_document  # noqa: E402
 
 
 @settings(max_examples=30, deadline=None)

@@ -34,6 +34,6 @@ def test_engine_modules_import_without_qt():
     report = json.loads(proc.stdout.strip().splitlines()[-1])
     expected = {m.name for m in pkgutil.walk_packages(engine.__path__, "engine.")}
     assert set(report["modules"]) == expected
-    assert {"engine.scene", "engine.project", "engine.serialize", "engine.cli"} <= expected
+    assert {"engine.model.scene", "engine.files.project", "engine.files.serialize", "engine.cli"} <= expected
     assert report["failed"] == {}
     assert report["qt"] == [], f"engine imported Qt modules: {report['qt']}"

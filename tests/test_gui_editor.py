@@ -6,7 +6,7 @@ import math
 import pytest
 from PySide6.QtCore import QPoint, QPointF, Qt
 
-from engine.segments import Arc, EllipseArc, Line
+from engine.geometry.segments import Arc, EllipseArc, Line
 from widgets.section_editor import Handle
 
 pytestmark = pytest.mark.usefixtures("no_leaks")

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import pytest
 
-from engine.design import Glass
+from engine.model.design import Glass
 from widgets.materials_panel import absorption_from_color, color_from_absorption
 from widgets.section_editor import Handle
 

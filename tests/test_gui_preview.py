@@ -9,7 +9,7 @@ import pytest
 from PySide6.QtCore import QPoint, Qt
 
 from app import engine_bridge
-from engine.design import Glass
+from engine.model.design import Glass
 
 pytestmark = pytest.mark.usefixtures("no_leaks")
 

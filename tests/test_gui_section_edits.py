@@ -10,7 +10,7 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 from app.sample_design import bordeaux_section
-from engine.segments import Arc, EllipseArc, Line
+from engine.geometry.segments import Arc, EllipseArc, Line
 from widgets import section_edits as edits
 
 SECTION = bordeaux_section()

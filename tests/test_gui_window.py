@@ -8,8 +8,8 @@ import sys
 
 import pytest
 
-from engine.design import Glass
-from engine.project import load_project, save_project
+from engine.model.design import Glass
+from engine.files.project import load_project, save_project
 
 pytestmark = pytest.mark.usefixtures("no_leaks")
 

@@ -1,4 +1,4 @@
-"""Mesh export (engine.mesh_export): every format reads back closed with the right face count."""
+"""Mesh export (engine.files.mesh_export): every format reads back closed with the right face count."""
 import json
 import struct
 
@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 import trimesh
 
-from engine.mesh_export import FORMATS, export_mesh
-from engine.tessellate import tessellate_body
+from engine.files.mesh_export import FORMATS, export_mesh
+from engine.geometry.tessellate import tessellate_body
 from tests.test_offset import spec_shape
 
 

@@ -1,4 +1,4 @@
-"""Inner sections, sub-segments, radius_at and the BodyProfile (engine.offset)."""
+"""Inner sections, sub-segments, radius_at and the BodyProfile (engine.geometry.offset)."""
 import json
 import math
 
@@ -6,10 +6,10 @@ import numpy as np
 import pytest
 
 from engine.errors import WallError
-from engine.offset import body_profile, inner_section, param_at_z, radius_at, split_at_ring, subsegment
-from engine.section import Section
-from engine.segments import Arc, EllipseArc, Line, OffsetEllipseArc
-from engine.shape import BottleShape
+from engine.geometry.offset import body_profile, inner_section, param_at_z, radius_at, split_at_ring, subsegment
+from engine.geometry.section import Section
+from engine.geometry.segments import Arc, EllipseArc, Line, OffsetEllipseArc
+from engine.geometry.shape import BottleShape
 from benchmarks.oracle import shape_from_spec
 from benchmarks.paths import ORACLE_SPECS
 

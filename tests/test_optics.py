@@ -7,7 +7,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from engine.optics import beer_lambert, critical_angle_deg, fresnel_dielectric, reflect, refract
+from engine.tracer.optics import beer_lambert, critical_angle_deg, fresnel_dielectric, reflect, refract
 
 
 def test_normal_incidence_reflectance_is_four_percent_for_n_1_5():

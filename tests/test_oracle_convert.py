@@ -8,7 +8,7 @@ import pytest
 
 from benchmarks.oracle import main, spec_to_design
 from engine.errors import ProjectError
-from engine.project import load_project
+from engine.files.project import load_project
 from benchmarks.paths import ORACLE_SPECS
 
 SPECS = ORACLE_SPECS

@@ -11,14 +11,14 @@ import zipfile
 
 import pytest
 
-from engine.design import (BumpTile, Cap, Camera, Design, Environment, Glass, Label, Light,
+from engine.model.design import (BumpTile, Cap, Camera, Design, Environment, Glass, Label, Light,
                            Liquid, RenderSettings)
 from engine.errors import ProjectError
-from engine.project import Limits, load_project, load_project_bytes, save_project
-from engine.section import Section
-from engine.segments import Arc, Line
-from engine.serialize import CURRENT_FORMAT, design_from_dict, design_to_dict
-from engine.shape import BottleShape
+from engine.files.project import Limits, load_project, load_project_bytes, save_project
+from engine.geometry.section import Section
+from engine.geometry.segments import Arc, Line
+from engine.files.serialize import CURRENT_FORMAT, design_from_dict, design_to_dict
+from engine.geometry.shape import BottleShape
 
 
 def make_design() -> Design:

@@ -8,9 +8,9 @@ import zipfile
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from engine.design import Design
+from engine.model.design import Design
 from engine.errors import ProjectError
-from engine.project import Limits, load_project_bytes, save_project
+from engine.files.project import Limits, load_project_bytes, save_project
 from tests.test_project import ASSETS, make_design
 
 FUZZ = settings(max_examples=200, deadline=None, suppress_health_check=[HealthCheck.too_slow])
@@ -24,7 +24,7 @@ json_value = st.recursive(json_leaf, lambda inner: st.one_of(
 
 
 def good_doc() -> dict:
-    from engine.serialize import document_from_design
+    from engine.files.serialize import document_from_design
     return document_from_design(make_design(), "fuzz")
 
 

@@ -114,8 +114,8 @@ def test_tonemap_is_clamped_srgb():
 
 
 def test_render_command_writes_png_and_exr(tmp_path, capsys):
-    from engine.environment import read_radiance_image
-    from engine.project import save_project
+    from engine.tracer.environment import read_radiance_image
+    from engine.files.project import save_project
     from engine.tracer.cli_render import render_command
 
     proj = tmp_path / "b.glassbench"

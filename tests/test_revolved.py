@@ -9,7 +9,7 @@ from scipy.spatial import cKDTree
 
 from engine.intersect import (ray_cone_hits, rays_touching_bounds, revolved_hits,
                               revolved_normals, segment_bounds, stable_quadratic_roots)
-from engine.segments import Arc, EllipseArc, Line, normal
+from engine.geometry.segments import Arc, EllipseArc, Line, normal
 
 ROOT375 = math.sqrt(375.0)
 SEGMENTS = {

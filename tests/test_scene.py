@@ -5,11 +5,11 @@ import dataclasses
 
 import pytest
 
-from engine.design import Camera, Design, Glass, Liquid
-from engine.scene import DESIGN_FIELDS, Scene, changed_fields
-from engine.section import Section
-from engine.segments import Line
-from engine.shape import BottleShape
+from engine.model.design import Camera, Design, Glass, Liquid
+from engine.model.scene import DESIGN_FIELDS, Scene, changed_fields
+from engine.geometry.section import Section
+from engine.geometry.segments import Line
+from engine.geometry.shape import BottleShape
 
 
 def make_design(radius: float = 30.0) -> Design:

@@ -1,4 +1,4 @@
-"""Tessellation (engine.tessellate): closed, outward, within tolerance, converging volumes."""
+"""Tessellation (engine.geometry.tessellate): closed, outward, within tolerance, converging volumes."""
 import math
 
 import numpy as np
@@ -6,13 +6,13 @@ import pytest
 from hypothesis import assume, given, settings, strategies as st
 from scipy.spatial import cKDTree
 
-from engine import capacity as cap
-from engine import crosssection
-from engine.body import BottleBody
+from engine.geometry import capacity as cap
+from engine.geometry import crosssection
+from engine.geometry.body import BottleBody
 from engine.errors import SectionError, WallError
-from engine.offset import body_profile
-from engine.shape import BottleShape
-from engine.tessellate import BODY_PARTS, tessellate_body, tessellate_liquid
+from engine.geometry.offset import body_profile
+from engine.geometry.shape import BottleShape
+from engine.geometry.tessellate import BODY_PARTS, tessellate_body, tessellate_liquid
 from tests.test_offset import (cornered_punt_section, heel_through_ring_section, punt_section, spec_shape,
                                stepped_section)
 

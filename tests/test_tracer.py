@@ -7,13 +7,13 @@ import math
 import numpy as np
 import pytest
 
-from engine.camera import PinholeCamera
-from engine.design import Camera, Design, Glass, Liquid, RenderSettings
-from engine.environment import EnvironmentMap
-from engine.section import Section
-from engine.segments import Arc, Line
-from engine.offset import radius_at
-from engine.shape import BottleShape
+from engine.tracer.camera import PinholeCamera
+from engine.model.design import Camera, Design, Glass, Liquid, RenderSettings
+from engine.tracer.environment import EnvironmentMap
+from engine.geometry.section import Section
+from engine.geometry.segments import Arc, Line
+from engine.geometry.offset import radius_at
+from engine.geometry.shape import BottleShape
 from engine.tracer.embree_scene import SURFACE_EPS_MM
 from engine.tracer.geometry import (AIR, GLASS, INNER_WALL, LIQUID, OUTER_WALL, render_geometry_for)
 from engine.tracer.integrator import Materials, TraceStats, exact_hits, trace, trace_pixels
@@ -176,7 +176,7 @@ def test_non_finite_weights_never_reach_the_image():
 
 
 def test_volume_fill_mode_puts_the_free_surface_at_the_solved_height():
-    from engine.capacity import fill_height_for_volume
+    from engine.geometry.capacity import fill_height_for_volume
 
     design = simple_design(40.0)
     design = dataclasses.replace(design, liquid=dataclasses.replace(design.liquid, fill_mode="volume", fill_value=30.0))

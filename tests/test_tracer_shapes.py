@@ -8,9 +8,9 @@ import dataclasses
 import numpy as np
 import pytest
 
-from engine.design import Camera, Design, Glass, Liquid, RenderSettings
-from engine.project import load_project
-from engine.shape import BottleShape
+from engine.model.design import Camera, Design, Glass, Liquid, RenderSettings
+from engine.files.project import load_project
+from engine.geometry.shape import BottleShape
 from engine.tracer.geometry import (AIR, BOTTOM, GLASS, FREE_SURFACE, INNER_BASE, INNER_WALL, OUTER_WALL, RIM,
                                     render_geometry_for)
 from engine.tracer.embree_scene import SURFACE_EPS_MM

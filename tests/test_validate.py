@@ -1,17 +1,17 @@
-"""Section and shape validation (engine.validate): each error names what and where."""
+"""Section and shape validation (engine.geometry.validate): each error names what and where."""
 import math
 
 import numpy as np
 import pytest
 from hypothesis import assume, event, given, settings, strategies as st
 
-from engine import capacity
+from engine.geometry import capacity
 from engine.errors import GlassbenchError, SectionError, WallError
-from engine.section import Section
-from engine.segments import Arc, EllipseArc, Line
-from engine.shape import BottleShape
-from engine.tessellate import tessellate_body
-from engine.validate import validate_section, validate_shape
+from engine.geometry.section import Section
+from engine.geometry.segments import Arc, EllipseArc, Line
+from engine.geometry.shape import BottleShape
+from engine.geometry.tessellate import tessellate_body
+from engine.geometry.validate import validate_section, validate_shape
 from tests.test_offset import (heel_through_ring_section, punt_section, spec_shape, stepped_section,
                                torus_foot_section)
 

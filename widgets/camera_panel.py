@@ -15,7 +15,7 @@ from PySide6.QtCore import QSignalBlocker, Signal
 from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFileDialog, QFormLayout, QGroupBox,
                                QPushButton, QSpinBox, QVBoxLayout, QWidget)
 
-from engine.design import Camera
+from engine.model.design import Camera
 
 
 def camera_to_orbit(cam: Camera) -> tuple[float, float, float]:

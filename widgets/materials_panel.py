@@ -15,7 +15,7 @@ from PySide6.QtGui import QColor
 from PySide6.QtWidgets import (QCheckBox, QColorDialog, QComboBox, QDoubleSpinBox, QFormLayout,
                                QGroupBox, QPushButton, QVBoxLayout, QWidget)
 
-from engine.design import Liquid
+from engine.model.design import Liquid
 
 #: Path length (mm) over which a tint colour is the transmitted colour of white light.
 TINT_PATH_MM = 100.0

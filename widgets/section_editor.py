@@ -19,8 +19,8 @@ from PySide6.QtCore import QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import QColor, QPainter, QPainterPath, QPen, QPolygonF
 from PySide6.QtWidgets import QSizePolicy, QWidget
 
-from engine.section import Section
-from engine.segments import Arc, EllipseArc
+from engine.geometry.section import Section
+from engine.geometry.segments import Arc, EllipseArc
 from widgets import section_edits as edits
 
 HANDLE_PX = 7.0

@@ -2,7 +2,7 @@
 
 Design rule: every edit is a pure function ``Section -> Section`` that keeps the chain connected
 and, where the designer asked for tangency (``Section.smooth``), keeps it by construction when it
-can. Whether the result is a valid bottle is for :mod:`engine.validate` to say; these functions
+can. Whether the result is a valid bottle is for :mod:`engine.geometry.validate` to say; these functions
 raise ``ValueError`` only when the requested geometry does not exist (a negative radius).
 
 Dragging a joint *stretches* the section: the segment below the joint deforms (its free
@@ -16,8 +16,8 @@ import math
 
 import numpy as np
 
-from engine.section import Section
-from engine.segments import Arc, EllipseArc, Line
+from engine.geometry.section import Section
+from engine.geometry.segments import Arc, EllipseArc, Line
 
 Vec = tuple[float, float]
 

@@ -11,7 +11,7 @@ from PySide6.QtCore import QSignalBlocker, Qt
 from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFormLayout, QHBoxLayout, QHeaderView,
                                QLabel, QSplitter, QTableView, QToolButton, QVBoxLayout, QWidget)
 
-from engine.shape import SECTION_NAMES, BottleShape
+from engine.geometry.shape import SECTION_NAMES, BottleShape
 from widgets import section_edits as edits
 from widgets.section_editor import SectionCanvas
 from widgets.section_table import KindDelegate, MillimetreDelegate, SectionTableModel

@@ -10,8 +10,8 @@ from __future__ import annotations
 from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, Signal
 from PySide6.QtWidgets import QComboBox, QDoubleSpinBox, QStyledItemDelegate
 
-from engine.section import Section
-from engine.segments import Arc, EllipseArc
+from engine.geometry.section import Section
+from engine.geometry.segments import Arc, EllipseArc
 from widgets import section_edits as edits
 
 COLUMNS = ("type", "end r", "end z", "centre r", "centre z", "radius / r", "radius z", "dir", "smooth")

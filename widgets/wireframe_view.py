@@ -15,7 +15,7 @@ import numpy as np
 from PySide6.QtGui import QImage
 from PySide6.QtWidgets import QVBoxLayout, QWidget
 
-from engine.design import Camera
+from engine.model.design import Camera
 
 
 class WireframeView(QWidget):

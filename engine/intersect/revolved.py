@@ -5,7 +5,7 @@ Design rule: each segment kind is sent to its exact solver (lines to
 :func:`~engine.intersect.torus.ray_torus_hits` or, with the centre on the axis, to
 :func:`~engine.intersect.quadric.ray_spheroid_hits`), and hits are then restricted to the
 segment's extent using the segment's own parameterisation. The inner wall of an elliptic arc
-(:class:`~engine.segments.OffsetEllipseArc`, a degree-8 surface) has no practical closed form;
+(:class:`~engine.geometry.segments.OffsetEllipseArc`, a degree-8 surface) has no practical closed form;
 :mod:`engine.intersect.offset_arc` brackets it numerically along the curve parameter. Normals are analytic and follow the
 segment's outward normal ``n = (T_z, -T_r)`` revolved to world space.
 """
@@ -15,7 +15,7 @@ import math
 
 import numpy as np
 
-from ..segments import Arc, EllipseArc, Line, OffsetEllipseArc
+from ..geometry.segments import Arc, EllipseArc, Line, OffsetEllipseArc
 from .offset_arc import offset_arc_bounds, offset_arc_parameter, ray_offset_arc_hits
 from .quadric import EXTENT_SLACK, ray_cone_hits, ray_spheroid_hits
 from .torus import ray_torus_hits

@@ -54,7 +54,7 @@ def render_command(project_path, out_path, width=None, height=None, spp=None, th
     Raises ``engine.errors.ProjectError`` for an unreadable project and ``ValueError`` for a bad
     output name; a failing render re-raises the worker's exception.
     """
-    from ..project import load_project
+    from ..files.project import load_project
 
     if os.path.splitext(os.fspath(out_path))[1].lower() not in IMAGE_SUFFIXES:
         raise ValueError(f"the output must end in .png, .exr or .tif, got {out_path!r}")

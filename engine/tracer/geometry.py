@@ -1,9 +1,9 @@
 """Render geometry built once from a Design's shape and liquid level, from the geometry engine.
 
 Design rule: the tracer owns no geometry of its own. The glass shell is
-:func:`engine.tessellate.tessellate_body` (all cross-sections, punts, per-segment walls), the
-liquid's free surface comes from :func:`engine.tessellate.tessellate_liquid`, and the exact
-surfaces are :class:`engine.body.BottleBody` / its :class:`engine.offset.BodyProfile`. The
+:func:`engine.geometry.tessellate.tessellate_body` (all cross-sections, punts, per-segment walls), the
+liquid's free surface comes from :func:`engine.geometry.tessellate.tessellate_liquid`, and the exact
+surfaces are :class:`engine.geometry.body.BottleBody` / its :class:`engine.geometry.offset.BodyProfile`. The
 mesh (coarse, float32 in Embree) only finds candidate hits; :mod:`engine.tracer.refine` moves
 each onto the true surface with its exact normal. The bottle becomes six oriented interface
 surfaces, each knowing the medium on either side (../shared/oracle/SPEC.md sections 4-5);
@@ -32,8 +32,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..body import BottleBody
-from ..tessellate import BODY_PARTS, tessellate_body, tessellate_liquid
+from ..geometry.body import BottleBody
+from ..geometry.tessellate import BODY_PARTS, tessellate_body, tessellate_liquid
 from . import refine as _refine
 from .embree_scene import EmbreeTriangles
 
@@ -128,7 +128,7 @@ def _free_surface(shape, body, fill, tol):
 
 
 def build_render_geometry(shape, fill_height: float | None, tol_mm: float = MESH_TOL_MM) -> RenderGeometry:
-    """Tessellate (``engine.tessellate``) and label the interfaces of ``shape`` with liquid up
+    """Tessellate (``engine.geometry.tessellate``) and label the interfaces of ``shape`` with liquid up
     to ``fill_height`` (mm).
 
     ``fill_height`` is clamped into ``(z_ib, z_top)``; ``None`` (or a level at or below the
@@ -167,13 +167,13 @@ _CACHE_SIZE = 4
 def fill_height_of(design) -> float | None:
     """The liquid level (mm) of a design, or ``None`` when it has no liquid.
 
-    ``fill_mode == "volume"`` is solved through :func:`engine.capacity.fill_height_for_volume`.
+    ``fill_mode == "volume"`` is solved through :func:`engine.geometry.capacity.fill_height_for_volume`.
     """
     liq = design.liquid
     if liq is None:
         return None
     if liq.fill_mode == "volume":
-        from ..capacity import fill_height_for_volume  # geometry issue's module; only when needed
+        from ..geometry.capacity import fill_height_for_volume  # geometry issue's module; only when needed
 
         return float(fill_height_for_volume(design.shape, liq.fill_value))
     return float(liq.fill_value)

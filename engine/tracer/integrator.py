@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..optics import beer_lambert, fresnel_dielectric, reflect, refract
+from .optics import beer_lambert, fresnel_dielectric, reflect, refract
 from .embree_scene import SURFACE_EPS_MM
 from .geometry import AIR, FREE_SURFACE, GLASS, LIQUID
 from .refine import NEIGHBOURS, refine_on

@@ -51,7 +51,7 @@ class RenderJob:
 
     Parameters
     ----------
-    design : engine.design.Design
+    design : engine.model.design.Design
         The frozen snapshot to render; never mutated.
     assets : mapping, optional
         Project assets (environment image bytes / paths / arrays by name).

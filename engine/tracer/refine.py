@@ -9,7 +9,7 @@ moved onto the exact surface along the ray:
   owns the hit height and its neighbours (a joint may put the true hit on either side); the
   root nearest the mesh hit wins;
 * other walls (rounded square / rectangle, oval): safeguarded Newton steps along the ray on
-  :meth:`engine.body.BottleBody.wall_implicit` from the mesh hit (steps clamped to the window);
+  :meth:`engine.geometry.body.BottleBody.wall_implicit` from the mesh hit (steps clamped to the window);
 * flat parts (flat bases, rim, free surface): planes, intersected exactly.
 
 A refined root further than the *window* from the mesh hit (or behind the ray's start, or a
@@ -23,8 +23,8 @@ import numpy as np
 
 from ..intersect import revolved_hits, revolved_normals
 from ..intersect.revolved import in_sweep
-from ..segments import Arc, EllipseArc
-from ..offset import locate
+from ..geometry.segments import Arc, EllipseArc
+from ..geometry.offset import locate
 
 OUTER_WALL, BOTTOM, INNER_WALL, INNER_BASE, RIM, FREE_SURFACE = range(6)
 #: Newton iterations on non-round walls (quadratic convergence from within the tolerance).

@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..camera import PinholeCamera
-from ..environment import EnvironmentMap, environment_from_design
+from .camera import PinholeCamera
+from .environment import EnvironmentMap, environment_from_design
 from .geometry import RenderGeometry, render_geometry_for
 from .integrator import Materials, TraceStats, trace
 

@@ -139,7 +139,7 @@ def _asset_texels(asset, assets) -> np.ndarray:
 
 
 def environment_from_design(environment, assets=None) -> EnvironmentMap:
-    """Build the :class:`EnvironmentMap` for an ``engine.design.Environment``.
+    """Build the :class:`EnvironmentMap` for an ``engine.model.design.Environment``.
 
     ``kind == "studio"`` gives the procedural studio; ``kind == "file"`` reads ``assets[asset]``
     (a file path, the file's bytes, or an ``(H, W, 3)`` array). ``scale`` multiplies radiance

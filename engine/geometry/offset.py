@@ -17,7 +17,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from .errors import SectionError, WallError
+from ..errors import SectionError, WallError
 from .segments import Arc, EllipseArc, Line, OffsetEllipseArc, Segment
 from .shape import BottleShape
 
@@ -302,7 +302,7 @@ class SectionProfile:
 class BodyProfile:
     """The derived curves of a whole bottle, for the tracer, tessellator and capacity code.
 
-    ``sections`` follow ``engine.shape.SECTION_NAMES[cross_section]`` order. ``z_ib`` is the
+    ``sections`` follow ``engine.geometry.shape.SECTION_NAMES[cross_section]`` order. ``z_ib`` is the
     lowest height of the cavity (mm): the inner base plane ``base_thickness`` for a flat base,
     the foot of the inner wall for a punt. ``z_top`` is the mouth (mm). ``punt`` says whether the
     base rises into the bottle (round bottles only). ``rotation_deg`` turns non-round bottles.
@@ -392,7 +392,7 @@ def build_body_profile(shape: BottleShape) -> BodyProfile:
 @lru_cache(maxsize=64)
 def body_profile(shape: BottleShape) -> BodyProfile:
     """The validated, cached :class:`BodyProfile` of ``shape``; raises ``SectionError`` /
-    ``WallError`` (from :func:`engine.validate.validate_shape`) when it cannot be built."""
+    ``WallError`` (from :func:`engine.geometry.validate.validate_shape`) when it cannot be built."""
     from .validate import validate_shape  # validate builds on this module's helpers
 
     validate_shape(shape)

@@ -1,6 +1,6 @@
 """Mesh export of the glass shell: binary STL, OBJ, binary PLY, glTF 2.0 (.gltf / .glb).
 
-Design rule: one tessellation (:func:`engine.tessellate.tessellate_body`) feeds every format and
+Design rule: one tessellation (:func:`engine.geometry.tessellate.tessellate_body`) feeds every format and
 the format follows the file suffix. Positions are welded (crease copies merged) so each file is a
 closed, consistently oriented surface; formats that carry normals keep the exact per-part normals
 (OBJ by separate normal indices; PLY and glTF by one vertex per part, same positions). STL, OBJ
@@ -18,7 +18,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .tessellate import Mesh, tessellate_body
+from ..geometry.tessellate import Mesh, tessellate_body
 
 FORMATS = (".stl", ".obj", ".ply", ".gltf", ".glb")
 

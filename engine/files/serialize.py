@@ -1,12 +1,12 @@
 """Design <-> plain JSON-ready dictionaries, with strict checking on the way in.
 
-Design rule: the dictionary form mirrors the frozen dataclasses of :mod:`engine.design`
+Design rule: the dictionary form mirrors the frozen dataclasses of :mod:`engine.model.design`
 field by field (names unchanged, tuples as lists, ``None`` as ``null``), so a new field in
 ``design.py`` is carried automatically. Reading trusts nothing: every value is checked for
 its declared type (numbers finite, booleans not taken for numbers, no missing or unknown
 keys) and every list for a sane length, and any problem raises
 :class:`engine.errors.ProjectError` with the JSON path of the offending value. The shape is
-special-cased because its sections are SPEC segment lists (see :mod:`engine.segments`).
+special-cased because its sections are SPEC segment lists (see :mod:`engine.geometry.segments`).
 Floats are written as Python floats; ``json`` writes them with ``repr``, which round-trips
 float64 exactly.
 
@@ -33,10 +33,10 @@ import types
 import typing
 from functools import lru_cache
 
-from .design import Design
-from .errors import ProjectError
-from .section import Section
-from .shape import SECTION_NAMES, BottleShape
+from ..model.design import Design
+from ..errors import ProjectError
+from ..geometry.section import Section
+from ..geometry.shape import SECTION_NAMES, BottleShape
 
 #: The format this glassbench writes (``project.json``'s ``format_version``).
 CURRENT_FORMAT = 1
@@ -129,7 +129,7 @@ def design_from_dict(data: object) -> Design:
     JSON path of the first problem (wrong type, missing/unknown key, NaN, absurd size).
 
     Geometry is only checked as far as the value types themselves check it; call
-    :func:`engine.validate.validate_shape` for the section rules.
+    :func:`engine.geometry.validate.validate_shape` for the section rules.
     """
     return _decode(data, Design, "design")
 

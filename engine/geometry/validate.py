@@ -8,7 +8,7 @@ What a valid section is (SPEC 4.1, extended by the punt):
 
 * ``segments[0]`` starts on the axis (r = 0). The **base part** runs from there to the
   **standing ring**, where the section first reaches z = 0: a joint, or the lowest point of an
-  arc / ellipse arc, which is then split there (:func:`engine.offset.split_at_ring`).
+  arc / ellipse arc, which is then split there (:func:`engine.geometry.offset.split_at_ring`).
   - *Flat base* (SPEC): the base part is one horizontal ``Line`` from ``(0, 0)`` to ``(r_base, 0)``.
   - *Punt* (round bottles only): the section starts at ``(0, h_punt)``, ``h_punt > 0``, leaving the
     axis horizontally (tangent within 1e-6 rad of +r); along the base part r rises strictly and z
@@ -27,7 +27,7 @@ import math
 import numpy as np
 
 from . import crosssection
-from .errors import SectionError, WallError
+from ..errors import SectionError, WallError
 from .offset import build_body_profile, is_flat_base, locate, radius_at, split_at_ring
 from .segments import Arc, EllipseArc, Line, POINT_TOL_MM
 

@@ -70,7 +70,7 @@ class PinholeCamera:
 
     @classmethod
     def from_design(cls, camera, width: int, height: int) -> "PinholeCamera":
-        """Build from an ``engine.design.Camera`` and an image size in pixels."""
+        """Build from an ``engine.model.design.Camera`` and an image size in pixels."""
         return cls(tuple(map(float, camera.eye)), tuple(map(float, camera.target)),
                    tuple(map(float, camera.up)), float(camera.fov_y_deg), int(width), int(height))
 

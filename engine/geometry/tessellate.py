@@ -4,7 +4,7 @@ Design rule: a body is a stack of *rings* (one closed loop of vertices per heigh
 base station on a punt) sharing one set of polar angles ``theta``, so neighbouring rings join by
 simple bands and parts share their edge rings position for position (edge rings are copied, not
 recomputed, so the welded mesh is closed exactly). Vertices lie on the exact surfaces and carry
-the exact unit normals of :class:`engine.body.BottleBody`; a crease vertex (base edge, rim edge)
+the exact unit normals of :class:`engine.geometry.body.BottleBody`; a crease vertex (base edge, rim edge)
 appears once per part with that part's normal, so :meth:`Mesh.welded` merges positions for
 topology checks and export.
 

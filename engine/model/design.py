@@ -2,7 +2,7 @@
 
 Design rule: every part is a frozen dataclass of plain numbers, strings and tuples, so a
 ``Design`` hashes, compares by value and can be handed to worker threads as a snapshot. Edits
-make a new value with ``dataclasses.replace``; :class:`engine.scene.Scene` holds the current
+make a new value with ``dataclasses.replace``; :class:`engine.model.scene.Scene` holds the current
 one and tells observers which top-level fields changed. Units: mm, 1/mm for absorption,
 degrees where a name ends in ``_deg``. Parts that later issues fill in (labels, bump tiles,
 cap) have their place here as tuples so that the file format already carries them.
@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
-from .shape import BottleShape
+from ..geometry.shape import BottleShape
 
 RGB = tuple[float, float, float]
 
@@ -28,7 +28,7 @@ class Glass:
 @dataclass(frozen=True)
 class Liquid:
     """A liquid filled to a level: ``fill_mode`` ``"height"`` (``fill_value`` in mm above z = 0)
-    or ``"volume"`` (``fill_value`` in ml, solved to a height by :mod:`engine.capacity`)."""
+    or ``"volume"`` (``fill_value`` in ml, solved to a height by :mod:`engine.geometry.capacity`)."""
 
     ior: float = 1.333
     absorption: RGB = (0.02, 0.006, 0.002)

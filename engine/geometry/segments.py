@@ -19,7 +19,7 @@ from typing import Union
 
 import numpy as np
 
-from .errors import SectionError
+from ..errors import SectionError
 
 TWO_PI = 2.0 * math.pi
 #: Tolerance (mm) for end points lying on their circle / ellipse, as in SPEC 4.1.

@@ -1,4 +1,4 @@
-"""DXF drawings of a bottle's half-section -> :class:`engine.section.Section`.
+"""DXF drawings of a bottle's half-section -> :class:`engine.geometry.section.Section`.
 
 Design rule: the drawing's x is the radius ``r`` and its y the height ``z`` (mm after the
 ``$INSUNITS`` scale). LINE, ARC, ELLIPSE (axis-aligned) and LWPOLYLINE (with bulges) are
@@ -9,16 +9,16 @@ counter-clockwise from its start to its end angle, so walked backwards it become
 arc. The drawing is shifted in z so that its lowest point (the axis end of a flat base, the
 standing ring of a punt) is at z = 0; the axis end gets r = 0 exactly; a drawing on the left
 of the axis (x <= 0) is mirrored. Text, dimensions and points are ignored; any other entity is
-an error. Whether the section is a valid bottle is :mod:`engine.validate`'s business.
+an error. Whether the section is a valid bottle is :mod:`engine.geometry.validate`'s business.
 """
 from __future__ import annotations
 
 import math
 import os
 
-from .errors import GlassbenchError
-from .section import Section
-from .segments import Arc, EllipseArc, Line
+from ..errors import GlassbenchError
+from ..geometry.section import Section
+from ..geometry.segments import Arc, EllipseArc, Line
 
 #: Ends closer than this (mm) are one joint; farther apart they are a gap.
 JOIN_TOL_MM = 1e-4

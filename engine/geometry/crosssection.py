@@ -1,7 +1,7 @@
 """Horizontal cross-sections: circle, rounded square, rounded rectangle and oval, vectorised.
 
 Design rule: a cross-section at one height is fully given by its *radii*, the values of the
-kind's named sections at that height (``engine.shape.SECTION_NAMES`` order, mm):
+kind's named sections at that height (``engine.geometry.shape.SECTION_NAMES`` order, mm):
 
 =================  ==========================================================================
 ``round``          ``(r,)``

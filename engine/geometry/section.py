@@ -4,7 +4,7 @@ Design rule: ``Section`` is an immutable value. ``segments[0]`` starts on the ax
 the chain runs outwards along the base, then up the wall to the mouth. ``smooth[i]`` says
 whether the designer asked for tangency (C1/G1) at the joint between segment ``i`` and
 ``i + 1``; by default every joint but the base corner (joint 0) is smooth, as in
-../shared/oracle/SPEC.md section 4.1. Validation lives in :mod:`engine.validate`.
+../shared/oracle/SPEC.md section 4.1. Validation lives in :mod:`engine.geometry.validate`.
 """
 from __future__ import annotations
 

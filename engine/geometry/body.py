@@ -1,6 +1,6 @@
 """The glass body's surfaces: point and exact unit normal at any surface parameter, vectorised.
 
-Design rule: :class:`BottleBody` wraps the validated :class:`engine.offset.BodyProfile` of a shape
+Design rule: :class:`BottleBody` wraps the validated :class:`engine.geometry.offset.BodyProfile` of a shape
 and evaluates five parts, each at a pair ``(theta, s)`` of broadcastable arrays:
 
 ===============  ==========================================================================
@@ -18,7 +18,7 @@ frame; points and normals come out in the world frame, turned by ``rotation_deg`
 
 Normals face **out of the glass**: away from the axis on the outer wall, into the cavity on the
 inner wall, down under the base, up on the inner base and on the rim. A wall's normal is the
-normalised gradient of ``g(x, y, z) = sd(x, y; radii(z))`` (:mod:`engine.crosssection`), with
+normalised gradient of ``g(x, y, z) = sd(x, y; radii(z))`` (:mod:`engine.geometry.crosssection`), with
 ``d radius / dz = T_r / T_z`` from each section's tangent; multiplying through by the product of
 the ``T_z`` keeps it finite where a section turns horizontal.
 """
@@ -157,7 +157,7 @@ class BottleBody:
     def wall_implicit(self, part: str, points):
         """Implicit function of the ``outer`` / ``inner`` wall at world points ``(..., 3)`` (mm).
 
-        Returns ``(g, grad)``: ``g = sd(x, y; radii(z))`` (mm, :func:`engine.crosssection.
+        Returns ``(g, grad)``: ``g = sd(x, y; radii(z))`` (mm, :func:`engine.geometry.crosssection.
         signed_distance` of the cross-section at the point's height) is negative inside the
         surface (inside the glass's outline for ``outer``, inside the cavity for ``inner``) and
         zero on it; ``grad (..., 3)`` is its world-frame gradient, with ``dg/dz = sum_k

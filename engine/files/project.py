@@ -9,9 +9,9 @@ kept as ``NAME.glassbench.bak``.
 ``project.json`` (format 1, current)::
 
     {"format_version": 1, "generator": "glassbench 0.1.0",
-     "design": {... engine.serialize.design_to_dict ...}}
+     "design": {... engine.files.serialize.design_to_dict ...}}
 
-Older formats (format 0, the prototype layout documented in :mod:`engine.serialize`) are
+Older formats (format 0, the prototype layout documented in :mod:`engine.files.serialize`) are
 migrated step by step to the current one before the design is read.
 """
 from __future__ import annotations
@@ -29,8 +29,8 @@ import zlib
 from dataclasses import dataclass
 from typing import Mapping
 
-from .design import Design
-from .errors import GlassbenchError, ProjectError
+from ..model.design import Design
+from ..errors import GlassbenchError, ProjectError
 from .serialize import design_from_document, document_from_design
 
 SUFFIX = ".glassbench"
@@ -158,7 +158,7 @@ def load_project(path: str | os.PathLike, limits: Limits = DEFAULT_LIMITS
                  ) -> tuple[Design, dict[str, bytes]]:
     """Read a project: returns ``(design, assets)``; raises ``ProjectError`` for any problem.
 
-    The design's geometry is validated (:func:`engine.validate.validate_shape`) and an
+    The design's geometry is validated (:func:`engine.geometry.validate.validate_shape`) and an
     environment or label naming a missing asset is rejected.
     """
     path = os.fspath(path)
@@ -369,9 +369,9 @@ def check_design(design: Design, assets: Mapping[str, bytes]) -> None:
 
 
 def validate_design_shape(design: Design) -> None:
-    """Run :func:`engine.validate.validate_shape` (when available), wrapping its errors."""
+    """Run :func:`engine.geometry.validate.validate_shape` (when available), wrapping its errors."""
     try:
-        from . import validate
+        from ..geometry import validate
     except ImportError:  # why: validation is written in parallel; load what we can until then
         return
     fn = getattr(validate, "validate_shape", None)

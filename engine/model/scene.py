@@ -1,4 +1,4 @@
-"""The scene model: an observable holder of the current :class:`engine.design.Design`.
+"""The scene model: an observable holder of the current :class:`engine.model.design.Design`.
 
 Design rule: the design itself is a frozen value; ``Scene`` only swaps whole values and tells
 its observers which top-level ``Design`` fields changed (compared by value, so re-setting an

@@ -18,7 +18,7 @@ from .model.design import Camera, Design, RenderSettings
 from .errors import GlassbenchError, ProjectError
 from .geometry.shape import BottleShape
 
-SUBCOMMANDS = ("info", "export-mesh", "new", "render")
+SUBCOMMANDS = ("info", "export-mesh", "new", "render", "batch", "turntable")
 EXIT_ERROR = 2
 
 
@@ -49,6 +49,7 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--width", type=int, default=None)
     render.add_argument("--height", type=int, default=None)
     render.add_argument("--spp", type=int, default=None)
+    add_batch_parsers(sub)
     return p
 
 
@@ -56,7 +57,7 @@ def main(argv: list[str] | None = None) -> int:
     """Run one subcommand; returns the exit status (0 ok, 2 error; argparse exits 2 itself)."""
     args = build_parser().parse_args(argv)
     handler = {"info": cmd_info, "export-mesh": cmd_export_mesh, "new": cmd_new,
-               "render": cmd_render}[args.command]
+               "render": cmd_render, "batch": cmd_batch, "turntable": cmd_turntable}[args.command]
     try:
         return handler(args)
     except KeyboardInterrupt:
@@ -232,3 +233,25 @@ def render_via_tracer(cli_render, project, output, width, height, spp) -> int:
         print(f"wrote {output}")
         return 0
     return int(status)
+
+
+# ------------------------------------------------------------------- batch, turntable
+# The batch machinery lives in engine.batch (job files, Dask, manifest, contact sheet);
+# these three functions only hand over to it.
+
+def add_batch_parsers(sub) -> None:
+    """Add ``batch`` and ``turntable`` (see :mod:`engine.batch.commands`)."""
+    from .batch.commands import add_parsers
+    add_parsers(sub)
+
+
+def cmd_batch(args) -> int:
+    """``batch JOB.toml|JOB.json``: variants x views on a LocalCluster or ``--scheduler``."""
+    from .batch.commands import cmd_batch as run
+    return run(args)
+
+
+def cmd_turntable(args) -> int:
+    """``turntable PROJECT --frames N -o DIR``: DIR/frame_0000.EXT ... about the bottle's axis."""
+    from .batch.commands import cmd_turntable as run
+    return run(args)

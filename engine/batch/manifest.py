@@ -1,0 +1,82 @@
+"""The batch manifest: which frames are done, keyed by a content hash of their inputs.
+
+Design rule: a frame is skipped on a re-run only if the manifest holds the same input hash for
+its file and the file on disk still has the recorded SHA-256, so a changed override, project,
+asset, size or format renders again, and a damaged or deleted image is made anew. The input
+hash covers everything a pixel depends on: the frame's design as the project file stores it
+(camera and render settings included), the SHA-256 of every asset, the format, alpha, and the
+renderer version. ``manifest.json`` in the output folder is rewritten atomically after every
+finished frame, so an interrupted batch keeps all it finished.
+"""
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+
+from .images import write_bytes_atomic
+
+MANIFEST_NAME = "manifest.json"
+MANIFEST_VERSION = 1
+#: Part of every input hash: bump it when the tracer changes what a pixel becomes.
+RENDERER = "glassbench 0.1.0 tracer"
+
+
+def frame_hash(design, assets, fmt: str, alpha: bool) -> str:
+    """SHA-256 (hex) of one frame's inputs: design, asset contents, format, alpha, renderer."""
+    from ..files.serialize import design_to_dict
+    doc = {"renderer": RENDERER, "format": fmt, "alpha": bool(alpha),
+           "design": design_to_dict(design),
+           "assets": {name: hashlib.sha256(bytes(data)).hexdigest() for name, data in sorted(assets.items())}}
+    text = json.dumps(doc, sort_keys=True, separators=(",", ":"), allow_nan=False)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()
+
+
+def file_sha256(path: str) -> str | None:
+    """SHA-256 (hex) of a file's bytes, ``None`` if it cannot be read."""
+    h = hashlib.sha256()
+    try:
+        with open(path, "rb") as fh:
+            for chunk in iter(lambda: fh.read(1 << 20), b""):
+                h.update(chunk)
+    except OSError:
+        return None
+    return h.hexdigest()
+
+
+class Manifest:
+    """``OUTPUT/manifest.json``: ``{"version": 1, "frames": {relpath: {"inputs", "sha256", ...}}}``.
+
+    An unreadable or foreign manifest is treated as empty (everything renders again) and is
+    replaced on the first finished frame; it is never a reason to stop.
+    """
+
+    def __init__(self, folder: str):
+        self.folder = folder
+        self.path = os.path.join(folder, MANIFEST_NAME)
+        self.frames: dict = {}
+        try:
+            with open(self.path, encoding="utf-8") as fh:
+                doc = json.load(fh)
+            if (isinstance(doc, dict) and doc.get("version") == MANIFEST_VERSION
+                    and isinstance(doc.get("frames"), dict)):
+                self.frames = {k: v for k, v in doc["frames"].items() if isinstance(v, dict)}
+        except (OSError, ValueError):
+            self.frames = {}
+
+    def is_done(self, relpath: str, inputs: str) -> bool:
+        """Whether ``relpath`` was made from ``inputs`` and is still on disk unchanged."""
+        entry = self.frames.get(relpath)
+        if not entry or entry.get("inputs") != inputs:
+            return False
+        return file_sha256(os.path.join(self.folder, relpath)) == entry.get("sha256")
+
+    def record(self, relpath: str, inputs: str, **info) -> None:
+        """Note a finished frame (its file must already be in place) and save the manifest."""
+        sha = file_sha256(os.path.join(self.folder, relpath))
+        self.frames[relpath] = {"inputs": inputs, "sha256": sha, **info}
+        self.save()
+
+    def save(self) -> None:
+        doc = {"version": MANIFEST_VERSION, "frames": dict(sorted(self.frames.items()))}
+        write_bytes_atomic(self.path, json.dumps(doc, indent=1).encode("utf-8"))

@@ -74,6 +74,7 @@ class MainWindow(QMainWindow):
         self.render_controller.failed.connect(self._on_render_failed)
         self.render_controller.finished.connect(self._on_render_finished)
 
+        self.final_render = None  # the Render -> Final image dialog, made when first asked for
         self.wireframe = None
         if wireframe:
             from app.wireframe_controller import WireframeController
@@ -141,6 +142,20 @@ class MainWindow(QMainWindow):
             view.addAction(act)
         for dock in self.findChildren(QDockWidget):
             view.addAction(dock.toggleViewAction())
+        render = self.menuBar().addMenu("&Render")
+        self.final_image_action = QAction("&Final image\u2026", self)
+        self.final_image_action.setShortcut(QKeySequence("Ctrl+Shift+R"))
+        self.final_image_action.triggered.connect(self.show_final_render)
+        render.addAction(self.final_image_action)
+
+    def show_final_render(self):
+        """Open (or raise) the Final image dialog; returns it."""
+        if self.final_render is None:
+            from app.final_render import FinalRenderDialog
+            self.final_render = FinalRenderDialog(self)
+        self.final_render.show()
+        self.final_render.raise_()
+        return self.final_render
 
     # ------------------------------------------------------------------ notifications
     def on_scene_changed(self, changed, scene=None):
@@ -229,6 +244,8 @@ class MainWindow(QMainWindow):
     def shutdown(self):
         """Stop workers, timers and observers; safe to call twice."""
         self.files.shutdown()
+        if self.final_render is not None:
+            self.final_render.shutdown()
         self.derived_controller.shutdown()
         self.render_controller.shutdown()
         if self.wireframe is not None:

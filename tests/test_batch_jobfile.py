@@ -63,7 +63,9 @@ def line_of(text, needle):
 def test_a_job_file_plans_variants_times_views_with_overrides_applied(tmp_path):
     job = read_job(write(tmp_path, JOB))
     base, _ = load_project(BORDEAUX)
-    assert job.output == str(tmp_path / "out")
+    assert job.output == str(tmp_path / "out"), "the file's output is relative to the file"
+    assert read_job(tmp_path / "job.toml", "elsewhere").output == os.path.abspath("elsewhere"), \
+        "-o is relative to the current folder"
     assert [v.name for v in job.variants] == ["amber", "flint-empty"]
     assert [v.name for v in job.views] == ["frame_0000", "frame_0001", "frame_0002", "frame_0003", "high"]
     amber, flint = job.variants

@@ -99,6 +99,8 @@ class BatchJob:
 def read_job(path: str | os.PathLike, output: str | None = None) -> BatchJob:
     """Read and check a job file; ``output`` (a folder) replaces the file's ``output``.
 
+    The file's ``output`` is relative to the job file's folder, ``output`` to the current one.
+
     Raises :class:`JobError` ``FILE:LINE: message`` for the first problem found.
     """
     tree = read_source(path)
@@ -109,7 +111,7 @@ def read_job(path: str | os.PathLike, output: str | None = None) -> BatchJob:
         if key not in TOP_KEYS:
             raise tree.error((key,), f"unknown setting {key!r} (known: {', '.join(TOP_KEYS)})")
     base = os.path.dirname(os.path.abspath(os.fspath(path)))
-    out = output or data.get("output")
+    out = os.path.abspath(output) if output else data.get("output")  # -o is relative to the cwd
     if not isinstance(out, str) or not out:
         raise tree.error(("output",), "name the output folder (output = \"folder\", "
                                       "or -o on the command line)")

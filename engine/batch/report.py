@@ -50,7 +50,9 @@ def contact_sheet(job, frames, path: str, title: str = "") -> None:
         row = order[frame.variant.name] * rows_per_variant + k // cols
         x, y = pad + (k % cols) * cell_w, head + pad + row * cell_h
         thumb = Image.fromarray(display_rgb8(os.path.join(job.output, frame.relpath)))
-        sheet.paste(thumb.resize((tw, th), Image.LANCZOS), (x, y))
+        fit = min(tw / thumb.width, th / thumb.height)  # frames of other sizes keep their shape
+        w, h = max(1, round(thumb.width * fit)), max(1, round(thumb.height * fit))
+        sheet.paste(thumb.resize((w, h), Image.LANCZOS), (x + (tw - w) // 2, y + (th - h) // 2))
         draw.text((x, y + th + 3), _fit(frame.variant.name, tw, font), fill=(235, 235, 235), font=font)
         draw.text((x, y + th + 16), _fit(frame.view.name, tw, font), fill=(160, 160, 165), font=font)
     buf = io.BytesIO()

@@ -63,7 +63,7 @@ class FinalRenderDialog(QDialog):
         r = window.scene.design.render
         self.width_px = _spin(1, 16384, r.width, " px")
         self.height_px = _spin(1, 16384, r.height, " px")
-        self.samples = _spin(1, 65536, max(r.spp, 64), " spp")
+        self.samples = _spin(1, 65536, r.spp, " spp")
         self.format = QComboBox()
         for text, _ in FORMATS:
             self.format.addItem(text)

@@ -184,7 +184,7 @@ def main(argv=None) -> int:
               f"{1e3 * r['per_task_s']:.1f} ms per task")
     for r in ov["frame"]:
         print(f"  {r['size']:>7} frame render: here {r['local_s']:.3f} s, as a task {r['dask_s']:.3f} s "
-              f"(difference {1e3 * r['overhead_s']:+.0f} ms, within the noise of a shared machine)")
+              f"(difference {1e3 * r['overhead_s']:+.0f} ms; best of 3 on a shared machine)")
     task_overhead = ov["sleep"][0]["overhead_s"]
 
     ds = data_sizes(review)

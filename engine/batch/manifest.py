@@ -22,12 +22,17 @@ MANIFEST_VERSION = 1
 RENDERER = "glassbench 0.1.0 tracer"
 
 
-def frame_hash(design, assets, fmt: str, alpha: bool) -> str:
-    """SHA-256 (hex) of one frame's inputs: design, asset contents, format, alpha, renderer."""
+def asset_digests(assets) -> dict:
+    """SHA-256 (hex) of each asset's bytes, by name (computed once per variant, not per frame)."""
+    return {name: hashlib.sha256(bytes(data)).hexdigest() for name, data in sorted(assets.items())}
+
+
+def frame_hash(design, digests: dict, fmt: str, alpha: bool) -> str:
+    """SHA-256 (hex) of one frame's inputs: design, asset digests (:func:`asset_digests`),
+    format, alpha and renderer."""
     from ..files.serialize import design_to_dict
     doc = {"renderer": RENDERER, "format": fmt, "alpha": bool(alpha),
-           "design": design_to_dict(design),
-           "assets": {name: hashlib.sha256(bytes(data)).hexdigest() for name, data in sorted(assets.items())}}
+           "design": design_to_dict(design), "assets": digests}
     text = json.dumps(doc, sort_keys=True, separators=(",", ":"), allow_nan=False)
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 from .execute import open_client, run_frames
 from .images import write_image
-from .manifest import Manifest, frame_hash
+from .manifest import Manifest, asset_digests, frame_hash
 from .progress import BatchProgress
 from .report import CONTACT_SHEET, contact_sheet, write_summary
 from .source import JobError
@@ -64,10 +64,12 @@ def run_batch(job, *, client=None, scheduler: str | None = None, workers: int | 
     os.makedirs(job.output, exist_ok=True)
     frames = job.frames()
     targets = {f.relpath: inside(job.output, f.relpath) for f in frames}
-    inputs = {f.relpath: frame_hash(f.design, f.variant.assets, job.format, job.alpha) for f in frames}
+    digests = {id(v): asset_digests(v.assets) for v in job.variants}
+    inputs = {f.relpath: frame_hash(f.design, digests[id(f.variant)], job.format, job.alpha) for f in frames}
     manifest = Manifest(job.output)
     todo = [f for f in frames if not manifest.is_done(f.relpath, inputs[f.relpath])]
-    report = BatchReport(job.output, skipped=[f.relpath for f in frames if f not in todo])
+    waiting = {f.relpath for f in todo}
+    report = BatchReport(job.output, skipped=[f.relpath for f in frames if f.relpath not in waiting])
     for f in todo:
         os.makedirs(os.path.dirname(targets[f.relpath]), exist_ok=True)
         inside(job.output, f.relpath)  # again: a folder made just now must not be a link out

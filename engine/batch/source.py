@@ -97,7 +97,7 @@ def parse_json(path: str, text: str) -> SourceTree:
             return scan_once(s, idx)
         values, end = json.decoder.JSONArray(s_and_end, tracking, *rest)
         out = _LinedList(values)
-        out.item_lines = {i: line(at) for i, at in enumerate(starts)}
+        out.item_lines.update({i: line(at) for i, at in enumerate(starts)})
         return out, end
 
     def no_constants(name):
@@ -125,7 +125,9 @@ class _Lined(dict):
 
 
 class _LinedList(list):
-    item_lines: dict = {}
+    def __init__(self, values):
+        super().__init__(values)
+        self.item_lines = {}
 
 
 def _plain(value, key_path, lines):

@@ -87,7 +87,8 @@ def overhead(durations, frame_sizes, result_sides) -> dict:
         for side in result_sides:
             n = 5
             t0 = time.perf_counter()
-            client.gather([client.submit(np.zeros, (side, side, 3), np.float32, pure=False) for _ in range(n)])
+            client.gather([client.submit(np.zeros, (side, side, 3), np.float32, pure=False)
+                           for _ in range(n)])
             per_task = (time.perf_counter() - t0) / n
             mb = side * side * 12 / 1e6
             out["result"].append({"side": side, "megabytes": mb, "per_task_s": per_task,
@@ -118,7 +119,8 @@ def data_sizes(review) -> dict:
     design, assets = load_project(PROJECT)
     w, h, _ = review
     return {"payload_bytes": len(pickle.dumps((design, assets))),
-            "task_bytes": len(pickle.dumps((design.camera, design.render, False, 1, "topic", "v/frame_0000.png"))),
+            "task_bytes": len(pickle.dumps((design.camera, design.render, False, 1, "topic",
+                                            "v/frame_0000.png"))),
             "result_bytes": len(pickle.dumps(np.zeros((h, w, 3), np.float32)))}
 
 
@@ -195,10 +197,12 @@ def main(argv=None) -> int:
     print(f"projection: {REVIEW_FRAMES} frames x {REVIEW_VARIANTS} variants at {review[0]}x{review[1]} px, "
           f"{review[2]} spp; measured frame {frame_s:.2f} s (1 thread), 2-worker efficiency "
           f"{efficiency:.2f}, task overhead {1e3 * task_overhead:.1f} ms, payload {ds['payload_bytes']} B, "
-          f"task {ds['task_bytes']} B, result {ds['result_bytes']} B; network {a.bandwidth_mb_s:g} MB/s (assumed)")
+          f"task {ds['task_bytes']} B, result {ds['result_bytes']} B; "
+          f"network {a.bandwidth_mb_s:g} MB/s (assumed)")
     for r in pr:
         print(f"  {r['machines']:>2} machine(s), {r['workers']:>3} workers: {r['total_s'] / 60:8.1f} min "
-              f"({r['rounds']} rounds, {r['bound']}-bound; results {r['result_transfer_s']:.1f} s on the wire)")
+              f"({r['rounds']} rounds, {r['bound']}-bound; "
+              f"results {r['result_transfer_s']:.1f} s on the wire)")
 
     with open(os.path.join(OUT, "batch.csv"), "w", newline="") as fh:
         w = csv.writer(fh)

@@ -118,6 +118,10 @@ class KillBusyWorker(BatchProgress):
 
     def __init__(self, cluster):
         self.cluster, self.killed = cluster, None
+        self.events = []
+
+    def frame_progress(self, relpath, fraction, tiles):
+        self.events.append((relpath, fraction, tiles))
 
     def frame_done(self, relpath, seconds, worker):
         if self.killed is not None:
@@ -140,6 +144,8 @@ def test_a_worker_killed_mid_batch_costs_only_its_frames(cluster, tmp_path):
         if killer.killed is not None:
             cluster.replace(killer.killed[0])  # whole again for whatever runs next
     assert sorted(report.rendered) == [f"frame_{k:04d}.exr" for k in range(4)]
+    assert killer.events and all(0.0 <= f <= 1.0 and t >= 0 for _, f, t in killer.events), \
+        "tile progress came from the workers as Dask events"
     entries = Manifest(job.output).frames
     assert sum(e["worker"] != address for e in entries.values()) >= 3
     _, assets = load_project(BORDEAUX)

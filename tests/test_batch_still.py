@@ -1,11 +1,12 @@
-"""The final image engine behind the dialog: bad requests refused up front, a failed write
-reported and leaving nothing behind, and the time-left estimate."""
+"""The final image engine behind the dialog (bad requests refused up front, a failed write
+reported and leaving nothing behind, the time-left estimate) and the terminal progress bar."""
 from __future__ import annotations
 
 import os
 
 import pytest
 
+from engine.batch.progress import TerminalProgress
 from engine.batch.still import FinalRender, time_left_s
 from engine.files.project import load_project
 
@@ -40,3 +41,22 @@ def test_time_left_extrapolates_once_there_is_something_to_go_on():
     assert time_left_s(10.0, 0.01) is None
     assert time_left_s(10.0, 0.25) == pytest.approx(30.0)
     assert time_left_s(3.0, 1.0) == 0.0
+
+
+def test_the_terminal_bar_counts_frames_and_tiles_and_ignores_late_events():
+    import io
+
+    from rich.console import Console
+    buf = io.StringIO()
+    bar = TerminalProgress(console=Console(file=buf, width=120, force_terminal=False))
+    bar.start(total=2, skipped=3)
+    bar.frame_progress("a.png", 0.5, 4)
+    bar.frame_done("a.png", 1.0, "w")
+    bar.frame_progress("a.png", 0.2, 9)  # late event of a finished frame
+    bar.frame_progress("b.png", 0.5, 3)
+    assert bar.bar.tasks[0].completed == pytest.approx(1.5)
+    bar.frame_done("b.png", 1.0, "w")
+    bar.finish()
+    text = buf.getvalue()
+    assert "3 frame(s) already done" in text
+    assert "2/2 frames" in text and "7 tiles" in text

@@ -22,7 +22,8 @@ def add_parsers(sub) -> None:
     _add_cluster_options(batch)
     turn = sub.add_parser("turntable", help="render N frames orbiting the bottle's axis")
     turn.add_argument("project")
-    turn.add_argument("--frames", type=int, required=True, help="frames per turn (frame k at 360 k / N degrees)")
+    turn.add_argument("--frames", type=int, required=True,
+                      help="frames per turn (frame k at 360 k / N degrees)")
     turn.add_argument("-o", "--output", required=True, metavar="DIR", help="writes DIR/frame_0000.EXT ...")
     turn.add_argument("--width", type=int, default=None)
     turn.add_argument("--height", type=int, default=None)

@@ -34,10 +34,10 @@ import re
 from dataclasses import dataclass, field
 
 from ..errors import GlassbenchError
-from ..model.design import Camera, Design
+from ..model.design import Design
 from . import overrides as ov
 from .source import JobError, SourceTree, read_source
-from .views import View, turntable_views
+from .views import View, job_views, turntable_views
 
 FORMATS = ("png", "exr", "tif")
 #: Names that become file and folder names: no separators, no leading dot, at most 64 chars.
@@ -122,7 +122,8 @@ def read_job(path: str | os.PathLike, output: str | None = None) -> BatchJob:
     alpha = data.get("alpha", False)
     if not isinstance(alpha, bool):
         raise tree.error(("alpha",), f"alpha must be true or false, got {alpha!r}")
-    views = _views(tree, data, sizes["turntable"])
+    views = job_views(tree, data, sizes["turntable"],
+                      lambda where, name: _check_name(tree, where, name, "camera"))
     variants = _variants(tree, data, base)
     return BatchJob(os.path.abspath(os.path.join(base, out)), variants, views, sizes["width"],
                     sizes["height"], sizes["spp"], fmt, alpha)
@@ -135,23 +136,6 @@ def _whole(tree, data, key):
     if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= LIMITS[key]:
         raise tree.error((key,), f"{key} must be a whole number in 1..{LIMITS[key]}, got {v!r}")
     return v
-
-
-def _views(tree: SourceTree, data: dict, turntable: int | None) -> tuple:
-    views = list(turntable_views(turntable)) if turntable else []
-    cams = data.get("cameras", {})
-    if not isinstance(cams, dict):
-        raise tree.error(("cameras",), "cameras must be a table of named cameras")
-    for name, table in cams.items():
-        where = ("cameras", name)
-        _check_name(tree, where, name, "camera")
-        if any(v.name == name for v in views):
-            raise tree.error(where, f"camera name {name!r} is also a turntable frame's name")
-        if not isinstance(table, dict) or not {"eye", "target"} <= set(table):
-            raise tree.error(where, f"camera {name!r} needs eye and target ([x, y, z] in mm)")
-        cam = ov.camera_from_table(table, Camera(), lambda m, w=where: tree.error(w, f"camera {name!r}: {m}"))
-        views.append(View(name, camera=cam))
-    return tuple(views) or (View("view"),)
 
 
 def _variants(tree: SourceTree, data: dict, base: str) -> tuple:

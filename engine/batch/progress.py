@@ -31,8 +31,9 @@ class BatchProgress:
 class TerminalProgress(BatchProgress):
     """A ``rich`` progress bar on stderr: frames, tiles, elapsed and remaining time."""
 
-    def __init__(self, description: str = "rendering"):
+    def __init__(self, description: str = "rendering", console=None):
         self.description = description
+        self.console = console  # a rich Console (default: one on stderr)
         self.lock = threading.Lock()
         self.partial: dict = {}
         self.tiles: dict = {}
@@ -44,7 +45,7 @@ class TerminalProgress(BatchProgress):
         from rich.console import Console
         from rich.progress import (BarColumn, Progress, TextColumn, TimeElapsedColumn,
                                    TimeRemainingColumn)
-        console = Console(stderr=True)
+        console = self.console or Console(stderr=True)
         if skipped:
             console.print(f"{skipped} frame(s) already done (manifest): skipped")
         self.total = total

@@ -38,8 +38,8 @@ def contact_sheet(job, frames, path: str, title: str = "") -> None:
     font = ImageFont.load_default(size=12)
     pad, caption, head = 8, 32, 28 if title else 0
     cell_w, cell_h = tw + pad, th + caption
-    sheet = Image.new("RGB", (pad + cols * cell_w, head + pad + len(job.variants) * rows_per_variant * cell_h),
-                      (32, 32, 34))
+    rows = len(job.variants) * rows_per_variant
+    sheet = Image.new("RGB", (pad + cols * cell_w, head + pad + rows * cell_h), (32, 32, 34))
     draw = ImageDraw.Draw(sheet)
     if title:
         draw.text((pad, 8), title, fill=(235, 235, 235), font=font)

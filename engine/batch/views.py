@@ -2,6 +2,8 @@
 
 Design rule: a view is a value that turns a variant's own camera into the camera of one frame,
 so variants and views combine freely (a variant's camera override moves the whole turntable).
+A named camera (``[cameras.NAME]`` in a job file, eye and target required, ``up`` +z and
+``fov_y_deg`` 30 by default) replaces the variant's camera.
 A turntable frame ``k`` of ``n`` orbits eye, target and up by ``360 k / n`` degrees about the
 world z axis (the bottle's axis); the environment is not turned, so even a round bottle shows
 its reflections move. Frame 0 is the variant's camera exactly. Units: mm and degrees.
@@ -56,3 +58,27 @@ def turntable_views(frames: int, prefix: str = "frame_") -> tuple[View, ...]:
     if not isinstance(frames, int) or isinstance(frames, bool) or frames < 1:
         raise ValueError(f"a turntable needs a whole number of frames >= 1, got {frames!r}")
     return tuple(View(f"{prefix}{k:04d}", angle_deg=360.0 * k / frames) for k in range(frames))
+
+
+def job_views(tree, data: dict, turntable: int | None, check_name) -> tuple[View, ...]:
+    """The views of a job file: ``turntable`` frames, then its ``[cameras.NAME]`` tables.
+
+    ``check_name(key_path, name)`` refuses names that cannot be file names; a job with no
+    views has one, ``view``, the variant's own camera. Raises the file's ``JobError``.
+    """
+    from .overrides import camera_from_table
+    views = list(turntable_views(turntable)) if turntable else []
+    cams = data.get("cameras", {})
+    if not isinstance(cams, dict):
+        raise tree.error(("cameras",), "cameras must be a table of named cameras")
+    for name, table in cams.items():
+        where = ("cameras", name)
+        check_name(where, name)
+        if any(v.name == name for v in views):
+            raise tree.error(where, f"camera name {name!r} is also a turntable frame's name")
+        if not isinstance(table, dict) or not {"eye", "target"} <= set(table):
+            raise tree.error(where, f"camera {name!r} needs eye and target ([x, y, z] in mm)")
+        cam = camera_from_table(table, Camera(),
+                                lambda m, w=where, n=name: tree.error(w, f"camera {n!r}: {m}"))
+        views.append(View(name, camera=cam))
+    return tuple(views) or (View("view"),)

@@ -12,26 +12,22 @@ from __future__ import annotations
 
 import contextlib
 import os
-import tempfile
+import uuid
 
 import numpy as np
-
-from ..files.project import _file_mode  # the project saver's rule: old file's bits, else umask's
-
 
 
 @contextlib.contextmanager
 def atomic_path(path: str):
     """Yield a temporary path beside ``path`` with its suffix; rename it to ``path`` on success."""
     folder = os.path.dirname(os.path.abspath(path)) or "."
-    suffix = os.path.splitext(path)[1]
-    fd, tmp = tempfile.mkstemp(prefix=".partial-", suffix=suffix, dir=folder)
-    os.close(fd)
+    tmp = os.path.join(folder, f".partial-{uuid.uuid4().hex}{os.path.splitext(path)[1]}")
+    # Created here, exclusively, with the umask's permissions; writers then fill it by name.
+    os.close(os.open(tmp, os.O_CREAT | os.O_EXCL | os.O_WRONLY, 0o666))
     try:
         yield tmp
         with open(tmp, "rb") as fh:
             os.fsync(fh.fileno())
-        os.chmod(tmp, _file_mode(path))
         os.replace(tmp, path)
     finally:
         if os.path.exists(tmp):

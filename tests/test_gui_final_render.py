@@ -113,3 +113,16 @@ def test_time_left_reads_as_minutes_and_seconds():
     assert format_seconds(None) == "estimating\u2026"
     assert format_seconds(12.4) == "12 s"
     assert format_seconds(65) == "1 min 05 s"
+
+
+def test_shutting_the_window_mid_render_stops_it_and_writes_nothing(window, qtbot, tmp_path):
+    w = window
+    out = tmp_path / "out"
+    out.mkdir()
+    d = open_dialog(w, qtbot, out / "big.png", width=320, height=400, spp=256)
+    qtbot.mouseClick(d.render_button, Qt.LeftButton)
+    qtbot.waitUntil(lambda: d.progress.value() > 0, timeout=60_000)
+    render = d.current
+    w.shutdown()
+    assert render.done and render.state == "cancelled"
+    assert not d.isVisible() and os.listdir(out) == []

@@ -29,7 +29,8 @@ import math
 import numpy as np
 
 from . import crosssection
-from .offset import BodyProfile, body_profile, locate
+from .offset import BodyProfile, locate
+from .validate import body_profile
 
 PARTS = ("outer", "inner", "base_outer", "base_inner", "rim")
 

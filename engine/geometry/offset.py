@@ -6,14 +6,14 @@ the **wall part** (ring -> mouth). The inner wall is the wall part offset inward
 (r, z) plane (SPEC 4.2: ``P(t) - w n(t)``) and clipped where it meets the inner base; the inner
 base is the base part offset by ``base_thickness`` (flat base: exactly the plane
 ``z = base_thickness`` of the SPEC; punt: a raised dome). :class:`BodyProfile` gathers these
-curves per named section for the tracer, tessellator and capacity code; :func:`body_profile`
-validates the shape first and caches the result per shape (shapes are hashable values).
+curves per named section for the tracer, tessellator and capacity code. This module knows
+nothing of validation: :func:`engine.geometry.validate.body_profile` validates a shape first and
+caches its profile per shape (shapes are hashable values).
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
@@ -162,7 +162,10 @@ def _offset(seg: Segment, w: float, index: int) -> Segment:
 
 def _crossing(a: Segment, b: Segment):
     """Parameters ``(ta, tb)`` where ``a`` and ``b`` cross (the crossing nearest their joint),
-    or ``None``: chords of 128 pieces each, then Newton on ``a(ta) = b(tb)``."""
+    or ``None``: exact for two lines; otherwise chords of 128 pieces each, then Newton on
+    ``a(ta) = b(tb)``."""
+    if isinstance(a, Line) and isinstance(b, Line):
+        return _line_crossing(a, b)
     t = np.linspace(0.0, 1.0, 129)
     pa, pb = a.point(t), b.point(t)
     da, db = np.diff(pa, axis=0)[:, None, :], np.diff(pb, axis=0)[None, :, :]
@@ -187,6 +190,21 @@ def _crossing(a: Segment, b: Segment):
             break
         ta = min(max(ta - (jb[0] * f[1] - f[0] * jb[1]) / det, 0.0), 1.0)
         tb = min(max(tb - (ja[0] * f[1] - ja[1] * f[0]) / det, 0.0), 1.0)
+    return ta, tb
+
+
+def _line_crossing(a: Line, b: Line):
+    """Parameters ``(ta, tb)`` where two lines cross inside both, or ``None`` (parallel, apart)."""
+    (ar, az), (br, bz) = a.p0, b.p0
+    dar, daz = a.p1[0] - ar, a.p1[1] - az
+    dbr, dbz = b.p1[0] - br, b.p1[1] - bz
+    den = dar * dbz - daz * dbr
+    if den == 0.0:
+        return None
+    cr, cz = br - ar, bz - az
+    ta, tb = (cr * dbz - cz * dbr) / den, (cr * daz - cz * dar) / den
+    if not (0.0 <= ta <= 1.0 and 0.0 <= tb <= 1.0):
+        return None
     return ta, tb
 
 
@@ -360,7 +378,8 @@ def _punt_junction(inner_base, inner_wall_full, name):
 
 
 def build_body_profile(shape: BottleShape) -> BodyProfile:
-    """The :class:`BodyProfile` of ``shape``, not validated first (see :func:`body_profile`);
+    """The :class:`BodyProfile` of ``shape``, not validated first (see
+    :func:`engine.geometry.validate.body_profile`);
     raises ``WallError`` / ``SectionError`` on what it cannot build."""
     bt = shape.base_thickness
     flat = all(is_flat_base(sec) for _, sec in shape.sections)
@@ -387,13 +406,3 @@ def build_body_profile(shape: BottleShape) -> BodyProfile:
         profiles.append(SectionProfile(name, tuple(base), tuple(wall), tuple(inner_base), tuple(inner_wall)))
     return BodyProfile(shape.cross_section, tuple(profiles), float(z_ib), float(shape.z_top),
                        not flat, shape.rotation_deg)
-
-
-@lru_cache(maxsize=64)
-def body_profile(shape: BottleShape) -> BodyProfile:
-    """The validated, cached :class:`BodyProfile` of ``shape``; raises ``SectionError`` /
-    ``WallError`` (from :func:`engine.geometry.validate.validate_shape`) when it cannot be built."""
-    from .validate import validate_shape  # validate builds on this module's helpers
-
-    validate_shape(shape)
-    return build_body_profile(shape)

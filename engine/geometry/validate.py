@@ -23,12 +23,13 @@ What a valid section is (SPEC 4.1, extended by the punt):
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
 from . import crosssection
 from ..errors import SectionError, WallError
-from .offset import build_body_profile, is_flat_base, locate, radius_at, split_at_ring
+from .offset import BodyProfile, build_body_profile, is_flat_base, locate, radius_at, split_at_ring
 from .segments import Arc, EllipseArc, Line, POINT_TOL_MM
 
 ANGLE_TOL_RAD = 1e-6
@@ -252,17 +253,32 @@ def _check_walls(shape) -> None:
     prof = build_body_profile(shape)
     for sp, (name, sec) in zip(prof.sections, shape.sections):
         outer, k = sp.outer_wall, split_at_ring(sec)[2]
-        for seg in sp.inner_wall:
-            p = seg.point(np.linspace(0.0, 1.0, 65))
-            j = k + max(int(locate(outer, np.clip(p[:, 1], outer[0].p0[1], outer[-1].p1[1]))[0][0]), 0)
-            if np.min(p[:, 0]) <= POINT_TOL_MM:
+        # All inner segments at once (one locate call): the check stays linear in the segments.
+        p = np.stack([seg.point(np.linspace(0.0, 1.0, 65)) for seg in sp.inner_wall])
+        at_axis = np.min(p[..., 0], axis=1) <= POINT_TOL_MM
+        falls = np.any(np.diff(p[..., 1], axis=1) < -1e-12, axis=1)
+        if np.any(at_axis | falls):
+            m = int(np.argmax(at_axis | falls))
+            z0 = np.clip(p[m, :1, 1], outer[0].p0[1], outer[-1].p1[1])
+            j = k + max(int(locate(outer, z0)[0][0]), 0)
+            if at_axis[m]:
                 raise WallError(f"{name} section, segment {j}: the wall is thicker than the radius "
                                 f"there (the inner wall reaches the axis)")
-            if np.any(np.diff(p[:, 1]) < -1e-12):
-                raise WallError(f"{name} section, segment {j}: the inner wall does not rise "
-                                f"(wall too thick for this part of the section)")
+            raise WallError(f"{name} section, segment {j}: the inner wall does not rise "
+                            f"(wall too thick for this part of the section)")
         if sp.inner_wall[0].p0[1] >= shape.z_top - POINT_TOL_MM:
             raise WallError(f"{name} section: the inner base reaches the mouth")
     if shape.cross_section != "round":
         _check_cross_sections(shape.cross_section, [sp.inner_wall for sp in prof.sections],
                               prof.z_ib, prof.z_top, "inner", WallError)
+
+
+@lru_cache(maxsize=64)
+def body_profile(shape) -> BodyProfile:
+    """The validated, cached :class:`~engine.geometry.offset.BodyProfile` of ``shape``.
+
+    Raises ``SectionError`` / ``WallError`` (from :func:`validate_shape`) when the shape is not a
+    valid bottle; a valid shape's profile is built once and kept (shapes are hashable values).
+    """
+    validate_shape(shape)
+    return build_body_profile(shape)

@@ -1,0 +1,84 @@
+"""The liquid's level: the one rule for where a liquid may stand and the one volume -> height.
+
+Design rule: a :class:`~engine.model.design.Liquid` is filled either to a height (mm above the
+standing plane z = 0) or with a volume (ml). Everything that needs the level (trade numbers,
+the CLI, the window, the tracer) asks :func:`fill_height_mm`; everything that accepts a liquid
+(the project loader and writer, the panels) asks :func:`check_fill`. A height must lie above
+the lowest point of the cavity and at most at the mouth, ``z_ib < h <= z_top``; a volume must
+be positive and at most the brimful capacity, ``0 < v <= brimful``. Geometry must be valid
+before either is asked (the errors of :mod:`engine.geometry.validate` propagate).
+"""
+from __future__ import annotations
+
+from ..errors import DesignError, shown
+from ..geometry import capacity
+from ..geometry.validate import body_profile
+
+FILL_MODES = ("height", "volume")
+#: Relative slack on the brimful volume (the quadrature's rounding).
+_VOLUME_SLACK = 1e-12
+
+
+def check_fill_mode(liquid) -> None:
+    """Raise ``DesignError`` unless ``liquid.fill_mode`` is one of :data:`FILL_MODES`."""
+    if liquid.fill_mode not in FILL_MODES:
+        raise DesignError(f"design.liquid.fill_mode must be 'height' or 'volume', "
+                          f"got {shown(liquid.fill_mode)}")
+
+
+def check_fill(shape, liquid) -> None:
+    """Raise ``DesignError`` naming ``design.liquid.fill_value`` unless the liquid fits ``shape``.
+
+    Parameters
+    ----------
+    shape : BottleShape
+        A valid shape (mm).
+    liquid : Liquid or None
+        ``None`` (an empty bottle) always fits.
+    """
+    if liquid is None:
+        return
+    check_fill_mode(liquid)
+    value = liquid.fill_value
+    if liquid.fill_mode == "height":
+        prof = body_profile(shape)
+        if not prof.z_ib < value <= prof.z_top:
+            raise DesignError(f"design.liquid.fill_value = {shown(value)} mm: the fill height must "
+                              f"lie above the inner base ({prof.z_ib:.6g} mm) and at most at the "
+                              f"mouth ({prof.z_top:.6g} mm)")
+    else:
+        brimful = capacity.brimful_ml(shape)
+        if not 0.0 < value <= brimful * (1.0 + _VOLUME_SLACK):
+            raise DesignError(f"design.liquid.fill_value = {shown(value)} ml: the fill volume must "
+                              f"be more than 0 and at most the brimful capacity ({brimful:.6g} ml)")
+
+
+def fill_height_mm(shape, liquid) -> float | None:
+    """The height (mm above z = 0) of the liquid's surface, or ``None`` for no liquid.
+
+    A ``"height"`` liquid stands at its ``fill_value``; a ``"volume"`` one at the height that
+    holds ``fill_value`` ml (:func:`engine.geometry.capacity.fill_height_for_volume`). Raises
+    ``DesignError`` when the liquid does not fit (:func:`check_fill`).
+    """
+    if liquid is None:
+        return None
+    check_fill(shape, liquid)
+    if liquid.fill_mode == "height":
+        return float(liquid.fill_value)
+    brimful = capacity.brimful_ml(shape)
+    return float(capacity.fill_height_for_volume(shape, min(float(liquid.fill_value), brimful)))
+
+
+def fill_volume_ml(shape, liquid) -> float | None:
+    """The liquid's volume (ml), or ``None`` for no liquid (the converse of :func:`fill_height_mm`)."""
+    if liquid is None:
+        return None
+    check_fill(shape, liquid)
+    if liquid.fill_mode == "volume":
+        return float(liquid.fill_value)
+    return float(capacity.capacity_ml(shape, liquid.fill_value))
+
+
+def fill_height_of(design) -> float | None:
+    """The liquid level (mm) of a whole design: :func:`fill_height_mm` of its shape and liquid."""
+    return fill_height_mm(design.shape, design.liquid)

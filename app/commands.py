@@ -101,11 +101,12 @@ class DesignEditor(QObject):
         for a liquid edit.
         """
         try:
+            engine_bridge.check_values(design)  # every range, cheap: for every edit
             if "shape" in changed:
                 engine_bridge.validate_shape(design.shape)
             if changed & {"glass", "liquid", "render", "environment", "labels"}:
                 engine_bridge.check_design(design, self.scene.assets if assets is None else assets)
-            if "liquid" in changed and design.liquid is not None:
+            if changed & {"liquid", "shape"} and design.liquid is not None:
                 engine_bridge.check_fill_level(design)
         except (GlassbenchError, ValueError) as exc:
             return str(exc)

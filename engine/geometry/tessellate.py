@@ -20,6 +20,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import shown
+from ..limits import MAX_TOL_MM, MIN_TOL_MM
 from . import crosssection
 from .body import BottleBody
 from .offset import locate, param_at_z
@@ -325,9 +327,12 @@ def _base(b, body, part, label, theta, edge_ring, tol_mm, s_stop=None):
 
 
 def _check_tol(tol_mm: float) -> float:
+    """The tolerance as a float within :data:`engine.limits.MIN_TOL_MM` .. ``MAX_TOL_MM``
+    (finer would need unbounded memory); ``ValueError`` otherwise."""
     tol = float(tol_mm)
-    if not (math.isfinite(tol) and tol > 0):
-        raise ValueError(f"the chordal tolerance must be a positive number of mm, got {tol_mm!r}")
+    if not (math.isfinite(tol) and MIN_TOL_MM <= tol <= MAX_TOL_MM):
+        raise ValueError(f"the chordal tolerance must be {MIN_TOL_MM:g} to {MAX_TOL_MM:g} mm, "
+                         f"got {shown(tol_mm)}")
     return tol
 
 

@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from . import crosssection
-from .offset import BodyProfile, locate
+from .offset import BodyProfile, by_segment, locate
 from .validate import body_profile
 
 PARTS = ("outer", "inner", "base_outer", "base_inner", "rim")
@@ -48,11 +48,10 @@ def chain_state(chain, z, above: bool = False):
         up = (t >= 1.0 - 1e-12) & (idx < len(chain) - 1)
         idx, t = np.where(up, idx + 1, idx), np.where(up, 0.0, t)
     r, tr, tz = (np.empty(z.shape) for _ in range(3))
-    for i in np.unique(idx):
-        m = idx == i
-        r[m] = chain[i].point(t[m])[..., 0]
-        tan = chain[i].tangent(t[m])
-        tr[m], tz[m] = tan[..., 0], tan[..., 1]
+    t_flat, out = np.ravel(t), [a.reshape(-1) for a in (r, tr, tz)]
+    for i, part in by_segment(idx):
+        tan = chain[i].tangent(t_flat[part])
+        out[0][part], out[1][part], out[2][part] = chain[i].point(t_flat[part])[..., 0], tan[..., 0], tan[..., 1]
     return r, tr, tz
 
 
@@ -64,10 +63,10 @@ def chain_point_at(chain, s):
     idx = np.minimum((s * n).astype(int), n - 1)
     t = s * n - idx
     out = [np.empty(s.shape) for _ in range(4)]
-    for i in np.unique(idx):
-        m = idx == i
-        p, tan = chain[i].point(t[m]), chain[i].tangent(t[m])
-        out[0][m], out[1][m], out[2][m], out[3][m] = p[..., 0], p[..., 1], tan[..., 0], tan[..., 1]
+    t_flat, flat = np.ravel(t), [a.reshape(-1) for a in out]
+    for i, part in by_segment(idx):
+        p, tan = chain[i].point(t_flat[part]), chain[i].tangent(t_flat[part])
+        flat[0][part], flat[1][part], flat[2][part], flat[3][part] = p[..., 0], p[..., 1], tan[..., 0], tan[..., 1]
     return tuple(out)
 
 

@@ -101,6 +101,18 @@ def _offset_param_at_z(seg: OffsetEllipseArc, z) -> np.ndarray:
     return t
 
 
+def by_segment(idx):
+    """``(i, positions)`` for each distinct value ``i`` of the integer array ``idx``, where
+    ``positions`` index ``idx.ravel()``: one sort, so the loops that evaluate each segment on its
+    own points stay linear in points plus segments (a mask per segment would be their product)."""
+    flat = np.ravel(idx)
+    order = np.argsort(flat, kind="stable")
+    cuts = np.flatnonzero(np.diff(flat[order])) + 1
+    for part in np.split(order, cuts):
+        if len(part):
+            yield int(flat[part[0]]), part
+
+
 def locate(segments, z):
     """``(index, t)`` shaped like ``z``: segment holding height ``z`` (mm) and its parameter, on a
     chain rising or descending in z; heights outside its range get index -1 and ``t = nan``."""
@@ -111,9 +123,9 @@ def locate(segments, z):
     pos = np.minimum(np.searchsorted(tops, z, side="left"), n - 1)
     idx = pos if rising else n - 1 - pos
     t = np.full(z.shape, np.nan)
-    for i in np.unique(idx):
-        m = idx == i
-        t[m] = param_at_z(segments[i], z[m])
+    t_flat, z_flat = t.reshape(-1), z.reshape(-1)
+    for i, part in by_segment(idx):
+        t_flat[part] = param_at_z(segments[i], z_flat[part])
     z_lo, z_hi = sorted((segments[0].p0[1], segments[-1].p1[1]))
     outside = (z < z_lo - Z_TOL_MM) | (z > z_hi + Z_TOL_MM)
     t[outside] = np.nan
@@ -125,9 +137,10 @@ def radius_at(segments, z) -> np.ndarray:
     ``nan`` outside the chain's z range. Exact up to rounding (see :func:`param_at_z`)."""
     idx, t = locate(segments, z)
     r = np.full(np.shape(t), np.nan)
-    for i in np.unique(idx[idx >= 0]):
-        m = idx == i
-        r[m] = segments[i].point(t[m])[..., 0]
+    r_flat, t_flat = r.reshape(-1), t.reshape(-1)
+    for i, part in by_segment(idx):
+        if i >= 0:
+            r_flat[part] = segments[i].point(t_flat[part])[..., 0]
     return r
 
 

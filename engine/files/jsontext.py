@@ -29,18 +29,19 @@ def nesting_depth(raw: bytes) -> int:
     string, a stray backslash) the figure is some depth and the parser then reports the error.
     """
     b = np.frombuffer(raw, dtype=np.uint8)
-    quotes = np.flatnonzero(b == _QUOTE)
-    slashes = np.flatnonzero(b == _BACKSLASH)
-    if len(slashes) and len(quotes):
-        # Start of the backslash run that each backslash belongs to.
+    quotes = np.flatnonzero(b == _QUOTE).astype(np.int32)  # positions fit: json_bytes < 2**31
+    after = (quotes > 0) & (b[quotes - 1] == _BACKSLASH)   # only these can be escaped
+    if after.any():
+        slashes = np.flatnonzero(b == _BACKSLASH).astype(np.int32)
         new_run = np.diff(slashes, prepend=-2) != 1
-        start_of = slashes[new_run][np.cumsum(new_run) - 1]
-        k = np.minimum(np.searchsorted(slashes, quotes - 1), len(slashes) - 1)
-        after_slash = slashes[k] == quotes - 1
-        escaped = after_slash & ((quotes - start_of[k]) % 2 == 1)
+        run_start = slashes[new_run][np.cumsum(new_run, dtype=np.int32) - 1]
+        cand = quotes[after]
+        k = np.searchsorted(slashes, cand - 1)  # cand - 1 is a backslash: found exactly
+        escaped = np.zeros(len(quotes), dtype=bool)
+        escaped[np.flatnonzero(after)] = (cand - run_start[k]) % 2 == 1  # an odd run escapes
         quotes = quotes[~escaped]
     steps = _STEP[b]
-    brackets = np.flatnonzero(steps)
+    brackets = np.flatnonzero(steps).astype(np.int32)
     brackets = brackets[np.searchsorted(quotes, brackets) % 2 == 0]  # outside strings
     if not len(brackets):
         return 0

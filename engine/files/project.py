@@ -144,7 +144,7 @@ def load_project(path: str | os.PathLike, limits: Limits = DEFAULT_LIMITS
         raise ProjectError(f"{path} is {size} bytes, larger than any project should be")
     try:
         with open(path, "rb") as fh:
-            blob = fh.read(limits.archive_bytes + 1)
+            blob = fh.read(size + 1)  # not archive_bytes: read(n) allocates n bytes at once
     except OSError as exc:
         raise ProjectError(f"cannot read {path}: {exc.strerror or exc}") from None
     try:

@@ -3,9 +3,10 @@
 Design rule: a :class:`~engine.model.design.Liquid` is filled either to a height (mm above the
 standing plane z = 0) or with a volume (ml). Everything that needs the level (trade numbers,
 the CLI, the window, the tracer) asks :func:`fill_height_mm`; everything that accepts a liquid
-(the project loader and writer, the panels) asks :func:`check_fill`. A height must lie above
-the lowest point of the cavity and at most at the mouth, ``z_ib < h <= z_top``; a volume must
-be positive and at most the brimful capacity, ``0 < v <= brimful``. Geometry must be valid
+(the project loader and writer, the panels) asks :func:`check_fill`. The surface must stand at
+least :data:`MIN_DEPTH_MM` above the lowest point of the cavity and at most at the mouth,
+``z_ib + 0.01 <= h <= z_top``; a volume must be positive, at most the brimful capacity and stand
+at such a height. Geometry must be valid
 before either is asked (the errors of :mod:`engine.geometry.validate` propagate).
 """
 from __future__ import annotations
@@ -15,6 +16,9 @@ from ..geometry import capacity
 from ..geometry.validate import body_profile
 
 FILL_MODES = ("height", "volume")
+#: Shallowest liquid (mm above the lowest point of the cavity): a thinner one has no volume to
+#: render and no height the float64 level can tell from the inner base.
+MIN_DEPTH_MM = 0.01
 #: Relative slack on the brimful volume (the quadrature's rounding).
 _VOLUME_SLACK = 1e-12
 
@@ -40,17 +44,21 @@ def check_fill(shape, liquid) -> None:
         return
     check_fill_mode(liquid)
     value = liquid.fill_value
+    prof = body_profile(shape)
+    lowest = prof.z_ib + MIN_DEPTH_MM
     if liquid.fill_mode == "height":
-        prof = body_profile(shape)
-        if not prof.z_ib < value <= prof.z_top:
+        if not lowest <= value <= prof.z_top:
             raise DesignError(f"design.liquid.fill_value = {shown(value)} mm: the fill height must "
-                              f"lie above the inner base ({prof.z_ib:.6g} mm) and at most at the "
-                              f"mouth ({prof.z_top:.6g} mm)")
-    else:
-        brimful = capacity.brimful_ml(shape)
-        if not 0.0 < value <= brimful * (1.0 + _VOLUME_SLACK):
-            raise DesignError(f"design.liquid.fill_value = {shown(value)} ml: the fill volume must "
-                              f"be more than 0 and at most the brimful capacity ({brimful:.6g} ml)")
+                              f"lie {MIN_DEPTH_MM:g} mm or more above the inner base "
+                              f"({prof.z_ib:.6g} mm) and at most at the mouth ({prof.z_top:.6g} mm)")
+        return
+    brimful = capacity.brimful_ml(shape)
+    if not 0.0 < value <= brimful * (1.0 + _VOLUME_SLACK):
+        raise DesignError(f"design.liquid.fill_value = {shown(value)} ml: the fill volume must "
+                          f"be more than 0 and at most the brimful capacity ({brimful:.6g} ml)")
+    if capacity.fill_height_for_volume(shape, min(value, brimful)) < lowest:
+        raise DesignError(f"design.liquid.fill_value = {shown(value)} ml is too little to stand "
+                          f"{MIN_DEPTH_MM:g} mm deep above the inner base")
 
 
 def fill_height_mm(shape, liquid) -> float | None:

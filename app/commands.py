@@ -132,6 +132,11 @@ class DesignEditor(QObject):
         except (TypeError, ValueError) as exc:
             self.refused.emit(str(exc))
             return False
+        if "shape" in changed and "liquid" not in changed and candidate.liquid is not None:
+            fitted = engine_bridge.fitted_liquid(candidate)  # a lower mouth lowers the liquid too
+            if fitted != candidate.liquid:
+                changed["liquid"] = fitted
+                candidate = dataclasses.replace(candidate, liquid=fitted)
         new_assets = {**self.scene.assets, **{k: v for k, v in assets.items() if v is not None}}
         problem = self.check(candidate, frozenset(changed), new_assets)
         if problem is not None:

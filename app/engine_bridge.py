@@ -37,8 +37,9 @@ def scene_assets(scene) -> dict:
 
 # ------------------------------------------------------------------------ validation
 def validate_shape(shape: BottleShape) -> None:
-    """Raise a :class:`GlassbenchError` naming the problem when ``shape`` is not a valid bottle."""
-    validate.validate_shape(shape)
+    """Raise a :class:`GlassbenchError` naming the problem when ``shape`` is not a valid bottle
+    (through the cached profile, so the fill check and trade numbers that follow reuse it)."""
+    validate.body_profile(shape)
 
 
 def check_design(design: Design, assets) -> None:
@@ -51,6 +52,15 @@ def check_values(design: Design) -> None:
     """Raise :class:`DesignError` for a value outside its range (no geometry: cheap enough for
     every edit): the engine's one check, :func:`engine.model.check.check_values`."""
     check.check_values(design)
+
+
+def fitted_liquid(design: Design):
+    """The design's liquid moved inside its cavity if a shape edit left it outside
+    (:func:`engine.model.fill.fitted_liquid`); unchanged when the shape itself is invalid."""
+    try:
+        return fill.fitted_liquid(design.shape, design.liquid)
+    except (GlassbenchError, ValueError, ArithmeticError):
+        return design.liquid
 
 
 def check_fill_level(design: Design) -> None:

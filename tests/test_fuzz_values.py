@@ -172,3 +172,22 @@ def test_every_range_is_checked_in_project_terms():
     for field, glass in cases.items():
         with pytest.raises(ProjectError, match=field.replace("[", r"\[").replace("]", r"\]")):
             check_design(cylinder_design(glass=glass), {})
+
+
+@FUZZ
+@given(mode=st.sampled_from(["height", "volume"]), value=anything, top=st.floats(20.0, 150.0))
+def test_a_fitted_liquid_always_fits_and_a_fitting_one_is_kept(mode, value, top):
+    from engine.geometry.section import Section
+    from engine.geometry.segments import Line
+    from engine.geometry.shape import BottleShape
+    sec = Section((Line((0, 0), (30, 0)), Line((30, 0), (30, top))))
+    shape = BottleShape("round", (("profile", sec),), 3.0, 6.0)
+    liquid = Liquid(fill_mode=mode, fill_value=value)
+    fitted = fill.fitted_liquid(shape, liquid)
+    fill.check_fill(shape, fitted)
+    try:
+        fill.check_fill(shape, liquid)
+    except DesignError:
+        assert fitted != liquid
+    else:
+        assert fitted is liquid

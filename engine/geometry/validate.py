@@ -170,7 +170,7 @@ def _sample_heights(chains, z_lo: float, z_hi: float) -> np.ndarray:
     return z[(z >= z_lo) & (z <= z_hi)]
 
 
-def validate_shape(shape) -> None:
+def validate_shape(shape) -> BodyProfile:
     """Raise ``SectionError`` / ``WallError`` unless ``shape`` builds a valid glass body.
 
     Checks every section (:func:`validate_section`, errors prefixed with the section name), the
@@ -178,6 +178,8 @@ def validate_shape(shape) -> None:
     converge: ``u = v``, ``half_width = half_depth = corner`` or ``a = b`` at the mouth) and a
     valid outer and inner cross-section at every height; then builds the inner walls and checks
     that each is thinner than the radius of curvature of convex parts, stays off the axis and rises.
+    Returns the :class:`~engine.geometry.offset.BodyProfile` it built (use :func:`body_profile`
+    for the cached one).
     """
     kind = shape.cross_section
     for name, sec in shape.sections:
@@ -201,7 +203,7 @@ def validate_shape(shape) -> None:
             raise WallError("every per-segment wall thickness must be a positive number of mm")
     if kind != "round":
         _check_non_round_outer(shape)
-    _check_walls(shape)
+    return _check_walls(shape)
 
 
 def _check_non_round_outer(shape) -> None:
@@ -232,8 +234,9 @@ def _check_cross_sections(kind, chains, z_lo, z_hi, which, err=SectionError) -> 
         raise WallError(where)
 
 
-def _check_walls(shape) -> None:
-    """Wall thinner than convex radii of curvature; inner walls off the axis, rising and valid."""
+def _check_walls(shape) -> BodyProfile:
+    """Wall thinner than convex radii of curvature; inner walls off the axis, rising and valid.
+    Returns the body profile it had to build for that."""
     for name, sec in shape.sections:
         _, wall, k = split_at_ring(sec)
         walls = shape.wall_per_segment or [shape.wall_thickness] * len(wall)
@@ -271,6 +274,7 @@ def _check_walls(shape) -> None:
     if shape.cross_section != "round":
         _check_cross_sections(shape.cross_section, [sp.inner_wall for sp in prof.sections],
                               prof.z_ib, prof.z_top, "inner", WallError)
+    return prof
 
 
 @lru_cache(maxsize=64)
@@ -278,7 +282,7 @@ def body_profile(shape) -> BodyProfile:
     """The validated, cached :class:`~engine.geometry.offset.BodyProfile` of ``shape``.
 
     Raises ``SectionError`` / ``WallError`` (from :func:`validate_shape`) when the shape is not a
-    valid bottle; a valid shape's profile is built once and kept (shapes are hashable values).
+    valid bottle; a valid shape's profile is built once, by the validation itself, and kept
+    (shapes are hashable values).
     """
-    validate_shape(shape)
-    return build_body_profile(shape)
+    return validate_shape(shape)

@@ -11,6 +11,9 @@ before either is asked (the errors of :mod:`engine.geometry.validate` propagate)
 """
 from __future__ import annotations
 
+import dataclasses
+import math
+
 from ..errors import DesignError, shown
 from ..geometry import capacity
 from ..geometry.validate import body_profile
@@ -59,6 +62,30 @@ def check_fill(shape, liquid) -> None:
     if capacity.fill_height_for_volume(shape, min(value, brimful)) < lowest:
         raise DesignError(f"design.liquid.fill_value = {shown(value)} ml is too little to stand "
                           f"{MIN_DEPTH_MM:g} mm deep above the inner base")
+
+
+def fitted_liquid(shape, liquid):
+    """``liquid`` moved to the nearest level :func:`check_fill` accepts in ``shape`` (itself when
+    it fits, ``None`` for ``None``): for a shape edit that takes the mouth below the liquid, so the
+    design stays one that can be saved. Raises the geometry's errors for an invalid shape and
+    ``DesignError`` for an unknown fill mode."""
+    if liquid is None:
+        return None
+    check_fill_mode(liquid)
+    try:
+        check_fill(shape, liquid)
+        return liquid
+    except DesignError:
+        pass
+    prof = body_profile(shape)
+    lowest = min(prof.z_ib + MIN_DEPTH_MM, prof.z_top)
+    value = liquid.fill_value if math.isfinite(liquid.fill_value) else prof.z_top
+    if liquid.fill_mode == "height":
+        value = min(max(value, lowest), prof.z_top)
+    else:
+        least = capacity.capacity_ml(shape, lowest) * (1.0 + 1e-9)
+        value = min(max(value, least), capacity.brimful_ml(shape))
+    return dataclasses.replace(liquid, fill_value=float(value))
 
 
 def fill_height_mm(shape, liquid) -> float | None:

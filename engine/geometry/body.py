@@ -29,7 +29,8 @@ import math
 import numpy as np
 
 from . import crosssection
-from .offset import BodyProfile, by_segment, locate
+from .chain import by_segment, locate
+from .offset import BodyProfile
 from .validate import body_profile
 
 PARTS = ("outer", "inner", "base_outer", "base_inner", "rim")
@@ -51,7 +52,8 @@ def chain_state(chain, z, above: bool = False):
     t_flat, out = np.ravel(t), [a.reshape(-1) for a in (r, tr, tz)]
     for i, part in by_segment(idx):
         tan = chain[i].tangent(t_flat[part])
-        out[0][part], out[1][part], out[2][part] = chain[i].point(t_flat[part])[..., 0], tan[..., 0], tan[..., 1]
+        out[0][part] = chain[i].point(t_flat[part])[..., 0]
+        out[1][part], out[2][part] = tan[..., 0], tan[..., 1]
     return r, tr, tz
 
 
@@ -66,7 +68,8 @@ def chain_point_at(chain, s):
     t_flat, flat = np.ravel(t), [a.reshape(-1) for a in out]
     for i, part in by_segment(idx):
         p, tan = chain[i].point(t_flat[part]), chain[i].tangent(t_flat[part])
-        flat[0][part], flat[1][part], flat[2][part], flat[3][part] = p[..., 0], p[..., 1], tan[..., 0], tan[..., 1]
+        for k, values in enumerate((p[..., 0], p[..., 1], tan[..., 0], tan[..., 1])):
+            flat[k][part] = values
     return tuple(out)
 
 

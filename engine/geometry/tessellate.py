@@ -24,7 +24,7 @@ from ..errors import shown
 from ..limits import MAX_TOL_MM, MIN_TOL_MM
 from . import crosssection
 from .body import BottleBody
-from .offset import locate, param_at_z
+from .chain import locate, param_at_z
 
 BODY_PARTS = ("outer", "inner", "base_outer", "base_inner", "rim")
 LIQUID_PARTS = ("wall", "base", "surface")
@@ -88,12 +88,10 @@ def theta_samples(body: BottleBody, tol_mm: float) -> np.ndarray:
     """Polar angles (rad) shared by every ring: chord sag <= ``SAG_SHARE * tol_mm`` around."""
     fine = np.linspace(0.0, 2 * math.pi, 2881)
     chains = [sp.outer_wall for sp in body.profile.sections]
+    z = np.unique(np.concatenate([s.point(np.linspace(0, 1, 9))[:, 1] for c in chains for s in c]))
     if body.kind == "round":  # every ring is a circle: the widest one decides
-        z = np.zeros(1)
-        r = max(float(np.max(s.point(np.linspace(0, 1, 9))[:, 0])) for s in chains[0])
-        radii = [np.array([[r]])]
-    else:
-        z = np.unique(np.concatenate([s.point(np.linspace(0, 1, 9))[:, 1] for c in chains for s in c]))
+        widest = max(float(np.max(s.point(np.linspace(0, 1, 9))[:, 0])) for s in chains[0])
+        z, radii = z[:1], [np.array([[widest]])]
     dens = np.zeros(len(fine) - 1)
     for lo in range(0, len(z), _HEIGHTS_PER_BLOCK):  # blocks of heights: memory stays bounded
         zb = z[lo:lo + _HEIGHTS_PER_BLOCK]
@@ -327,8 +325,7 @@ def _base(b, body, part, label, theta, edge_ring, tol_mm, s_stop=None):
 
 
 def _check_tol(tol_mm: float) -> float:
-    """The tolerance as a float within :data:`engine.limits.MIN_TOL_MM` .. ``MAX_TOL_MM``
-    (finer would need unbounded memory); ``ValueError`` otherwise."""
+    """The tolerance as a float in ``engine.limits.MIN_TOL_MM..MAX_TOL_MM``, else ``ValueError``."""
     tol = float(tol_mm)
     if not (math.isfinite(tol) and MIN_TOL_MM <= tol <= MAX_TOL_MM):
         raise ValueError(f"the chordal tolerance must be {MIN_TOL_MM:g} to {MAX_TOL_MM:g} mm, "

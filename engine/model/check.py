@@ -40,7 +40,8 @@ def check_values(design) -> None:
     if env.kind == "file" and env.asset is None:
         raise DesignError("design.environment.kind is 'file' but no asset is named")
     L.check_range("design.environment.scale", env.scale, L.ENV_SCALE_RANGE)
-    L.check_range("design.environment.rotation_deg", env.rotation_deg, (-L.MAX_TURN_DEG, L.MAX_TURN_DEG), "deg")
+    turn = (-L.MAX_TURN_DEG, L.MAX_TURN_DEG)
+    L.check_range("design.environment.rotation_deg", env.rotation_deg, turn, "deg")
     for i, light in enumerate(design.lights):
         where = f"design.lights[{i}]"
         _check_vector(f"{where}.direction", light.direction, L.MAX_CAMERA_MM, nonzero=True)

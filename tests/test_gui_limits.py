@@ -43,3 +43,17 @@ def test_lowering_the_mouth_below_the_liquid_lowers_the_liquid_too(make_window, 
     assert w.undo_stack.count() == 1
     w.undo_stack.undo()
     assert w.scene.design == design
+
+
+def test_an_environment_image_too_large_to_embed_is_refused_before_it_is_read(make_window, tmp_path,
+                                                                              monkeypatch):
+    from engine.files.project import Limits
+    w = make_window()
+    big = tmp_path / "huge.exr"
+    big.write_bytes(b"\0" * 2048)
+    monkeypatch.setattr("widgets.camera_panel.DEFAULT_LIMITS", Limits(asset_bytes=1024))
+    monkeypatch.setattr("pathlib.Path.read_bytes", lambda self: pytest.fail("read a file too large"))
+    w.camera_panel.choose_environment_file = lambda: str(big)
+    before = w.scene.design
+    assert not w.camera_panel.load_environment()
+    assert w.scene.design == before and "at most 1024" in w.camera_panel.env_load.toolTip()

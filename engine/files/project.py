@@ -82,15 +82,6 @@ def save_project(path: str | os.PathLike, design: Design,
     """
     assets = dict(assets or {})
     limits = DEFAULT_LIMITS
-    if len(assets) >= limits.members:
-        raise ProjectError(f"a project holds at most {limits.members - 1} assets")
-    for name, data in assets.items():
-        if not isinstance(name, str) or not ASSET_NAME.match(name):
-            raise ProjectError(f"asset name {shown(name)} is not a plain file name")
-        if not isinstance(data, (bytes, bytearray, memoryview)):
-            raise ProjectError(f"asset {shown(name)} must be bytes, got {type(data).__name__}")
-        if len(data) > limits.asset_bytes:
-            raise ProjectError(f"asset {shown(name)} is larger than {limits.asset_bytes} bytes")
     check_design(design, assets)
     payload = _project_json(design, limits)
     if len(payload) + sum(len(d) for d in assets.values()) > limits.total_bytes:
@@ -278,12 +269,13 @@ def check_design(design: Design, assets: Mapping[str, bytes]) -> None:
 
     The same check runs before a project is written and after it is read. In order: the
     values (:func:`engine.model.check.check_values`, the limits of :mod:`engine.limits`), the
-    assets named by the environment and labels, the geometry
+    assets (:func:`check_assets`) and those named by the environment and labels, the geometry
     (:func:`engine.geometry.validate.validate_shape`), the liquid level
     (:func:`engine.model.fill.check_fill`). Raises ``ProjectError`` (a ``DesignError`` for a
     value); ``SectionError`` / ``WallError`` from validation are wrapped with their message kept.
     """
     check_values(design)
+    check_assets(assets)
     refs = [("environment", design.environment.asset)] + [
         (f"labels[{i}]", lab.asset) for i, lab in enumerate(design.labels)]
     for where, name in refs:
@@ -291,6 +283,20 @@ def check_design(design: Design, assets: Mapping[str, bytes]) -> None:
             raise ProjectError(f"design.{where} names asset {shown(name)}, which the project lacks")
     validate_design_shape(design)
     check_fill(design.shape, design.liquid)
+
+
+def check_assets(assets: Mapping[str, bytes], limits: Limits = DEFAULT_LIMITS) -> None:
+    """Raise ``ProjectError`` unless ``assets`` could be stored: at most ``limits.members - 1``
+    of them, plain file names (:data:`ASSET_NAME`), bytes of at most ``limits.asset_bytes``."""
+    if len(assets) >= limits.members:
+        raise ProjectError(f"a project holds at most {limits.members - 1} assets")
+    for name, data in assets.items():
+        if not isinstance(name, str) or not ASSET_NAME.match(name):
+            raise ProjectError(f"asset name {shown(name)} is not a plain file name")
+        if not isinstance(data, (bytes, bytearray, memoryview)):
+            raise ProjectError(f"asset {shown(name)} must be bytes, got {type(data).__name__}")
+        if len(data) > limits.asset_bytes:
+            raise ProjectError(f"asset {shown(name)} is larger than {limits.asset_bytes} bytes")
 
 
 def validate_design_shape(design: Design) -> None:

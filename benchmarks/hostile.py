@@ -6,7 +6,8 @@ Usage::
 
 Prints one row per case and writes ``benchmarks/out/hostile.csv``. The suite's tests assert only
 outcomes, counts and memory; the timings of the largest inputs live here: the JSON that hung
-the loader, projects and DXF drawings of the largest section allowed (and beyond it), an
+the loader, projects and DXF drawings of the largest section allowed (and beyond it), the
+largest bottle allowed, an
 archive that declares far more than it holds, a save (with its read-back check), environment
 decoding on a render restart, and the ray tree at the ray-weight cut-offs (``--slow`` adds
 ``min_weight = 1e-6``, below the allowed range: about three minutes). Times are untraced; peak
@@ -72,6 +73,17 @@ def dxf_of_lines(folder, n):
     return path
 
 
+def largest_bottle():
+    """2 m tall, 2 m across: base, heel, body, a 900 mm shoulder arc, neck (the extent limit)."""
+    from engine.geometry.section import Section
+    from engine.geometry.segments import Arc, Line
+    from engine.geometry.shape import BottleShape
+    segs = (Line((0, 0), (950, 0)), Arc((950, 50), 50, (950, 0), (1000, 50), "ccw"),
+            Line((1000, 50), (1000, 1000)), Arc((100, 1000), 900, (1000, 1000), (100, 1900), "ccw"),
+            Line((100, 1900), (100, 2000)))
+    return BottleShape("round", (("profile", Section(segs, (False, True, True, False))),), 5.0, 10.0)
+
+
 def ray_tree(depth, weight):
     from app.sample_design import built_in_design
     from engine.model.design import RenderSettings
@@ -101,6 +113,9 @@ def cases(folder, slow):
         shape = polyline_shape(1024, kind)
         yield ("tessellate it at 0.02 mm (the tracer's mesh)",
                lambda s=shape: f"{len(tessellate_body(s, 0.02).faces)} faces", True)
+    tall = largest_bottle()
+    yield ("tessellate a 2 m bottle (the extent limit) at 0.02 mm",
+           lambda: f"{len(tessellate_body(tall, 0.02).faces)} faces", True)
     for n in (1024, 4000, 20_000):
         path = dxf_of_lines(folder, n)
         yield f"DXF of {n:,} lines", lambda p=path: f"{len(section_from_dxf(p).segments)} segments", False

@@ -40,8 +40,9 @@ AXIS_TOL = 1e-9
 UNIT_SCALE = {0: 1.0, 1: 25.4, 2: 304.8, 4: 1.0, 5: 10.0, 6: 1000.0}
 #: Entities that carry no geometry of the section.
 IGNORED = {"TEXT", "MTEXT", "DIMENSION", "LEADER", "MLEADER", "POINT", "HATCH"}
-#: Largest DXF file read (bytes): a section of MAX_SEGMENTS curves is a few hundred kB.
-MAX_DXF_BYTES = 64 << 20
+#: Largest DXF file read (bytes): a section of MAX_SEGMENTS curves is a few hundred kB, and
+#: ezdxf parses about 2 MB a second on a shared core before any curve can be counted.
+MAX_DXF_BYTES = 16 << 20
 
 
 class DxfImportError(GlassbenchError, ValueError):

@@ -68,8 +68,8 @@ def test_a_save_killed_at_any_step_leaves_an_openable_project_and_its_litter_is_
 
 
 @FUZZ
-@given(names=st.lists(st.tuples(st.sampled_from(["own", "dead", "alive", "legacy-old", "legacy-new",
-                                                 "other", "other-bak"]), st.integers(0, 99)),
+@given(names=st.lists(st.tuples(st.sampled_from(["own", "dead", "alive", "elsewhere", "legacy-old",
+                                                 "legacy-new", "other", "other-bak"]), st.integers(0, 99)),
                       max_size=12, unique=True))
 def test_only_the_litter_of_writers_that_are_gone_is_removed(tmp_path_factory, names):
     folder = tmp_path_factory.mktemp("litter")
@@ -80,9 +80,11 @@ def test_only_the_litter_of_writers_that_are_gone_is_removed(tmp_path_factory, n
     made, stale = [], set()
     for kind, n in names:
         token = f"{n:08x}"
-        name = {"own": f".p.glassbench.{os.getpid()}-{token}.tmp",
-                "dead": f".p.glassbench.{dead}-{token}.tmp.png",
-                "alive": f".p.glassbench.bak.{alive}-{token}.tmp",
+        host = atomic.HOST
+        name = {"own": f".p.glassbench.{host}.{os.getpid()}-{token}.tmp",
+                "dead": f".p.glassbench.{host}.{dead}-{token}.tmp.png",
+                "alive": f".p.glassbench.bak.{host}.{alive}-{token}.tmp",
+                "elsewhere": f".p.glassbench.other-host.{dead}-{token}.tmp",
                 "legacy-old": f".glassbench-old{n:05d}.tmp", "legacy-new": f".glassbench-bak-new{n:05d}",
                 "other": f".q.glassbench.{dead}-{token}.tmp", "other-bak": f"p.glassbench.{dead}.tmp"}[kind]
         (folder / name).write_bytes(b"litter")

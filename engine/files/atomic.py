@@ -4,10 +4,11 @@ Design rule: a file is written to a temporary file in the target's own folder, s
 the old file's permission bits, then renamed over the target (``os.replace``), so a full disk or
 a killed process leaves the previous file intact. A symbolic link is followed: the file it
 points to is replaced and the link stays a link. The temporary's name says whose it is,
-``.NAME.PID-XXXXXXXX.tmp[.ext]`` (the extension kept for writers that pick a format from the
-name), so a later write of the same file removes what a killed writer left behind: a temporary
-whose process no longer runs. With ``keep_backup`` the replaced file is kept as ``NAME.bak``
-with its own permission bits. Cleaning up never hides the error that made the write fail.
+``.NAME.HOST.PID-XXXXXXXX.tmp[.ext]`` (the extension kept for writers that pick a format from
+the name), so a later write of the same file removes what a killed writer left behind: a
+temporary whose process, on this host, no longer runs. With ``backup`` the replaced file is
+kept as ``NAME.bak`` with its own permission bits. Cleaning up never hides the error that made
+the write fail.
 """
 from __future__ import annotations
 
@@ -16,12 +17,15 @@ import os
 import re
 import secrets
 import shutil
+import socket
 import stat
 import time
 from typing import Iterator
 
 #: Characters of the target's name kept in a temporary's name (file names stop at 255 bytes).
 _NAME_CHARS = 100
+#: This machine's name as it appears in temporaries' names (letters, digits, dashes).
+HOST = re.sub(r"[^A-Za-z0-9-]", "-", socket.gethostname())[:32] or "host"
 #: Temporaries of the old naming (``.glassbench-XXXX.tmp``) carry no process id: they are
 #: removed once they are this old (seconds), when no save can still be writing them.
 LEGACY_TEMP_AGE_S = 3600.0
@@ -34,15 +38,18 @@ def resolve_target(path: str | os.PathLike) -> str:
 
 
 def temp_name(target: str, suffix: str = "") -> str:
-    """A fresh temporary path beside ``target`` naming this process (see the module rule)."""
+    """A fresh temporary path beside ``target`` naming this host and process (see the module rule)."""
     folder, base = os.path.split(target)
     token = secrets.token_hex(4)
-    return os.path.join(folder, f".{base[:_NAME_CHARS]}.{os.getpid()}-{token}.tmp{suffix}")
+    return os.path.join(folder, f".{base[:_NAME_CHARS]}.{HOST}.{os.getpid()}-{token}.tmp{suffix}")
 
 
 def _temp_pattern(target: str) -> re.Pattern:
+    """Temporaries of ``target`` written on this host (group 1: the writer's process id); another
+    host's (a shared network folder) are never touched: its processes cannot be asked after."""
     base = os.path.basename(target)[:_NAME_CHARS]
-    return re.compile(r"^\." + re.escape(base) + r"\.(\d+)-[0-9a-f]{8}\.tmp(\.[^./]*)?\Z")
+    return re.compile(r"^\." + re.escape(base) + r"\." + re.escape(HOST)
+                      + r"\.(\d+)-[0-9a-f]{8}\.tmp(\.[^./]*)?\Z")
 
 
 def _process_alive(pid: int) -> bool:

@@ -191,3 +191,21 @@ def test_a_fitted_liquid_always_fits_and_a_fitting_one_is_kept(mode, value, top)
         assert fitted != liquid
     else:
         assert fitted is liquid
+
+
+@FUZZ
+@given(argv=st.lists(st.sampled_from(["info", "render", "new", "export-mesh", "x", "y.png", "z.glassbench",
+                                      "-o", "--width", "--spp", "abc", "-3", "2147483648", "--from-dxf",
+                                      "--bogus", "--json", "--tol", "1e-9", "--wall", "nan"]), max_size=7))
+def test_every_failing_command_line_is_one_line_with_status_2(argv, capsys):
+    import app.main as app_main
+    for entry in (cli.main, app_main.main):
+        if entry is app_main.main and (not argv or argv[0] not in cli.SUBCOMMANDS):
+            argv = ["--bogus"] + argv  # the window's own parser, made to fail before any window
+        try:
+            status = entry(argv)
+        except SystemExit as exc:
+            status = exc.code
+        out = capsys.readouterr()
+        assert status == 2, (argv, out)
+        assert out.err.count("\n") == 1 and len(out.err) <= MAX_MESSAGE_CHARS + 120, out.err

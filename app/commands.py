@@ -101,11 +101,12 @@ class DesignEditor(QObject):
         for a liquid edit.
         """
         try:
+            engine_bridge.check_values(design)  # every range, cheap: for every edit
             if "shape" in changed:
                 engine_bridge.validate_shape(design.shape)
             if changed & {"glass", "liquid", "render", "environment", "labels"}:
                 engine_bridge.check_design(design, self.scene.assets if assets is None else assets)
-            if "liquid" in changed and design.liquid is not None:
+            if changed & {"liquid", "shape"} and design.liquid is not None:
                 engine_bridge.check_fill_level(design)
         except (GlassbenchError, ValueError) as exc:
             return str(exc)
@@ -131,6 +132,11 @@ class DesignEditor(QObject):
         except (TypeError, ValueError) as exc:
             self.refused.emit(str(exc))
             return False
+        if "shape" in changed and "liquid" not in changed and candidate.liquid is not None:
+            fitted = engine_bridge.fitted_liquid(candidate)  # a lower mouth lowers the liquid too
+            if fitted != candidate.liquid:
+                changed["liquid"] = fitted
+                candidate = dataclasses.replace(candidate, liquid=fitted)
         new_assets = {**self.scene.assets, **{k: v for k, v in assets.items() if v is not None}}
         problem = self.check(candidate, frozenset(changed), new_assets)
         if problem is not None:

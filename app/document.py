@@ -95,12 +95,12 @@ class Autosaver:
         self.note = self.path.with_suffix(".json")
 
     def write(self, design, assets, original_path: str | None):
-        engine_bridge.save_project(str(self.path), design, assets)
+        # No backup: the recovery copy is itself the spare, and a .bak would outlive discard().
+        engine_bridge.save_project(str(self.path), design, assets, keep_backup=False)
         self.note.write_text(json.dumps({"original": original_path, "name": design.name}))
 
     def discard(self):
-        for p in (self.path, self.note):
-            p.unlink(missing_ok=True)
+        self.remove(self.path)
 
     @staticmethod
     def original_of(autosave: Path) -> str | None:
@@ -112,7 +112,8 @@ class Autosaver:
 
     @staticmethod
     def remove(autosave: Path):
-        for p in (autosave, autosave.with_suffix(".json")):
+        """Remove a recovery file, its note and any backup of it (older versions kept one)."""
+        for p in (autosave, autosave.with_suffix(".json"), autosave.with_name(autosave.name + ".bak")):
             p.unlink(missing_ok=True)
 
 

@@ -14,7 +14,8 @@ import numpy as np
 
 from engine.geometry import capacity, offset, tessellate, validate
 
-from engine.files import dxf_import, mesh_export, project
+from engine.files import atomic, dxf_import, mesh_export, project
+from engine.model import check, fill
 from engine.model.design import Design
 from engine.errors import GlassbenchError
 from engine.model.scene import Scene
@@ -36,8 +37,9 @@ def scene_assets(scene) -> dict:
 
 # ------------------------------------------------------------------------ validation
 def validate_shape(shape: BottleShape) -> None:
-    """Raise a :class:`GlassbenchError` naming the problem when ``shape`` is not a valid bottle."""
-    validate.validate_shape(shape)
+    """Raise a :class:`GlassbenchError` naming the problem when ``shape`` is not a valid bottle
+    (through the cached profile, so the fill check and trade numbers that follow reuse it)."""
+    validate.body_profile(shape)
 
 
 def check_design(design: Design, assets) -> None:
@@ -46,18 +48,25 @@ def check_design(design: Design, assets) -> None:
     project.check_design(design, assets)
 
 
+def check_values(design: Design) -> None:
+    """Raise :class:`DesignError` for a value outside its range (no geometry: cheap enough for
+    every edit): the engine's one check, :func:`engine.model.check.check_values`."""
+    check.check_values(design)
+
+
+def fitted_liquid(design: Design):
+    """The design's liquid moved inside its cavity if a shape edit left it outside
+    (:func:`engine.model.fill.fitted_liquid`); unchanged when the shape itself is invalid."""
+    try:
+        return fill.fitted_liquid(design.shape, design.liquid)
+    except (GlassbenchError, ValueError, ArithmeticError):
+        return design.liquid
+
+
 def check_fill_level(design: Design) -> None:
-    """Raise ``ValueError`` when the liquid cannot stand at the requested level."""
-    liquid, shape = design.liquid, design.shape
-    if liquid.fill_mode == "height":
-        if not shape.base_thickness < liquid.fill_value < shape.z_top:
-            raise ValueError(f"the fill height must lie between the inner base ({shape.base_thickness:g} mm) "
-                             f"and the mouth ({shape.z_top:g} mm), got {liquid.fill_value:g} mm")
-    else:
-        brimful = capacity.brimful_ml(shape)
-        if not 0.0 < liquid.fill_value < brimful:
-            raise ValueError(f"the fill volume must lie between 0 and the brimful capacity "
-                             f"({brimful:.1f} ml), got {liquid.fill_value:g} ml")
+    """Raise ``ValueError`` (a :class:`DesignError`) when the liquid cannot stand at the
+    requested level: the engine's one rule, :func:`engine.model.fill.check_fill`."""
+    fill.check_fill(design.shape, design.liquid)
 
 
 def inner_sections(shape: BottleShape) -> dict:
@@ -89,12 +98,9 @@ def trade_numbers(design: Design) -> dict:
     attempt("glass_cm3", capacity.glass_volume_cm3, shape)
     attempt("glass_g", capacity.glass_mass_g, shape, design.glass.density_g_cm3)
     if liquid is not None:
-        if liquid.fill_mode == "volume":
-            attempt("fill_height_mm", capacity.fill_height_for_volume, shape, liquid.fill_value)
-        else:
-            out["fill_height_mm"] = float(liquid.fill_value)
+        attempt("fill_height_mm", fill.fill_height_mm, shape, liquid)
+        attempt("fill_ml", fill.fill_volume_ml, shape, liquid)
         if out["fill_height_mm"] is not None:
-            attempt("fill_ml", capacity.capacity_ml, shape, out["fill_height_mm"])
             out["fill_point_mm"] = shape.z_top - out["fill_height_mm"]
     return out
 
@@ -105,9 +111,16 @@ def load_project(path: str):
     return project.load_project(path)
 
 
-def save_project(path: str, design: Design, assets: dict) -> None:
-    """Write ``design`` and ``assets`` to ``path`` atomically; raises :class:`ProjectError`."""
-    project.save_project(path, design, assets)
+def save_project(path: str, design: Design, assets: dict, keep_backup: bool = True) -> None:
+    """Write ``design`` and ``assets`` to ``path`` atomically (keeping ``path.bak`` unless told
+    not to); raises :class:`ProjectError`."""
+    project.save_project(path, design, assets, keep_backup=keep_backup)
+
+
+def replace_file_atomically(path: str, suffix: str = ""):
+    """Context manager yielding a temporary path; on success it replaces ``path`` whole
+    (:func:`engine.files.atomic.replacing`): for image exports."""
+    return atomic.replacing(path, suffix=suffix)
 
 
 def import_dxf(path: str, current: Design) -> Design:

@@ -172,8 +172,12 @@ class FileActions(QObject):
         return bool(path) and self.export_image(path)
 
     def export_image(self, path: str) -> bool:
-        if not self.window.preview.image().save(path):
-            self.window.dialogs.show_error("Cannot export image", f"could not write {path}")
+        try:  # atomic: a full disk never leaves a truncated image in place of the old one
+            with engine_bridge.replace_file_atomically(path, Path(path).suffix) as tmp:
+                if not self.window.preview.image().save(tmp):
+                    raise OSError(f"could not write {path}")
+        except OSError as exc:
+            self.window.dialogs.show_error("Cannot export image", str(exc) or f"could not write {path}")
             return False
         self.window.statusBar().showMessage(f"Exported {path}", 4000)
         return True

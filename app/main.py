@@ -28,8 +28,8 @@ def has_display() -> bool:
 
 
 def _gui_parser() -> argparse.ArgumentParser:
-    from engine.cli import SUBCOMMANDS
-    p = argparse.ArgumentParser(
+    from engine.cli import SUBCOMMANDS, OneLineParser
+    p = OneLineParser(
         prog="glassbench",
         description="Glass-container workbench. Without a command, opens the window.",
         epilog=f"commands: {', '.join(SUBCOMMANDS)} (glassbench COMMAND --help)")

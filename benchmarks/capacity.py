@@ -21,7 +21,7 @@ import time
 import numpy as np
 
 from engine.geometry import capacity
-from engine.geometry.offset import body_profile
+from engine.geometry.validate import body_profile
 from engine.geometry.section import Section
 from engine.geometry.segments import Arc, Line
 from engine.geometry.shape import BottleShape

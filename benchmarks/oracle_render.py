@@ -5,7 +5,7 @@ Usage::
     python -m benchmarks.oracle render SPEC.json -o OUT.exr [--spp N] [--threads T]
 
 Design rule: the scene goes through the project engineer's one mapping
-(:func:`benchmarks.oracle.spec_to_design`), is rendered by :func:`engine.tracer.job.render_image`
+(:func:`benchmarks.oracle_spec.spec_to_design`), is rendered by :func:`engine.tracer.job.render_image`
 and compared with ``refs/NAME.exr`` beside the specs folder using the SPEC section 7 metric
 (relative RMSE over pixels where the reference is non-zero in any channel).
 """
@@ -51,7 +51,7 @@ def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
     ``settings`` may override ``RenderSettings`` fields (``max_depth``, ``min_weight``, ...);
     by default the oracle cut-offs above are used.
     """
-    from benchmarks.oracle import spec_to_design
+    from benchmarks.oracle_spec import spec_to_design
     from engine.tracer.job import RenderJob
 
     design, assets = spec_to_design(spec_path)

@@ -28,7 +28,7 @@ from engine.geometry import crosssection
 from engine.geometry.body import BottleBody
 from engine.geometry.shape import BottleShape
 from engine.geometry.tessellate import tessellate_body
-from benchmarks.oracle import shape_from_spec
+from benchmarks.oracle_spec import shape_from_spec
 from benchmarks.paths import ORACLE_SPECS
 
 OUT = os.path.join(os.path.dirname(__file__), "out")

@@ -30,7 +30,7 @@ OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "out")
 
 
 def _design(name, **render):
-    from benchmarks.oracle import spec_to_design
+    from benchmarks.oracle_spec import spec_to_design
 
     design, assets = spec_to_design(f"{SPECS}/{name}.json")
     render = {"max_depth": 64, "min_weight": 2e-3, **render}
@@ -154,7 +154,7 @@ def error_vs_time(names, configs):
 
 
 def _uniform(spec, spp):
-    from benchmarks.oracle import spec_to_design
+    from benchmarks.oracle_spec import spec_to_design
     from benchmarks.oracle_render import ORACLE_MAX_DEPTH, ORACLE_MIN_WEIGHT
     from engine.tracer.job import RenderJob
 

@@ -15,7 +15,8 @@ import sys
 from pathlib import Path
 
 from .model.design import Camera, Design, RenderSettings
-from .errors import GlassbenchError, ProjectError
+from . import limits
+from .errors import GlassbenchError, ProjectError, bounded, shown
 from .geometry.shape import BottleShape
 
 SUBCOMMANDS = ("info", "export-mesh", "new", "render", "batch", "turntable")
@@ -26,9 +27,17 @@ class CliError(GlassbenchError):
     """A command-line problem to report as one line (exit status 2)."""
 
 
+class OneLineParser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line on stderr and exit status 2, like every
+    other error of the command line (argparse's own prints the whole usage first)."""
+
+    def error(self, message: str):
+        self.exit(EXIT_ERROR, f"{self.prog}: error: {bounded(message)} (see {self.prog} --help)\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of the subcommands (``glassbench SUBCOMMAND ...``)."""
-    p = argparse.ArgumentParser(prog="glassbench", description="Glass-container workbench.")
+    p = OneLineParser(prog="glassbench", description="Glass-container workbench.")
     sub = p.add_subparsers(dest="command", required=True, metavar="COMMAND")
     info = sub.add_parser("info", help="capacity, glass volume and size of a project")
     info.add_argument("project")
@@ -80,7 +89,7 @@ def one_line(exc: BaseException) -> str:
         text = f"{exc.strerror}: {exc.filename}" if exc.filename else exc.strerror
     else:
         text = str(exc) or type(exc).__name__
-    return " ".join(text.split())
+    return bounded(text)
 
 
 # ---------------------------------------------------------------------------------- info
@@ -89,9 +98,10 @@ def trade_numbers(design: Design) -> dict:
     """The numbers ``glassbench info`` reports (ml, mm, cm^3, g); fill values ``None`` if empty.
 
     ``fill_ml``/``fill_height_mm`` follow the liquid's fill mode: a height is converted to
-    the volume below it, a volume to the height that holds it.
+    the volume below it, a volume to the height that holds it (:mod:`engine.model.fill`).
     """
     from .geometry import capacity
+    from .model import fill
     shape = design.shape
     out = {"name": design.name,
            "brimful_ml": capacity.brimful_ml(shape),
@@ -100,15 +110,9 @@ def trade_numbers(design: Design) -> dict:
            "glass_mass_g": capacity.glass_mass_g(shape, design.glass.density_g_cm3),
            "height_mm": capacity.height_mm(shape),
            "max_diameter_mm": capacity.max_diameter_mm(shape)}
-    liquid = design.liquid
-    if liquid is not None:
-        if liquid.fill_mode == "volume":
-            height = capacity.fill_height_for_volume(shape, liquid.fill_value)
-            ml = liquid.fill_value
-        else:
-            height = liquid.fill_value
-            ml = capacity.capacity_ml(shape, height)
-        out.update(fill_ml=float(ml), fill_height_mm=float(height),
+    if design.liquid is not None:
+        height = fill.fill_height_mm(shape, design.liquid)
+        out.update(fill_ml=fill.fill_volume_ml(shape, design.liquid), fill_height_mm=height,
                    fill_point_below_top_mm=float(shape.z_top - height))
     return {k: (float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v)
             for k, v in out.items()}
@@ -148,9 +152,8 @@ def cmd_info(args) -> int:
 def cmd_export_mesh(args) -> int:
     """``export-mesh PROJECT OUT [--tol MM]``: the glass body as a mesh (format from OUT's suffix)."""
     from .files.project import load_project
+    limits.check_range("--tol", args.tol, (limits.MIN_TOL_MM, limits.MAX_TOL_MM), "mm")
     design, _ = load_project(args.project)
-    if not (math.isfinite(args.tol) and args.tol > 0):
-        raise CliError(f"--tol must be a positive number of mm, got {args.tol}")
     try:
         from .files.mesh_export import export_mesh
     except ImportError as exc:
@@ -188,7 +191,9 @@ def cmd_new(args) -> int:
     from .files.dxf_import import section_from_dxf
     from .files.project import SUFFIX, check_design, save_project
     if not args.out.endswith(SUFFIX):
-        raise CliError(f"the project file name must end in {SUFFIX}: {args.out}")
+        raise CliError(f"the project file name must end in {SUFFIX}: {shown(args.out, 200)}")
+    for flag in ("wall", "base"):
+        limits.check_range(f"--{flag}", getattr(args, flag), (0.0, limits.MAX_EXTENT_MM), "mm")
     section = section_from_dxf(args.from_dxf)
     shape = BottleShape("round", (("profile", section),), args.wall, args.base)
     render = RenderSettings(width=360, height=480)
@@ -210,11 +215,12 @@ def cmd_render(args) -> int:
     """``render PROJECT -o OUT``: hand the project to the tracer's render command."""
     ext = os.path.splitext(args.output)[1].lower()
     if ext not in (".png", ".exr", ".tif", ".tiff"):
-        raise CliError(f"the output must end in .png, .exr or .tif, got {args.output!r}")
-    for name in ("width", "height", "spp"):
+        raise CliError(f"the output must end in .png, .exr or .tif, got {shown(args.output, 200)}")
+    for name, bounds in (("width", limits.WIDTH_RANGE), ("height", limits.HEIGHT_RANGE),
+                         ("spp", limits.SPP_RANGE)):
         v = getattr(args, name)
-        if v is not None and v < 1:
-            raise CliError(f"--{name} must be at least 1, got {v}")
+        if v is not None:
+            limits.check_range(f"--{name}", v, bounds, integer=True)
     try:
         from .tracer import cli_render
     except ImportError as exc:

@@ -1,9 +1,43 @@
-"""Exceptions raised by the engine. Each names what is wrong in words a designer can act on."""
+"""Exceptions raised by the engine. Each names what is wrong in words a designer can act on.
+
+Design rule: a message is one line of bounded length. Every engine error passes its message
+through :func:`bounded` (longer messages are cut in the middle), and a value echoed in a
+message goes through :func:`shown`, so a hostile value (a 100 kB string, a huge number) can
+never make an error line longer than :data:`MAX_MESSAGE_CHARS`.
+"""
 from __future__ import annotations
+
+#: Longest message (characters) any engine error carries.
+MAX_MESSAGE_CHARS = 400
+#: Longest echo (characters) of a value inside a message.
+MAX_SHOWN_CHARS = 60
+
+
+def shown(value, limit: int = MAX_SHOWN_CHARS) -> str:
+    """``repr(value)`` cut to ``limit`` characters (``...`` marks a cut); never raises."""
+    try:
+        text = repr(value)
+    except Exception:  # why: a repr may refuse (an int of 5,000 digits) or be user code
+        text = f"<{type(value).__name__}>"
+    if len(text) > limit:
+        text = text[:limit - 3] + "..."
+    return text
+
+
+def bounded(message: str, limit: int = MAX_MESSAGE_CHARS) -> str:
+    """``message`` on one line and at most ``limit`` characters (cut in the middle)."""
+    text = " ".join(str(message).split())
+    if len(text) > limit:
+        half = (limit - 5) // 2
+        text = f"{text[:half]} ... {text[-half:]}"
+    return text
 
 
 class GlassbenchError(Exception):
-    """Base class of every error the engine raises on bad input."""
+    """Base class of every error the engine raises on bad input (message: see :func:`bounded`)."""
+
+    def __init__(self, message: str = ""):
+        super().__init__(bounded(message))
 
 
 class SectionError(GlassbenchError, ValueError):
@@ -21,3 +55,8 @@ class WallError(GlassbenchError, ValueError):
 
 class ProjectError(GlassbenchError):
     """A project file that cannot be read or written; the message names the problem."""
+
+
+class DesignError(ProjectError, ValueError):
+    """A design value outside its physics or its limits (:mod:`engine.limits`); the message
+    names the field. A ``ProjectError``, since a project may not hold it either."""

@@ -6,7 +6,7 @@ import pytest
 from hypothesis import given, settings, strategies as st
 
 from engine.geometry import capacity as cap
-from engine.geometry.offset import body_profile
+from engine.geometry.validate import body_profile
 from engine.geometry.section import Section
 from engine.geometry.segments import Line
 from engine.geometry.shape import BottleShape

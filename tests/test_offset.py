@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 
 from engine.errors import WallError
-from engine.geometry.offset import body_profile, inner_section, param_at_z, radius_at, split_at_ring, subsegment
+from engine.geometry.offset import inner_section, param_at_z, radius_at, split_at_ring, subsegment
+from engine.geometry.validate import body_profile
 from engine.geometry.section import Section
 from engine.geometry.segments import Arc, EllipseArc, Line, OffsetEllipseArc
 from engine.geometry.shape import BottleShape

@@ -36,7 +36,7 @@ def make_design() -> Design:
     return Design(BottleShape("round", (("profile", sec),), wall_thickness=0.1 + 0.2,
                               base_thickness=6.000000000000001),
                   glass=Glass(1.52, (1e-300, 0.1, 0.3), 2.5),
-                  liquid=Liquid(1.333, (0.045, 0.02, 0.006), "volume", 750.0),
+                  liquid=Liquid(1.333, (0.045, 0.02, 0.006), "volume", 300.0),
                   camera=Camera((1.0 / 3.0, -500.0, 160.0), (0, 0, 150.0), (0, 0, 1), 27.5),
                   environment=Environment("file", "studio.exr", 1.25, 10.0),
                   lights=(Light(), Light((1, 0, 1), (0.5, 0.5, 0.4), 2.0)),
@@ -299,7 +299,7 @@ def test_awkward_text_and_asset_names_round_trip(tmp_path):
 
 def test_unencodable_text_is_refused_on_save(tmp_path):
     design = dataclasses.replace(make_design(), notes="lone \ud800 surrogate")
-    with pytest.raises(ProjectError, match="cannot write"):
+    with pytest.raises(ProjectError, match="design.notes holds a character that cannot be stored"):
         save_project(tmp_path / "p.glassbench", design, ASSETS)
     assert not (tmp_path / "p.glassbench").exists()
 

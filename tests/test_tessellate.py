@@ -10,7 +10,7 @@ from engine.geometry import capacity as cap
 from engine.geometry import crosssection
 from engine.geometry.body import BottleBody
 from engine.errors import SectionError, WallError
-from engine.geometry.offset import body_profile
+from engine.geometry.validate import body_profile
 from engine.geometry.shape import BottleShape
 from engine.geometry.tessellate import BODY_PARTS, tessellate_body, tessellate_liquid
 from tests.test_offset import (cornered_punt_section, heel_through_ring_section, punt_section, spec_shape,

@@ -15,6 +15,7 @@ from PySide6.QtCore import QSignalBlocker, Signal
 from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFileDialog, QFormLayout, QGroupBox,
                                QPushButton, QSpinBox, QVBoxLayout, QWidget)
 
+from engine.files.project import DEFAULT_LIMITS
 from engine.model.design import Camera
 
 
@@ -122,6 +123,10 @@ class CameraPanel(QWidget):
         if not path:
             return False
         try:
+            size = Path(path).stat().st_size
+            if size > DEFAULT_LIMITS.asset_bytes:  # refuse before reading it all into memory
+                raise OSError(f"{Path(path).name} is {size} bytes; an embedded image may have "
+                              f"at most {DEFAULT_LIMITS.asset_bytes}")
             data = Path(path).read_bytes()
         except OSError as exc:
             self.env_load.setToolTip(str(exc))

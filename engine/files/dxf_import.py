@@ -1,7 +1,8 @@
 """DXF drawings of a bottle's half-section -> :class:`engine.geometry.section.Section`.
 
 Design rule: the drawing's x is the radius ``r`` and its y the height ``z`` (mm after the
-``$INSUNITS`` scale). LINE, ARC, ELLIPSE (axis-aligned) and LWPOLYLINE (with bulges) are
+``$INSUNITS`` scale; a drawing that does not declare its units, or declares them unitless, is in
+mm). LINE, ARC, ELLIPSE (axis-aligned) and LWPOLYLINE (with bulges) are
 turned into pieces with two ends; the pieces must form one open chain (no gaps, no branches,
 no loops) with one end on the axis ``r = 0``. The chain is walked from that end to the
 other (the mouth), each piece oriented to the walking direction: a DXF arc always runs
@@ -9,16 +10,27 @@ counter-clockwise from its start to its end angle, so walked backwards it become
 arc. The drawing is shifted in z so that its lowest point (the axis end of a flat base, the
 standing ring of a punt) is at z = 0; the axis end gets r = 0 exactly; a drawing on the left
 of the axis (x <= 0) is mirrored. Text, dimensions and points are ignored; any other entity is
-an error. Whether the section is a valid bottle is :mod:`engine.geometry.validate`'s business.
+an error.
+
+Ends closer than ``JOIN_TOL_MM`` are one joint (found through a grid of that cell size, so the
+import is linear in the drawing). At a joint a curve keeps its exact end and a line takes it; a
+line within ``JOIN_TOL_MM`` of horizontal or vertical is made exactly so (a base or a finish
+drawn a hair off). Smoothness comes from the drawing: a joint whose tangent turns by no more
+than :data:`engine.geometry.validate.ANGLE_TOL_RAD` is smooth, any other is a corner the section
+keeps. Input is bounded before work starts: the file's size, :data:`engine.limits.MAX_SEGMENTS`
+curves, and coordinates within :data:`engine.limits.MAX_EXTENT_MM`. Whether the section is a
+valid bottle is :mod:`engine.geometry.validate`'s business.
 """
 from __future__ import annotations
 
 import math
 import os
 
-from ..errors import GlassbenchError
+from ..errors import GlassbenchError, bounded
 from ..geometry.section import Section
 from ..geometry.segments import Arc, EllipseArc, Line
+from ..geometry.validate import ANGLE_TOL_RAD
+from ..limits import MAX_EXTENT_MM, MAX_SEGMENTS
 
 #: Ends closer than this (mm) are one joint; farther apart they are a gap.
 JOIN_TOL_MM = 1e-4
@@ -28,6 +40,9 @@ AXIS_TOL = 1e-9
 UNIT_SCALE = {0: 1.0, 1: 25.4, 2: 304.8, 4: 1.0, 5: 10.0, 6: 1000.0}
 #: Entities that carry no geometry of the section.
 IGNORED = {"TEXT", "MTEXT", "DIMENSION", "LEADER", "MLEADER", "POINT", "HATCH"}
+#: Largest DXF file read (bytes): a section of MAX_SEGMENTS curves is a few hundred kB, and
+#: ezdxf parses about 2 MB a second on a shared core before any curve can be counted.
+MAX_DXF_BYTES = 16 << 20
 
 
 class DxfImportError(GlassbenchError, ValueError):
@@ -37,22 +52,57 @@ class DxfImportError(GlassbenchError, ValueError):
 def section_from_dxf(path: str | os.PathLike) -> Section:
     """Read ``path`` and return its section (mm), walked from the axis to the mouth.
 
-    Raises ``DxfImportError`` for unreadable files, unsupported entities or units, rotated
-    ellipses, gaps, branches or loops.
+    Raises ``DxfImportError`` for unreadable, truncated or oversized files, unsupported entities
+    or units, rotated ellipses, gaps, branches, loops or a drawing too large for a bottle.
     """
     import ezdxf
+    path = os.fspath(path)
     try:
-        doc = ezdxf.readfile(os.fspath(path))
-    except (OSError, ezdxf.DXFError, ValueError, UnicodeDecodeError) as exc:
-        raise DxfImportError(f"cannot read DXF {os.fspath(path)}: {exc}") from None
-    return section_from_document(doc)
+        size = os.path.getsize(path)
+        if size > MAX_DXF_BYTES:
+            raise DxfImportError(f"DXF {path} is {size} bytes (limit {MAX_DXF_BYTES}): "
+                                 f"not a bottle section")
+        with open(path, "rb") as fh:
+            declares_units = b"$INSUNITS" in fh.read()
+        doc = ezdxf.readfile(path)
+    except DxfImportError:
+        raise
+    except (StopIteration, EOFError):
+        raise DxfImportError(f"cannot read DXF {path}: the file ends before the drawing does "
+                             f"(truncated?)") from None
+    except Exception as exc:  # why: ezdxf raises anything on a damaged file
+        detail = getattr(exc, "strerror", None) or str(exc) or type(exc).__name__
+        raise DxfImportError(f"cannot read DXF {path}: {detail}") from None
+    return section_from_document(doc, declares_units)
 
 
-def section_from_document(doc) -> Section:
-    """The section drawn in an ``ezdxf`` document's model space (see :func:`section_from_dxf`)."""
-    units = doc.header.get("$INSUNITS", 0)
+def section_from_document(doc, declares_units: bool = True) -> Section:
+    """The section drawn in an ``ezdxf`` document's model space (see :func:`section_from_dxf`).
+
+    ``declares_units`` says whether the file held ``$INSUNITS`` (ezdxf fills in metres for a
+    file without a HEADER); without it the drawing is in mm.
+    """
+    units = doc.header.get("$INSUNITS", 0) if declares_units else 0
     if units not in UNIT_SCALE:
-        raise DxfImportError(f"unsupported drawing units ($INSUNITS = {units}); use mm, cm, m or in")
+        raise DxfImportError(f"unsupported drawing units ($INSUNITS = {bounded(str(units), 40)}); "
+                             f"use mm, cm, m or in")
+    pieces = _pieces(doc)
+    scale = UNIT_SCALE[units]
+    mirror = -1.0 if all(max(p.p0[0], p.p1[0]) <= JOIN_TOL_MM / scale for p in pieces) else 1.0
+    pieces = [p.transformed(scale, mirror, 0.0) for p in pieces]
+    reach = max(max(abs(v) for v in p.p0 + p.p1) for p in pieces)
+    if reach > MAX_EXTENT_MM:
+        raise DxfImportError(f"the drawing reaches {reach:.6g} mm from its origin; a bottle fits "
+                             f"within {MAX_EXTENT_MM:g} mm (are the drawing's units right?)")
+    chain = _snap_joints(_chain(pieces))
+    # Stand the bottle on z = 0: its lowest point (the axis end, or the ring of a punt).
+    z_low = min(_lowest_z(p.segment()) for p in chain)
+    segs = [p.transformed(1.0, 1.0, -z_low).segment() for p in chain]
+    return Section(tuple(segs), _drawn_smoothness(segs))
+
+
+def _pieces(doc) -> list:
+    """Every curve of the model space as a ``_Piece``; at most ``MAX_SEGMENTS`` of them."""
     pieces = []
     for entity in doc.modelspace():
         kind = entity.dxftype()
@@ -62,19 +112,33 @@ def section_from_document(doc) -> Section:
         if maker is None:
             raise DxfImportError(f"unsupported DXF entity {kind} (handle {entity.dxf.handle}); "
                                  f"use LINE, ARC, ELLIPSE or LWPOLYLINE")
-        pieces.extend(maker(entity))
+        try:
+            made = maker(entity)
+        except DxfImportError:
+            raise
+        except Exception as exc:  # why: a damaged entity fails inside ezdxf in any way
+            raise DxfImportError(f"entity {kind} {entity.dxf.get('handle', '?')} is damaged: "
+                                 f"{str(exc) or type(exc).__name__}") from None
+        for piece in made:
+            if not all(math.isfinite(v) for v in piece.numbers()):
+                raise DxfImportError(f"entity {piece.handle} has a coordinate that is not a finite number")
+        pieces.extend(made)
+        if len(pieces) > MAX_SEGMENTS:
+            raise DxfImportError(f"the drawing holds more than {MAX_SEGMENTS} curves; a section "
+                                 f"holds at most {MAX_SEGMENTS} segments (join short lines into arcs)")
     if not pieces:
         raise DxfImportError("the drawing holds no lines, arcs, ellipses or polylines")
-    scale = UNIT_SCALE[units]
-    if scale != 1.0:
-        pieces = [p.transformed(scale, 1.0, 0.0) for p in pieces]
-    chain = _chain(pieces)
-    mirror = -1.0 if all(max(p.p0[0], p.p1[0]) <= JOIN_TOL_MM for p in chain) else 1.0
-    # Stand the bottle on z = 0: its lowest point (the axis end, or the ring of a punt).
-    z_low = min(_lowest_z(p.segment()) for p in chain)
-    segs = [p.transformed(1.0, mirror, -z_low).segment() for p in chain]
-    segs = _snap_lines(segs)
-    return Section(tuple(segs))
+    return pieces
+
+
+def _drawn_smoothness(segs) -> tuple[bool, ...]:
+    """Per joint: smooth where the drawing's tangent turns by at most ``ANGLE_TOL_RAD``."""
+    flags = []
+    for a, b in zip(segs, segs[1:]):
+        ta, tb = a.tangent(1.0), b.tangent(0.0)
+        turn = math.atan2(float(ta[0] * tb[1] - ta[1] * tb[0]), float(ta[0] * tb[0] + ta[1] * tb[1]))
+        flags.append(abs(turn) <= ANGLE_TOL_RAD)
+    return tuple(flags)
 
 
 def _lowest_z(seg) -> float:
@@ -128,6 +192,14 @@ class _Piece:
     def __init__(self, kind, p0, p1, center=None, radii=None, direction="ccw", handle="?"):
         self.kind, self.p0, self.p1 = kind, tuple(p0), tuple(p1)
         self.center, self.radii, self.direction, self.handle = center, radii, direction, handle
+
+    def numbers(self) -> tuple:
+        """Every coordinate and radius of the piece (for the finiteness check)."""
+        return self.p0 + self.p1 + tuple(self.center or ()) + tuple(self.radii or ())
+
+    def with_ends(self, p0, p1) -> "_Piece":
+        """The same curve between other end points (lines at snapped joints)."""
+        return _Piece(self.kind, p0, p1, self.center, self.radii, self.direction, self.handle)
 
     def reversed(self) -> "_Piece":
         flip = {"ccw": "cw", "cw": "ccw"}[self.direction]
@@ -233,14 +305,20 @@ _MAKERS = {"LINE": _line, "ARC": _arc, "ELLIPSE": _ellipse, "LWPOLYLINE": _lwpol
 
 def _chain(pieces: list[_Piece]) -> list[_Piece]:
     """Order and orient the pieces into one open chain starting on the axis."""
-    # Cluster ends into joints (tolerance JOIN_TOL_MM); few pieces, so O(n^2) is fine.
+    # Cluster ends into joints (tolerance JOIN_TOL_MM) through a grid of that cell size: each
+    # end looks at its own and the 8 neighbouring cells only, so this is linear in the ends.
     joints: list[tuple[float, float]] = []
+    grid: dict[tuple[int, int], list[int]] = {}
 
     def joint_of(p):
-        for i, q in enumerate(joints):
-            if math.dist(p, q) <= JOIN_TOL_MM:
-                return i
+        cx, cy = math.floor(p[0] / JOIN_TOL_MM), math.floor(p[1] / JOIN_TOL_MM)
+        for dx in (-1, 0, 1):
+            for dy in (-1, 0, 1):
+                for i in grid.get((cx + dx, cy + dy), ()):
+                    if math.dist(p, joints[i]) <= JOIN_TOL_MM:
+                        return i
         joints.append(p)
+        grid.setdefault((cx, cy), []).append(len(joints) - 1)
         return len(joints) - 1
     ends = [(joint_of(p.p0), joint_of(p.p1)) for p in pieces]
     touching: dict[int, list[int]] = {}
@@ -282,12 +360,40 @@ def _chain(pieces: list[_Piece]) -> list[_Piece]:
     return chain
 
 
-def _snap_lines(segs: list) -> list:
-    # Lines take their neighbours' exact end points so joints close to the last bit.
-    out = list(segs)
-    for i, s in enumerate(out):
-        if isinstance(s, Line):
-            p0 = (0.0, s.p0[1]) if i == 0 else out[i - 1].p1
-            p1 = out[i + 1].p0 if i + 1 < len(out) else s.p1
-            out[i] = Line(p0, p1)
+def _snap_joints(chain: list[_Piece]) -> list[_Piece]:
+    """One exact point per joint: a curve's own end where a curve meets it, else the lines'
+    mean; lines within ``JOIN_TOL_MM`` of horizontal or vertical made exactly so; the axis end
+    at r = 0. Where two curves meet each keeps its end (validation judges the gap)."""
+    n = len(chain)
+    pts = [list(chain[0].p0)] + [None] * n
+    fixed = [chain[0].kind != "line"] + [False] * n
+    for k in range(1, n + 1):
+        before, after = chain[k - 1], chain[k] if k < n else None
+        if before.kind != "line":
+            pts[k], fixed[k] = list(before.p1), True
+        elif after is not None and after.kind != "line":
+            pts[k], fixed[k] = list(after.p0), True
+        elif after is not None:
+            pts[k] = [(a + b) / 2.0 for a, b in zip(before.p1, after.p0)]
+        else:
+            pts[k] = list(before.p1)
+    if not fixed[0]:
+        pts[0][0] = 0.0
+    locked = [[f, f] for f in fixed]  # per joint: r, z may no longer move
+    locked[0][0] = True
+    for k, piece in enumerate(chain):
+        if piece.kind != "line":
+            continue
+        for axis in (1, 0):  # 1: near-horizontal (equal z), 0: near-vertical (equal r)
+            a, b = pts[k], pts[k + 1]
+            if abs(a[axis] - b[axis]) > JOIN_TOL_MM or abs(a[1 - axis] - b[1 - axis]) <= JOIN_TOL_MM:
+                continue
+            la, lb = locked[k][axis], locked[k + 1][axis]
+            if not (la and lb):
+                v = a[axis] if la else b[axis] if lb else (a[axis] + b[axis]) / 2.0
+                a[axis] = b[axis] = v
+                locked[k][axis] = locked[k + 1][axis] = True
+    out = []
+    for k, piece in enumerate(chain):
+        out.append(piece.with_ends(tuple(pts[k]), tuple(pts[k + 1])) if piece.kind == "line" else piece)
     return out

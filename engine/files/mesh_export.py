@@ -5,20 +5,20 @@ the format follows the file suffix. Positions are welded (crease copies merged) 
 closed, consistently oriented surface; formats that carry normals keep the exact per-part normals
 (OBJ by separate normal indices; PLY and glTF by one vertex per part, same positions). STL, OBJ
 and PLY are in millimetres; glTF is in metres, as its specification requires. Files are written
-to a temporary name and renamed, so a failed export never leaves half a file.
+to a temporary name and renamed (:func:`engine.files.atomic.replacing`), so a failed export never
+leaves half a file.
 """
 from __future__ import annotations
 
 import base64
 import json
-import os
 import struct
-import tempfile
 from pathlib import Path
 
 import numpy as np
 
 from ..geometry.tessellate import Mesh, tessellate_body
+from .atomic import replacing
 
 FORMATS = (".stl", ".obj", ".ply", ".gltf", ".glb")
 
@@ -138,13 +138,6 @@ def export_mesh(shape, path, tol_mm: float = 0.05) -> Path:
     if path.suffix.lower() not in _WRITERS:
         raise ValueError(f"unknown mesh format {path.suffix!r}; use one of {', '.join(FORMATS)}")
     data = mesh_bytes(tessellate_body(shape, tol_mm), path.suffix)
-    fd, tmp = tempfile.mkstemp(prefix=".export-", suffix=path.suffix, dir=path.parent or ".")
-    try:
-        with os.fdopen(fd, "wb") as fh:
-            fh.write(data)
-        os.replace(tmp, path)
-    except BaseException:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-        raise
+    with replacing(path) as tmp, open(tmp, "wb") as fh:
+        fh.write(data)
     return path

@@ -20,18 +20,20 @@ import io
 import json
 import os
 import re
-import shutil
 import stat
 import struct
-import tempfile
 import zipfile
 import zlib
 from dataclasses import dataclass
 from typing import Mapping
 
+from ..geometry.validate import body_profile
+from ..model.check import check_values
 from ..model.design import Design
-from ..errors import GlassbenchError, ProjectError
-from .serialize import design_from_document, document_from_design
+from ..model.fill import check_fill
+from ..errors import GlassbenchError, ProjectError, shown
+from . import atomic, jsontext
+from .serialize import design_from_document, design_to_dict, document_from_design
 
 SUFFIX = ".glassbench"
 PROJECT_MEMBER = "project.json"
@@ -44,14 +46,22 @@ ASSET_NAME = re.compile(r"^[^/\\:.\x00-\x1f\x7f][^/\\:\x00-\x1f\x7f]{0,127}\Z")
 
 @dataclass(frozen=True)
 class Limits:
-    """Size limits for reading a project (bytes unless named otherwise)."""
+    """Size limits of a project archive (bytes unless named otherwise), applied when it is
+    written and when it is read; the design's own limits are in :mod:`engine.limits`.
 
-    archive_bytes: int = 1 << 30
+    ``archive_bytes`` the file; ``members`` entries in it; ``json_bytes`` ``project.json``;
+    ``asset_bytes`` one asset; ``total_bytes`` everything unpacked; ``json_depth`` nesting of
+    ``project.json``; ``unpack_ratio``: beyond ``json_bytes``, the members may unpack to at most
+    this many times the archive's size (a small file cannot claim much memory).
+    """
+
+    archive_bytes: int = 512 << 20
     members: int = 256
     json_bytes: int = 16 << 20
     asset_bytes: int = 256 << 20
-    total_bytes: int = 1 << 30
+    total_bytes: int = 512 << 20
     json_depth: int = 64
+    unpack_ratio: int = 100
 
 
 DEFAULT_LIMITS = Limits()
@@ -59,53 +69,46 @@ DEFAULT_LIMITS = Limits()
 
 def save_project(path: str | os.PathLike, design: Design,
                  assets: Mapping[str, bytes] | None = None, keep_backup: bool = True) -> None:
-    """Write ``design`` and ``assets`` to ``path`` atomically.
+    """Write ``design`` and ``assets`` to ``path`` atomically (:mod:`engine.files.atomic`).
 
-    With ``keep_backup`` the file it replaces is kept as ``path.bak`` (``NAME.glassbench.bak``).
+    With ``keep_backup`` the file it replaces is kept as ``path.bak`` (``NAME.glassbench.bak``)
+    with that file's permission bits; a symbolic link at ``path`` is followed and stays a link;
+    temporaries left by killed saves of the same file are removed.
 
-    Raises ``ProjectError`` for a design that :func:`load_project` would refuse (NaN, invalid
-    geometry, a missing or badly named asset, sizes over :data:`DEFAULT_LIMITS`) or a failed
-    write; on failure the previous file is untouched.
+    Raises ``ProjectError`` for a design that :func:`load_project` would refuse (the same
+    :func:`check_design`, the same limits, and the written ``project.json`` is read back through
+    the loader's own path before anything touches the disk) or a failed write; on failure the
+    previous file is untouched.
     """
-    path = os.fspath(path)
     assets = dict(assets or {})
-    if len(assets) >= DEFAULT_LIMITS.members:
-        raise ProjectError(f"a project holds at most {DEFAULT_LIMITS.members - 1} assets")
-    for name, data in assets.items():
-        if not isinstance(name, str) or not ASSET_NAME.match(name):
-            raise ProjectError(f"asset name {name!r} is not a plain file name")
-        if not isinstance(data, (bytes, bytearray, memoryview)):
-            raise ProjectError(f"asset {name!r} must be bytes, got {type(data).__name__}")
-        if len(data) > DEFAULT_LIMITS.asset_bytes:
-            raise ProjectError(f"asset {name!r} is larger than {DEFAULT_LIMITS.asset_bytes} bytes")
-    doc = document_from_design(design, GENERATOR)
-    # Never write a file that cannot be opened again.
+    limits = DEFAULT_LIMITS
     check_design(design, assets)
+    payload = _project_json(design, limits)
+    if len(payload) + sum(len(d) for d in assets.values()) > limits.total_bytes:
+        raise ProjectError(f"the project would unpack to more than {limits.total_bytes} bytes")
     try:
-        payload = json.dumps(doc, indent=1, allow_nan=False, ensure_ascii=False).encode("utf-8")
-    except ValueError as exc:  # NaN (caught earlier, kept as a guard) or lone surrogates
-        raise ProjectError(f"cannot write the project: {exc}") from None
-    folder = os.path.dirname(os.path.abspath(path))
-    tmp = None
-    try:
-        fd, tmp = tempfile.mkstemp(prefix=".glassbench-", suffix=".tmp", dir=folder)
-        with os.fdopen(fd, "wb") as fh:
-            with zipfile.ZipFile(fh, "w", compression=zipfile.ZIP_DEFLATED) as zf:
+        with atomic.replacing(path, backup=keep_backup) as tmp:
+            with open(tmp, "wb") as fh, zipfile.ZipFile(fh, "w", compression=zipfile.ZIP_DEFLATED) as zf:
                 zf.writestr(_member(PROJECT_MEMBER), payload)
                 for name in sorted(assets):
                     zf.writestr(_member(ASSET_DIR + name), bytes(assets[name]))
-            fh.flush()
-            os.fsync(fh.fileno())
-        os.chmod(tmp, _file_mode(path))
-        if keep_backup and os.path.exists(path):
-            _keep_backup(path)
-        os.replace(tmp, path)
-        _fsync_folder(folder)
     except OSError as exc:
-        raise ProjectError(f"cannot write {path}: {exc.strerror or exc}") from None
-    finally:
-        if tmp is not None and os.path.exists(tmp):
-            os.unlink(tmp)
+        raise ProjectError(f"cannot write {os.fspath(path)}: {exc.strerror or exc}") from None
+
+
+def _project_json(design: Design, limits: Limits) -> bytes:
+    """``project.json`` for ``design``, proven to read back as ``design`` by the loader's path."""
+    doc = document_from_design(design, GENERATOR)
+    try:
+        payload = json.dumps(doc, indent=1, allow_nan=False, ensure_ascii=False).encode("utf-8")
+    except (ValueError, UnicodeEncodeError) as exc:  # NaN (caught earlier) or lone surrogates
+        raise ProjectError(f"cannot write the project: {exc}") from None
+    if len(payload) > limits.json_bytes:
+        raise ProjectError(f"{PROJECT_MEMBER} would be {len(payload)} bytes (limit {limits.json_bytes})")
+    # Never write a file that cannot be opened again: read it back as the loader does.
+    if design_to_dict(design_from_document(parse_json(payload, limits))) != doc["design"]:
+        raise ProjectError("the design does not survive being written (a value cannot be stored exactly)")
+    return payload
 
 
 def _member(name: str) -> zipfile.ZipInfo:
@@ -114,44 +117,6 @@ def _member(name: str) -> zipfile.ZipInfo:
     info.compress_type = zipfile.ZIP_DEFLATED
     info.external_attr = 0o644 << 16
     return info
-
-
-def _file_mode(path: str) -> int:
-    """Permission bits for the saved file: the old file's, else the umask's default."""
-    try:
-        return stat.S_IMODE(os.stat(path).st_mode)
-    except OSError:
-        mask = os.umask(0)  # why: the only portable way to read the umask is to set it
-        os.umask(mask)
-        return 0o666 & ~mask
-
-
-def _keep_backup(path: str) -> None:
-    # Copy rather than move, so ``path`` exists at every instant of the save.
-    bak = path + ".bak"
-    fd, tmp = tempfile.mkstemp(prefix=".glassbench-bak-", dir=os.path.dirname(os.path.abspath(path)))
-    try:
-        with os.fdopen(fd, "wb") as out, open(path, "rb") as src:
-            shutil.copyfileobj(src, out)
-            out.flush()
-            os.fsync(out.fileno())
-        os.replace(tmp, bak)
-    finally:
-        if os.path.exists(tmp):
-            os.unlink(tmp)
-
-
-def _fsync_folder(folder: str) -> None:
-    try:
-        fd = os.open(folder, os.O_RDONLY)
-    except OSError:  # why: some platforms cannot open folders; the data itself is synced
-        return
-    try:
-        os.fsync(fd)
-    except OSError:
-        pass
-    finally:
-        os.close(fd)
 
 
 def load_project(path: str | os.PathLike, limits: Limits = DEFAULT_LIMITS
@@ -170,7 +135,7 @@ def load_project(path: str | os.PathLike, limits: Limits = DEFAULT_LIMITS
         raise ProjectError(f"{path} is {size} bytes, larger than any project should be")
     try:
         with open(path, "rb") as fh:
-            blob = fh.read(limits.archive_bytes + 1)
+            blob = fh.read(size + 1)  # not archive_bytes: read(n) allocates n bytes at once
     except OSError as exc:
         raise ProjectError(f"cannot read {path}: {exc.strerror or exc}") from None
     try:
@@ -196,11 +161,11 @@ def load_project_bytes(blob: bytes, limits: Limits = DEFAULT_LIMITS
 _ZIP_ERRORS = (zipfile.BadZipFile, zipfile.LargeZipFile, zlib.error, EOFError, OSError, ValueError,
                NotImplementedError, RuntimeError, struct.error, IndexError, KeyError,
                OverflowError, TypeError, UnicodeDecodeError)
-_CHUNK = 1 << 16
 
 
 def _read_members(blob: bytes, limits: Limits) -> dict[str, bytes]:
-    """Check every member of the archive, then read them with streaming size caps."""
+    """Check every member's name and declared size, then read each one once, no further than
+    it declares (so memory stays within the declared total, itself bounded)."""
     _check_declared_directory(blob, limits)
     try:
         zf = zipfile.ZipFile(io.BytesIO(blob))
@@ -228,18 +193,16 @@ def _read_members(blob: bytes, limits: Limits) -> dict[str, bytes]:
             if info.file_size > cap:
                 raise ProjectError(f"member {name!r} declares {info.file_size} bytes (limit {cap})")
             declared_total += info.file_size
-            if declared_total > limits.total_bytes:
-                raise ProjectError(f"the archive declares more than {limits.total_bytes} bytes in all")
-            files.append((info, name, cap))
-        out: dict[str, bytes] = {}
-        total = 0
-        for info, name, cap in files:
-            data = _read_capped(zf, info, name, cap)
-            total += len(data)
-            if total > limits.total_bytes:
-                raise ProjectError(f"the archive unpacks to more than {limits.total_bytes} bytes")
-            out[name] = data
-    return out
+            if declared_total > _unpack_budget(len(blob), limits):
+                raise ProjectError(f"the archive of {len(blob)} bytes declares more than "
+                                   f"{_unpack_budget(len(blob), limits)} bytes in all")
+            files.append((info, name))
+        return {name: _read_member(zf, info, name) for info, name in files}
+
+
+def _unpack_budget(archive_size: int, limits: Limits) -> int:
+    """Most bytes the members of an archive of ``archive_size`` bytes may unpack to."""
+    return min(limits.total_bytes, limits.json_bytes + limits.unpack_ratio * archive_size)
 
 
 def _check_declared_directory(blob: bytes, limits: Limits) -> None:
@@ -258,26 +221,20 @@ def _check_declared_directory(blob: bytes, limits: Limits) -> None:
         raise ProjectError(f"the archive's directory is {dir_size} bytes, larger than any project's")
 
 
-def _read_capped(zf: zipfile.ZipFile, info: zipfile.ZipInfo, name: str, cap: int) -> bytes:
-    # Stream: never trust the declared size, stop as soon as the cap is passed (zip bombs).
-    buf = bytearray()
+def _read_member(zf: zipfile.ZipFile, info: zipfile.ZipInfo, name: str) -> bytes:
+    """The member's bytes, read in one piece and never past its declared size (+1 byte, to
+    catch a member that lies about its size: a zip bomb)."""
     try:
         with zf.open(info) as fh:
-            while True:
-                chunk = fh.read(_CHUNK)
-                if not chunk:
-                    break
-                buf += chunk
-                if len(buf) > cap:
-                    raise ProjectError(f"member {name!r} unpacks to more than {cap} bytes")
-    except ProjectError:
-        raise
+            data = fh.read(info.file_size + 1)
     except _ZIP_ERRORS as exc:
         raise ProjectError(f"member {name!r} is damaged: {exc}") from None
-    if len(buf) != info.file_size:
-        raise ProjectError(f"member {name!r} unpacks to {len(buf)} bytes, "
+    if len(data) > info.file_size:
+        raise ProjectError(f"member {name!r} unpacks to more than the {info.file_size} bytes it declares")
+    if len(data) < info.file_size:
+        raise ProjectError(f"member {name!r} unpacks to {len(data)} bytes, "
                            f"not the {info.file_size} it declares")
-    return bytes(buf)
+    return data
 
 
 def _checked_member_name(info: zipfile.ZipInfo) -> str:
@@ -302,86 +259,52 @@ def _checked_member_name(info: zipfile.ZipInfo) -> str:
 
 
 def parse_json(raw: bytes, limits: Limits = DEFAULT_LIMITS) -> object:
-    """Decode UTF-8 JSON strictly: no NaN/Infinity, bounded nesting; ``ProjectError`` otherwise."""
-    try:
-        text = raw.decode("utf-8")
-    except UnicodeDecodeError as exc:
-        raise ProjectError(f"{PROJECT_MEMBER} is not UTF-8 text ({exc.reason} at byte {exc.start})") from None
-    if _nesting_depth(text) > limits.json_depth:
-        raise ProjectError(f"{PROJECT_MEMBER} is nested deeper than {limits.json_depth} levels")
-
-    def no_constants(name):
-        raise ProjectError(f"{PROJECT_MEMBER} contains {name}; only finite numbers are allowed")
-    try:
-        return json.loads(text, parse_constant=no_constants)
-    except ProjectError:
-        raise
-    except (ValueError, RecursionError) as exc:
-        raise ProjectError(f"{PROJECT_MEMBER} is not valid JSON: {str(exc)[:200]}") from None
-
-
-_JSON_STRING = re.compile(r'"(?:[^"\\]|\\.)*"', re.DOTALL)
-
-
-def _nesting_depth(text: str) -> int:
-    """Bracket depth of a JSON text, outside strings; stops recursion bombs before parsing."""
-    depth = best = 0
-    for m in re.finditer(r"[\[\]{}]", _JSON_STRING.sub("", text)):
-        depth += 1 if m.group() in "[{" else -1
-        best = max(best, depth)
-    return best
+    """Decode UTF-8 JSON strictly: no NaN/Infinity, nesting at most ``limits.json_depth``
+    (:func:`engine.files.jsontext.parse_json`, linear in the text); ``ProjectError`` otherwise."""
+    return jsontext.parse_json(raw, limits.json_depth)
 
 
 def check_design(design: Design, assets: Mapping[str, bytes]) -> None:
-    """Check what the value types cannot: sane ranges, asset references and the geometry.
+    """Check what the value types cannot: ranges, sizes, asset references, geometry, fill level.
 
-    Raises ``ProjectError``; ``SectionError`` / ``WallError`` from validation are wrapped
-    with their message kept.
+    The same check runs before a project is written and after it is read. In order: the
+    values (:func:`engine.model.check.check_values`, the limits of :mod:`engine.limits`), the
+    assets (:func:`check_assets`) and those named by the environment and labels, the geometry
+    (:func:`engine.geometry.validate.validate_shape`), the liquid level
+    (:func:`engine.model.fill.check_fill`). Raises ``ProjectError`` (a ``DesignError`` for a
+    value); ``SectionError`` / ``WallError`` from validation are wrapped with their message kept.
     """
-    r = design.render
-    for name, value, lo, hi in (("render.width", r.width, 1, 16384),
-                                ("render.height", r.height, 1, 16384),
-                                ("render.spp", r.spp, 1, 1 << 20),
-                                ("render.max_depth", r.max_depth, 1, 100_000)):
-        if not lo <= value <= hi:
-            raise ProjectError(f"design.{name} = {value} is outside {lo}..{hi}")
-    media = [("glass", design.glass)] + ([("liquid", design.liquid)] if design.liquid else [])
-    for name, medium in media:
-        if not 1.0 <= medium.ior <= 5.0:
-            raise ProjectError(f"design.{name}.ior = {medium.ior} is not a refractive index (1..5)")
-        if any(a < 0 for a in medium.absorption):
-            raise ProjectError(f"design.{name}.absorption must not be negative")
-    if design.liquid is not None and design.liquid.fill_mode not in ("height", "volume"):
-        raise ProjectError(f"design.liquid.fill_mode must be 'height' or 'volume', "
-                           f"got {design.liquid.fill_mode[:40]!r}")
-    env = design.environment
-    if env.kind not in ("studio", "file"):
-        raise ProjectError(f"design.environment.kind must be 'studio' or 'file', got {env.kind[:40]!r}")
-    refs = [("environment", env.asset)] + [(f"labels[{i}]", lab.asset) for i, lab in enumerate(design.labels)]
+    check_values(design)
+    check_assets(assets)
+    refs = [("environment", design.environment.asset)] + [
+        (f"labels[{i}]", lab.asset) for i, lab in enumerate(design.labels)]
     for where, name in refs:
         if name is not None and name not in assets:
-            raise ProjectError(f"design.{where} names asset {name[:80]!r}, which the project lacks")
-    if env.scale < 0:
-        raise ProjectError(f"design.environment.scale = {env.scale} must not be negative")
-    if env.kind == "file" and env.asset is None:
-        raise ProjectError("design.environment.kind is 'file' but no asset is named")
+            raise ProjectError(f"design.{where} names asset {shown(name)}, which the project lacks")
     validate_design_shape(design)
+    check_fill(design.shape, design.liquid)
+
+
+def check_assets(assets: Mapping[str, bytes], limits: Limits = DEFAULT_LIMITS) -> None:
+    """Raise ``ProjectError`` unless ``assets`` could be stored: at most ``limits.members - 1``
+    of them, plain file names (:data:`ASSET_NAME`), bytes of at most ``limits.asset_bytes``."""
+    if len(assets) >= limits.members:
+        raise ProjectError(f"a project holds at most {limits.members - 1} assets")
+    for name, data in assets.items():
+        if not isinstance(name, str) or not ASSET_NAME.match(name):
+            raise ProjectError(f"asset name {shown(name)} is not a plain file name")
+        if not isinstance(data, (bytes, bytearray, memoryview)):
+            raise ProjectError(f"asset {shown(name)} must be bytes, got {type(data).__name__}")
+        if len(data) > limits.asset_bytes:
+            raise ProjectError(f"asset {shown(name)} is larger than {limits.asset_bytes} bytes")
 
 
 def validate_design_shape(design: Design) -> None:
-    """Run :func:`engine.geometry.validate.validate_shape` (when available), wrapping its errors."""
+    """Run :func:`engine.geometry.validate.validate_shape` (through the cached
+    :func:`~engine.geometry.validate.body_profile`), wrapping its errors in ``ProjectError``."""
     try:
-        from ..geometry import validate
-    except ImportError:  # why: validation is written in parallel; load what we can until then
-        return
-    fn = getattr(validate, "validate_shape", None)
-    if fn is None:
-        return
-    try:
-        fn(design.shape)
+        body_profile(design.shape)  # validates; the profile is kept for the fill check
     except GlassbenchError as exc:
         raise ProjectError(f"invalid bottle shape: {exc}") from None
     except (ValueError, ArithmeticError) as exc:
         raise ProjectError(f"invalid bottle shape: {exc}") from None
-
-

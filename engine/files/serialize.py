@@ -33,17 +33,19 @@ import types
 import typing
 from functools import lru_cache
 
+from ..errors import ProjectError, shown
+from ..limits import MAX_LIST_ITEMS as LIST_LIMIT, MAX_SEGMENTS, MAX_TEXT_CHARS
 from ..model.design import Design
-from ..errors import ProjectError
 from ..geometry.section import Section
 from ..geometry.shape import SECTION_NAMES, BottleShape
 
 #: The format this glassbench writes (``project.json``'s ``format_version``).
 CURRENT_FORMAT = 1
-#: Longest string accepted anywhere in a design (notes included), in characters.
-MAX_STRING_CHARS = 100_000
-#: Most items accepted in any list (segments of one section, lights, labels, bumps).
-MAX_LIST_ITEMS = 4096
+#: Longest string accepted anywhere in a design (:data:`engine.limits.MAX_TEXT_CHARS`).
+MAX_STRING_CHARS = MAX_TEXT_CHARS
+#: Most items accepted in any list (:data:`engine.limits.MAX_LIST_ITEMS`); a section's
+#: segments stop at :data:`engine.limits.MAX_SEGMENTS`.
+MAX_LIST_ITEMS = LIST_LIMIT
 
 
 def design_to_dict(design: Design) -> dict:
@@ -218,7 +220,7 @@ def _decode(value, hint, path: str):
         if isinstance(value, bool) or not isinstance(value, int):
             raise ProjectError(f"{path} must be a whole number, got {_type_name(value)}")
         if abs(value) > 2 ** 53:
-            raise ProjectError(f"{path} = {value} is absurdly large")
+            raise ProjectError(f"{path} = {shown(value)} is absurdly large")
         return value
     if hint is bool:
         if not isinstance(value, bool):
@@ -235,7 +237,7 @@ def _number(value, path: str) -> float:
     try:
         f = float(value)
     except OverflowError:
-        raise ProjectError(f"{path} = {value} is absurdly large") from None
+        raise ProjectError(f"{path} = {shown(value)} is absurdly large") from None
     if not math.isfinite(f):
         raise ProjectError(f"{path} is {f!r}; only finite numbers are allowed")
     return f
@@ -249,11 +251,11 @@ def _string(value, path: str) -> str:
     return value
 
 
-def _list(value, path: str) -> list:
+def _list(value, path: str, limit: int = LIST_LIMIT) -> list:
     if not isinstance(value, list):
         raise ProjectError(f"{path} must be a list, got {_type_name(value)}")
-    if len(value) > MAX_LIST_ITEMS:
-        raise ProjectError(f"{path} has {len(value)} items (limit {MAX_LIST_ITEMS})")
+    if len(value) > limit:
+        raise ProjectError(f"{path} has {len(value)} items (limit {limit})")
     return value
 
 
@@ -265,8 +267,8 @@ def _object(value, path: str, required, optional=()) -> dict:
         raise ProjectError(f"{path} lacks {', '.join(repr(k) for k in missing)}")
     unknown = [k for k in value if k not in required and k not in optional]
     if unknown:
-        shown = ", ".join(repr(k)[:60] for k in unknown[:5])
-        raise ProjectError(f"{path} has unknown field(s) {shown}")
+        names = ", ".join(shown(k, 40) for k in unknown[:5])
+        raise ProjectError(f"{path} has unknown field(s) {names}")
     return value
 
 
@@ -302,7 +304,7 @@ def _decode_shape(value, path: str) -> BottleShape:
     for name in SECTION_NAMES[kind]:
         spath = f"{path}.sections.{name}"
         sec = _object(secs_obj[name], spath, ("segments", "smooth"))
-        segs = _list(sec["segments"], f"{spath}.segments")
+        segs = _list(sec["segments"], f"{spath}.segments", MAX_SEGMENTS)
         smooth = [_decode(s, bool, f"{spath}.smooth[{i}]")
                   for i, s in enumerate(_list(sec["smooth"], f"{spath}.smooth"))]
         for i, seg in enumerate(segs):

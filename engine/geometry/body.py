@@ -29,7 +29,9 @@ import math
 import numpy as np
 
 from . import crosssection
-from .offset import BodyProfile, body_profile, locate
+from .chain import by_segment, locate
+from .offset import BodyProfile
+from .validate import body_profile
 
 PARTS = ("outer", "inner", "base_outer", "base_inner", "rim")
 
@@ -47,11 +49,11 @@ def chain_state(chain, z, above: bool = False):
         up = (t >= 1.0 - 1e-12) & (idx < len(chain) - 1)
         idx, t = np.where(up, idx + 1, idx), np.where(up, 0.0, t)
     r, tr, tz = (np.empty(z.shape) for _ in range(3))
-    for i in np.unique(idx):
-        m = idx == i
-        r[m] = chain[i].point(t[m])[..., 0]
-        tan = chain[i].tangent(t[m])
-        tr[m], tz[m] = tan[..., 0], tan[..., 1]
+    t_flat, out = np.ravel(t), [a.reshape(-1) for a in (r, tr, tz)]
+    for i, part in by_segment(idx):
+        tan = chain[i].tangent(t_flat[part])
+        out[0][part] = chain[i].point(t_flat[part])[..., 0]
+        out[1][part], out[2][part] = tan[..., 0], tan[..., 1]
     return r, tr, tz
 
 
@@ -63,10 +65,11 @@ def chain_point_at(chain, s):
     idx = np.minimum((s * n).astype(int), n - 1)
     t = s * n - idx
     out = [np.empty(s.shape) for _ in range(4)]
-    for i in np.unique(idx):
-        m = idx == i
-        p, tan = chain[i].point(t[m]), chain[i].tangent(t[m])
-        out[0][m], out[1][m], out[2][m], out[3][m] = p[..., 0], p[..., 1], tan[..., 0], tan[..., 1]
+    t_flat, flat = np.ravel(t), [a.reshape(-1) for a in out]
+    for i, part in by_segment(idx):
+        p, tan = chain[i].point(t_flat[part]), chain[i].tangent(t_flat[part])
+        for k, values in enumerate((p[..., 0], p[..., 1], tan[..., 0], tan[..., 1])):
+            flat[k][part] = values
     return tuple(out)
 
 

@@ -19,7 +19,8 @@ from functools import lru_cache
 import numpy as np
 
 from . import crosssection
-from .offset import BodyProfile, body_profile, radius_at
+from .offset import BodyProfile, radius_at
+from .validate import body_profile
 
 MM3_PER_ML = 1000.0
 #: Soda-lime container glass (g/cm^3).

@@ -6,129 +6,28 @@ the **wall part** (ring -> mouth). The inner wall is the wall part offset inward
 (r, z) plane (SPEC 4.2: ``P(t) - w n(t)``) and clipped where it meets the inner base; the inner
 base is the base part offset by ``base_thickness`` (flat base: exactly the plane
 ``z = base_thickness`` of the SPEC; punt: a raised dome). :class:`BodyProfile` gathers these
-curves per named section for the tracer, tessellator and capacity code; :func:`body_profile`
-validates the shape first and caches the result per shape (shapes are hashable values).
+curves per named section for the tracer, tessellator and capacity code. This module knows
+nothing of validation: :func:`engine.geometry.validate.body_profile` validates a shape first and
+caches its profile per shape (shapes are hashable values).
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
 from ..errors import SectionError, WallError
-from .segments import Arc, EllipseArc, Line, OffsetEllipseArc, Segment
+from .chain import Z_TOL_MM, by_segment, locate, param_at_z, radius_at, subsegment
+from .segments import Arc, EllipseArc, Line, Segment
 from .shape import BottleShape
+
+__all__ = ["BodyProfile", "SectionProfile", "Z_TOL_MM", "build_body_profile", "by_segment",
+           "clip_from_z", "inner_section", "is_flat_base", "locate", "offset_chain", "param_at_z",
+           "radius_at", "split_at_ring", "subsegment"]
 
 #: Distance (mm) under which two points are the same joint.
 JOINT_TOL_MM = 1e-9
-#: Height tolerance (mm) for "at z = 0" and for snapping clip heights onto joints.
-Z_TOL_MM = 1e-6
-
-
-# --------------------------------------------------------------------------- segment helpers
-def subsegment(seg: Segment, t0: float, t1: float) -> Segment:
-    """The part of ``seg`` for parameters ``t0 <= t <= t1`` (0 <= t0 < t1 <= 1), same kind.
-
-    The new segment's parameter maps linearly onto ``[t0, t1]`` of the old one (every kind here is
-    parameterised linearly in angle or length), so ``sub.point(s) == seg.point(t0 + s (t1 - t0))``.
-    """
-    if not (0.0 <= t0 < t1 <= 1.0) or t1 - t0 < 1e-13:
-        raise ValueError(f"sub-range [{t0}, {t1}] is not a proper part of [0, 1]")
-    if isinstance(seg, OffsetEllipseArc):
-        return OffsetEllipseArc(subsegment(seg.base, t0, t1), seg.w)
-    p0 = tuple(float(v) for v in seg.point(t0))
-    p1 = tuple(float(v) for v in seg.point(t1))
-    if isinstance(seg, Line):
-        return Line(p0, p1)
-    if isinstance(seg, Arc):
-        return Arc(seg.center, seg.radius, p0, p1, seg.direction)
-    if isinstance(seg, EllipseArc):
-        return EllipseArc(seg.center, seg.radius_r, seg.radius_z, p0, p1, seg.direction)
-    raise TypeError(f"unknown segment type {type(seg).__name__}")
-
-
-def param_at_z(seg: Segment, z) -> np.ndarray:
-    """Parameter(s) ``t`` where the z-monotone segment ``seg`` is at height ``z`` (mm).
-
-    Exact for lines, arcs and ellipse arcs (inverse trigonometry on the half that the arc lies
-    in); a bracketed Newton iteration for offset ellipse arcs. ``z`` outside the segment's range
-    gives the nearer end. The segment must be monotone in z (wall and base parts are).
-    """
-    z = np.asarray(z, dtype=float)
-    z0, z1 = seg.p0[1], seg.p1[1]
-    if isinstance(seg, Line):
-        return np.zeros_like(z) if z1 == z0 else np.clip((z - z0) / (z1 - z0), 0.0, 1.0)
-    if isinstance(seg, (Arc, EllipseArc)):
-        rz = seg.radius if isinstance(seg, Arc) else seg.radius_z
-        s = np.arcsin(np.clip((z - seg.center[1]) / rz, -1.0, 1.0))
-        mid = float(seg.angle(0.5))
-        if math.cos(mid) < 0.0:  # the arc lies on the half nearer the axis
-            s = math.pi - s
-        d = np.mod((s - seg.angle0) * math.copysign(1.0, seg.sweep) + math.pi, 2 * math.pi) - math.pi
-        return np.clip(d / abs(seg.sweep), 0.0, 1.0)  # angle past the start, as a fraction
-    if isinstance(seg, OffsetEllipseArc):
-        return _offset_param_at_z(seg, z)
-    raise TypeError(f"unknown segment type {type(seg).__name__}")
-
-
-def _offset_param_at_z(seg: OffsetEllipseArc, z) -> np.ndarray:
-    """Bracketed Newton solve of ``z(t) = z`` on an offset ellipse arc (monotone in z)."""
-    b = seg.base
-    zlo, zhi = seg.p0[1], seg.p1[1]
-    sign = 1.0 if zhi >= zlo else -1.0
-    target = sign * np.clip(z, min(zlo, zhi), max(zlo, zhi))
-    lo, hi = np.zeros_like(target), np.ones_like(target)
-    t = np.clip((target - sign * zlo) / max(abs(zhi - zlo), 1e-300), 0.0, 1.0)
-    for _ in range(60):
-        f = sign * seg.point(t)[..., 1] - target
-        done = np.abs(f) <= 1e-12 * max(1.0, abs(zhi), abs(zlo))
-        if np.all(done):
-            return t
-        lo = np.where(f < 0, t, lo)
-        hi = np.where(f > 0, t, hi)
-        s = b.angle(t)
-        speed = abs(b.sweep) * np.hypot(b.radius_r * np.sin(s), b.radius_z * np.cos(s))
-        dzdt = sign * speed * (1.0 - seg.w * b.curvature(t)) * b.tangent(t)[..., 1]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            t_new = t - f / dzdt
-        bad = ~np.isfinite(t_new) | (t_new < lo) | (t_new > hi)
-        t_new = np.where(done, t, np.where(bad, 0.5 * (lo + hi), t_new))
-        if np.all(np.abs(t_new - t) < 1e-16):
-            return t_new
-        t = t_new
-    return t
-
-
-def locate(segments, z):
-    """``(index, t)`` shaped like ``z``: segment holding height ``z`` (mm) and its parameter, on a
-    chain rising or descending in z; heights outside its range get index -1 and ``t = nan``."""
-    z, n = np.asarray(z, dtype=float), len(segments)
-    rising = segments[-1].p1[1] >= segments[0].p0[1]
-    order = range(n) if rising else range(n - 1, -1, -1)
-    tops = np.array([max(segments[i].p0[1], segments[i].p1[1]) for i in order])
-    pos = np.minimum(np.searchsorted(tops, z, side="left"), n - 1)
-    idx = pos if rising else n - 1 - pos
-    t = np.full(z.shape, np.nan)
-    for i in np.unique(idx):
-        m = idx == i
-        t[m] = param_at_z(segments[i], z[m])
-    z_lo, z_hi = sorted((segments[0].p0[1], segments[-1].p1[1]))
-    outside = (z < z_lo - Z_TOL_MM) | (z > z_hi + Z_TOL_MM)
-    t[outside] = np.nan
-    return np.where(outside, -1, idx), t
-
-
-def radius_at(segments, z) -> np.ndarray:
-    """Radius r(z) (mm) of a z-monotone chain of segments at heights ``z`` (mm), vectorised;
-    ``nan`` outside the chain's z range. Exact up to rounding (see :func:`param_at_z`)."""
-    idx, t = locate(segments, z)
-    r = np.full(np.shape(t), np.nan)
-    for i in np.unique(idx[idx >= 0]):
-        m = idx == i
-        r[m] = segments[i].point(t[m])[..., 0]
-    return r
 
 
 # --------------------------------------------------------------------------- base / wall split
@@ -162,7 +61,10 @@ def _offset(seg: Segment, w: float, index: int) -> Segment:
 
 def _crossing(a: Segment, b: Segment):
     """Parameters ``(ta, tb)`` where ``a`` and ``b`` cross (the crossing nearest their joint),
-    or ``None``: chords of 128 pieces each, then Newton on ``a(ta) = b(tb)``."""
+    or ``None``: exact for two lines; otherwise chords of 128 pieces each, then Newton on
+    ``a(ta) = b(tb)``."""
+    if isinstance(a, Line) and isinstance(b, Line):
+        return _line_crossing(a, b)
     t = np.linspace(0.0, 1.0, 129)
     pa, pb = a.point(t), b.point(t)
     da, db = np.diff(pa, axis=0)[:, None, :], np.diff(pb, axis=0)[None, :, :]
@@ -187,6 +89,21 @@ def _crossing(a: Segment, b: Segment):
             break
         ta = min(max(ta - (jb[0] * f[1] - f[0] * jb[1]) / det, 0.0), 1.0)
         tb = min(max(tb - (ja[0] * f[1] - ja[1] * f[0]) / det, 0.0), 1.0)
+    return ta, tb
+
+
+def _line_crossing(a: Line, b: Line):
+    """Parameters ``(ta, tb)`` where two lines cross inside both, or ``None`` (parallel, apart)."""
+    (ar, az), (br, bz) = a.p0, b.p0
+    dar, daz = a.p1[0] - ar, a.p1[1] - az
+    dbr, dbz = b.p1[0] - br, b.p1[1] - bz
+    den = dar * dbz - daz * dbr
+    if den == 0.0:
+        return None
+    cr, cz = br - ar, bz - az
+    ta, tb = (cr * dbz - cz * dbr) / den, (cr * daz - cz * dar) / den
+    if not (0.0 <= ta <= 1.0 and 0.0 <= tb <= 1.0):
+        return None
     return ta, tb
 
 
@@ -360,7 +277,8 @@ def _punt_junction(inner_base, inner_wall_full, name):
 
 
 def build_body_profile(shape: BottleShape) -> BodyProfile:
-    """The :class:`BodyProfile` of ``shape``, not validated first (see :func:`body_profile`);
+    """The :class:`BodyProfile` of ``shape``, not validated first (see
+    :func:`engine.geometry.validate.body_profile`);
     raises ``WallError`` / ``SectionError`` on what it cannot build."""
     bt = shape.base_thickness
     flat = all(is_flat_base(sec) for _, sec in shape.sections)
@@ -387,13 +305,3 @@ def build_body_profile(shape: BottleShape) -> BodyProfile:
         profiles.append(SectionProfile(name, tuple(base), tuple(wall), tuple(inner_base), tuple(inner_wall)))
     return BodyProfile(shape.cross_section, tuple(profiles), float(z_ib), float(shape.z_top),
                        not flat, shape.rotation_deg)
-
-
-@lru_cache(maxsize=64)
-def body_profile(shape: BottleShape) -> BodyProfile:
-    """The validated, cached :class:`BodyProfile` of ``shape``; raises ``SectionError`` /
-    ``WallError`` (from :func:`engine.geometry.validate.validate_shape`) when it cannot be built."""
-    from .validate import validate_shape  # validate builds on this module's helpers
-
-    validate_shape(shape)
-    return build_body_profile(shape)

@@ -19,7 +19,7 @@ from typing import Union
 
 import numpy as np
 
-from ..errors import SectionError
+from ..errors import SectionError, shown
 
 TWO_PI = 2.0 * math.pi
 #: Tolerance (mm) for end points lying on their circle / ellipse, as in SPEC 4.1.
@@ -29,10 +29,10 @@ POINT_TOL_MM = 1e-6
 def _pt(p) -> tuple[float, float]:
     """Return ``p`` as a tuple of two finite floats (mm) or raise ``ValueError``."""
     if len(p) != 2:
-        raise ValueError(f"a point needs two coordinates (r, z), got {p!r}")
+        raise ValueError(f"a point needs two coordinates (r, z), got {shown(p)}")
     r, z = float(p[0]), float(p[1])
     if not (math.isfinite(r) and math.isfinite(z)):
-        raise ValueError(f"point {p!r} is not finite")
+        raise ValueError(f"point {shown(p)} is not finite")
     return (r, z)
 
 
@@ -113,9 +113,9 @@ class Arc:
         object.__setattr__(self, "p1", _pt(self.p1))
         object.__setattr__(self, "radius", float(self.radius))
         if self.direction not in ("ccw", "cw"):
-            raise ValueError(f"arc direction must be 'ccw' or 'cw', got {self.direction!r}")
+            raise ValueError(f"arc direction must be 'ccw' or 'cw', got {shown(self.direction)}")
         if not (math.isfinite(self.radius) and self.radius > 0):
-            raise ValueError(f"arc radius must be a positive number of mm, got {self.radius!r}")
+            raise ValueError(f"arc radius must be a positive number of mm, got {shown(self.radius)}")
 
     @property
     def angle0(self) -> float:
@@ -192,11 +192,11 @@ class EllipseArc:
         object.__setattr__(self, "radius_r", float(self.radius_r))
         object.__setattr__(self, "radius_z", float(self.radius_z))
         if self.direction not in ("ccw", "cw"):
-            raise ValueError(f"ellipse direction must be 'ccw' or 'cw', got {self.direction!r}")
+            raise ValueError(f"ellipse direction must be 'ccw' or 'cw', got {shown(self.direction)}")
         for name in ("radius_r", "radius_z"):
             v = getattr(self, name)
             if not (math.isfinite(v) and v > 0):
-                raise ValueError(f"ellipse {name} must be a positive number of mm, got {v!r}")
+                raise ValueError(f"ellipse {name} must be a positive number of mm, got {shown(v)}")
 
     def _param(self, p) -> float:
         return math.atan2((p[1] - self.center[1]) / self.radius_z, (p[0] - self.center[0]) / self.radius_r)
@@ -321,25 +321,32 @@ _FIELDS = {
 
 
 def segment_from_dict(d: dict) -> Segment:
-    """Build a segment from its SPEC/project dictionary; raises ``ValueError`` naming the problem."""
+    """Build a segment from its SPEC/project dictionary; raises ``ValueError`` naming the problem.
+
+    The dictionary holds ``type`` and exactly the fields of that type (``direction`` may be
+    left out: ``"ccw"``); an unknown field is refused rather than dropped.
+    """
     if not isinstance(d, dict):
         raise ValueError(f"a segment must be an object, got {type(d).__name__}")
     kind = d.get("type")
-    if kind not in _FIELDS:
-        raise ValueError(f"unknown segment type {kind!r} (expected line, arc or ellipse_arc)")
+    if not isinstance(kind, str) or kind not in _FIELDS:
+        raise ValueError(f"unknown segment type {shown(kind)} (expected line, arc or ellipse_arc)")
     cls, fields = _FIELDS[kind]
     missing = [f for f in fields if f not in d and f != "direction"]
     if missing:
         raise ValueError(f"{kind} segment lacks {', '.join(missing)}")
+    unknown = [k for k in d if k != "type" and k not in fields]
+    if unknown:
+        raise ValueError(f"{kind} segment has unknown field(s) {', '.join(shown(k, 30) for k in unknown[:3])}")
     kwargs = {f: d[f] for f in fields if f in d}
     for f in ("p0", "p1", "center"):
         if f in kwargs and not (isinstance(kwargs[f], (list, tuple)) and len(kwargs[f]) == 2
                                 and all(isinstance(v, (int, float)) and not isinstance(v, bool)
                                         for v in kwargs[f])):
-            raise ValueError(f"{kind} segment field {f!r} must be two numbers, got {kwargs[f]!r}")
+            raise ValueError(f"{kind} segment field {f!r} must be two numbers, got {shown(kwargs[f])}")
     for f in ("radius", "radius_r", "radius_z"):
         if f in kwargs and (isinstance(kwargs[f], bool) or not isinstance(kwargs[f], (int, float))):
-            raise ValueError(f"{kind} segment field {f!r} must be a number, got {kwargs[f]!r}")
+            raise ValueError(f"{kind} segment field {f!r} must be a number, got {shown(kwargs[f])}")
     if "direction" in kwargs and not isinstance(kwargs["direction"], str):
         raise ValueError(f"{kind} segment direction must be 'ccw' or 'cw'")
     return cls(**kwargs)

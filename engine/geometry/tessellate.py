@@ -20,9 +20,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..errors import shown
+from ..limits import MAX_TOL_MM, MIN_TOL_MM
 from . import crosssection
 from .body import BottleBody
-from .offset import locate, param_at_z
+from .chain import locate, param_at_z
 
 BODY_PARTS = ("outer", "inner", "base_outer", "base_inner", "rim")
 LIQUID_PARTS = ("wall", "base", "surface")
@@ -30,6 +32,8 @@ LIQUID_PARTS = ("wall", "base", "surface")
 SAG_SHARE = 0.45
 #: Largest angular step (rad) even where the cross-section is straight.
 MAX_DTHETA = math.radians(15.0)
+#: Heights whose boundaries are sampled at once when choosing the polar angles (bounds memory).
+_HEIGHTS_PER_BLOCK = 64
 
 
 @dataclass(frozen=True, eq=False)
@@ -84,11 +88,18 @@ def theta_samples(body: BottleBody, tol_mm: float) -> np.ndarray:
     """Polar angles (rad) shared by every ring: chord sag <= ``SAG_SHARE * tol_mm`` around."""
     fine = np.linspace(0.0, 2 * math.pi, 2881)
     chains = [sp.outer_wall for sp in body.profile.sections]
-    z = np.unique(np.concatenate([c_seg.point(np.linspace(0, 1, 9))[:, 1] for c in chains for c_seg in c]))
-    radii = [body.wall_radii("outer", z)[k][0][:, None] for k in range(len(chains))]
-    x, y, nx, ny = crosssection.boundary(body.kind, radii, fine[None, :])
-    pts, nrm = np.stack([x, y], -1), np.stack([nx, ny], -1)
-    dens = np.max([_sag_density(pts[i], nrm[i]) for i in range(len(z))], axis=0)
+    z = np.unique(np.concatenate([s.point(np.linspace(0, 1, 9))[:, 1] for c in chains for s in c]))
+    if body.kind == "round":  # every ring is a circle: the widest one decides
+        widest = max(float(np.max(s.point(np.linspace(0, 1, 9))[:, 0])) for s in chains[0])
+        z, radii = z[:1], [np.array([[widest]])]
+    dens = np.zeros(len(fine) - 1)
+    for lo in range(0, len(z), _HEIGHTS_PER_BLOCK):  # blocks of heights: memory stays bounded
+        zb = z[lo:lo + _HEIGHTS_PER_BLOCK]
+        if body.kind != "round":
+            radii = [body.wall_radii("outer", zb)[k][0][:, None] for k in range(len(chains))]
+        x, y, nx, ny = crosssection.boundary(body.kind, radii, fine[None, :])
+        pts, nrm = np.stack(np.broadcast_arrays(x, y), -1), np.stack(np.broadcast_arrays(nx, ny), -1)
+        dens = np.maximum(dens, np.max([_sag_density(p, n) for p, n in zip(pts, nrm)], axis=0))
     step = math.sqrt(8.0 * SAG_SHARE * tol_mm)
     dens = np.maximum(dens, step * np.diff(fine) / MAX_DTHETA)
     n = max(int(math.ceil(dens.sum() / step)), 8)
@@ -314,9 +325,11 @@ def _base(b, body, part, label, theta, edge_ring, tol_mm, s_stop=None):
 
 
 def _check_tol(tol_mm: float) -> float:
+    """The tolerance as a float in ``engine.limits.MIN_TOL_MM..MAX_TOL_MM``, else ``ValueError``."""
     tol = float(tol_mm)
-    if not (math.isfinite(tol) and tol > 0):
-        raise ValueError(f"the chordal tolerance must be a positive number of mm, got {tol_mm!r}")
+    if not (math.isfinite(tol) and MIN_TOL_MM <= tol <= MAX_TOL_MM):
+        raise ValueError(f"the chordal tolerance must be {MIN_TOL_MM:g} to {MAX_TOL_MM:g} mm, "
+                         f"got {shown(tol_mm)}")
     return tol
 
 

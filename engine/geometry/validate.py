@@ -23,12 +23,13 @@ What a valid section is (SPEC 4.1, extended by the punt):
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
 from . import crosssection
 from ..errors import SectionError, WallError
-from .offset import build_body_profile, is_flat_base, locate, radius_at, split_at_ring
+from .offset import BodyProfile, build_body_profile, is_flat_base, locate, radius_at, split_at_ring
 from .segments import Arc, EllipseArc, Line, POINT_TOL_MM
 
 ANGLE_TOL_RAD = 1e-6
@@ -169,7 +170,7 @@ def _sample_heights(chains, z_lo: float, z_hi: float) -> np.ndarray:
     return z[(z >= z_lo) & (z <= z_hi)]
 
 
-def validate_shape(shape) -> None:
+def validate_shape(shape) -> BodyProfile:
     """Raise ``SectionError`` / ``WallError`` unless ``shape`` builds a valid glass body.
 
     Checks every section (:func:`validate_section`, errors prefixed with the section name), the
@@ -177,6 +178,8 @@ def validate_shape(shape) -> None:
     converge: ``u = v``, ``half_width = half_depth = corner`` or ``a = b`` at the mouth) and a
     valid outer and inner cross-section at every height; then builds the inner walls and checks
     that each is thinner than the radius of curvature of convex parts, stays off the axis and rises.
+    Returns the :class:`~engine.geometry.offset.BodyProfile` it built (use :func:`body_profile`
+    for the cached one).
     """
     kind = shape.cross_section
     for name, sec in shape.sections:
@@ -200,7 +203,7 @@ def validate_shape(shape) -> None:
             raise WallError("every per-segment wall thickness must be a positive number of mm")
     if kind != "round":
         _check_non_round_outer(shape)
-    _check_walls(shape)
+    return _check_walls(shape)
 
 
 def _check_non_round_outer(shape) -> None:
@@ -231,8 +234,9 @@ def _check_cross_sections(kind, chains, z_lo, z_hi, which, err=SectionError) -> 
         raise WallError(where)
 
 
-def _check_walls(shape) -> None:
-    """Wall thinner than convex radii of curvature; inner walls off the axis, rising and valid."""
+def _check_walls(shape) -> BodyProfile:
+    """Wall thinner than convex radii of curvature; inner walls off the axis, rising and valid.
+    Returns the body profile it had to build for that."""
     for name, sec in shape.sections:
         _, wall, k = split_at_ring(sec)
         walls = shape.wall_per_segment or [shape.wall_thickness] * len(wall)
@@ -252,17 +256,33 @@ def _check_walls(shape) -> None:
     prof = build_body_profile(shape)
     for sp, (name, sec) in zip(prof.sections, shape.sections):
         outer, k = sp.outer_wall, split_at_ring(sec)[2]
-        for seg in sp.inner_wall:
-            p = seg.point(np.linspace(0.0, 1.0, 65))
-            j = k + max(int(locate(outer, np.clip(p[:, 1], outer[0].p0[1], outer[-1].p1[1]))[0][0]), 0)
-            if np.min(p[:, 0]) <= POINT_TOL_MM:
+        # All inner segments at once (one locate call): the check stays linear in the segments.
+        p = np.stack([seg.point(np.linspace(0.0, 1.0, 65)) for seg in sp.inner_wall])
+        at_axis = np.min(p[..., 0], axis=1) <= POINT_TOL_MM
+        falls = np.any(np.diff(p[..., 1], axis=1) < -1e-12, axis=1)
+        if np.any(at_axis | falls):
+            m = int(np.argmax(at_axis | falls))
+            z0 = np.clip(p[m, :1, 1], outer[0].p0[1], outer[-1].p1[1])
+            j = k + max(int(locate(outer, z0)[0][0]), 0)
+            if at_axis[m]:
                 raise WallError(f"{name} section, segment {j}: the wall is thicker than the radius "
                                 f"there (the inner wall reaches the axis)")
-            if np.any(np.diff(p[:, 1]) < -1e-12):
-                raise WallError(f"{name} section, segment {j}: the inner wall does not rise "
-                                f"(wall too thick for this part of the section)")
+            raise WallError(f"{name} section, segment {j}: the inner wall does not rise "
+                            f"(wall too thick for this part of the section)")
         if sp.inner_wall[0].p0[1] >= shape.z_top - POINT_TOL_MM:
             raise WallError(f"{name} section: the inner base reaches the mouth")
     if shape.cross_section != "round":
         _check_cross_sections(shape.cross_section, [sp.inner_wall for sp in prof.sections],
                               prof.z_ib, prof.z_top, "inner", WallError)
+    return prof
+
+
+@lru_cache(maxsize=64)
+def body_profile(shape) -> BodyProfile:
+    """The validated, cached :class:`~engine.geometry.offset.BodyProfile` of ``shape``.
+
+    Raises ``SectionError`` / ``WallError`` (from :func:`validate_shape`) when the shape is not a
+    valid bottle; a valid shape's profile is built once, by the validation itself, and kept
+    (shapes are hashable values).
+    """
+    return validate_shape(shape)

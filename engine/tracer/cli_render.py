@@ -13,6 +13,9 @@ import time
 
 import numpy as np
 
+from ..errors import bounded
+from ..files.atomic import replacing
+from ..limits import check_image_size
 from .job import RenderJob, tonemap_srgb8
 
 IMAGE_SUFFIXES = (".png", ".exr", ".tif", ".tiff")
@@ -21,7 +24,9 @@ IMAGE_SUFFIXES = (".png", ".exr", ".tif", ".tiff")
 def save_image(path, image) -> None:
     """Write ``image`` ``(H, W, 3)`` linear float: ``.exr`` as float32, others as sRGB uint8.
 
-    Raises ``ValueError`` for an unknown suffix and ``OSError`` when the file cannot be written.
+    The file is replaced atomically (:func:`engine.files.atomic.replacing`): a failed or
+    interrupted write leaves the previous image whole. Raises ``ValueError`` for an unknown
+    suffix and ``OSError`` when the file cannot be written.
     """
     import OpenImageIO as oiio
 
@@ -35,14 +40,17 @@ def save_image(path, image) -> None:
         data, fmt = np.ascontiguousarray(img, dtype=np.float32), oiio.FLOAT
     else:
         data, fmt = np.ascontiguousarray(tonemap_srgb8(img)), oiio.UINT8
-    out = oiio.ImageOutput.create(path)
-    if out is None:
-        raise OSError(f"cannot write {path}: {oiio.geterror()}")
-    try:
-        if not out.open(path, oiio.ImageSpec(w, h, 3, fmt)) or not out.write_image(data):
-            raise OSError(f"cannot write {path}: {out.geterror()}")
-    finally:
-        out.close()
+    with replacing(path, suffix=ext) as tmp:
+        out = oiio.ImageOutput.create(tmp)
+        if out is None:
+            raise OSError(f"cannot write {path}: {bounded(oiio.geterror(), 200)}")
+        try:
+            ok = out.open(tmp, oiio.ImageSpec(w, h, 3, fmt)) and out.write_image(data)
+            error = "" if ok else out.geterror()
+        finally:
+            ok = out.close() and ok
+        if not ok:
+            raise OSError(f"cannot write {path}: {bounded(error or oiio.geterror(), 200)}")
 
 
 def render_command(project_path, out_path, width=None, height=None, spp=None, threads=None,
@@ -59,6 +67,9 @@ def render_command(project_path, out_path, width=None, height=None, spp=None, th
     if os.path.splitext(os.fspath(out_path))[1].lower() not in IMAGE_SUFFIXES:
         raise ValueError(f"the output must end in .png, .exr or .tif, got {out_path!r}")
     design, assets = load_project(project_path)
+    # The overrides combine with the project's own size: check what will really be rendered.
+    check_image_size(width or design.render.width, height or design.render.height,
+                     spp or design.render.spp, where="image ")
     t0 = time.perf_counter()
     job = RenderJob(design, assets, width=width, height=height, spp=spp, threads=threads, tile=64)
     job.start()

@@ -4,17 +4,25 @@ Design rule: an :class:`EnvironmentMap` is an immutable float32 texel array ``(H
 (linear RGB radiance, row 0 = zenith, column centres at ``u = (i + 0.5) / W``) plus a scale and
 a turn about +z; :meth:`EnvironmentMap.lookup` is the bilinear, u-periodic, pole-clamped lookup
 of ../shared/oracle/SPEC.md section 3. Maps come from an EXR/HDR file (OpenImageIO) or from the
-procedural built-in studio. No Qt here.
+procedural built-in studio. Every texel is finite and in ``[0, MAX_TEXEL]`` (:func:`clean_texels`,
+one rule for every source), and an embedded image is decoded once per distinct file content
+(:data:`DECODED`). No Qt here.
 """
 from __future__ import annotations
 
+import hashlib
 import math
 import os
 import tempfile
+import threading
+from collections import OrderedDict
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+
+from ..errors import bounded, shown
+from ..limits import (ENV_SCALE_RANGE, MAX_ENV_TEXELS, MAX_TEXEL, MAX_TURN_DEG, check_range)
 
 
 @dataclass(frozen=True, eq=False)
@@ -57,28 +65,43 @@ class EnvironmentMap:
 def read_radiance_image(path) -> np.ndarray:
     """Read a linear RGB image (EXR, HDR, ...) with OpenImageIO as float32 ``(H, W, 3)``.
 
-    Grey images are replicated to RGB; extra channels (alpha) are dropped. Raises ``ValueError``
-    naming the file when it cannot be read.
+    Grey images are replicated to RGB; extra channels (alpha) are never read. An image of more
+    than :data:`engine.limits.MAX_ENV_TEXELS` texels is refused before its pixels are decoded,
+    and the texels are cleaned by :func:`clean_texels`. Raises ``ValueError`` naming the file
+    when it cannot be read.
     """
     import OpenImageIO as oiio
 
     inp = oiio.ImageInput.open(str(path))
     if inp is None:
-        raise ValueError(f"cannot read environment image {path}: {oiio.geterror()}")
+        raise ValueError(f"cannot read environment image {path}: {bounded(oiio.geterror(), 200)}")
     try:
         spec = inp.spec()
-        pixels = inp.read_image(0, 0, 0, spec.nchannels, oiio.FLOAT)
+        w, h, nch = int(spec.width), int(spec.height), int(spec.nchannels)
+        if w < 1 or h < 2 or nch < 1:
+            raise ValueError(f"environment image {path} is {w} x {h} x {nch}; it needs at least "
+                             f"one column, two rows and one channel")
+        if w * h > MAX_ENV_TEXELS:
+            raise ValueError(f"environment image {path} has {w} x {h} texels "
+                             f"(limit {MAX_ENV_TEXELS}, e.g. 8192 x 4096)")
+        pixels = inp.read_image(0, 0, 0, min(nch, 3), oiio.FLOAT)
     finally:
         inp.close()
     if pixels is None:
         raise ValueError(f"cannot decode environment image {path}")
-    pixels = np.asarray(pixels, dtype=np.float32).reshape(spec.height, spec.width, spec.nchannels)
-    if spec.nchannels == 1:
-        pixels = np.repeat(pixels, 3, axis=2)
-    pixels = np.ascontiguousarray(pixels[:, :, :3])
-    if pixels.shape[0] < 2:
-        raise ValueError(f"environment image {path} needs at least two rows")
-    return np.nan_to_num(pixels, nan=0.0, posinf=0.0, neginf=0.0)
+    pixels = np.asarray(pixels, dtype=np.float32).reshape(h, w, min(nch, 3))
+    if pixels.shape[2] != 3:
+        pixels = np.repeat(pixels[:, :, :1], 3, axis=2)
+    return clean_texels(np.ascontiguousarray(pixels))
+
+
+def clean_texels(pixels: np.ndarray) -> np.ndarray:
+    """The one rule for texel values, applied in float32 in place: NaN, -Inf and negative
+    radiance become 0; +Inf and anything above :data:`engine.limits.MAX_TEXEL` become
+    ``MAX_TEXEL``. Returns ``pixels`` (float32, every value in ``[0, MAX_TEXEL]``)."""
+    np.nan_to_num(pixels, copy=False, nan=0.0, posinf=MAX_TEXEL, neginf=0.0)
+    np.clip(pixels, 0.0, MAX_TEXEL, out=pixels)
+    return pixels
 
 
 def _smoothstep(e0, e1, x):
@@ -121,20 +144,78 @@ def studio_texels(width: int = 1024, height: int = 512) -> np.ndarray:
     return out
 
 
+class _DecodedCache:
+    """Decoded environment images by the SHA-256 of their file bytes, so a render restart (or
+    a project reopened) never decodes the same image again. The digest of a bytes object is
+    remembered by identity (the object is kept alive with it, so its id cannot be reused), so
+    a restart with the same assets does not even hash them again. Both tables are small LRUs."""
+
+    MAPS = 2
+    DIGESTS = 8
+
+    def __init__(self):
+        self._lock = threading.Lock()
+        self._maps: OrderedDict[str, np.ndarray] = OrderedDict()
+        self._digests: OrderedDict[int, tuple[object, str]] = OrderedDict()
+        self.decodes = 0  # how many images were decoded (for tests and benchmarks)
+
+    def _digest(self, data) -> str:
+        hit = self._digests.get(id(data))
+        if hit is not None and hit[0] is data:
+            self._digests.move_to_end(id(data))
+            return hit[1]
+        digest = hashlib.sha256(data).hexdigest()
+        self._digests[id(data)] = (data, digest)
+        while len(self._digests) > self.DIGESTS:
+            self._digests.popitem(last=False)
+        return digest
+
+    def texels(self, name: str, data) -> np.ndarray:
+        """Read-only float32 texels of the image file ``data`` (bytes) called ``name``."""
+        with self._lock:  # why: one decode even when two jobs start at once
+            key = self._digest(data)
+            tex = self._maps.get(key)
+            if tex is None:
+                tex = _decode_bytes(name, data)
+                tex.setflags(write=False)
+                self.decodes += 1
+                self._maps[key] = tex
+                while len(self._maps) > self.MAPS:
+                    self._maps.popitem(last=False)
+            self._maps.move_to_end(key)
+            return tex
+
+
+def _decode_bytes(name: str, data) -> np.ndarray:
+    # OpenImageIO's Python binding reads files only: one temporary file, once per image.
+    suffix = os.path.splitext(str(name))[1] or ".exr"
+    with tempfile.TemporaryDirectory() as tmp:
+        p = os.path.join(tmp, "env" + suffix)
+        with open(p, "wb") as fh:
+            fh.write(data)
+        try:
+            return read_radiance_image(p)
+        except ValueError as exc:
+            raise ValueError(str(exc).replace(p, f"asset {shown(str(name))}")) from None
+
+
+DECODED = _DecodedCache()
+
+
 def _asset_texels(asset, assets) -> np.ndarray:
-    """Texels for a project asset: a path, raw file bytes, or an array already decoded."""
+    """Texels for a project asset: raw file bytes (decoded once, :data:`DECODED`), a path, or
+    an array already decoded (cleaned by :func:`clean_texels` on a copy)."""
     if assets is None or asset not in assets:
-        raise ValueError(f"environment asset {asset!r} is not in the project")
+        raise ValueError(f"environment asset {shown(asset)} is not in the project")
     item = assets[asset]
     if isinstance(item, np.ndarray):
-        return np.asarray(item, dtype=np.float32)[:, :, :3]
+        h, w = item.shape[:2] if item.ndim == 3 else (0, 0)
+        if item.ndim != 3 or item.shape[2] < 3 or h < 2 or w < 1 or h * w > MAX_ENV_TEXELS:
+            raise ValueError(f"environment asset {shown(asset)} must be (H >= 2, W, 3) texels, "
+                             f"at most {MAX_ENV_TEXELS} of them; got shape {item.shape}")
+        return clean_texels(np.array(item[:, :, :3], dtype=np.float32))
     if isinstance(item, (bytes, bytearray, memoryview)):
-        suffix = os.path.splitext(str(asset))[1] or ".exr"
-        with tempfile.TemporaryDirectory() as tmp:
-            p = os.path.join(tmp, "env" + suffix)
-            with open(p, "wb") as fh:
-                fh.write(bytes(item))
-            return read_radiance_image(p)
+        return DECODED.texels(str(asset), bytes(item) if not isinstance(item, bytes) else item)
     return read_radiance_image(os.fspath(item))
 
 
@@ -143,8 +224,11 @@ def environment_from_design(environment, assets=None) -> EnvironmentMap:
 
     ``kind == "studio"`` gives the procedural studio; ``kind == "file"`` reads ``assets[asset]``
     (a file path, the file's bytes, or an ``(H, W, 3)`` array). ``scale`` multiplies radiance
-    and ``rotation_deg`` turns the map about +z.
+    (within :data:`engine.limits.ENV_SCALE_RANGE`, so radiance stays far inside float32) and
+    ``rotation_deg`` turns the map about +z. Raises ``ValueError`` naming what is wrong.
     """
+    check_range("design.environment.scale", environment.scale, ENV_SCALE_RANGE)
+    check_range("design.environment.rotation_deg", environment.rotation_deg, (-MAX_TURN_DEG, MAX_TURN_DEG))
     if environment.kind == "studio":
         tex = studio_texels()
     elif environment.kind == "file":

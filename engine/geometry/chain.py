@@ -1,0 +1,134 @@
+"""Z-monotone chains of segments: sub-segments, the parameter at a height, locating heights.
+
+Design rule: pure, vectorised functions of segments (mm) that every derived-geometry module
+shares (offsets, validation, bodies, tessellation, capacities). Each is linear in the points it
+is asked about plus the segments of the chain: points are grouped by segment once
+(:func:`by_segment`), never masked once per segment. Heights outside a chain get index -1 and
+NaN; chains may rise or descend in z.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from .segments import Arc, EllipseArc, Line, OffsetEllipseArc, Segment
+
+#: Height tolerance (mm) for "at z = 0" and for snapping clip heights onto joints.
+Z_TOL_MM = 1e-6
+
+
+def subsegment(seg: Segment, t0: float, t1: float) -> Segment:
+    """The part of ``seg`` for parameters ``t0 <= t <= t1`` (0 <= t0 < t1 <= 1), same kind.
+
+    The new segment's parameter maps linearly onto ``[t0, t1]`` of the old one (every kind here is
+    parameterised linearly in angle or length), so ``sub.point(s) == seg.point(t0 + s (t1 - t0))``.
+    """
+    if not (0.0 <= t0 < t1 <= 1.0) or t1 - t0 < 1e-13:
+        raise ValueError(f"sub-range [{t0}, {t1}] is not a proper part of [0, 1]")
+    if isinstance(seg, OffsetEllipseArc):
+        return OffsetEllipseArc(subsegment(seg.base, t0, t1), seg.w)
+    p0 = tuple(float(v) for v in seg.point(t0))
+    p1 = tuple(float(v) for v in seg.point(t1))
+    if isinstance(seg, Line):
+        return Line(p0, p1)
+    if isinstance(seg, Arc):
+        return Arc(seg.center, seg.radius, p0, p1, seg.direction)
+    if isinstance(seg, EllipseArc):
+        return EllipseArc(seg.center, seg.radius_r, seg.radius_z, p0, p1, seg.direction)
+    raise TypeError(f"unknown segment type {type(seg).__name__}")
+
+
+def param_at_z(seg: Segment, z) -> np.ndarray:
+    """Parameter(s) ``t`` where the z-monotone segment ``seg`` is at height ``z`` (mm).
+
+    Exact for lines, arcs and ellipse arcs (inverse trigonometry on the half that the arc lies
+    in); a bracketed Newton iteration for offset ellipse arcs. ``z`` outside the segment's range
+    gives the nearer end. The segment must be monotone in z (wall and base parts are).
+    """
+    z = np.asarray(z, dtype=float)
+    z0, z1 = seg.p0[1], seg.p1[1]
+    if isinstance(seg, Line):
+        return np.zeros_like(z) if z1 == z0 else np.clip((z - z0) / (z1 - z0), 0.0, 1.0)
+    if isinstance(seg, (Arc, EllipseArc)):
+        rz = seg.radius if isinstance(seg, Arc) else seg.radius_z
+        s = np.arcsin(np.clip((z - seg.center[1]) / rz, -1.0, 1.0))
+        mid = float(seg.angle(0.5))
+        if math.cos(mid) < 0.0:  # the arc lies on the half nearer the axis
+            s = math.pi - s
+        d = np.mod((s - seg.angle0) * math.copysign(1.0, seg.sweep) + math.pi, 2 * math.pi) - math.pi
+        return np.clip(d / abs(seg.sweep), 0.0, 1.0)  # angle past the start, as a fraction
+    if isinstance(seg, OffsetEllipseArc):
+        return _offset_param_at_z(seg, z)
+    raise TypeError(f"unknown segment type {type(seg).__name__}")
+
+
+def _offset_param_at_z(seg: OffsetEllipseArc, z) -> np.ndarray:
+    """Bracketed Newton solve of ``z(t) = z`` on an offset ellipse arc (monotone in z)."""
+    b = seg.base
+    zlo, zhi = seg.p0[1], seg.p1[1]
+    sign = 1.0 if zhi >= zlo else -1.0
+    target = sign * np.clip(z, min(zlo, zhi), max(zlo, zhi))
+    lo, hi = np.zeros_like(target), np.ones_like(target)
+    t = np.clip((target - sign * zlo) / max(abs(zhi - zlo), 1e-300), 0.0, 1.0)
+    for _ in range(60):
+        f = sign * seg.point(t)[..., 1] - target
+        done = np.abs(f) <= 1e-12 * max(1.0, abs(zhi), abs(zlo))
+        if np.all(done):
+            return t
+        lo = np.where(f < 0, t, lo)
+        hi = np.where(f > 0, t, hi)
+        s = b.angle(t)
+        speed = abs(b.sweep) * np.hypot(b.radius_r * np.sin(s), b.radius_z * np.cos(s))
+        dzdt = sign * speed * (1.0 - seg.w * b.curvature(t)) * b.tangent(t)[..., 1]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            t_new = t - f / dzdt
+        bad = ~np.isfinite(t_new) | (t_new < lo) | (t_new > hi)
+        t_new = np.where(done, t, np.where(bad, 0.5 * (lo + hi), t_new))
+        if np.all(np.abs(t_new - t) < 1e-16):
+            return t_new
+        t = t_new
+    return t
+
+
+def by_segment(idx):
+    """``(i, positions)`` for each distinct value ``i`` of the integer array ``idx``, where
+    ``positions`` index ``idx.ravel()``: one sort, so the loops that evaluate each segment on its
+    own points stay linear in points plus segments (a mask per segment would be their product)."""
+    flat = np.ravel(idx)
+    order = np.argsort(flat, kind="stable")
+    cuts = np.flatnonzero(np.diff(flat[order])) + 1
+    for part in np.split(order, cuts):
+        if len(part):
+            yield int(flat[part[0]]), part
+
+
+def locate(segments, z):
+    """``(index, t)`` shaped like ``z``: segment holding height ``z`` (mm) and its parameter, on a
+    chain rising or descending in z; heights outside its range get index -1 and ``t = nan``."""
+    z, n = np.asarray(z, dtype=float), len(segments)
+    rising = segments[-1].p1[1] >= segments[0].p0[1]
+    order = range(n) if rising else range(n - 1, -1, -1)
+    tops = np.array([max(segments[i].p0[1], segments[i].p1[1]) for i in order])
+    pos = np.minimum(np.searchsorted(tops, z, side="left"), n - 1)
+    idx = pos if rising else n - 1 - pos
+    t = np.full(z.shape, np.nan)
+    t_flat, z_flat = t.reshape(-1), z.reshape(-1)
+    for i, part in by_segment(idx):
+        t_flat[part] = param_at_z(segments[i], z_flat[part])
+    z_lo, z_hi = sorted((segments[0].p0[1], segments[-1].p1[1]))
+    outside = (z < z_lo - Z_TOL_MM) | (z > z_hi + Z_TOL_MM)
+    t[outside] = np.nan
+    return np.where(outside, -1, idx), t
+
+
+def radius_at(segments, z) -> np.ndarray:
+    """Radius r(z) (mm) of a z-monotone chain of segments at heights ``z`` (mm), vectorised;
+    ``nan`` outside the chain's z range. Exact up to rounding (see :func:`param_at_z`)."""
+    idx, t = locate(segments, z)
+    r = np.full(np.shape(t), np.nan)
+    r_flat, t_flat = r.reshape(-1), t.reshape(-1)
+    for i, part in by_segment(idx):
+        if i >= 0:
+            r_flat[part] = segments[i].point(t_flat[part])[..., 0]
+    return r

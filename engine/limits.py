@@ -1,0 +1,119 @@
+"""Every bound a design, a project file or a command line may take, in one place.
+
+Design rule: a value a user can pass (in a project file, a panel, a DXF drawing or on the
+command line) is checked against a bound here before any work starts, and the same bound is
+applied when a project is written and when it is read, so glassbench never writes a file it
+would then refuse. The bounds are chosen so that anything accepted renders in bounded memory
+and time: the sizes of the largest real containers (a demijohn), the image sizes of print work,
+and cut-offs that keep the ray tree finite. Units: mm, degrees, pixels, bytes.
+
+:func:`check_range` is the one way a bound is applied: its error names the field and shows the
+value and the range, both of bounded length.
+"""
+from __future__ import annotations
+
+import math
+import numbers
+
+from .errors import DesignError, shown
+
+# ------------------------------------------------------------------------------ text and lists
+#: Longest string anywhere in a design (name and notes included), in characters.
+MAX_TEXT_CHARS = 100_000
+#: Most items in any list of a design (lights, labels, bump tiles, per-segment walls).
+MAX_LIST_ITEMS = 4096
+
+# ----------------------------------------------------------------------------------- geometry
+#: Most segments in one section (a DXF drawing is refused beyond this, before it is chained).
+MAX_SEGMENTS = 1024
+#: Largest coordinate (mm) of any segment end point, centre, thickness or cap: 2 m.
+MAX_EXTENT_MM = 2000.0
+#: Largest arc or ellipse radius (mm): an almost straight arc, a kilometre across.
+MAX_RADIUS_MM = 1e6
+#: Finest and coarsest chordal tolerance (mm) a tessellation may be asked for.
+MIN_TOL_MM = 1e-3
+MAX_TOL_MM = 10.0
+#: Largest angle (degrees, either way) of a turn about +z (bottle rotation, environment turn).
+MAX_TURN_DEG = 360.0
+
+# ---------------------------------------------------------------------------------- materials
+IOR_RANGE = (1.0, 5.0)
+#: Absorption per RGB channel (1/mm): 1000/mm is opaque within a micrometre.
+ABSORPTION_RANGE = (0.0, 1000.0)
+#: Glass density (g/cm^3): soda-lime glass is 2.5, lead crystal 3.1, nothing real beyond 30.
+DENSITY_RANGE = (0.1, 30.0)
+
+# ------------------------------------------------------------------------- camera and lights
+#: Largest distance (mm) of the camera's eye or target from the origin: 1 km.
+MAX_CAMERA_MM = 1e6
+#: Nearest the eye may be to its target (mm).
+MIN_VIEW_DISTANCE_MM = 1e-3
+#: Vertical field of view (degrees); 0 and 180 are no picture at all.
+FOV_RANGE = (0.1, 170.0)
+#: Smallest sine of the angle between the up vector and the viewing direction.
+MIN_UP_SINE = 1e-6
+#: Environment radiance scale; with :data:`MAX_TEXEL` it keeps radiance far below float32's
+#: largest value (3.4e38) even summed over every sample of a pixel.
+ENV_SCALE_RANGE = (0.0, 1e6)
+LIGHT_INTENSITY_RANGE = (0.0, 1e6)
+LIGHT_COLOR_RANGE = (0.0, 1e3)
+
+# ------------------------------------------------------------------------------- environment
+#: Most texels (width x height) of an environment image: 8192 x 4096.
+MAX_ENV_TEXELS = 1 << 25
+#: Largest texel value kept; brighter texels (and +Inf) are clipped to it.
+MAX_TEXEL = 1e9
+
+# ------------------------------------------------------------------------------------- render
+WIDTH_RANGE = (1, 16384)
+HEIGHT_RANGE = (1, 16384)
+#: Most pixels in one image (4096 x 4096): the film then needs about 1 GB.
+MAX_PIXELS = 1 << 24
+SPP_RANGE = (1, 1 << 16)
+#: Boundaries a branch of the ray tree may cross; the deepest oracle renders use 256.
+MAX_DEPTH_RANGE = (1, 1024)
+#: Branch weight cut-off. Each level of the tree holds at most ``1 / min_weight`` branches
+#: (weights split, never grow), so one camera sample traces at most ``max_depth / min_weight``
+#: rays; 0 would never stop. On the Bordeaux sample (8 x 8 px, 1 spp) 1e-3 traces 45 rays per
+#: pixel, 1e-5 (the deepest benchmark) 3,100 and 1e-6 150,000 (``python -m benchmarks.hostile``).
+MIN_WEIGHT_RANGE = (1e-5, 1.0)
+
+
+def check_range(field: str, value, bounds, unit: str = "", integer: bool = False) -> None:
+    """Raise ``DesignError`` unless ``bounds[0] <= value <= bounds[1]`` (and ``value`` is finite).
+
+    Parameters
+    ----------
+    field : str
+        What the value is, as the user knows it (``design.render.spp``, ``--width``).
+    value : int or float
+        The value to check (ints are compared exactly, never converted to float).
+    bounds : (lo, hi)
+        Inclusive bounds.
+    unit : str
+        Shown after the range (``mm``, ``deg``).
+    integer : bool
+        The value must also be a whole number (an ``int``, not ``True``).
+    """
+    lo, hi = bounds
+    kind = numbers.Integral if integer else numbers.Real
+    ok = isinstance(value, kind) and not isinstance(value, bool)
+    if ok and not integer:
+        ok = math.isfinite(float(value))
+    if not ok or not lo <= value <= hi:
+        suffix = f" {unit}" if unit else ""
+        raise DesignError(f"{field} = {shown(value)} is outside {lo:g}..{hi:g}{suffix}")
+
+
+def check_image_size(width: int, height: int, spp: int, where: str = "design.render.") -> None:
+    """Check an image size (pixels) and sample count against the render bounds.
+
+    ``where`` prefixes the field names: ``design.render.`` for a project, ``--`` for the
+    command line, so the message names what the user typed.
+    """
+    check_range(f"{where}width", width, WIDTH_RANGE, "px", integer=True)
+    check_range(f"{where}height", height, HEIGHT_RANGE, "px", integer=True)
+    check_range(f"{where}spp", spp, SPP_RANGE, integer=True)
+    if width * height > MAX_PIXELS:
+        raise DesignError(f"{where}width x {where}height = {width} x {height} is more than "
+                          f"{MAX_PIXELS} pixels")

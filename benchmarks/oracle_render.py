@@ -45,7 +45,7 @@ def reference_path(spec_path: str) -> str:
 
 
 def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
-                noise_target: float = ORACLE_NOISE_TARGET, tile: int = 64, **settings):
+                noise_target: float = ORACLE_NOISE_TARGET, tile: int = 64, adaptive: bool = True, **settings):
     """Render a SPEC scene; returns ``(image (H, W, 3) float32, seconds, job)``.
 
     ``settings`` may override ``RenderSettings`` fields (``max_depth``, ``min_weight``, ...);
@@ -58,7 +58,7 @@ def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
     settings = {"max_depth": ORACLE_MAX_DEPTH, "min_weight": ORACLE_MIN_WEIGHT, **settings}
     design = dataclasses.replace(design, render=dataclasses.replace(design.render, spp=int(spp), **settings))
     t0 = time.perf_counter()
-    job = RenderJob(design, assets, threads=threads, tile=tile, noise_target=noise_target).start()
+    job = RenderJob(design, assets, threads=threads, tile=tile, noise_target=noise_target, adaptive=adaptive).start()
     job.wait()
     if job.error is not None:
         raise job.error

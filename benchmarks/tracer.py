@@ -1,18 +1,26 @@
-"""Tracer benchmark: ray throughput, overhead over raw Embree, thread scaling, error vs time.
-
-The frame / Embree ratio is the cost of everything around the BVH: refining each hit onto
-the exact surface (analytic roots, Newton on non-round walls) and shading. The mesh-tolerance
-sweep shows what a coarser render mesh costs in accuracy and gains in speed.
+"""Tracer benchmark: frame time against raw Embree on the same rays, thread scaling, latency,
+cold start, truncation bias, and error against time on the oracle scenes.
 
 Usage::
 
-    python -m benchmarks.tracer [--quick] [--scenes public_1,public_2,...]
+    python -m benchmarks.tracer [--quick] [--scenes bordeaux,square,public_1,...]
 
-Prints the figures, writes ``benchmarks/out/tracer.csv`` and ``benchmarks/out/tracer.png``
-(rel RMSE vs render time per oracle scene). Every comparison is a ratio measured in the same
-run: the whole frame's time over the time raw Embree needs for exactly the rays the frame
-cast (intersection only), 2 threads over 1, truncated trees against a deep tree with the
-same samples (so noise cancels and only the truncation bias remains).
+Every comparison is a ratio measured in the same run, on the same thread:
+
+* **frame / Embree**: the whole frame (camera rays, exact intersection with the analytic
+  render objects, Fresnel branching, absorption, environment, film sums) over the time raw
+  Embree (embreex, one committed scene of the geometry engine's 0.02 mm tessellation) needs to
+  intersect exactly the ray segments the frame traced (recorded in a second pass). Also the
+  analytic intersection alone over Embree: per shape kind, which intersector is faster.
+* **threads**: the same deterministic job on 1 and 2 worker threads (images bit-identical).
+* **latency**: first finished tile over the whole job, and the bundled sample's time to converge.
+* **cold start**: a fresh process compiling the kernels into an empty cache, and then loading them.
+
+CPU time of the measuring thread is used for the frame/Embree ratio (both single-threaded), so
+other load on the machine cancels; wall time for the threaded job. Writes
+``benchmarks/out/tracer.csv`` and ``tracer.png``; prints last
+``frame_over_embree=X thread_speedup=Y`` (the worst frame ratio over the scenes, and 2 threads
+over 1).
 """
 from __future__ import annotations
 
@@ -20,170 +28,189 @@ import argparse
 import csv
 import dataclasses
 import os
+import subprocess
+import sys
+import tempfile
 import time
 
 import numpy as np
+
 from benchmarks.paths import ORACLE_SPECS
 
-SPECS = str(ORACLE_SPECS)
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "out")
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+SAMPLES = {"bordeaux": "resources/bordeaux.glassbench", "square": "resources/square.glassbench",
+           "jar": "resources/jar.glassbench"}
 
 
-def _design(name, **render):
-    from benchmarks.oracle_spec import spec_to_design
+def load_scene(name, **render):
+    """A design and its assets by name: a bundled sample or an oracle scene (``public_N``)."""
+    if name in SAMPLES:
+        from engine.files.project import load_project
 
-    design, assets = spec_to_design(f"{SPECS}/{name}.json")
-    render = {"max_depth": 64, "min_weight": 2e-3, **render}
-    return dataclasses.replace(design, render=dataclasses.replace(design.render, **render)), assets
+        design, assets = load_project(os.path.join(ROOT, SAMPLES[name]))
+    else:
+        from benchmarks.oracle_spec import spec_to_design
 
-
-class _Recorder:
-    """Wraps an EmbreeTriangles and keeps a copy of every ray batch it is asked to trace."""
-
-    def __init__(self, tri):
-        self.tri, self.batches = tri, []
-
-    def intersect(self, o, d):
-        self.batches.append((np.asarray(o, np.float32), np.asarray(d, np.float32)))
-        return self.tri.intersect(o, d)
+        design, assets = spec_to_design(str(ORACLE_SPECS / f"{name}.json"))
+    if render:
+        design = dataclasses.replace(design, render=dataclasses.replace(design.render, **render))
+    return design, assets
 
 
-def throughput(name, size, spp):
-    """Rays/s of one single-threaded frame and its time over raw Embree on the same rays."""
-    from engine.tracer.integrator import TraceStats
-    from engine.tracer.tiles import RenderContext, trace_tile_samples
+def embree_scene(design, tol_mm=0.02):
+    """The raw-Embree peer: one committed embreex scene of the glass body (and the liquid's free
+    surface) tessellated by the geometry engine at ``tol_mm``; returns ``(scene, triangles)``."""
+    from embreex.mesh_construction import TriangleMesh
+    from embreex.rtcore_scene import EmbreeScene
 
-    design, assets = _design(name)
+    from engine.geometry.tessellate import tessellate_body, tessellate_liquid
+    from engine.model.fill import fill_height_of
+
+    mesh = tessellate_body(design.shape, tol_mm)
+    verts, faces = [mesh.vertices], [mesh.faces]
+    h = fill_height_of(design)
+    if h is not None:
+        liq = tessellate_liquid(design.shape, h, tol_mm)
+        f = liq.faces[liq.part == liq.part_names.index("surface")]
+        faces.append(f + len(mesh.vertices))
+        verts.append(liq.vertices)
+    v = np.concatenate(verts).astype(np.float32)
+    f = np.concatenate(faces).astype(np.int32)
+    scene = EmbreeScene()
+    TriangleMesh(scene, v, f)
+    scene.run(np.zeros((1, 3), np.float32), np.array([[0, 0, 1]], np.float32))  # commit
+    return scene, len(f)
+
+
+def frame_vs_embree(name, size, spp):
+    """One single-threaded frame (every pixel, anti-aliasing samples 1..spp) against raw Embree
+    and against the analytic intersection alone, on the rays the frame traced."""
+    from engine.tracer.context import RenderContext, nearest_hits, trace_pixels
+
+    design, assets = load_scene(name)
     ctx = RenderContext.from_design(design, assets, size, size)
-    rec = _Recorder(ctx.geometry.triangles)
-    object.__setattr__(ctx.geometry, "triangles", rec)
-    try:
-        ys, xs = np.mgrid[0:size, 0:size]
-        st = TraceStats()
-        t0 = time.perf_counter()
-        trace_tile_samples(ctx, xs.ravel(), ys.ravel(), np.zeros(xs.size), np.full(xs.size, spp), st)
-        frame = time.perf_counter() - t0
-    finally:
-        object.__setattr__(ctx.geometry, "triangles", rec.tri)
-    scene = rec.tri._scene
-    t0 = time.perf_counter()
-    for o, d in rec.batches:  # same batches, same ray count, intersection only
-        scene.run(o, d, output=1)
-    raw = time.perf_counter() - t0
-    return {"scene": name, "rays": st.rays_cast, "frame_s": frame, "embree_s": raw,
-            "rays_per_s": st.rays_cast / frame, "frame_over_embree": frame / raw,
-            "triangles": rec.tri.n_triangles}
-
-
-def mesh_tolerance(name, size, spp, tols):
-    """Frame time and image change against the finest tolerance, per render-mesh tolerance.
-
-    Hits are refined onto the exact surfaces, so the tolerance only moves silhouettes and
-    which candidate Embree finds; same samples each time, so noise cancels in the change.
-    """
-    from benchmarks.oracle_render import rel_rmse
-    from engine.tracer import geometry as geo
-    from engine.tracer.integrator import TraceStats
-    from engine.tracer.tiles import RenderContext, trace_tile_samples
-
-    design, assets = _design(name)
     ys, xs = np.mgrid[0:size, 0:size]
-    rows, ref, saved = [], None, geo.MESH_TOL_MM
-    try:
-        for tol in sorted(tols):
-            geo.MESH_TOL_MM = tol
-            geo._CACHE.clear()
+    cols, rows = xs.ravel(), ys.ravel()
+    trace_pixels(ctx, cols[:4], rows[:4], 1, 1)  # compiled and warm
+    t0 = time.thread_time()
+    res = trace_pixels(ctx, cols, rows, 1, spp)
+    frame = time.thread_time() - t0
+    n = int(res.counters[0])
+    rec = (np.zeros((n, 6), np.float32), np.zeros(1, np.int64))
+    trace_pixels(ctx, cols, rows, 1, spp, record=rec)
+    rays = rec[0][:rec[1][0]]
+    scene, tris = embree_scene(design)
+    o32, d32 = np.ascontiguousarray(rays[:, :3]), np.ascontiguousarray(rays[:, 3:])
+    t0 = time.thread_time()
+    scene.run(o32, d32, output=1)
+    emb = time.thread_time() - t0
+    o64, d64 = rays[:, :3].astype(float), rays[:, 3:].astype(float)
+    d64 /= np.linalg.norm(d64, axis=1, keepdims=True)
+    nearest_hits(ctx.geometry, o64[:2], d64[:2])
+    t0 = time.thread_time()
+    nearest_hits(ctx.geometry, o64, d64)
+    isect = time.thread_time() - t0  # fresh rays in air: an upper bound of the real queries
+    return {"scene": name, "kind": design.shape.cross_section, "size": size, "spp": spp, "segments": n,
+            "frame_s": frame, "embree_s": emb, "intersect_s": isect, "frame_over_embree": frame / emb,
+            "intersect_over_embree": isect / emb, "ns_per_segment": 1e9 * frame / n, "triangles": tris}
+
+
+def thread_speedup(name, size, spp, repeats=3):
+    """Wall time of the same deterministic job on 1 and on 2 threads, alternated; median ratio."""
+    from engine.tracer.job import RenderJob
+
+    design, assets = load_scene(name)
+    ratios, t1s, t2s, images = [], [], [], {}
+    for _ in range(repeats):
+        times = {}
+        for threads in (1, 2):
+            job = RenderJob(design, assets, width=size, height=size, spp=spp, threads=threads,
+                            adaptive=False).start()
+            job.wait()
+            if job.error is not None:
+                raise job.error
+            times[threads] = job.seconds
+            images[threads] = job.image()
+        assert np.array_equal(images[1], images[2]), "the thread count changed the image"
+        t1s.append(times[1])
+        t2s.append(times[2])
+        ratios.append(times[1] / times[2])
+    return float(np.median(t1s)), float(np.median(t2s)), float(np.median(ratios))
+
+
+def latency(name):
+    """The window's job on a sample at its own size: first tile, whole job (s, 2 threads)."""
+    from engine.tracer.job import RenderJob
+
+    design, assets = load_scene(name)
+    job = RenderJob(design, assets, threads=2).start()
+    job.wait()
+    return {"scene": name, "width": job.width, "height": job.height, "first_tile_s": job.first_tile_seconds,
+            "converged_s": job.seconds, "first_over_frame": job.first_tile_seconds / job.seconds,
+            "mean_spp": float(job.sample_counts().mean())}
+
+
+def cold_start():
+    """Seconds for a fresh process to render an 8x8 image with an empty kernel cache (compile)
+    and again with the cache it left (load)."""
+    code = ("import time; t=time.perf_counter(); from engine.tracer.warmup import warm_up; warm_up(); "
+            "print(time.perf_counter()-t)")
+    out = {}
+    with tempfile.TemporaryDirectory() as cache:
+        env = dict(os.environ, GLASSBENCH_KERNEL_CACHE=cache)
+        for what in ("compile", "load"):
             t0 = time.perf_counter()
-            ctx = RenderContext.from_design(design, assets, size, size)
-            build = time.perf_counter() - t0
-            st = TraceStats()
-            t0 = time.perf_counter()
-            sums, _ = trace_tile_samples(ctx, xs.ravel(), ys.ravel(), np.zeros(xs.size), np.full(xs.size, spp), st)
-            frame = time.perf_counter() - t0
-            img = sums.reshape(size, size, 3)
-            ref = img if ref is None else ref
-            rows.append({"scene": name, "tol_mm": tol, "triangles": ctx.geometry.triangles.n_triangles,
-                         "build_s": build, "frame_s": frame, "change_vs_finest": rel_rmse(img, ref),
-                         "escaped_inside": st.escaped_inside})
-            print(f"  {name} tol {tol:g} mm: {rows[-1]['triangles']} triangles, build {build:.2f} s, "
-                  f"frame {frame:.2f} s, change vs finest {rows[-1]['change_vs_finest']:.5f}")
-    finally:
-        geo.MESH_TOL_MM = saved
-        geo._CACHE.clear()
+            subprocess.run([sys.executable, "-c", code], cwd=ROOT, env=env, check=True, capture_output=True)
+            out[what] = time.perf_counter() - t0
+    return out
+
+
+def truncation(name, size, spp, cuts):
+    """Image change of each (max_depth, min_weight) against the deepest, same samples."""
+    from benchmarks.oracle_render import rel_rmse
+    from engine.tracer.job import RenderJob
+
+    rows, deep = [], None
+    for depth, weight in cuts:
+        design, assets = load_scene(name, max_depth=depth, min_weight=weight)
+        job = RenderJob(design, assets, width=size, height=size, spp=spp, threads=2, adaptive=False).start()
+        job.wait()
+        img = job.image()
+        deep = img if deep is None else deep
+        rows.append({"scene": name, "max_depth": depth, "min_weight": weight, "seconds": job.seconds,
+                     "segments": job.stats.rays_cast, "change_vs_deepest": rel_rmse(img, deep)})
+        print(f"  depth {depth:4d} min_weight {weight:.0e}: {job.seconds:6.2f} s, "
+              f"{job.stats.rays_cast / 1e6:6.2f} M segments, change vs deepest {rows[-1]['change_vs_deepest']:.5f}")
     return rows
 
 
-def thread_speedup(name, size, spp):
-    """Wall time of the same (deterministic) job on 1 and on 2 threads."""
-    from engine.tracer.job import RenderJob
-
-    design, assets = _design(name)
-    times, images = {}, {}
-    for threads in (1, 2):
-        job = RenderJob(design, assets, width=size, height=size, spp=spp, threads=threads, tile=32,
-                        adaptive=False).start()
-        job.wait()
-        times[threads], images[threads] = job.seconds, job.image()
-    assert np.array_equal(images[1], images[2]), "thread count changed the image"
-    return times[1], times[2], times[1] / times[2]
-
-
 def error_vs_time(names, configs):
-    """rel RMSE and time per scene for each (spp, adaptive noise target or None)."""
+    """rel RMSE against the reference and wall time (2 threads) per oracle scene and setting."""
     from benchmarks.oracle_render import reference_path, rel_rmse, render_spec
     from engine.tracer.environment import read_radiance_image
 
     rows = []
     for name in names:
-        spec = f"{SPECS}/{name}.json"
+        spec = str(ORACLE_SPECS / f"{name}.json")
         ref = read_radiance_image(reference_path(spec))
-        render_spec(spec, 1, 2)  # warm the geometry cache so times are render times
+        render_spec(spec, 1, 2)  # geometry cached, kernels warm: the times are render times
         for spp, target in configs:
-            kw = {"noise_target": target} if target else {}
-            if target is None:
-                img, secs, job = _uniform(spec, spp)
-            else:
-                img, secs, job = render_spec(spec, spp, 2, **kw)
+            img, secs, job = render_spec(spec, spp, 2, noise_target=target or 1.0, adaptive=target is not None)
             err = rel_rmse(img, ref)
-            rows.append({"scene": name, "spp": spp, "adaptive": target or 0, "seconds": secs,
-                         "mean_spp": float(job.sample_counts().mean()), "rel_rmse": err,
-                         "rays": job.stats.rays_cast})
-            print(f"  {name}: spp {spp:3d} adaptive {target or '-':>5} -> rel RMSE {err:.4f} "
-                  f"in {secs:6.1f} s (mean {rows[-1]['mean_spp']:.1f} spp)")
+            rows.append({"scene": name, "spp": spp, "noise_target": target or 0, "seconds": secs,
+                         "mean_spp": float(job.sample_counts().mean()), "rel_rmse": err})
+            print(f"  {name}: spp {spp:3d} noise target {target or '-':>6}: rel RMSE {err:.4f} in {secs:6.2f} s "
+                  f"(mean {rows[-1]['mean_spp']:.2f} spp)")
     return rows
 
 
-def _uniform(spec, spp):
-    from benchmarks.oracle_spec import spec_to_design
-    from benchmarks.oracle_render import ORACLE_MAX_DEPTH, ORACLE_MIN_WEIGHT
-    from engine.tracer.job import RenderJob
-
-    design, assets = spec_to_design(spec)
-    design = dataclasses.replace(design, render=dataclasses.replace(
-        design.render, spp=spp, max_depth=ORACLE_MAX_DEPTH, min_weight=ORACLE_MIN_WEIGHT))
-    job = RenderJob(design, assets, threads=2, tile=64, adaptive=False).start()
-    job.wait()
-    return job.image(), job.seconds, job
-
-
-def truncation(name, size, spp, cuts):
-    """Image change of each (max_depth, min_weight) against the deepest, with the same samples."""
-    from benchmarks.oracle_render import rel_rmse
-    from engine.tracer.job import RenderJob
-
-    out, deep = [], None
-    for depth, weight in cuts:
-        design, assets = _design(name, max_depth=depth, min_weight=weight)
-        job = RenderJob(design, assets, width=size, height=size, spp=spp, threads=2, tile=64,
-                        adaptive=False).start()
-        job.wait()
-        img = job.image()
-        deep = img if deep is None else deep
-        out.append({"scene": name, "max_depth": depth, "min_weight": weight, "seconds": job.seconds,
-                    "rays": job.stats.rays_cast, "bias_vs_deepest": rel_rmse(img, deep)})
-        print(f"  depth {depth:4d} min_weight {weight:.0e}: {job.seconds:6.1f} s, "
-              f"{job.stats.rays_cast / 1e6:6.2f} M rays, change vs deepest {out[-1]['bias_vs_deepest']:.5f}")
-    return out
+def _write(rows, path):
+    keys = sorted({k for r in rows for k in r})
+    with open(path, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=keys)
+        w.writeheader()
+        w.writerows(rows)
 
 
 def main(argv=None) -> int:
@@ -193,71 +220,79 @@ def main(argv=None) -> int:
     import matplotlib.pyplot as plt
 
     p = argparse.ArgumentParser(prog="python -m benchmarks.tracer")
-    p.add_argument("--quick", action="store_true", help="small sizes, fewer configurations")
-    p.add_argument("--scenes", default="public_1,public_2,public_3,public_4")
+    p.add_argument("--quick", action="store_true", help="small sizes, fewer settings")
+    p.add_argument("--scenes", default=None, help="comma-separated: bordeaux, square, jar, public_1..4")
     a = p.parse_args(argv)
-    names = a.scenes.split(",")
+    names = (a.scenes or "bordeaux,square,jar,public_1,public_2,public_3,public_4").split(",")
+    oracle = [n for n in names if n.startswith("public_")]
     os.makedirs(OUT, exist_ok=True)
-    size = 96 if a.quick else 160
+    size, spp = (96, 2) if a.quick else (160, 4)
+    from engine.tracer.warmup import warm_up
 
-    print(f"throughput ({size}x{size}, 2 spp, 1 thread):")
-    tp = []
+    warm_up()
+    rows = []
+    print(f"frame against raw Embree on the same ray segments ({size}x{size}, {spp} AA samples, 1 thread, CPU time):")
+    fr = []
     for name in names:
-        r = throughput(name, size, 2)
-        tp.append(r)
-        print(f"  {name}: {r['rays'] / 1e6:.2f} M rays in {r['frame_s']:.2f} s = {r['rays_per_s'] / 1e6:.2f} M rays/s; "
-              f"raw Embree on the same rays {r['embree_s']:.2f} s; frame / Embree = {r['frame_over_embree']:.2f} "
-              f"({r['triangles']} triangles)")
-    print(f"render-mesh tolerance (hits refined onto the exact surfaces; {size}x{size}, 2 spp, 1 thread):")
-    mt = []
-    for name in names:
-        mt += mesh_tolerance(name, size, 2, [0.005, 0.02, 0.05, 0.2] if not a.quick else [0.01, 0.05, 0.2])
-    t1, t2, speedup = thread_speedup(names[0], size, 4)
-    print(f"threads ({names[0]}, {size}x{size}, 4 spp): 1 thread {t1:.2f} s, 2 threads {t2:.2f} s, "
-          f"speed-up {speedup:.2f}x (images bit-identical)")
+        r = frame_vs_embree(name, size, spp)
+        fr.append(r)
+        print(f"  {name:9s} ({r['kind']}): {r['segments'] / 1e3:7.1f} k segments, frame {r['frame_s']:.3f} s "
+              f"({r['ns_per_segment']:.0f} ns/segment), Embree {r['embree_s']:.3f} s on {r['triangles']} triangles: "
+              f"frame/Embree {r['frame_over_embree']:.2f}, analytic intersection/Embree {r['intersect_over_embree']:.2f}")
+    rows += [dict(section="frame", **r) for r in fr]
+    t1, t2, speedup = thread_speedup(names[0], 2 * size, spp)
+    print(f"threads ({names[0]}, {2 * size}x{2 * size}, {spp} spp, median of 3): 1 thread {t1:.2f} s, "
+          f"2 threads {t2:.2f} s: {speedup:.2f}x (images bit-identical)")
+    rows.append(dict(section="threads", scene=names[0], t1_s=t1, t2_s=t2, speedup=speedup))
+    lat = latency("bordeaux")
+    print(f"latency (bordeaux sample at its {lat['width']}x{lat['height']}, 2 threads): first tile "
+          f"{lat['first_tile_s']:.3f} s, converged {lat['converged_s']:.2f} s ({lat['first_over_frame']:.3f} of the "
+          f"frame), mean {lat['mean_spp']:.2f} samples/pixel")
+    rows.append(dict(section="latency", **lat))
+    cs = cold_start()
+    print(f"cold start: compile the kernels {cs['compile']:.1f} s, load them from the cache {cs['load']:.1f} s "
+          f"(fresh processes, each rendering 8x8 px)")
+    rows.append(dict(section="cold_start", **cs))
+    tr = []
+    if "public_1" in names:
+        print("truncation (public_1: light trapped by total internal reflection in the thick base):")
+        cuts = [(256, 1e-5), (256, 2e-3), (64, 1e-3), (24, 1e-3)] if a.quick else \
+            [(1024, 1e-5), (256, 1e-5), (256, 2e-3), (64, 1e-3), (64, 1e-2), (24, 1e-3)]
+        tr = truncation("public_1", size, spp, cuts)
+        rows += [dict(section="truncation", **r) for r in tr]
+    ev = []
+    if oracle:
+        print("error against time (256x256 against the references, 2 threads):")
+        configs = [(4, None), (16, None), (16, 0.01)] if a.quick else \
+            [(1, None), (4, None), (16, None), (64, None), (16, 0.02), (16, 0.01), (16, 0.005)]
+        ev = error_vs_time(oracle, configs)
+        rows += [dict(section="error", **r) for r in ev]
+    _write(rows, os.path.join(OUT, "tracer.csv"))
 
-    print("truncation (public_1 base region is the worst case: trapped TIR paths):")
-    cuts = [(256, 1e-5), (64, 1e-4), (64, 2e-3), (24, 1e-3), (64, 1e-2), (16, 2e-3)]
-    tr = truncation("public_1", size, 4, cuts[:4] if a.quick else cuts)
-
-    print("error vs time (256x256 vs the Mitsuba references):")
-    configs = [(2, None), (8, None), (8, 0.03), (8, 0.015)] if a.quick else \
-        [(1, None), (2, None), (4, None), (8, None), (16, None), (4, 0.03), (8, 0.03), (8, 0.015)]
-    ev = error_vs_time(names, configs)
-
-    with open(os.path.join(OUT, "tracer.csv"), "w", newline="") as fh:
-        w = csv.writer(fh)
-        w.writerow(["section", "key", "value"])
-        for r in tp:
-            for k, v in r.items():
-                w.writerow(["throughput", f"{r['scene']}.{k}", v])
-        for r in mt:
-            w.writerow(["mesh_tol", f"{r['scene']}.tol{r['tol_mm']:g}",
-                        f"{r['frame_s']:.3f};{r['change_vs_finest']:.5f};{r['triangles']}"])
-        w.writerow(["threads", "t1_s", t1])
-        w.writerow(["threads", "t2_s", t2])
-        w.writerow(["threads", "speedup", speedup])
-        for r in tr:
-            w.writerow(["truncation", f"depth{r['max_depth']}_w{r['min_weight']:g}", r["bias_vs_deepest"]])
-        for r in ev:
-            w.writerow(["error", f"{r['scene']}.spp{r['spp']}.adaptive{r['adaptive']}",
-                        f"{r['rel_rmse']:.5f};{r['seconds']:.2f}"])
-    fig, ax = plt.subplots(figsize=(7, 5))
-    for name in names:
-        for adaptive, marker in ((0, "o-"), (1, "s--")):
-            pts = sorted((r["seconds"], r["rel_rmse"]) for r in ev
-                         if r["scene"] == name and bool(r["adaptive"]) == bool(adaptive))
+    fig, (ax0, ax1) = plt.subplots(1, 2, figsize=(12, 4.5))
+    x = np.arange(len(fr))
+    ax0.bar(x - 0.2, [r["frame_over_embree"] for r in fr], 0.4, label="whole frame / Embree")
+    ax0.bar(x + 0.2, [r["intersect_over_embree"] for r in fr], 0.4, label="analytic intersection / Embree")
+    ax0.axhline(3.0, color="r", lw=0.8, label="target 3x")
+    ax0.axhline(1.0, color="k", lw=0.5)
+    ax0.set_xticks(x, [f"{r['scene']}\n{r['kind']}" for r in fr], fontsize=7)
+    ax0.set_ylabel("time over raw Embree, same ray segments")
+    ax0.legend(fontsize=7)
+    for name in oracle:
+        for adaptive, style in ((False, "o-"), (True, "s--")):
+            pts = sorted((r["seconds"], r["rel_rmse"]) for r in ev if r["scene"] == name and bool(r["noise_target"]) == adaptive)
             if pts:
-                ax.plot(*zip(*pts), marker, label=f"{name} {'adaptive' if adaptive else 'uniform'}")
-    ax.axhline(0.02, color="r", lw=0.8)
-    ax.axhline(0.01, color="g", lw=0.8)
-    ax.set_xscale("log")
-    ax.set_yscale("log")
-    ax.set_xlabel("render time (s, 2 threads, 256x256)")
-    ax.set_ylabel("rel RMSE vs reference")
-    ax.legend(fontsize=7)
-    fig.savefig(os.path.join(OUT, "tracer.png"), dpi=110, bbox_inches="tight")
+                ax1.plot(*zip(*pts), style, label=f"{name} {'adaptive' if adaptive else 'AA spp'}")
+    ax1.axhline(0.012, color="r", lw=0.8, label="1.2 % bar")
+    ax1.set_xscale("log")
+    ax1.set_yscale("log")
+    ax1.set_xlabel("render time (s, 2 threads, 256x256)")
+    ax1.set_ylabel("rel RMSE against the reference")
+    ax1.legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(os.path.join(OUT, "tracer.png"), dpi=110)
     print(f"wrote {OUT}/tracer.csv and tracer.png")
+    print(f"frame_over_embree={max(r['frame_over_embree'] for r in fr):.2f} thread_speedup={speedup:.2f}")
     return 0
 
 

@@ -81,8 +81,8 @@ def test_an_error_inside_the_job_is_reported(make_window, qtbot, monkeypatch):
         def _run(self):
             def boom(*a, **k):
                 raise ValueError("ray went astray")
-            import engine.tracer.tiles as tiles
-            monkeypatch.setattr(tiles.RenderContext, "from_design", boom)
+            import engine.tracer.context as context
+            monkeypatch.setattr(context.RenderContext, "from_design", boom)
             super()._run()
 
     monkeypatch.setattr(engine_bridge, "tracer_job_class", lambda: FailingJob)

@@ -1,38 +1,40 @@
-"""Progressive, tiled, cancellable render job: the API the GUI and the CLI drive.
+"""Progressive, tiled, cancellable render job: the API the GUI, the CLI and batches drive.
 
-Design rule: a :class:`RenderJob` renders one frozen ``Design`` snapshot in waves, coarse to
-fine: (0) a low-resolution preview (one ray per block, replicated over the block), (1) every
-pixel at 1 sample, (2) every pixel up to ``spp`` samples in doubling steps, (3) adaptive rounds
-that give extra samples (up to ``ADAPTIVE_FACTOR x spp``) to the pixels whose own samples show
-noise above ``NOISE_TARGET`` of the image level. Each wave is split into tiles traced by a pool of
-worker threads (embreex and numpy release the GIL); waves are separated by a barrier. Sample k
-of a pixel is seeded by (pixel, k) and each pixel gets one addition per wave, so the image is
-bit-identical for any thread count and tile order. ``cancel()`` sets a flag that every tile
-checks before it starts, so a job stops within one tile.
+Design rule: a :class:`RenderJob` renders one frozen ``Design`` snapshot in waves; the waves'
+content comes from :mod:`engine.tracer.adaptive` (what to trace), the samples from
+:func:`engine.tracer.context.trace_pixels` (compiled, GIL-free) and the accumulation from
+:class:`engine.tracer.film.Film`. Waves: (0) a preview, the centres of coarse blocks; (1) every
+other pixel's centre; (2...) stratified anti-aliasing samples for the pixels on edges, in
+doubling rounds up to ``spp``; then adaptive rounds for the edge pixels whose own samples still
+scatter (up to ``ADAPTIVE_FACTOR x spp``). Each wave is cut into tiles traced by a pool of worker
+threads, waves are separated by a barrier, and a pixel's samples are seeded by (pixel, sample),
+so the image is bit-identical for any thread count and tile order. ``cancel()`` raises a flag
+the kernels poll between pixels: a job stops within one pixel's work.
 
-Threading contract: ``on_tile(job, tile)`` and ``on_done(job)`` run on worker threads; GUI
-code must marshal to its own thread. ``image()`` and ``progress`` may be read at any time.
+Threading contract: ``on_tile(job, tile)`` and ``on_done(job)`` run on worker threads; GUI code
+must marshal to its own thread. ``image()``, ``progress`` and ``sample_counts()`` may be read
+at any time. A job started with ``previous=`` and ``changed=`` (the design fields an edit
+changed) reuses the previous film when nothing it renders changed.
 """
 from __future__ import annotations
 
-import math
 import os
 import random
 import threading
+import time
 from concurrent.futures import ThreadPoolExecutor
 from dataclasses import dataclass
 
 import numpy as np
 
-from .integrator import TraceStats
-from .tiles import RenderContext, trace_tile_samples
+from . import adaptive
+from .context import RenderContext, TraceStats, trace_pixels
+from .film import Film
 
-#: Adaptive rounds may raise a pixel to at most this many times ``spp`` samples.
-ADAPTIVE_FACTOR = 16
-#: Adaptive sampling aims at a per-pixel standard error below this fraction of the mean image level.
-NOISE_TARGET = 0.01
-#: Adaptive rounds after the uniform waves (each re-estimates the noise and may quadruple the cap).
-ADAPTIVE_ROUNDS = 2
+ADAPTIVE_FACTOR = adaptive.ADAPTIVE_FACTOR
+NOISE_TARGET = adaptive.NOISE_TARGET
+#: Design fields the image depends on (an edit of any other field keeps the film).
+VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets"})
 
 
 @dataclass(frozen=True)
@@ -56,62 +58,71 @@ class RenderJob:
     assets : mapping, optional
         Project assets (environment image bytes / paths / arrays by name).
     width, height, spp : int, optional
-        Override ``design.render`` (pixels; samples per pixel every pixel gets).
+        Override ``design.render`` (pixels; anti-aliasing samples per edge pixel).
     threads : int, optional
-        Worker threads (default: CPU count, at most 8).
+        Worker threads (default: the CPUs this process may use, at most 8).
     tile : int
         Tile edge in pixels.
     on_tile, on_done : callable, optional
         ``on_tile(job, tile)`` after each tile, ``on_done(job)`` once when the job stops
         (finished, cancelled or failed); both on worker threads.
     adaptive : bool
-        Add the adaptive rounds after the uniform ``spp`` waves (needs ``spp >= 4``).
+        Add the adaptive rounds after the uniform anti-aliasing rounds.
     noise_target : float
-        Adaptive rounds stop adding samples to a pixel once its estimated standard error is
-        below this fraction of the mean image level.
+        Adaptive rounds stop adding samples to a pixel once its standard error is below this
+        fraction of the design's reference level (the environment's mean radiance).
+    previous : RenderJob, optional; changed : set of str, optional
+        The job this one replaces and the design fields that changed since: when none of
+        :data:`VISUAL_FIELDS` changed and the previous job finished at the same size, its film
+        is kept and this job is done at once.
     """
 
     def __init__(self, design, assets=None, *, width=None, height=None, spp=None, threads=None,
                  tile=32, on_tile=None, on_done=None, adaptive=True, noise_target=NOISE_TARGET,
-                 _tile_shuffle_seed=None):
+                 previous=None, changed=None, _tile_shuffle_seed=None):
         self.design = design
         self.assets = assets
         self.width = int(width or design.render.width)
         self.height = int(height or design.render.height)
         self.spp = max(1, int(spp or design.render.spp))
-        self.threads = max(1, int(threads or min(os.cpu_count() or 1, 8)))
+        if threads is None:
+            cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+            threads = min(cpus, 8)
+        self.threads = max(1, int(threads))
         self.tile = max(1, int(tile))
         self.on_tile = on_tile
         self.on_done = on_done
-        self.adaptive = bool(adaptive) and self.spp >= 4
+        self.adaptive = bool(adaptive)
         self.noise_target = float(noise_target)
         self.stats = TraceStats()
         self.error = None
+        self.seconds = None
+        self.first_tile_seconds = None
+        self.film = Film(self.width, self.height)
+        self._previous = previous
+        self._changed = None if changed is None else frozenset(changed)
         self._shuffle = _tile_shuffle_seed
+        self._cancel_flag = np.zeros(1, np.int64)
         self._cancel = threading.Event()
         self._finished = threading.Event()
         self._lock = threading.Lock()
-        h, w = self.height, self.width
-        self._sum = np.zeros((h, w, 3))
-        self._sumsq = np.zeros((h, w))
-        self._count = np.zeros((h, w), dtype=np.int64)
-        self._preview = np.zeros((h, w, 3))
-        self._units_done = 0
-        self._units_total = 1
+        self._progress = 0.0
         self._thread = None
-        self.seconds = None
+        self._t0 = None
 
     # ------------------------------------------------------------------ public API
     def start(self) -> "RenderJob":
         """Start rendering in the background; returns ``self``. Call once."""
         if self._thread is not None:
             raise RuntimeError("a RenderJob can be started only once")
+        self._t0 = time.perf_counter()
         self._thread = threading.Thread(target=self._run, name="RenderJob", daemon=True)
         self._thread.start()
         return self
 
     def cancel(self) -> None:
-        """Ask the job to stop; running tiles finish, no new tile starts."""
+        """Ask the job to stop: the kernels stop at the next pixel, no new tile starts."""
+        self._cancel_flag[0] = 1
         self._cancel.set()
 
     def wait(self, timeout=None) -> bool:
@@ -130,26 +141,25 @@ class RenderJob:
 
     @property
     def progress(self) -> float:
-        """Fraction of the planned tile work done, in [0, 1]; 1 when finished."""
+        """Fraction of the work done, in [0, 1] (monotone); 1 when finished."""
         with self._lock:
-            return min(1.0, self._units_done / max(self._units_total, 1))
+            return self._progress
 
     def image(self) -> np.ndarray:
-        """The current estimate, ``(H, W, 3)`` float32 linear radiance (a copy, always finite).
-
-        Pixels without a full-resolution sample yet show the preview wave's block value.
-        """
-        with self._lock:
-            n = self._count
-            img = np.where((n > 0)[..., None], self._sum / np.maximum(n, 1)[..., None], self._preview)
-        return np.nan_to_num(img, nan=0.0, posinf=0.0, neginf=0.0).astype(np.float32)
+        """The current estimate, ``(H, W, 3)`` float32 linear radiance (a copy, always finite)."""
+        return self.film.image()
 
     def sample_counts(self) -> np.ndarray:
-        """Samples traced per pixel so far, ``(H, W)`` int (a copy)."""
-        with self._lock:
-            return self._count.copy()
+        """Samples that make each pixel's value so far, ``(H, W)`` int (a copy)."""
+        return self.film.samples()
 
     # ------------------------------------------------------------------ internals
+    def _reusable(self) -> bool:
+        prev = self._previous
+        return (prev is not None and self._changed is not None and not (self._changed & VISUAL_FIELDS)
+                and prev.done and prev.error is None and not prev.cancelled
+                and (prev.width, prev.height, prev.spp) == (self.width, self.height, self.spp))
+
     def _tiles(self):
         t = self.tile
         tiles = [(x, y, min(x + t, self.width), min(y + t, self.height))
@@ -158,43 +168,26 @@ class RenderJob:
             random.Random(self._shuffle).shuffle(tiles)
         return tiles
 
-    def _plan(self):
-        """Uniform waves as (first sample, samples) pairs: 1, then doubling up to spp."""
-        steps, have, step = [(0, 1)], 1, 1
-        while have < self.spp:
-            step = min(max(step * 2, have), self.spp - have)
-            steps.append((have, step))
-            have += step
-        return steps
+    def _set_progress(self, value: float) -> None:
+        if self._cancel.is_set():  # skipped waves are not progress
+            return
+        with self._lock:
+            self._progress = max(self._progress, min(1.0, float(value)))
 
     def _run(self) -> None:
-        import time
-
-        t0 = time.perf_counter()
         try:
-            ctx = RenderContext.from_design(self.design, self.assets, self.width, self.height)
-            tiles = self._tiles()
-            uniform = self._plan()
-            n_waves = 1 + len(uniform) + (ADAPTIVE_ROUNDS if self.adaptive else 0)
-            with self._lock:
-                self._units_total = n_waves * len(tiles)
-            with ThreadPoolExecutor(max_workers=self.threads, thread_name_prefix="render") as pool:
-                self._wave(pool, tiles, 0, lambda tl: self._preview_tile(ctx, tl))
-                for wave, (first, n) in enumerate(uniform, start=1):
-                    self._wave(pool, tiles, wave, lambda tl, f=first, c=n: self._uniform_tile(ctx, tl, f, c))
-                for r in range(ADAPTIVE_ROUNDS if self.adaptive else 0):
-                    cap = int(round(self.spp * ADAPTIVE_FACTOR ** ((r + 1) / ADAPTIVE_ROUNDS)))
-                    target = self._adaptive_targets(cap)
-                    self._wave(pool, tiles, 1 + len(uniform) + r,
-                               lambda tl, tg=target: self._adaptive_tile(ctx, tl, tg))
+            if self._reusable():
+                self.film = self._previous.film
+                self.stats = self._previous.stats
+            else:
+                self._render()
         except BaseException as exc:  # reported, never swallowed
             self.error = exc
-            self._cancel.set()
+            self.cancel()
         finally:
-            self.seconds = time.perf_counter() - t0
+            self.seconds = time.perf_counter() - self._t0
             if self.error is None and not self._cancel.is_set():
-                with self._lock:
-                    self._units_done = self._units_total
+                self._set_progress(1.0)
             self._finished.set()
             if self.on_done is not None:
                 try:
@@ -203,18 +196,75 @@ class RenderJob:
                     if self.error is None:
                         self.error = exc
 
-    def _wave(self, pool, tiles, wave, work) -> None:
+    def _render(self) -> None:
+        ctx = RenderContext.from_design(self.design, self.assets, self.width, self.height)
+        self.film = film = Film(self.width, self.height, ctx.n_materials)
+        level = max(ctx.reference_level, 1e-6)
+        tiles = self._tiles()
+        h, w = self.height, self.width
+        b = adaptive.preview_block(w, h)
+        with ThreadPoolExecutor(max_workers=self.threads, thread_name_prefix="render") as pool:
+            # (0) preview: the centre of every b x b block, painted over the block
+            grid = np.zeros((h, w), bool)
+            grid[np.minimum(np.arange(0, h, b) + b // 2, h - 1)[:, None],
+                 np.minimum(np.arange(0, w, b) + b // 2, w - 1)[None, :]] = True
+            self._wave(pool, ctx, tiles, 0, grid, None, preview=b)
+            self._set_progress(0.03)
+            # (1) every other centre
+            self._wave(pool, ctx, tiles, 1, ~grid, None)
+            self._set_progress(0.35)
+            # (2...) anti-aliasing on edges, doubling up to spp
+            edges = adaptive.edge_mask(film.luminance(), film.signature, level)
+            steps = adaptive.uniform_steps(self.spp)
+            rounds = len(steps) + (adaptive.ADAPTIVE_ROUNDS if self.adaptive else 0)
+            for r, target in enumerate(steps):
+                want = np.where(edges, target, 0)
+                self._wave(pool, ctx, tiles, 2 + r, want > film.aa_count, want)
+                self._set_progress(0.35 + 0.65 * (r + 1) / (rounds + 1))
+            if self.adaptive:
+                for r in range(adaptive.ADAPTIVE_ROUNDS):
+                    cap = int(round(self.spp * ADAPTIVE_FACTOR ** ((r + 1) / adaptive.ADAPTIVE_ROUNDS)))
+                    want = adaptive.noise_targets(film, cap, self.noise_target, level)
+                    self._wave(pool, ctx, tiles, 2 + len(steps) + r, want > film.aa_count, want)
+                    self._set_progress(0.35 + 0.65 * (len(steps) + r + 1) / (rounds + 1))
+
+    def _wave(self, pool, ctx, tiles, wave, mask, want, preview=None) -> None:
+        """Trace the pixels of ``mask``: their centres (``want`` None) or anti-aliasing samples
+        up to ``want``; one task per tile, all finished before this returns."""
         if self._cancel.is_set():
             return
+        film = self.film
 
         def run(tl):
+            x0, y0, x1, y1 = tl
             if self._cancel.is_set():
                 return
-            work(tl)
+            ys, xs = np.nonzero(mask[y0:y1, x0:x1])
+            if not len(xs):
+                return
+            rows, cols = ys + y0, xs + x0
+            if want is None:
+                res = trace_pixels(ctx, cols, rows, 0, 1, cancel=self._cancel_flag)
+                if res.finished < len(cols):
+                    return
+                film.add_centre(cols, rows, res)
+                if preview is not None:
+                    for c, r, v in zip(cols, rows, res.sums):
+                        by, bx = (r // preview) * preview, (c // preview) * preview
+                        film.set_preview(by, min(by + preview, y1), bx, min(bx + preview, x1), v)
+            else:
+                have = film.aa_count[rows, cols]
+                count = want[rows, cols] - have
+                res = trace_pixels(ctx, cols, rows, have + 1, count, cancel=self._cancel_flag)
+                if res.finished < len(cols):
+                    return
+                film.add_aa(cols, rows, count, res)
             with self._lock:
-                self._units_done += 1
+                self.stats.add_counters(res.counters)
+                if self.first_tile_seconds is None:
+                    self.first_tile_seconds = time.perf_counter() - self._t0
             if self.on_tile is not None:
-                self.on_tile(self, Tile(*tl, wave))
+                self.on_tile(self, Tile(x0, y0, x1, y1, wave))
 
         futures = [pool.submit(run, tl) for tl in tiles]
         first_error = None
@@ -222,63 +272,9 @@ class RenderJob:
             exc = f.exception()
             if exc is not None and first_error is None:
                 first_error = exc
-                self._cancel.set()
+                self.cancel()
         if first_error is not None:
             raise first_error
-
-    def _block(self) -> int:
-        return max(2, 2 ** int(math.log2(max(2, max(self.width, self.height) // 48))))
-
-    def _preview_tile(self, ctx, tl) -> None:
-        x0, y0, x1, y1 = tl
-        b = self._block()
-        ys, xs = np.mgrid[y0:y1:b, x0:x1:b]
-        cols = np.minimum(xs + b // 2, x1 - 1).ravel()
-        rows = np.minimum(ys + b // 2, y1 - 1).ravel()
-        st = TraceStats()
-        sums, _ = trace_tile_samples(ctx, cols, rows, np.zeros(len(cols)), np.ones(len(cols)), st)
-        block = sums.reshape(ys.shape + (3,))
-        full = np.repeat(np.repeat(block, b, axis=0), b, axis=1)[: y1 - y0, : x1 - x0]
-        with self._lock:
-            self._preview[y0:y1, x0:x1] = full
-            self.stats.add(st)
-
-    def _uniform_tile(self, ctx, tl, first, n) -> None:
-        x0, y0, x1, y1 = tl
-        ys, xs = np.mgrid[y0:y1, x0:x1]
-        cnt = np.full(xs.size, n)
-        self._add(ctx, tl, xs.ravel(), ys.ravel(), np.full(xs.size, first), cnt)
-
-    def _adaptive_tile(self, ctx, tl, target) -> None:
-        x0, y0, x1, y1 = tl
-        ys, xs = np.mgrid[y0:y1, x0:x1]
-        with self._lock:
-            have = self._count[y0:y1, x0:x1].ravel().copy()
-        extra = np.maximum(target[y0:y1, x0:x1].ravel() - have, 0)
-        if np.any(extra):
-            self._add(ctx, tl, xs.ravel(), ys.ravel(), have, extra)
-
-    def _add(self, ctx, tl, cols, rows, first, count) -> None:
-        x0, y0, x1, y1 = tl
-        st = TraceStats()
-        sums, sumsq = trace_tile_samples(ctx, cols, rows, first, count, st)
-        shape = (y1 - y0, x1 - x0)
-        with self._lock:
-            self._sum[y0:y1, x0:x1] += sums.reshape(shape + (3,))
-            self._sumsq[y0:y1, x0:x1] += sumsq.reshape(shape)
-            self._count[y0:y1, x0:x1] += np.asarray(count).reshape(shape)
-            self.stats.add(st)
-
-    def _adaptive_targets(self, cap: int) -> np.ndarray:
-        """Samples each pixel should reach: its noise (from its own samples) over the target."""
-        with self._lock:
-            n = np.maximum(self._count, 1).astype(float)
-            mean_lum = self._sum.mean(axis=2) / n
-            var = np.maximum(self._sumsq / n - mean_lum ** 2, 0.0) * n / np.maximum(n - 1, 1)
-            level = max(float(mean_lum.mean()), 1e-6)
-            have = self._count.copy()
-        want = np.ceil(var / (self.noise_target * level) ** 2)
-        return np.clip(want, have, cap).astype(np.int64)
 
 
 def render_image(design, assets=None, **kw) -> np.ndarray:

@@ -1,0 +1,184 @@
+"""The compiled scene of one render: what worker threads hand to the kernels.
+
+Design rule: a :class:`RenderContext` is built once per render from a frozen ``Design``
+snapshot (geometry tables from the value cache, media, materials, environment texels, camera)
+and is then shared read-only by every worker. :func:`trace_pixels` is the one Python entry to
+the tile kernel: it allocates the caller's output buffers and returns per-pixel sums, so tests,
+benchmarks and the job all trace through the same code.
+"""
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .camera import PinholeCamera
+from .environment import EnvironmentMap, environment_from_design
+from .kernels.integrator import (C_BUDGET, C_CUT_DEPTH, C_CUT_WEIGHT, C_LEAKS, C_MISMATCH, C_NODES,
+                                 C_QUERIES, N_COUNTERS)
+from .kernels.sampling import C_COLS
+from .kernels.tile import render_pixels
+from .render_objects import RenderGeometry, render_geometry_for, scene_arrays
+
+#: Boundaries one camera sample may visit before what it still holds is closed with the
+#: environment (bounds the time of a sample; light trapped by total internal reflection in a
+#: thick base is what reaches it).
+MAX_NODES = 1 << 14
+
+
+def camera_array(camera: PinholeCamera) -> np.ndarray:
+    """The kernels' camera row: eye, forward, right, up', tan(fov/2), width, height."""
+    f, r, u, t = camera.basis()
+    cam = np.zeros(C_COLS)
+    cam[0:3], cam[3:6], cam[6:9], cam[9:12] = camera.eye, f, r, u
+    cam[12], cam[13], cam[14] = t, camera.width, camera.height
+    return cam
+
+
+@dataclass(frozen=True, eq=False)
+class RenderContext:
+    """Everything compiled from one design snapshot for one image size (immutable).
+
+    ``reference_level`` is the environment's mean radiance: the fixed scale the sampling
+    policy's thresholds are fractions of (independent of the bottle, so of any edit to it).
+    """
+
+    geometry: RenderGeometry
+    scene: tuple
+    texels: np.ndarray
+    env_params: np.ndarray
+    camera: PinholeCamera
+    cam: np.ndarray
+    max_depth: int
+    min_weight: float
+    n_materials: int
+    reference_level: float
+    environment: EnvironmentMap = field(repr=False, default=None)
+
+    @classmethod
+    def from_design(cls, design, assets=None, width=None, height=None, environment=None) -> "RenderContext":
+        """Compile ``design`` for an image of ``width x height`` pixels (default: its render
+        settings); ``environment`` replaces the design's (tests: a uniform white one). Raises
+        the geometry engine's errors for an invalid shape."""
+        w = int(width or design.render.width)
+        h = int(height or design.render.height)
+        geom = render_geometry_for(design)
+        env = environment if environment is not None else environment_from_design(design.environment, assets)
+        cam = PinholeCamera.from_design(design.camera, w, h)
+        scene = scene_arrays(geom, design)
+        tex = np.ascontiguousarray(env.texels, dtype=np.float32)
+        params = np.array([float(env.scale), math.radians(float(env.rotation_deg))])
+        level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
+        return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
+                   float(design.render.min_weight), int(scene[7].shape[0]), level, env)
+
+
+@dataclass
+class TraceStats:
+    """Kernel counters summed over a render (see :mod:`engine.tracer.kernels.integrator`)."""
+
+    rays_cast: int = 0       # intersection queries (ray segments)
+    escaped_inside: int = 0  # rays inside glass or liquid that met nothing: a leak
+    mismatches: int = 0      # hits whose incident side was not the ray's medium
+    cut_depth: int = 0
+    cut_weight: int = 0
+    cut_budget: int = 0
+    boundaries: int = 0
+
+    def add_counters(self, c) -> None:
+        """Add a kernel counter array."""
+        self.rays_cast += int(c[C_QUERIES])
+        self.escaped_inside += int(c[C_LEAKS])
+        self.mismatches += int(c[C_MISMATCH])
+        self.cut_depth += int(c[C_CUT_DEPTH])
+        self.cut_weight += int(c[C_CUT_WEIGHT])
+        self.cut_budget += int(c[C_BUDGET])
+        self.boundaries += int(c[C_NODES])
+
+
+@dataclass
+class PixelResult:
+    """Per-pixel sums of a :func:`trace_pixels` call (arrays of length P)."""
+
+    sums: np.ndarray      # (P, 3) radiance sums over the traced samples
+    sumsq: np.ndarray     # (P,) sums of squared per-sample mean-of-RGB radiance
+    signature: np.ndarray  # (P,) uint64 dominant-path hash of the first traced sample
+    objects: np.ndarray   # (P,) int64 bit mask of the render objects the trees met
+    depth: np.ndarray     # (P, n_materials) int64 shallowest depth each material was met (255: never)
+    counters: np.ndarray  # (N_COUNTERS,) int64 kernel counters (see kernels.integrator)
+    finished: int         # pixels done (fewer than P when cancelled)
+
+
+def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, record=None) -> PixelResult:
+    """Trace samples ``first[p] .. first[p] + count[p] - 1`` of pixels ``(cols[p], rows[p])``.
+
+    Sample 0 is the pixel centre, samples >= 1 the pixel's stratified positions (see
+    :mod:`engine.tracer.kernels.sampling`). ``cancel`` is an int array of one element polled
+    between pixels; ``record`` an optional ``(rays float32 (N, 6), count int64 (1,))`` pair
+    that receives every intersection query (benchmarks). Releases the GIL while tracing.
+    """
+    cols = np.ascontiguousarray(cols, dtype=np.int64)
+    rows = np.ascontiguousarray(rows, dtype=np.int64)
+    p = len(cols)
+    first = np.ascontiguousarray(np.broadcast_to(np.asarray(first, np.int64), (p,)))
+    count = np.ascontiguousarray(np.broadcast_to(np.asarray(count, np.int64), (p,)))
+    sums = np.zeros((p, 3))
+    sumsq = np.zeros(p)
+    sig = np.zeros(p, np.uint64)
+    mask = np.zeros(p, np.int64)
+    depth = np.full((p, ctx.n_materials), 255, np.int64)
+    counters = np.zeros(N_COUNTERS, np.int64)
+    if cancel is None:
+        cancel = np.zeros(1, np.int64)
+    rec_rays, rec_n = record if record is not None else (np.zeros((0, 6), np.float32), np.zeros(1, np.int64))
+    done = render_pixels(ctx.scene, ctx.texels, ctx.env_params, ctx.cam, cols, rows, first, count,
+                         ctx.max_depth, ctx.min_weight, MAX_NODES, sums, sumsq, sig, mask, depth,
+                         counters, cancel, rec_rays, rec_n)
+    return PixelResult(sums, sumsq, sig, mask, depth, counters, int(done))
+
+
+# --------------------------------------------------------------------------- ray queries
+def nearest_hits(geometry: RenderGeometry, origins, directions, medium=0, last=-1, side=0):
+    """Nearest true hits of rays (mm, unit directions) against the render objects.
+
+    ``medium`` is the medium each ray travels in, ``last``/``side`` the object it just left and
+    the sign of ``d . n`` it left with (``-1``/``0`` for a fresh ray); all broadcast.
+    Returns ``(t, object, part, normal)``: distance (inf for a miss), object row (-1), segment
+    or slab row, oriented unit normal.
+    """
+    from .kernels.queries import hits
+
+    o = np.ascontiguousarray(np.asarray(origins, float).reshape(-1, 3))
+    d = np.ascontiguousarray(np.asarray(directions, float).reshape(-1, 3))
+    n = len(o)
+    b = lambda v: np.ascontiguousarray(np.broadcast_to(np.asarray(v, np.int64), (n,)))
+    t, k, part, nrm = np.empty(n), np.empty(n, np.int64), np.empty(n, np.int64), np.empty((n, 3))
+    hits(geometry.seg, geometry.tab, geometry.slab_f, geometry.slab_i, geometry.obj_i, geometry.obj_f,
+         o, d, b(medium), b(last), b(side), t, k, part, nrm)
+    return t, k, part, nrm
+
+
+def object_normals(geometry: RenderGeometry, objects, parts, points) -> np.ndarray:
+    """Oriented unit normals of ``objects[i]`` (on segment/slab row ``parts[i]``) at ``points``."""
+    from .kernels.queries import normals
+
+    p = np.ascontiguousarray(np.asarray(points, float).reshape(-1, 3))
+    n = len(p)
+    out = np.empty((n, 3))
+    normals(geometry.seg, geometry.slab_i, geometry.obj_i, geometry.obj_f,
+            np.ascontiguousarray(np.broadcast_to(np.asarray(objects, np.int64), (n,))),
+            np.ascontiguousarray(np.broadcast_to(np.asarray(parts, np.int64), (n,))), p, out)
+    return out
+
+
+def trace_rays(ctx: RenderContext, origins, directions):
+    """Radiance ``(N, 3)`` of arbitrary rays starting in air, and the kernel counters."""
+    from .kernels.queries import radiance
+
+    o = np.ascontiguousarray(np.asarray(origins, float).reshape(-1, 3))
+    d = np.ascontiguousarray(np.asarray(directions, float).reshape(-1, 3))
+    out = np.zeros((len(o), 3))
+    counters = np.zeros(N_COUNTERS, np.int64)
+    radiance(ctx.scene, ctx.texels, ctx.env_params, o, d, ctx.max_depth, ctx.min_weight, MAX_NODES, out, counters)
+    return out, counters

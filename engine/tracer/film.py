@@ -1,0 +1,85 @@
+"""The film: per-pixel accumulators and records of one progressive render.
+
+Design rule: the film only accumulates; it never decides what to trace (that is
+:mod:`engine.tracer.adaptive`) and never traces (:mod:`engine.tracer.context`). A pixel holds
+its *centre* sample (sample 0, the midpoint estimate that smooth regions keep) apart from its
+*anti-aliasing* samples (1, 2, ...; their mean replaces the centre once there are any), so an
+edge pixel's value is an unbiased stratified average over its square while a smooth pixel costs
+one ray. Beside radiance it keeps, per pixel, the dominant-path signature of the centre sample,
+a bit mask of the render objects its ray tree met, and the shallowest tree depth at which each
+material was met: what edge finding and re-rendering only what an edit touched need.
+All arrays are owned by the film and changed only under its lock.
+"""
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+
+#: Depth recorded for a material a pixel's tree never met.
+NEVER = 255
+
+
+class Film:
+    """Accumulators for an image of ``width x height`` pixels and ``n_materials`` materials."""
+
+    def __init__(self, width: int, height: int, n_materials: int = 1):
+        h, w = int(height), int(width)
+        self.width, self.height = w, h
+        self.lock = threading.Lock()
+        self.centre = np.zeros((h, w, 3))
+        self.has_centre = np.zeros((h, w), bool)
+        self.aa_sum = np.zeros((h, w, 3))
+        self.aa_sumsq = np.zeros((h, w))
+        self.aa_count = np.zeros((h, w), np.int64)
+        self.preview = np.zeros((h, w, 3))
+        self.signature = np.zeros((h, w), np.uint64)
+        self.objects = np.zeros((h, w), np.int64)
+        self.depth = np.full((h, w, max(1, int(n_materials))), NEVER, np.uint8)
+
+    # ----------------------------------------------------------------- accumulation
+    def add_centre(self, cols, rows, result) -> None:
+        """Store centre samples (a :class:`~engine.tracer.context.PixelResult` of sample 0)."""
+        with self.lock:
+            self.centre[rows, cols] = result.sums
+            self.has_centre[rows, cols] = True
+            self.signature[rows, cols] = result.signature
+            self._records(cols, rows, result)
+
+    def add_aa(self, cols, rows, count, result) -> None:
+        """Add ``count[p]`` anti-aliasing samples per pixel (a ``PixelResult`` of samples >= 1)."""
+        with self.lock:
+            self.aa_sum[rows, cols] += result.sums
+            self.aa_sumsq[rows, cols] += result.sumsq
+            self.aa_count[rows, cols] += count
+            self._records(cols, rows, result)
+
+    def _records(self, cols, rows, result) -> None:
+        self.objects[rows, cols] |= result.objects
+        d = np.minimum(result.depth, NEVER).astype(np.uint8)
+        self.depth[rows, cols] = np.minimum(self.depth[rows, cols], d)
+
+    def set_preview(self, y0, y1, x0, x1, block) -> None:
+        """Fill ``[y0, y1) x [x0, x1)`` of the preview layer (shown until centres arrive)."""
+        with self.lock:
+            self.preview[y0:y1, x0:x1] = block
+
+    # ----------------------------------------------------------------- reading
+    def image(self) -> np.ndarray:
+        """Current estimate ``(H, W, 3)`` float32 linear radiance: AA mean, else centre, else
+        preview; always finite and >= 0 (a copy)."""
+        with self.lock:
+            n = self.aa_count
+            img = np.where((n > 0)[..., None], self.aa_sum / np.maximum(n, 1)[..., None],
+                           np.where(self.has_centre[..., None], self.centre, self.preview))
+        img = np.nan_to_num(img, nan=0.0, posinf=0.0, neginf=0.0)
+        return np.clip(img, 0.0, np.finfo(np.float32).max).astype(np.float32)
+
+    def samples(self) -> np.ndarray:
+        """Samples per pixel that make its value (the centre counts as one) ``(H, W)``."""
+        with self.lock:
+            return np.where(self.aa_count > 0, self.aa_count, self.has_centre.astype(np.int64))
+
+    def luminance(self) -> np.ndarray:
+        """Mean-of-RGB of the current estimate (float64 ``(H, W)``), for the sampling policy."""
+        return self.image().astype(np.float64).mean(axis=2)

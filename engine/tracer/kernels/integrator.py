@@ -1,0 +1,184 @@
+"""The reflection/refraction tree of one camera sample, depth first with a bounded stack.
+
+Design rule: the tree is walked depth first; at every boundary the material's children are
+pushed smallest weight first, so the heaviest child is followed next. The stack therefore
+never holds more than one waiting sibling per level: its capacity ``max_depth + 2`` bounds the
+memory of a sample whatever the scene, and the first chain followed (always the heaviest
+child) is the sample's *dominant path*, whose object sequence is the sample's signature (the
+sampler compares neighbours' signatures to find edges). A branch ends when it escapes (adds
+``weight x environment``), after ``max_depth`` boundaries, or when its largest channel weight
+falls below ``min_weight``; cut branches are closed with the environment along their direction
+(exact in a uniform environment without absorption, so a white furnace stays 1), and a sample
+that has visited ``max_nodes`` boundaries closes all it still holds: time and memory per
+sample are bounded. Energy is never created: reflectance + transmittance = 1, absorption <= 1.
+
+Counters (``counters[C_*]``, per worker): intersection queries, leaks (a ray inside glass or
+liquid that meets nothing: a geometry bug), medium mismatches (a hit whose incident side is
+not the ray's medium), depth cuts, weight cuts, node-budget closures, boundaries.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .intersect import O_MAT, fill_interaction, I_NGX, nearest_hit, object_media
+from .materials import M_KIND, SMOOTH_DIELECTRIC, smooth_dielectric
+from .roots import INLINE, JIT
+from .sampling import branch_seed, env_lookup, mix64
+
+C_QUERIES, C_LEAKS, C_MISMATCH, C_CUT_DEPTH, C_CUT_WEIGHT, C_BUDGET, C_NODES = range(7)
+N_COUNTERS = 8
+AIR = 0
+# stack columns
+K_OX, K_OY, K_OZ, K_DX, K_DY, K_DZ, K_WR, K_WG, K_WB = range(9)
+KI_MEDIUM, KI_DEPTH, KI_LAST, KI_SIDE = range(4)
+
+
+@njit(**JIT)
+def _record(rec_rays, rec_n, ox, oy, oz, dx, dy, dz):
+    """Keep a copy of one intersection query (benchmarks time Embree on the same rays)."""
+    i = rec_n[0]
+    if i < rec_rays.shape[0]:
+        rec_rays[i, 0], rec_rays[i, 1], rec_rays[i, 2] = ox, oy, oz
+        rec_rays[i, 3], rec_rays[i, 4], rec_rays[i, 5] = dx, dy, dz
+        rec_n[0] = i + 1
+
+
+@njit(**INLINE)
+def _lit(tex, scale, rot, wr, wg, wb, dx, dy, dz):
+    """What a branch of weight ``w`` brings back from the environment along ``d``."""
+    er, eg, eb = env_lookup(tex, scale, rot, dx, dy, dz)
+    return wr * er, wg * eg, wb * eb
+
+
+@njit(**JIT)
+def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min_weight,
+                 max_nodes, work, depth_rec, counters, rec_rays, rec_n):
+    """Radiance ``(r, g, b)`` of one camera ray and its record.
+
+    Parameters
+    ----------
+    scene : tuple
+        ``(seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f)`` arrays
+        (:mod:`engine.tracer.render_objects`); ``media[m] = (ior, sigma_r, sigma_g, sigma_b)``
+        with absorption in 1/mm.
+    tex, env_p : environment texels ``(H, W, 3)`` float32 and ``(scale, rotation rad)``.
+    o, d : the ray (mm, unit direction), starting in air.
+    seed : uint64 seed of the sample (branches derive theirs from it).
+    work : tuple of scratch arrays ``(stk_f, stk_i, stk_u, roots, crit, ivals, si, kids)``.
+    depth_rec : int64 array ``(n_materials,)``: the shallowest depth at which the tree met each
+        material is min-ed into it.
+
+    Returns ``(r, g, b, signature, object mask)``: radiance (finite, >= 0), a hash of the
+    dominant path's objects, and a bit per object the tree met.
+    """
+    seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
+    stk_f, stk_i, stk_u, roots, crit, ivals, si, kids = work
+    scale, rot = env_p[0], env_p[1]
+    cap = stk_f.shape[0]
+    lr = lg = lb = 0.0
+    sig = np.uint64(0x243F6A8885A308D3)
+    objmask = np.int64(0)
+    dominant = True
+    stk_f[0, K_OX], stk_f[0, K_OY], stk_f[0, K_OZ] = ox, oy, oz
+    stk_f[0, K_DX], stk_f[0, K_DY], stk_f[0, K_DZ] = dx, dy, dz
+    stk_f[0, K_WR], stk_f[0, K_WG], stk_f[0, K_WB] = 1.0, 1.0, 1.0
+    stk_i[0, KI_MEDIUM], stk_i[0, KI_DEPTH], stk_i[0, KI_LAST], stk_i[0, KI_SIDE] = AIR, 0, -1, 0
+    stk_u[0] = seed
+    top = 1
+    nodes = 0
+    while top > 0:
+        top -= 1
+        ox, oy, oz = stk_f[top, K_OX], stk_f[top, K_OY], stk_f[top, K_OZ]
+        dx, dy, dz = stk_f[top, K_DX], stk_f[top, K_DY], stk_f[top, K_DZ]
+        wr, wg, wb = stk_f[top, K_WR], stk_f[top, K_WG], stk_f[top, K_WB]
+        medium, depth = stk_i[top, KI_MEDIUM], stk_i[top, KI_DEPTH]
+        last, side = stk_i[top, KI_LAST], stk_i[top, KI_SIDE]
+        bseed = stk_u[top]
+        if nodes >= max_nodes:
+            er, eg, eb = _lit(tex, scale, rot, wr, wg, wb, dx, dy, dz)
+            lr += er
+            lg += eg
+            lb += eb
+            counters[C_BUDGET] += 1
+            dominant = False
+            continue
+        nodes += 1
+        counters[C_QUERIES] += 1
+        if rec_rays.shape[0] > 0:
+            _record(rec_rays, rec_n, ox, oy, oz, dx, dy, dz)
+        t, k, part, nx, ny, nz = nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz,
+                                             medium, last, side, roots, crit, ivals)
+        if k < 0:
+            if medium != AIR:
+                counters[C_LEAKS] += 1
+            er, eg, eb = _lit(tex, scale, rot, wr, wg, wb, dx, dy, dz)
+            lr += er
+            lg += eg
+            lb += eb
+            dominant = False
+            continue
+        counters[C_NODES] += 1
+        if medium != AIR:  # Beer-Lambert over the segment just travelled
+            wr *= math.exp(-media[medium, 1] * t)
+            wg *= math.exp(-media[medium, 2] * t)
+            wb *= math.exp(-media[medium, 3] * t)
+        objmask |= np.int64(1) << np.int64(k)
+        mat = obj_i[k, O_MAT]
+        if depth < depth_rec[mat]:
+            depth_rec[mat] = depth
+        if dominant:
+            sig = mix64(sig ^ np.uint64(k + 1))
+        if depth >= max_depth:
+            er, eg, eb = _lit(tex, scale, rot, wr, wg, wb, dx, dy, dz)
+            lr += er
+            lg += eg
+            lb += eb
+            counters[C_CUT_DEPTH] += 1
+            dominant = False
+            continue
+        px, py, pz = ox + t * dx, oy + t * dy, oz + t * dz
+        front, back = object_media(obj_i, obj_f, k, pz)
+        dn = nx * dx + ny * dy + nz * dz
+        if dn < 0.0:
+            inc, trn, fx, fy, fz = front, back, nx, ny, nz
+        else:
+            inc, trn, fx, fy, fz = back, front, -nx, -ny, -nz
+        if inc != medium:
+            counters[C_MISMATCH] += 1
+        kind = mat_i[mat, M_KIND]
+        nk = 0
+        if kind == SMOOTH_DIELECTRIC:
+            nk = smooth_dielectric(dx, dy, dz, fx, fy, fz, abs(dn), media[trn, 0] / media[inc, 0], kids)
+        # push children lightest first, so the heaviest is followed next
+        order0, order1 = 0, 1
+        if nk == 2 and kids[1, 3] < kids[0, 3]:
+            order0, order1 = 1, 0
+        for q in range(nk):
+            c = order0 if q == 0 else order1
+            f = kids[c, 3]
+            cr, cg, cb = wr * f, wg * f, wb * f
+            cdx, cdy, cdz = kids[c, 0], kids[c, 1], kids[c, 2]
+            if max(cr, max(cg, cb)) < min_weight or top >= cap:
+                er, eg, eb = _lit(tex, scale, rot, cr, cg, cb, cdx, cdy, cdz)
+                lr += er
+                lg += eg
+                lb += eb
+                counters[C_CUT_WEIGHT] += 1
+                if q == nk - 1:
+                    dominant = False
+                continue
+            stk_f[top, K_OX], stk_f[top, K_OY], stk_f[top, K_OZ] = px, py, pz
+            stk_f[top, K_DX], stk_f[top, K_DY], stk_f[top, K_DZ] = cdx, cdy, cdz
+            stk_f[top, K_WR], stk_f[top, K_WG], stk_f[top, K_WB] = cr, cg, cb
+            stk_i[top, KI_MEDIUM] = trn if kids[c, 4] > 0.5 else inc
+            stk_i[top, KI_DEPTH] = depth + 1
+            stk_i[top, KI_LAST] = k
+            stk_i[top, KI_SIDE] = 1 if cdx * nx + cdy * ny + cdz * nz >= 0.0 else -1
+            stk_u[top] = branch_seed(bseed, c)
+            top += 1
+    if not (math.isfinite(lr) and math.isfinite(lg) and math.isfinite(lb)):
+        lr = lg = lb = 0.0
+    return max(lr, 0.0), max(lg, 0.0), max(lb, 0.0), sig, objmask

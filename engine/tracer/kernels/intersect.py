@@ -1,0 +1,219 @@
+"""Nearest hit over the render objects, and the surface-interaction record of a hit.
+
+Design rule: a render object (one row of ``obj_i`` / ``obj_f``, :mod:`engine.tracer.
+render_objects`) is a surface with an exact intersector (revolved chain, swept wall or plane
+region), the medium on each side of its oriented normal (switching at a height for the inner
+wall, which is wet below the fill line) and a material. :func:`nearest_hit` returns the first
+true crossing along a ray and never the crossing the ray started from: a hit on the object
+the ray just left counts only when it crosses back from the side the ray went to (a ray on
+one side of a surface can only cross it towards the other), and a hit at a rounding-level
+distance on a *neighbouring* object counts only when its media agree with the ray's medium
+(a ray leaving an edge). No origin offsets, no epsilon along the normal.
+
+The interaction record ``si`` (float64 scratch, columns ``I_*``) carries point, geometric
+normal (decides media), shading normal (what a bump perturbs; equal to it today), surface
+coordinates ``(u, v)`` = (angle about the axis in rad, arc length along the section in mm) and
+their tangents ``dp/du`` (mm/rad) and ``dp/dv`` (unit).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .outlines import outline_sd
+from .profile import LINE, S_KIND, S_R0, S_R1, S_RMAX, S_RMIN, S_Z0, S_Z1, S_ZMAX, S_ZMIN
+from .revolved import ray_box, segment_hits, segment_normal, segment_v
+from .roots import INLINE, JIT, cone_roots
+from .swept import ruled_roots, swept_normal, swept_roots
+
+# object kinds
+REVOLVED, SWEPT, PLANE = 0, 1, 2
+# obj_i columns
+(O_KIND, O_FIRST, O_COUNT, O_XS, O_XS_IN, O_NSEC, O_FRONT_LO, O_BACK_LO, O_FRONT_HI, O_BACK_HI, O_MAT,
+ O_ZSORT) = range(12)
+O_COLS = 12
+# obj_f columns
+(F_NSIGN, F_ZSPLIT, F_RMAX, F_ZMIN, F_ZMAX, F_PZ, F_PNZ, F_OUT0, F_OUT1, F_OUT2, F_IN0, F_IN1,
+ F_IN2, F_COS, F_SIN, F_LEAF, F_EDGE) = range(17)
+F_COLS = 17
+#: The object a ray leaves is searched from this fraction of the edge distance on (1e-9 of the
+#: bottle's size): below the noise of any root, far below any legitimate re-hit.
+START_FRACTION = 1e-2
+# interaction record columns
+(I_T, I_PX, I_PY, I_PZ, I_NGX, I_NGY, I_NGZ, I_NSX, I_NSY, I_NSZ, I_U, I_V,
+ I_DUX, I_DUY, I_DUZ, I_DVX, I_DVY, I_DVZ) = range(18)
+I_COLS = 18
+
+
+@njit(**JIT)
+def object_media(obj_i, obj_f, k, z):
+    """``(front, back)`` medium ids of object ``k`` at height ``z`` (mm)."""
+    if z < obj_f[k, F_ZSPLIT]:
+        return obj_i[k, O_FRONT_LO], obj_i[k, O_BACK_LO]
+    return obj_i[k, O_FRONT_HI], obj_i[k, O_BACK_HI]
+
+
+@njit(**JIT)
+def object_normal(seg, slab_i, obj_i, obj_f, k, part, px, py, pz):
+    """Oriented unit normal of object ``k`` at its point ``p``; ``part`` is the segment row
+    (revolved) or slab row (swept) the hit was found on."""
+    kind = obj_i[k, O_KIND]
+    sgn = obj_f[k, F_NSIGN]
+    if kind == PLANE:
+        return 0.0, 0.0, obj_f[k, F_PNZ]
+    if kind == REVOLVED:
+        nx, ny, nz = segment_normal(seg, part, px, py, pz)
+    else:
+        nx, ny, nz = swept_normal(seg, slab_i[part], obj_i[k, O_XS], obj_i[k, O_NSEC],
+                                  obj_f[k, F_COS], obj_f[k, F_SIN], px, py, pz)
+    return sgn * nx, sgn * ny, sgn * nz
+
+
+@njit(**JIT)
+def _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last_obj, last_side):
+    """Whether a crossing at ``t`` with oriented normal ``n`` is a true next hit (module doc)."""
+    dn = nx * dx + ny * dy + nz * dz
+    side = 1 if dn >= 0.0 else -1
+    if k == last_obj and side == last_side:
+        return False
+    if t < obj_f[k, F_EDGE]:
+        front, back = object_media(obj_i, obj_f, k, pz)
+        inc = front if dn < 0.0 else back
+        if inc != medium:
+            return False
+    return True
+
+
+@njit(**JIT)
+def _plane_hit(obj_i, obj_f, k, ox, oy, oz, dx, dy, dz, tlo, thi):
+    """Distance to plane object ``k`` inside its outline region, or ``inf``."""
+    if dz == 0.0:
+        return np.inf
+    t = (obj_f[k, F_PZ] - oz) / dz
+    if not (t > tlo and t < thi):
+        return np.inf
+    x, y = ox + t * dx, oy + t * dy
+    c, s = obj_f[k, F_COS], obj_f[k, F_SIN]
+    xb, yb = c * x + s * y, -s * x + c * y
+    if outline_sd(obj_i[k, O_XS], obj_f[k, F_OUT0], obj_f[k, F_OUT1], obj_f[k, F_OUT2], xb, yb) > 0.0:
+        return np.inf
+    if obj_i[k, O_XS_IN] >= 0:
+        if outline_sd(obj_i[k, O_XS_IN], obj_f[k, F_IN0], obj_f[k, F_IN1], obj_f[k, F_IN2], xb, yb) < 0.0:
+            return np.inf
+    return t
+
+
+@njit(**INLINE)
+def _first_reaching(seg, slab_f, revolved, j0, j1, z):
+    """First part in ``[j0, j1)`` (rising in z) whose top is at or above ``z`` (binary search)."""
+    while j0 < j1:
+        m = (j0 + j1) // 2
+        top = seg[m, S_ZMAX] if revolved else slab_f[m, 1]
+        if top < z:
+            j0 = m + 1
+        else:
+            j1 = m
+    return j0
+
+
+@njit(**JIT)
+def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, medium, last_obj,
+                last_side, roots, crit, stack):
+    """First true crossing of the ray ``o + t d`` (mm, unit ``d``, ``t > 0``) with any object.
+
+    Returns ``(t, object, part, nx, ny, nz)``: ``object = -1`` (and ``t = inf``) for a miss;
+    ``part`` the segment or slab row; ``n`` the object's oriented unit normal there. ``roots``
+    (16,), ``crit`` (5,) and ``stack`` (64, 2) are scratch.
+    """
+    best = np.inf
+    best_k, best_part = -1, -1
+    bnx, bny, bnz = 0.0, 0.0, 0.0
+    for k in range(obj_i.shape[0]):
+        # on the object the ray leaves, search from a hair past its start: the start itself is a
+        # root, whose computed sign is rounding noise and would fool every sign test there
+        t0 = START_FRACTION * obj_f[k, F_EDGE] if k == last_obj else 0.0
+        lo, hi = ray_box(ox, oy, oz, dx, dy, dz, 0.0, obj_f[k, F_RMAX], obj_f[k, F_ZMIN],
+                         obj_f[k, F_ZMAX], t0, best)
+        if lo > hi:
+            continue
+        kind = obj_i[k, O_KIND]
+        if kind == PLANE:
+            t = _plane_hit(obj_i, obj_f, k, ox, oy, oz, dx, dy, dz, t0, best)
+            if t < best:
+                pz = oz + t * dz
+                nz = obj_f[k, F_PNZ]
+                if _accept(obj_i, obj_f, k, t, 0.0, 0.0, nz, dx, dy, dz, pz, medium, last_obj, last_side):
+                    best, best_k, best_part = t, k, -1
+                    bnx, bny, bnz = 0.0, 0.0, nz
+            continue
+        first, count = obj_i[k, O_FIRST], obj_i[k, O_COUNT]
+        j0, j1 = first, first + count
+        if obj_i[k, O_ZSORT] != 0:  # parts rise in z: visit only those the ray's heights meet
+            za, zb = oz + lo * dz, oz + hi * dz
+            z_lo, z_hi = min(za, zb), max(za, zb)
+            j0 = _first_reaching(seg, slab_f, kind == REVOLVED, first, first + count, z_lo)
+        for j in range(j0, j1):
+            if kind == REVOLVED:
+                if obj_i[k, O_ZSORT] != 0 and seg[j, S_ZMIN] > z_hi:
+                    break
+                a, b = ray_box(ox, oy, oz, dx, dy, dz, seg[j, S_RMIN], seg[j, S_RMAX], seg[j, S_ZMIN],
+                               seg[j, S_ZMAX], t0, best)
+                if a > b:
+                    continue
+                if seg[j, S_KIND] == LINE:  # the common case, without a call
+                    n = cone_roots(ox, oy, oz, dx, dy, dz, seg[j, S_R0], seg[j, S_Z0], seg[j, S_R1],
+                                   seg[j, S_Z1], t0, roots)
+                else:
+                    n = segment_hits(seg, tab, j, ox, oy, oz, dx, dy, dz, t0, best, a, b, roots, crit, stack)
+            else:
+                if slab_f[j, 0] > z_hi:
+                    break
+                a, b = ray_box(ox, oy, oz, dx, dy, dz, 0.0, slab_f[j, 2], slab_f[j, 0], slab_f[j, 1], t0, best)
+                if a > b:
+                    continue
+                if slab_f[j, 3] > 0.5:  # straight sections: planes and slanted cones, closed form
+                    n = ruled_roots(seg, slab_i[j], obj_i[k, O_XS], obj_f[k, F_COS], obj_f[k, F_SIN],
+                                    ox, oy, oz, dx, dy, dz, a, b, roots)
+                else:
+                    n = swept_roots(seg, tab, slab_i[j], obj_i[k, O_XS], obj_i[k, O_NSEC], obj_f[k, F_COS],
+                                    obj_f[k, F_SIN], ox, oy, oz, dx, dy, dz, a, b, obj_f[k, F_LEAF], roots, stack)
+            for q in range(n):
+                t = roots[q]
+                if not (t > t0 and t < best):
+                    continue
+                px, py, pz = ox + t * dx, oy + t * dy, oz + t * dz
+                if pz < obj_f[k, F_ZMIN] or pz > obj_f[k, F_ZMAX]:
+                    continue
+                nx, ny, nz = object_normal(seg, slab_i, obj_i, obj_f, k, j, px, py, pz)
+                if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last_obj, last_side):
+                    best, best_k, best_part = t, k, j
+                    bnx, bny, bnz = nx, ny, nz
+                    break
+    return best, best_k, best_part, bnx, bny, bnz
+
+
+@njit(**JIT)
+def fill_interaction(seg, obj_i, obj_f, k, part, ox, oy, oz, dx, dy, dz, t, nx, ny, nz, si):
+    """Write the interaction record of a hit (module doc) into ``si``."""
+    px, py, pz = ox + t * dx, oy + t * dy, oz + t * dz
+    si[I_T] = t
+    si[I_PX], si[I_PY], si[I_PZ] = px, py, pz
+    si[I_NGX], si[I_NGY], si[I_NGZ] = nx, ny, nz
+    si[I_NSX], si[I_NSY], si[I_NSZ] = nx, ny, nz
+    si[I_U] = math.atan2(py, px)
+    rho = hypot2(px, py)
+    si[I_DUX], si[I_DUY], si[I_DUZ] = -py, px, 0.0  # d p / d theta
+    if obj_i[k, O_KIND] == REVOLVED:
+        si[I_V] = segment_v(seg, part, px, py, pz)
+    else:
+        si[I_V] = pz
+    # d p / d v: unit, along the meridian, perpendicular to the normal and to d p / d theta
+    ex, ey = (px / rho, py / rho) if rho > 0.0 else (1.0, 0.0)
+    vx, vy, vz = -nz * ex, -nz * ey, nx * ex + ny * ey
+    h = math.sqrt(vx * vx + vy * vy + vz * vz)
+    if h > 0.0:
+        si[I_DVX], si[I_DVY], si[I_DVZ] = vx / h, vy / h, vz / h
+    else:
+        si[I_DVX], si[I_DVY], si[I_DVZ] = 0.0, 0.0, 1.0

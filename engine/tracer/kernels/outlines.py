@@ -1,0 +1,140 @@
+"""Horizontal outlines (cross-sections at one height) as the kernels evaluate them.
+
+Design rule: an outline is a circle ``(r)``, an oval ``(a, b)`` or a rounded rectangle
+``(a, b, c)`` (a rounded square ``(u, v)`` is the rounded rectangle ``(u, u, q)``), in the
+bottle's own frame, in mm, as in :mod:`engine.geometry.crosssection`. Two things are asked of
+it: a signed value (negative inside; the exact distance for the rounded shapes, ``S - 1`` for
+the oval) with its derivatives in the radii, and the interval along a 2-D line that lies
+inside it (closed form: the rounded rectangle is the union of two boxes and four discs).
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .roots import INLINE, JIT
+
+CIRCLE, RRECT, RSQUARE, OVAL = 0, 1, 2, 3
+SQRT2 = math.sqrt(2.0)
+DQ_DU, DQ_DV = (SQRT2 + 1.0) * SQRT2, -(SQRT2 + 1.0)
+
+
+@njit(**JIT)
+def square_corner(u, v):
+    """Corner radius ``q`` (mm) of the rounded square with half-width ``u``, diagonal ``v``."""
+    return (SQRT2 + 1.0) * (SQRT2 * u - v)
+
+
+@njit(**JIT)
+def rrect_sd(x, y, a, b, c):
+    """Signed distance (mm) to the rounded rectangle ``(a, b, c)`` and its derivatives
+    ``(sd, gx, gy, d_a, d_b, d_c)`` (gradient unit)."""
+    sx = -1.0 if x < 0.0 else 1.0
+    sy = -1.0 if y < 0.0 else 1.0
+    dx = abs(x) - (a - c)
+    dy = abs(y) - (b - c)
+    ox, oy = max(dx, 0.0), max(dy, 0.0)
+    out = math.sqrt(ox * ox + oy * oy)
+    if out > 0.0:
+        gpx, gpy = ox / out, oy / out
+    elif dx > dy:
+        gpx, gpy = 1.0, 0.0
+    else:
+        gpx, gpy = 0.0, 1.0
+    sd = out + min(max(dx, dy), 0.0) - c
+    return sd, sx * gpx, sy * gpy, -gpx, -gpy, gpx + gpy - 1.0
+
+
+@njit(**JIT)
+def xs_eval(kind, r0, r1, r2, x, y):
+    """``(f, gx, gy, d0, d1, d2)``: the swept kind's signed value at section radii ``r0..r2``
+    (RSQUARE ``(u, v)``, RRECT ``(a, b, c)``, OVAL ``(a, b)``, CIRCLE ``(r)``), its (x, y)
+    gradient and its derivatives in the radii. Decreasing in every radius but a rectangle's
+    corner; |d/d radius| <= 1 for the rounded shapes."""
+    if kind == RSQUARE:
+        sd, gx, gy, da, db, dc = rrect_sd(x, y, r0, r0, square_corner(r0, r1))
+        return sd, gx, gy, da + db + dc * DQ_DU, dc * DQ_DV, 0.0
+    if kind == RRECT:
+        return rrect_sd(x, y, r0, r1, r2)
+    if kind == CIRCLE:
+        rho = math.sqrt(x * x + y * y)
+        if rho == 0.0:
+            return -r0, 1.0, 0.0, -1.0, 0.0, 0.0
+        return rho - r0, x / rho, y / rho, -1.0, 0.0, 0.0
+    s = math.sqrt((x / r0) ** 2 + (y / r1) ** 2)
+    if s == 0.0:
+        return -1.0, 1.0, 0.0, 0.0, 0.0, 0.0
+    return (s - 1.0, x / (r0 * r0 * s), y / (r1 * r1 * s), -x * x / (r0 ** 3 * s),
+            -y * y / (r1 ** 3 * s), 0.0)
+
+
+@njit(**JIT)
+def outline_sd(kind, p0, p1, p2, x, y):
+    """Signed value of a fixed outline (CIRCLE, RRECT or OVAL parameters) at ``(x, y)``."""
+    return xs_eval(kind, p0, p1, p2, x, y)[0]
+
+
+@njit(**INLINE)
+def _box_interval(px, py, qx, qy, hx, hy):
+    """Parameters ``t`` where ``p + t q`` lies in the box ``|x| <= hx, |y| <= hy``."""
+    lo, hi = -np.inf, np.inf
+    for k in range(2):
+        c, dc, h = (px, qx, hx) if k == 0 else (py, qy, hy)
+        if dc == 0.0:
+            if abs(c) > h:
+                return 1.0, -1.0
+        else:
+            t0 = (-h - c) / dc
+            t1 = (h - c) / dc
+            if t0 > t1:
+                t0, t1 = t1, t0
+            lo, hi = max(lo, t0), min(hi, t1)
+    return lo, hi
+
+
+@njit(**INLINE)
+def disc_interval(px, py, qx, qy, cx, cy, r):
+    """Parameters ``t`` where ``p + t q`` lies in the disc of radius ``r`` about ``c``."""
+    ux, uy = px - cx, py - cy
+    A = qx * qx + qy * qy
+    if A == 0.0:
+        return (-np.inf, np.inf) if ux * ux + uy * uy <= r * r else (1.0, -1.0)
+    s = -(ux * qx + uy * qy) / A  # closest approach first: no cancellation far away
+    mx, my = ux + s * qx, uy + s * qy
+    h2 = r * r - (mx * mx + my * my)
+    if h2 < 0.0:
+        return 1.0, -1.0
+    h = math.sqrt(h2 / A)
+    return s - h, s + h
+
+
+@njit(**INLINE)
+def _union(lo, hi, l2, h2):
+    if l2 > h2:
+        return lo, hi
+    if lo > hi:
+        return l2, h2
+    return min(lo, l2), max(hi, h2)
+
+
+@njit(**JIT)
+def outline_interval(kind, p0, p1, p2, px, py, qx, qy):
+    """``(t_in, t_out)``: where the 2-D line ``p + t q`` is inside the convex outline
+    (CIRCLE ``(r)``, OVAL ``(a, b)``, RRECT ``(a, b, c)``, ``0 <= c <= min(a, b)``);
+    ``t_in > t_out`` when it never is."""
+    if kind == CIRCLE:
+        return disc_interval(px, py, qx, qy, 0.0, 0.0, p0)
+    if kind == OVAL:
+        return disc_interval(px / p0, py / p1, qx / p0, qy / p1, 0.0, 0.0, 1.0)
+    a, b, c = p0, p1, p2
+    lo, hi = _box_interval(px, py, qx, qy, a, b - c)
+    l2, h2 = _box_interval(px, py, qx, qy, a - c, b)
+    lo, hi = _union(lo, hi, l2, h2)
+    for k in range(4):
+        sx = 1.0 if k & 1 else -1.0
+        sy = 1.0 if k & 2 else -1.0
+        l3, h3 = disc_interval(px, py, qx, qy, sx * (a - c), sy * (b - c), c)
+        lo, hi = _union(lo, hi, l3, h3)
+    return lo, hi

@@ -1,0 +1,222 @@
+"""Section segments as the kernels evaluate them: radius at a height, ranges, tangents.
+
+Design rule: one row of the segment table (columns ``S_*``, built by
+:mod:`engine.tracer.render_objects`) is one meridian segment in its own (r, z) plane, in mm:
+a line, a circle or ellipse arc, or the exact inward offset of an ellipse arc (a degree-8
+curve, evaluated through its base ellipse). Walls rise in z, so a wall segment is a graph
+``r(z)``; a punt's base curve is a graph ``z(r)``. Ranges over an interval of heights (or
+radii) are exact for lines and arcs and come from a monotone table for offset arcs (its rows
+bracket the curve: r is monotone between consecutive rows, whose extremes are rows), which
+is what the certified bands of :mod:`~engine.tracer.kernels.bands` need.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .roots import INLINE, JIT, hypot2
+
+# segment kinds
+LINE, ARC, ELLIPSE, OFFSET = 0, 1, 2, 3
+# segment table columns
+S_KIND, S_R0, S_Z0, S_R1, S_Z1, S_CR, S_CZ, S_AR, S_AZ, S_A0, S_SWEEP, S_DIR, S_W = range(13)
+(S_RMIN, S_RMAX, S_ZMIN, S_ZMAX, S_V0, S_LEN, S_SPLIT, S_AXIS, S_HALF, S_TAB0, S_TABN) = range(13, 24)
+S_COLS = 24
+TWO_PI = 2.0 * math.pi
+
+
+@njit(**INLINE)
+def in_sweep(angle, angle0, sweep):
+    """Whether ``angle`` (rad) lies on the arc from ``angle0`` sweeping ``sweep`` (signed),
+    with a slack of 1e-9 of the sweep at either end (neighbours overlap by a hair)."""
+    sgn = 1.0 if sweep >= 0.0 else -1.0
+    rel = ((angle - angle0) * sgn) % TWO_PI
+    slack = 1e-9 * abs(sweep)
+    return rel <= abs(sweep) + slack or rel >= TWO_PI - slack
+
+
+@njit(**JIT)
+def offset_point(seg, i, s):
+    """Point ``(r, z)`` and unit base tangent ``(T_r, T_z)`` of offset arc row ``i`` at base
+    angle ``s`` (rad): ``P(s) - w n(s)`` on the base ellipse, ``n`` its outward normal."""
+    cr, cz, ar, az = seg[i, S_CR], seg[i, S_CZ], seg[i, S_AR], seg[i, S_AZ]
+    sign, w = seg[i, S_DIR], seg[i, S_W]
+    c, sn = math.cos(s), math.sin(s)
+    nr, nz = az * c, ar * sn  # outward normal of a ccw ellipse, unnormalised
+    h = hypot2(nr, nz)
+    # walking direction: ccw -> angle increasing; tangent of (ar cos, az sin) is (-ar sin, az cos)
+    tr, tz = -ar * sn * sign, az * c * sign
+    tl = hypot2(tr, tz)
+    k = sign * w / h
+    return cr + ar * c - k * nr, cz + az * sn - k * nz, tr / tl, tz / tl
+
+
+@njit(**JIT)
+def _offset_coord(seg, i, axis, s):
+    """Coordinate ``axis`` of offset arc row ``i`` at base angle ``s`` and its derivative in
+    ``s``: the offset moves parallel to its base, ``dQ/ds = P'(s) (1 - sign w kappa(s))``."""
+    cr, cz, ar, az = seg[i, S_CR], seg[i, S_CZ], seg[i, S_AR], seg[i, S_AZ]
+    sign, w = seg[i, S_DIR], seg[i, S_W]
+    c, sn = math.cos(s), math.sin(s)
+    nr, nz = az * c, ar * sn
+    h2 = nr * nr + nz * nz
+    h = math.sqrt(h2)
+    k = sign * w / h
+    kappa = ar * az / (h2 * h)  # curvature of the base ellipse at s
+    scale = 1.0 - sign * w * kappa
+    if axis == 1:
+        return cz + az * sn - k * nz, az * c * scale
+    return cr + ar * c - k * nr, -ar * sn * scale
+
+
+@njit(**JIT)
+def _offset_at(seg, i, axis, value):
+    """Base angle where offset arc ``i`` (monotone in coordinate ``axis``: 0 = r, 1 = z) has
+    that coordinate equal to ``value`` (clamped to the arc)."""
+    return offset_at_between(seg, i, axis, value, 0.0, 1.0)
+
+
+@njit(**JIT)
+def offset_at_between(seg, i, axis, value, x0, x1):
+    """Base angle where offset arc ``i`` has coordinate ``axis`` equal to ``value``, searched
+    between parameter fractions ``x0 < x1`` (clamped to them): Newton from the linear guess,
+    safeguarded by bisection on the bracket; a tight bracket (a table step) takes 2-3 steps."""
+    a0, sw = seg[i, S_A0], seg[i, S_SWEEP]
+    f_lo = _offset_coord(seg, i, axis, a0 + x0 * sw)[0] - value
+    f_hi = _offset_coord(seg, i, axis, a0 + x1 * sw)[0] - value
+    if (f_lo > 0.0) == (f_hi > 0.0) or f_lo == 0.0 or f_hi == 0.0:
+        return a0 + (x0 if abs(f_lo) <= abs(f_hi) else x1) * sw
+    lo, hi = x0, x1
+    inc = f_hi > f_lo  # coordinate increasing along the arc
+    x = x0 + (x1 - x0) * f_lo / (f_lo - f_hi)
+    for _ in range(60):
+        f, df = _offset_coord(seg, i, axis, a0 + x * sw)
+        f -= value
+        if (f < 0.0) == inc:
+            lo = x
+        else:
+            hi = x
+        df *= sw
+        xn = x - f / df if df != 0.0 else 0.5 * (lo + hi)
+        if not (xn > lo and xn < hi):
+            xn = 0.5 * (lo + hi)
+        if abs(xn - x) <= 1e-15 or hi - lo <= 1e-15:
+            return a0 + xn * sw
+        x = xn
+    return a0 + x * sw
+
+
+@njit(**JIT)
+def wall_state(seg, i, z):
+    """Radius ``r(z)`` (mm) and unit walking tangent ``(T_r, T_z)`` of the z-rising wall
+    segment row ``i`` at height ``z`` (clamped to the segment)."""
+    z = min(max(z, seg[i, S_Z0]), seg[i, S_Z1])
+    kind = int(seg[i, S_KIND])
+    if kind == LINE:
+        r0, z0, r1, z1 = seg[i, S_R0], seg[i, S_Z0], seg[i, S_R1], seg[i, S_Z1]
+        L = hypot2(r1 - r0, z1 - z0)
+        return r0 + (z - z0) / (z1 - z0) * (r1 - r0), (r1 - r0) / L, (z1 - z0) / L
+    if kind == OFFSET:
+        s = _offset_at(seg, i, 1, z)
+        r, _, tr, tz = offset_point(seg, i, s)
+        return r, tr, tz
+    ar, az, hs = seg[i, S_AR], seg[i, S_AZ], seg[i, S_HALF]
+    u = min(1.0, max(-1.0, (z - seg[i, S_CZ]) / az))
+    c = math.sqrt((1.0 - u) * (1.0 + u))
+    tr, tz = -hs * ar * u / az, c  # proportional to (dr/dz, 1) times c
+    h = hypot2(tr, tz)
+    return seg[i, S_CR] + hs * ar * c, tr / h, tz / h
+
+
+@njit(**INLINE)
+def wall_r(seg, i, z):
+    """Radius ``r(z)`` (mm) of the z-rising wall segment row ``i`` (clamped to it); the cheap
+    half of :func:`wall_state`."""
+    z = min(max(z, seg[i, S_Z0]), seg[i, S_Z1])
+    kind = int(seg[i, S_KIND])
+    if kind == LINE:
+        z0 = seg[i, S_Z0]
+        return seg[i, S_R0] + (z - z0) / (seg[i, S_Z1] - z0) * (seg[i, S_R1] - seg[i, S_R0])
+    if kind == OFFSET:
+        return offset_point(seg, i, _offset_at(seg, i, 1, z))[0]
+    u = min(1.0, max(-1.0, (z - seg[i, S_CZ]) / seg[i, S_AZ]))
+    return seg[i, S_CR] + seg[i, S_HALF] * seg[i, S_AR] * math.sqrt((1.0 - u) * (1.0 + u))
+
+
+@njit(**JIT)
+def table_range(tab, first, count, v_lo, v_hi, key):
+    """Range of the other coordinate over ``tab[first:first+count, key]`` in ``[v_lo, v_hi]``
+    (column ``key`` ascending): the rows bracketing the interval bound the curve. Returns
+    ``(lo, hi, steps)``, ``steps`` the number of table steps the bracket spans."""
+    other = 1 - key
+    last = first + count - 1
+    a, b = first, last
+    while a < b:  # first row with key >= v_lo
+        m = (a + b) // 2
+        if tab[m, key] < v_lo:
+            a = m + 1
+        else:
+            b = m
+    lo_i = max(first, a - 1)
+    a, b = lo_i, last
+    while a < b:  # last row with key <= v_hi
+        m = (a + b + 1) // 2
+        if tab[m, key] > v_hi:
+            b = m - 1
+        else:
+            a = m
+    hi_i = min(last, a + 1)
+    lo, hi = np.inf, -np.inf
+    for k in range(lo_i, hi_i + 1):
+        lo = min(lo, tab[k, other])
+        hi = max(hi, tab[k, other])
+    return lo, hi, hi_i - lo_i
+
+
+@njit(**JIT)
+def _offset_range(seg, tab, i, axis, v_lo, v_hi):
+    """Range of the other coordinate of offset-arc row ``i`` over ``axis`` values in
+    ``[v_lo, v_hi]``: from its table, exact (monotone between rows) within two table steps."""
+    lo, hi, steps = table_range(tab, int(seg[i, S_TAB0]), int(seg[i, S_TABN]), v_lo, v_hi, axis)
+    if steps > 2:
+        return lo, hi
+    other = 1 - axis
+    pa = offset_point(seg, i, _offset_at(seg, i, axis, v_lo))
+    pb = offset_point(seg, i, _offset_at(seg, i, axis, v_hi))
+    elo, ehi = min(pa[other], pb[other]), max(pa[other], pb[other])
+    first = int(seg[i, S_TAB0])
+    for k in range(first, first + int(seg[i, S_TABN])):  # rows strictly inside (an extreme)
+        if v_lo < tab[k, axis] < v_hi:
+            elo, ehi = min(elo, tab[k, other]), max(ehi, tab[k, other])
+    return max(lo, elo), min(hi, ehi)
+
+
+@njit(**JIT)
+def wall_range(seg, tab, i, z_lo, z_hi):
+    """Range ``(r_lo, r_hi)`` (mm) of wall segment row ``i`` over heights ``[z_lo, z_hi]``."""
+    kind = int(seg[i, S_KIND])
+    if kind == OFFSET:
+        return _offset_range(seg, tab, i, 1, z_lo, z_hi)
+    ra = wall_r(seg, i, z_lo)
+    rb = wall_r(seg, i, z_hi)
+    lo, hi = min(ra, rb), max(ra, rb)
+    if kind != LINE:
+        cz = seg[i, S_CZ]
+        if z_lo < cz < z_hi and seg[i, S_Z0] < cz < seg[i, S_Z1]:
+            re = seg[i, S_CR] + seg[i, S_HALF] * seg[i, S_AR]
+            lo, hi = min(lo, re), max(hi, re)
+    return lo, hi
+
+
+@njit(**JIT)
+def base_z(seg, i, rho):
+    """Height (mm) of the r-rising offset-arc row ``i`` (a punt's inner base) at radius ``rho``."""
+    return offset_point(seg, i, _offset_at(seg, i, 0, rho))[1]
+
+
+@njit(**JIT)
+def base_range(seg, tab, i, r_lo, r_hi):
+    """Range of heights of the r-rising offset-arc row ``i`` over radii ``[r_lo, r_hi]``."""
+    return _offset_range(seg, tab, i, 0, r_lo, r_hi)

@@ -1,0 +1,50 @@
+"""Batch ray queries for tests, tools and benchmarks: nearest hits and radiance of any rays.
+
+Design rule: thin compiled loops over the same kernels a render uses (nothing is re-implemented
+here), so what a test checks is what a render does.
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .integrator import trace_sample
+from .intersect import nearest_hit, object_normal
+from .roots import JIT
+from .tile import make_work
+
+
+@njit(**JIT)
+def hits(seg, tab, slab_f, slab_i, obj_i, obj_f, o, d, medium, last, side, out_t, out_k, out_part, out_n):
+    """Nearest true hit of each ray ``o[i] + t d[i]`` (see :func:`nearest_hit`)."""
+    roots = np.zeros(16)
+    crit = np.zeros(5)
+    stack = np.zeros((64, 2))
+    for i in range(o.shape[0]):
+        t, k, part, nx, ny, nz = nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, o[i, 0], o[i, 1], o[i, 2],
+                                             d[i, 0], d[i, 1], d[i, 2], medium[i], last[i], side[i],
+                                             roots, crit, stack)
+        out_t[i], out_k[i], out_part[i] = t, k, part
+        out_n[i, 0], out_n[i, 1], out_n[i, 2] = nx, ny, nz
+
+
+@njit(**JIT)
+def normals(seg, slab_i, obj_i, obj_f, k, part, p, out):
+    """Oriented normals of object ``k[i]`` at points ``p[i]`` on its part ``part[i]``."""
+    for i in range(p.shape[0]):
+        nx, ny, nz = object_normal(seg, slab_i, obj_i, obj_f, k[i], part[i], p[i, 0], p[i, 1], p[i, 2])
+        out[i, 0], out[i, 1], out[i, 2] = nx, ny, nz
+
+
+@njit(**JIT)
+def radiance(scene, tex, env_p, o, d, max_depth, min_weight, max_nodes, out, counters):
+    """Radiance of each ray starting in air (the tree of :func:`trace_sample`), into ``out``."""
+    work = make_work(max_depth)
+    depth = np.full(scene[7].shape[0], 255, np.int64)
+    rec = np.zeros((0, 6), np.float32)
+    rec_n = np.zeros(1, np.int64)
+    for i in range(o.shape[0]):
+        r, g, b, _, _ = trace_sample(scene, tex, env_p, o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2],
+                                     np.uint64(i), max_depth, min_weight, max_nodes, work, depth, counters,
+                                     rec, rec_n)
+        out[i, 0], out[i, 1], out[i, 2] = r, g, b

@@ -1,0 +1,296 @@
+"""Exact hits on section segments revolved about the z axis (round walls, punts), compiled.
+
+Design rule: one row of the segment table (:mod:`~engine.tracer.kernels.profile`) is one
+meridian segment in its own (r, z) plane, in mm. Lines are cones
+(:func:`~engine.tracer.kernels.roots.cone_roots`), circle and ellipse arcs are tori or
+spheroids (:func:`~engine.tracer.kernels.roots.torus_roots`), both restricted to the segment's
+extent; the inner wall of an ellipse arc (its exact offset, a degree-8 curve) is found by the
+certified bands of :mod:`~engine.tracer.kernels.bands`. Every segment is first culled
+by its revolved bounding box (two cylinders, two planes), which is exact and conservative.
+Normals are the segment's outward meridian normal ``n = (T_z, -T_r)`` revolved to world space.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .bands import subtract
+from .outlines import disc_interval
+from .profile import (ARC, ELLIPSE, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR,
+                      S_KIND, S_LEN, S_R0, S_R1, S_RMAX, S_RMIN, S_SWEEP, S_V0, S_Z0, S_Z1, S_ZMAX,
+                      S_TAB0, S_TABN, S_ZMIN, TWO_PI, _offset_at, _offset_coord, in_sweep,
+                      offset_at_between, offset_point)
+from .roots import INLINE, JIT, cone_roots, hypot2, sort_small, torus_roots
+
+#: Band contraction on an offset arc stops at this fraction of the segment's length: only a
+#: pair of crossings closer than that can be missed (a graze of well under 1e-6 mm).
+OFFSET_LEAF = 1e-5
+
+
+@njit(**INLINE)
+def ray_box(ox, oy, oz, dx, dy, dz, rmin, rmax, zmin, zmax, tlo, thi):
+    """Part ``[lo, hi]`` of ``tlo < t < thi`` where the ray may be inside the revolved box
+    ``rmin <= rho <= rmax, zmin <= z <= zmax`` (mm); ``lo > hi`` when it cannot.
+
+    Exact for the slab in z and the cylinder ``rho <= rmax``; the inner cylinder only rejects
+    (``rho(t)^2`` is convex: the interval is not split where it dips inside ``rmin``).
+    """
+    if dz != 0.0:
+        ta = (zmin - oz) / dz
+        tb = (zmax - oz) / dz
+        lo = min(ta, tb)
+        hi = max(ta, tb)
+    else:
+        if oz < zmin or oz > zmax:
+            return 1.0, -1.0
+        lo, hi = -np.inf, np.inf
+    lo = max(lo, tlo)
+    hi = min(hi, thi)
+    if lo > hi:
+        return 1.0, -1.0
+    E = dx * dx + dy * dy
+    if E > 0.0:  # inside the cylinder rho <= rmax, from the closest approach to the axis
+        s_axis = -(ox * dx + oy * dy) / E
+        mx, my = ox + s_axis * dx, oy + s_axis * dy
+        h2 = rmax * rmax - (mx * mx + my * my)
+        if h2 < 0.0:
+            return 1.0, -1.0
+        h = math.sqrt(h2 / E)
+        lo = max(lo, s_axis - h)
+        hi = min(hi, s_axis + h)
+        if lo > hi:
+            return 1.0, -1.0
+    elif ox * ox + oy * oy > rmax * rmax:
+        return 1.0, -1.0
+    if rmin > 0.0:
+        ra = hypot2(ox + lo * dx, oy + lo * dy)
+        rb = hypot2(ox + hi * dx, oy + hi * dy)
+        if max(ra, rb) < rmin:
+            return 1.0, -1.0
+    return lo, hi
+
+
+@njit(**JIT)
+def _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, t):
+    """Residual of offset arc row ``i`` at ray distance ``t``, its curve solved between the
+    parameter fractions ``x0, x1`` of one table piece: wall ``rho - r(z)``, base ``z - z(rho)``."""
+    x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
+    rho = math.sqrt(x * x + y * y)
+    if axis == 1:
+        return rho - offset_point(seg, i, offset_at_between(seg, i, 1, z, x0, x1))[0]
+    return z - offset_point(seg, i, offset_at_between(seg, i, 0, rho, x0, x1))[1]
+
+
+@njit(**JIT)
+def _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
+    """The crossing in ``[a, b]`` (where the residual changes sign) by Newton on the 2-D system
+    ``(rho(t), z(t)) = (R(s), Z(s))`` in the ray distance ``t`` and the curve's base angle ``s``
+    (one curve evaluation per step); ``nan`` when an iterate leaves the bracket."""
+    a0, sw = seg[i, S_A0], seg[i, S_SWEEP]
+    t = (a * fb - b * fa) / (fb - fa)
+    x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
+    rho = math.sqrt(x * x + y * y)
+    s = offset_at_between(seg, i, axis, z if axis == 1 else rho, x0, x1)
+    s_lo, s_hi = a0 + min(x0, x1) * sw, a0 + max(x0, x1) * sw
+    if s_lo > s_hi:
+        s_lo, s_hi = s_hi, s_lo
+    slack = 1e-9 * (s_hi - s_lo) + 1e-15
+    for _ in range(12):
+        x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
+        rho = math.sqrt(x * x + y * y)
+        R, dR = _offset_coord(seg, i, 0, s)
+        Z, dZ = _offset_coord(seg, i, 1, s)
+        g1, g2 = rho - R, z - Z
+        drho = (x * dx + y * dy) / rho if rho > 0.0 else 0.0
+        det = -drho * dZ + dR * dz  # [[drho, -dR], [dz, -dZ]]
+        if det == 0.0:
+            return np.nan
+        dt = (-dZ * g1 + dR * g2) / det
+        ds = (-dz * g1 + drho * g2) / det
+        t -= dt
+        s -= ds
+        if not (t >= a and t <= b and s >= s_lo - slack and s <= s_hi + slack):
+            return np.nan
+        if abs(dt) <= 1e-14 * (abs(t) + 1.0):
+            return t
+    return np.nan
+
+
+@njit(**JIT)
+def _piece_root(seg, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, dx, dy, dz, a, b, out, n):
+    """The crossing of one table piece inside ``[a, b]`` if its residual changes sign there
+    (Illinois false position), appended to ``out`` when it lies on the piece."""
+    fa = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a)
+    fb = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, b)
+    if fa == 0.0:
+        root = a
+    elif (fa > 0.0) != (fb > 0.0) and fb != 0.0:
+        root = _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb)
+        if not math.isfinite(root):  # Newton left the bracket: false position (slower, sure)
+            last = 0
+            root = a
+            for _ in range(100):
+                root = (a * fb - b * fa) / (fb - fa)
+                if not (root > a and root < b):
+                    root = 0.5 * (a + b)
+                fr = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, root)
+                if fr == 0.0 or b - a <= 4e-16 * max(abs(a), abs(b)) + 1e-300:
+                    break
+                if (fr > 0.0) == (fa > 0.0):
+                    a, fa = root, fr
+                    if last > 0:
+                        fb *= 0.5
+                    last = 1
+                else:
+                    b, fb = root, fr
+                    if last < 0:
+                        fa *= 0.5
+                    last = -1
+    else:
+        return n
+    px, py, pz = ox + root * dx, oy + root * dy, oz + root * dz
+    rho = math.sqrt(px * px + py * py)
+    if r0 - pad <= rho <= r1 + pad and z0 - pad <= pz <= z1 + pad and n < out.shape[0]:
+        if n == 0 or abs(root - out[n - 1]) > 1e-12 * (abs(root) + 1.0):
+            out[n] = root
+            n += 1
+    return n
+
+
+@njit(**JIT)
+def offset_roots(seg, tab, i, ox, oy, oz, dx, dy, dz, lo, hi, out):
+    """Crossings (ascending, in ``[lo, hi]``) of the ray with offset arc row ``i`` revolved.
+
+    The arc's table cuts it into pieces along which both r and z are monotone, so the two rows
+    of a piece bound it (a revolved box, :func:`ray_box`). In each box the ray meets, the
+    residual changes sign where the ray crosses the piece; that crossing is solved by Illinois
+    false position with the curve solved inside the piece's parameter bracket. Only a pair of
+    crossings of one short piece (a graze within its sagitta) can be missed."""
+    first, count = int(seg[i, S_TAB0]), int(seg[i, S_TABN])
+    axis = int(seg[i, S_AXIS])
+    n = 0
+    # the rows rise in the key coordinate: visit only the pieces the ray's range of it meets
+    if axis == 1:
+        za, zb = oz + lo * dz, oz + hi * dz
+        v_lo, v_hi = min(za, zb), max(za, zb)
+    else:
+        E = dx * dx + dy * dy
+        sa = -(ox * dx + oy * dy) / E if E > 0.0 else lo
+        sn = min(max(sa, lo), hi)
+        v_lo = hypot2(ox + sn * dx, oy + sn * dy)
+        v_hi = max(hypot2(ox + lo * dx, oy + lo * dy), hypot2(ox + hi * dx, oy + hi * dy))
+    k0, k1 = first, first + count - 1
+    while k0 < k1:  # first row whose key reaches v_lo
+        m = (k0 + k1) // 2
+        if tab[m, axis] < v_lo:
+            k0 = m + 1
+        else:
+            k1 = m
+    for k in range(max(first, k0 - 1), first + count - 1):
+        if tab[k, axis] > v_hi:
+            break
+        r0, r1 = min(tab[k, 0], tab[k + 1, 0]), max(tab[k, 0], tab[k + 1, 0])
+        z0, z1 = min(tab[k, 1], tab[k + 1, 1]), max(tab[k, 1], tab[k + 1, 1])
+        pad = 1e-9 * (r1 + abs(z1) + 1.0)
+        a, b = ray_box(ox, oy, oz, dx, dy, dz, max(r0 - pad, 0.0), r1 + pad, z0 - pad, z1 + pad, lo, hi)
+        if a > b:
+            continue
+        x0, x1 = min(tab[k, 2], tab[k + 1, 2]), max(tab[k, 2], tab[k + 1, 2])
+        # only where the ray's radius is within the piece's (an annulus: up to two intervals) can
+        # it cross the piece; there a base piece (a graph over r) has an unclamped residual, and
+        # a ray leaving the piece is not confused by its own start on the far side
+        l0, h0, l1, h1 = a, b, 1.0, -1.0
+        if r0 - pad > 0.0:
+            i0, i1 = disc_interval(ox, oy, dx, dy, 0.0, 0.0, r0 - pad)
+            l0, h0, l1, h1 = subtract(a, b, i0, i1, a, b)
+        for part in range(2):
+            a, b = (l0, h0) if part == 0 else (l1, h1)
+            if a > b:
+                continue
+            n = _piece_root(seg, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, dx, dy, dz, a, b, out, n)
+    sort_small(out, n)  # pieces come in table order, not ray order
+    return n
+
+
+@njit(**JIT)
+def segment_hits(seg, tab, i, ox, oy, oz, dx, dy, dz, tlo, thi, lo, hi, out, crit, stack):
+    """Hits (mm, ascending, in ``(tlo, thi)``) of the ray with segment row ``i`` revolved;
+    returns their number (written to ``out``). ``[lo, hi]`` is the ray's part inside the
+    segment's revolved box (:func:`ray_box`, which the caller has checked is not empty)."""
+    kind = int(seg[i, S_KIND])
+    if kind == LINE:
+        n = cone_roots(ox, oy, oz, dx, dy, dz, seg[i, S_R0], seg[i, S_Z0], seg[i, S_R1],
+                       seg[i, S_Z1], tlo, out)
+    elif kind == OFFSET:
+        return offset_roots(seg, tab, i, ox, oy, oz, dx, dy, dz, max(lo, tlo), min(hi, thi), out)
+    else:
+        cr, cz, ar, az = seg[i, S_CR], seg[i, S_CZ], seg[i, S_AR], seg[i, S_AZ]
+        m = torus_roots(ox, oy, oz - cz, dx, dy, dz, abs(cr), ar, az, cr < 0.0, max(tlo, lo), out, crit,
+                        min(thi, hi))
+        n = 0
+        for j in range(m):  # keep the roots inside the arc's sweep, in order
+            t = out[j]
+            x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
+            rho = hypot2(x, y)
+            ang = math.atan2((z - cz) / az, (rho - cr) / ar)
+            if in_sweep(ang, seg[i, S_A0], seg[i, S_SWEEP]):
+                out[n] = t
+                n += 1
+    k = 0
+    for j in range(n):
+        if out[j] < thi:
+            out[k] = out[j]
+            k += 1
+    return k
+
+
+@njit(**JIT)
+def segment_normal(seg, i, px, py, pz):
+    """Outward unit normal (world, ``n = (T_z, -T_r)`` revolved) of segment row ``i`` at the
+    point ``p`` (mm) on it."""
+    rho = hypot2(px, py)
+    if rho > 0.0:
+        ex, ey = px / rho, py / rho
+    else:
+        ex, ey = 1.0, 0.0
+    kind = int(seg[i, S_KIND])
+    if kind == LINE:
+        dr, dz = seg[i, S_R1] - seg[i, S_R0], seg[i, S_Z1] - seg[i, S_Z0]
+        L = hypot2(dr, dz)
+        nr, nz = dz / L, -dr / L
+    elif kind == OFFSET:
+        axis = int(seg[i, S_AXIS])
+        s = _offset_at(seg, i, axis, pz if axis == 1 else rho)
+        _, _, tr, tz = offset_point(seg, i, s)
+        nr, nz = tz, -tr
+    else:
+        ar, az = seg[i, S_AR], seg[i, S_AZ]
+        sgn = seg[i, S_DIR]
+        nr = sgn * (rho - seg[i, S_CR]) / (ar * ar)
+        nz = sgn * (pz - seg[i, S_CZ]) / (az * az)
+        h = hypot2(nr, nz)
+        nr, nz = nr / h, nz / h
+    return nr * ex, nr * ey, nz
+
+
+@njit(**JIT)
+def segment_v(seg, i, px, py, pz):
+    """Arc length (mm) along the section from its start to the point on segment row ``i``
+    (exact for lines and circle arcs; the parameter fraction of the length otherwise)."""
+    rho = hypot2(px, py)
+    kind = int(seg[i, S_KIND])
+    if kind == LINE:
+        return seg[i, S_V0] + hypot2(rho - seg[i, S_R0], pz - seg[i, S_Z0])
+    if kind == OFFSET:
+        axis = int(seg[i, S_AXIS])
+        s = _offset_at(seg, i, axis, pz if axis == 1 else rho)
+        frac = (s - seg[i, S_A0]) / seg[i, S_SWEEP]
+    else:
+        ang = math.atan2((pz - seg[i, S_CZ]) / seg[i, S_AZ], (rho - seg[i, S_CR]) / seg[i, S_AR])
+        sgn = 1.0 if seg[i, S_SWEEP] >= 0.0 else -1.0
+        frac = (((ang - seg[i, S_A0]) * sgn) % TWO_PI) / abs(seg[i, S_SWEEP])
+        if frac > 1.0 + 1e-6:
+            frac = 0.0
+    return seg[i, S_V0] + min(max(frac, 0.0), 1.0) * seg[i, S_LEN]

@@ -1,0 +1,137 @@
+"""Exact hits on the walls of non-round bottles (rounded square, rounded rectangle, oval).
+
+Design rule: such a wall is the implicit surface ``g(x, y, z) = sd(x, y; radii(z)) = 0``
+(../shared/oracle/SPEC.md section 4.3; :mod:`engine.geometry.crosssection` and
+:meth:`engine.geometry.body.BottleBody.wall_implicit` in numpy), the radii being the sections'
+r(z). It has no closed form; its crossings along a ray come from the certified bands of
+:mod:`~engine.tracer.kernels.bands` (monotone in the radii, closed-form 2-D outlines), which
+need no slope bound, so a heel leaving the standing plane horizontally is no special case.
+The wall is cut into *slabs* between the sections' joint heights, so that in each slab every
+section is one segment row. The normal is the normalised gradient of ``g``, with
+``dg/dz = sum_k dsd/dr_k * T_r,k / T_z,k`` multiplied through by the ``T_z`` (finite where a
+section turns horizontal). Units: mm; outlines in the bottle frame (world turned by
+``-rotation_deg`` about z).
+"""
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from .bands import F_WALL, band_roots
+from .outlines import RSQUARE, square_corner, xs_eval
+from .profile import S_R0, S_R1, S_Z0, S_Z1, wall_state
+from .roots import INLINE, JIT, quadratic, sort_small
+
+
+@njit(**JIT)
+def swept_roots(seg, tab, slab_seg, kind, nsec, cos_r, sin_r, ox, oy, oz, dx, dy, dz, lo, hi, leaf,
+                out, stack):
+    """Crossings (mm, ascending, at most ``len(out)``) of the ray with the swept wall in one
+    slab (sections on segment rows ``slab_seg``), for ``t`` in ``[lo, hi]``."""
+    r1 = slab_seg[1] if nsec > 1 else slab_seg[0]
+    r2 = slab_seg[2] if nsec > 2 else slab_seg[0]
+    return band_roots(F_WALL, seg, tab, slab_seg[0], r1, r2, nsec, kind, cos_r, sin_r, ox, oy, oz,
+                      dx, dy, dz, lo, hi, leaf, out, 0, stack)
+
+
+@njit(**JIT)
+def swept_normal(seg, slab_seg, kind, nsec, cos_r, sin_r, px, py, pz):
+    """Unit gradient (world) of the swept wall's residual at ``p`` (mm): points out of the
+    outline."""
+    x, y = cos_r * px + sin_r * py, -sin_r * px + cos_r * py
+    r0, tr0, tz0 = wall_state(seg, slab_seg[0], pz)
+    r1, tr1, tz1, r2, tr2, tz2 = 0.0, 0.0, 1.0, 0.0, 0.0, 1.0
+    if nsec > 1:
+        r1, tr1, tz1 = wall_state(seg, slab_seg[1], pz)
+    if nsec > 2:
+        r2, tr2, tz2 = wall_state(seg, slab_seg[2], pz)
+    _, gx, gy, d0, d1, d2 = xs_eval(kind, r0, r1, r2, x, y)
+    tz0, tz1, tz2 = max(tz0, 1e-300), max(tz1, 1e-300), max(tz2, 1e-300)
+    gz = d0 * tr0 * tz1 * tz2 + d1 * tr1 * tz0 * tz2 + d2 * tr2 * tz0 * tz1
+    prod = tz0 * tz1 * tz2
+    wx = (cos_r * gx - sin_r * gy) * prod
+    wy = (sin_r * gx + cos_r * gy) * prod
+    h = math.sqrt(wx * wx + wy * wy + gz * gz)
+    return wx / h, wy / h, gz / h
+
+
+@njit(**JIT)
+def _ruled_roots(cx0, cx1, cy0, cy1, r0, r1, sx, sy, px, py, pz, qx, qy, dz, zb, lo, hi, out, n):
+    """Crossings with one corner of a rounded-rectangle wall whose corner centre
+    ``(sx hx(z), sy hy(z))`` and radius ``c(z)`` are linear in the height (a slanted circular
+    cone), kept where the point lies in that corner's quadrant; appended to ``out``."""
+    # along the ray: hx = cx0 + cx1 t etc. (t measured from the ray origin)
+    ux0, ux1 = px - sx * cx0, qx - sx * cx1
+    uy0, uy1 = py - sy * cy0, qy - sy * cy1
+    A = ux1 * ux1 + uy1 * uy1 - r1 * r1
+    B = ux0 * ux1 + uy0 * uy1 - r0 * r1
+    C = ux0 * ux0 + uy0 * uy0 - r0 * r0
+    k, t0, t1 = quadratic(A, B, C)
+    for j in range(k):
+        t = t0 if j == 0 else t1
+        if not (t >= lo and t <= hi) or r0 + r1 * t < 0.0:
+            continue
+        x, y = px + t * qx, py + t * qy
+        if sx * x >= cx0 + cx1 * t and sy * y >= cy0 + cy1 * t and n < out.shape[0]:
+            out[n] = t
+            n += 1
+    return n
+
+
+@njit(**JIT)
+def ruled_roots(seg, slab_seg, kind, cos_r, sin_r, ox, oy, oz, dx, dy, dz, lo, hi, out):
+    """Exact crossings (ascending) in ``[lo, hi]`` with a rounded-square or rounded-rectangle
+    wall in a slab where every section is a straight line: the half extents ``hx, hy`` and the
+    corner radius ``c`` of the outline are then linear in z, so the four sides are planes and
+    the four corners slanted circular cones, each a linear or quadratic equation in ``t``."""
+    # from the slab entry, so that far origins lose no digits
+    ox, oy, oz = ox + lo * dx, oy + lo * dy, oz + lo * dz
+    base, hi, lo = lo, hi - lo, 0.0
+    px, py = cos_r * ox + sin_r * oy, -sin_r * ox + cos_r * oy
+    qx, qy = cos_r * dx + sin_r * dy, -sin_r * dx + cos_r * dy
+    # linear coefficients in z of the sections' radii: r(z) = r_a + r_b z
+    i0 = slab_seg[0]
+    i1 = slab_seg[1]
+    ka = (seg[i0, S_R1] - seg[i0, S_R0]) / (seg[i0, S_Z1] - seg[i0, S_Z0])
+    a0 = seg[i0, S_R0] - ka * seg[i0, S_Z0]
+    kb = (seg[i1, S_R1] - seg[i1, S_R0]) / (seg[i1, S_Z1] - seg[i1, S_Z0])
+    b0 = seg[i1, S_R0] - kb * seg[i1, S_Z0]
+    if kind == RSQUARE:  # u = a, v = b: a = b = u, c = q(u, v), h = p = u - q
+        c0, kc = square_corner(a0, b0), square_corner(ka, kb)
+        ha0, hka, hb0, hkb = a0 - c0, ka - kc, a0 - c0, ka - kc
+        ea0, eka, eb0, ekb = a0, ka, a0, ka
+    else:  # half_width, half_depth, corner
+        i2 = slab_seg[2]
+        kc = (seg[i2, S_R1] - seg[i2, S_R0]) / (seg[i2, S_Z1] - seg[i2, S_Z0])
+        c0 = seg[i2, S_R0] - kc * seg[i2, S_Z0]
+        ha0, hka, hb0, hkb = a0 - c0, ka - kc, b0 - c0, kb - kc
+        ea0, eka, eb0, ekb = a0, ka, b0, kb
+    # as functions of t: f(z(t)) = f0 + fk (oz + t dz)
+    zb = oz
+    n = 0
+    # sides x = +-(ha + c) for |y| <= hb, y = +-(hb + c) for |x| <= ha
+    for side in range(4):
+        for_x = side < 2
+        sgn = 1.0 if side % 2 == 0 else -1.0
+        e0, ek = (ea0, eka) if for_x else (eb0, ekb)
+        h0, hk = (hb0, hkb) if for_x else (ha0, hka)
+        pc, qc = (px, qx) if for_x else (py, qy)
+        po, qo = (py, qy) if for_x else (px, qx)
+        # sgn (pc + t qc) = e0 + ek (oz + t dz)
+        den = sgn * qc - ek * dz
+        if den == 0.0:
+            continue
+        t = (e0 + ek * oz - sgn * pc) / den
+        if t >= lo and t <= hi and abs(po + t * qo) <= h0 + hk * (oz + t * dz) and n < out.shape[0]:
+            out[n] = t
+            n += 1
+    for corner in range(4):
+        sx = 1.0 if corner & 1 else -1.0
+        sy = 1.0 if corner & 2 else -1.0
+        n = _ruled_roots(ha0 + hka * oz, hka * dz, hb0 + hkb * oz, hkb * dz, c0 + kc * oz, kc * dz,
+                         sx, sy, px, py, oz, qx, qy, dz, zb, lo, hi, out, n)
+    for i in range(n):
+        out[i] += base
+    sort_small(out, n)  # at most 12
+    return n

@@ -1,0 +1,67 @@
+"""Samples of many pixels into film buffers: the one kernel a worker thread calls.
+
+Design rule: :func:`render_pixels` traces samples ``first[p] .. first[p] + count[p] - 1`` of each
+listed pixel and writes per-pixel sums into the caller's buffers; it touches nothing shared
+except the read-only scene and a cancel flag it polls between pixels, so any number of threads
+may run it at once (it holds no GIL) and a pixel's result depends only on (pixel, samples).
+"""
+from __future__ import annotations
+
+import numpy as np
+from numba import njit
+
+from .integrator import trace_sample
+from .roots import JIT
+from .sampling import C_EYE, C_W, camera_ray, mix64, pixel_offset
+
+
+@njit(**JIT)
+def make_work(max_depth):
+    """Scratch arrays for one worker: stack (``max_depth + 2`` entries) and solver space."""
+    cap = max_depth + 2
+    return (np.zeros((cap, 9)), np.zeros((cap, 4), np.int64), np.zeros(cap, np.uint64),
+            np.zeros(16), np.zeros(5), np.zeros((64, 2)), np.zeros(18), np.zeros((2, 5)))
+
+
+@njit(**JIT)
+def render_pixels(scene, tex, env_p, cam, cols, rows, first, count, max_depth, min_weight,
+                  max_nodes, out_sum, out_sumsq, out_sig, out_mask, out_depth, counters, cancel,
+                  rec_rays, rec_n):
+    """Trace the listed samples of each pixel ``(cols[p], rows[p])``.
+
+    Writes ``out_sum[p]`` (RGB radiance sum over the samples), ``out_sumsq[p]`` (sum of the
+    squared per-sample mean of RGB, for noise estimates), ``out_sig[p]`` (the first sample's
+    dominant-path signature), ``out_mask[p]`` (objects met, OR over samples) and min-s
+    ``out_depth[p, m]`` (shallowest depth each material was met). Stops early, leaving the
+    rest untouched, once ``cancel[0]`` is non-zero; returns the number of pixels finished.
+    """
+    work = make_work(max_depth)
+    width = int(cam[C_W])
+    ex, ey, ez = cam[C_EYE], cam[C_EYE + 1], cam[C_EYE + 2]
+    for p in range(cols.shape[0]):
+        if cancel[0] != 0:
+            return p
+        pix = rows[p] * width + cols[p]
+        sr = sg = sb = ssq = 0.0
+        mask = np.int64(0)
+        for k in range(first[p], first[p] + count[p]):
+            fx, fy = pixel_offset(pix, k)
+            dx, dy, dz = camera_ray(cam, cols[p] + fx, rows[p] + fy)
+            seed = mix64(np.uint64(pix) * np.uint64(0x9E3779B97F4A7C15) ^ np.uint64(k))
+            r, g, b, sig, m = trace_sample(scene, tex, env_p, ex, ey, ez, dx, dy, dz, seed,
+                                           max_depth, min_weight, max_nodes, work, out_depth[p],
+                                           counters, rec_rays, rec_n)
+            if k == first[p]:
+                out_sig[p] = sig
+            sr += r
+            sg += g
+            sb += b
+            lum = (r + g + b) / 3.0
+            ssq += lum * lum
+            mask |= m
+        out_sum[p, 0] += sr
+        out_sum[p, 1] += sg
+        out_sum[p, 2] += sb
+        out_sumsq[p] += ssq
+        out_mask[p] |= mask
+    return cols.shape[0]

@@ -29,6 +29,18 @@ def hypot2(x, y):
 
 
 @njit(**INLINE)
+def sort_small(out, n):
+    """Sort ``out[:n]`` ascending in place (insertion sort: n is a handful of roots)."""
+    for i in range(1, n):
+        v = out[i]
+        j = i - 1
+        while j >= 0 and out[j] > v:
+            out[j + 1] = out[j]
+            j -= 1
+        out[j + 1] = v
+
+
+@njit(**INLINE)
 def quadratic(A, B, C):
     """Real roots of ``A t^2 + 2 B t + C = 0`` as ``(n, t0, t1)``, ``t0 <= t1`` (cancellation-free).
 

@@ -128,8 +128,8 @@ def wall_heights(chains, tol_mm: float, z_lo: float, z_hi: float) -> np.ndarray:
     return z
 
 
-def section_stations(chain, tol_mm: float, z_hi: float | None = None):
-    """Samples ``(r, z, T_r, T_z)`` along a rising chain up to height ``z_hi``.
+def section_stations(chain, tol_mm: float, z_hi: float | None = None, z_lo: float | None = None):
+    """Samples ``(r, z, T_r, T_z)`` along a rising chain up to height ``z_hi`` (from ``z_lo``).
 
     Used for round walls: rings come straight from the section (no inversion of r(z)), which
     also keeps a horizontal step of a per-segment wall as two rings at one height. A smooth
@@ -157,6 +157,13 @@ def section_stations(chain, tol_mm: float, z_hi: float | None = None):
         if last:
             break
     st = np.concatenate(out)
+    if z_lo is not None and z_lo > st[0, 1]:
+        # the same arithmetic as the z_hi cut above, so that the ring on a cut shared by two
+        # meshes (the fill line) is the same to the last bit in both
+        seg = next(sg for sg in chain if sg.p1[1] > z_lo)
+        t_cut = np.atleast_1d(float(param_at_z(seg, z_lo)))
+        first = np.column_stack([seg.point(t_cut), seg.tangent(t_cut)])
+        st = np.concatenate([first, st[st[:, 1] > first[0, 1] + 1e-9]])
     return st[:, 0], st[:, 1], st[:, 2], st[:, 3]
 
 
@@ -252,7 +259,7 @@ def _wall(b, body, part, label, theta, tol, z_lo, z_hi, flip=1.0):
     faces_in = (part == "inner") == (flip > 0)  # the glass's inner wall faces against n
     chains = [sp.outer_wall if part == "outer" else sp.inner_wall for sp in body.profile.sections]
     if body.kind == "round":
-        r, z, tr, tz = section_stations(chains[0], tol, z_hi)
+        r, z, tr, tz = section_stations(chains[0], tol, z_hi, z_lo)
         sign = flip * (1.0 if part == "outer" else -1.0)  # the inner wall faces the cavity
         c, s = np.cos(theta)[None, :], np.sin(theta)[None, :]
         pts = np.stack(np.broadcast_arrays(r[:, None] * c, r[:, None] * s, z[:, None]), axis=-1)
@@ -368,6 +375,49 @@ def tessellate_body(shape, tol_mm: float = 0.05) -> Mesh:
     up = np.array([0.0, 0.0, 1.0])
     b.band("rim", _copy_ring(b, inner[-1], up), _copy_ring(b, outer[-1], up), flip=True)  # walked outwards
     return b.mesh()
+
+
+INTERFACE_NAMES = ("glass_air", "glass_liquid", "liquid_air")
+
+
+def tessellate_interfaces(shape, fill_height, tol_mm: float = 0.05) -> dict:
+    """The optical interfaces of ``shape`` filled to ``fill_height`` (mm, or ``None``), as
+    separate meshes for a renderer that needs one surface per pair of media.
+
+    ``glass_air``: outer wall, outer base, rim and the inner wall above the liquid (and the inner
+    base when empty), facing out of the glass; ``glass_liquid``: the wetted inner wall and the
+    inner base, facing out of the glass (into the liquid); ``liquid_air``: the free surface,
+    facing up. Rings on the fill line coincide bit for bit across meshes.
+    """
+    tol = _check_tol(tol_mm)
+    body = BottleBody(shape)
+    prof = body.profile
+    theta = theta_samples(body, tol)
+    wet = fill_height is not None and fill_height > prof.z_ib
+    h = float(fill_height) if wet else prof.z_ib
+    out = {}
+    b = _Builder(BODY_PARTS)
+    outer = _wall(b, body, "outer", "outer", theta, tol, 0.0, prof.z_top)
+    _base(b, body, "base_outer", "base_outer", theta, outer[0], tol)
+    inner = _wall(b, body, "inner", "inner", theta, tol, h if wet else prof.z_ib, prof.z_top)
+    if not wet:
+        _base(b, body, "base_inner", "base_inner", theta, inner[0], tol)
+    up = np.array([0.0, 0.0, 1.0])
+    b.band("rim", _copy_ring(b, inner[-1], up), _copy_ring(b, outer[-1], up), flip=True)
+    out["glass_air"] = b.mesh()
+    if wet:
+        b = _Builder(BODY_PARTS)
+        inner = _wall(b, body, "inner", "inner", theta, tol, prof.z_ib, h)
+        _base(b, body, "base_inner", "base_inner", theta, inner[0], tol)
+        out["glass_liquid"] = b.mesh()
+        liq = tessellate_liquid(shape, h, tol)
+        keep = liq.part == liq.part_names.index("surface")
+        used = np.unique(liq.faces[keep])
+        remap = np.full(len(liq.vertices), -1, np.int64)
+        remap[used] = np.arange(len(used))
+        out["liquid_air"] = Mesh(liq.vertices[used], remap[liq.faces[keep]], liq.normals[used],
+                                 np.zeros(int(keep.sum()), np.int64), ("surface",))
+    return out
 
 
 def tessellate_liquid(shape, fill_height: float, tol_mm: float = 0.05) -> Mesh:

@@ -110,13 +110,16 @@ class PixelResult:
     finished: int         # pixels done (fewer than P when cancelled)
 
 
-def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, record=None) -> PixelResult:
+def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, record=None,
+                 roulette: float = 0.0) -> PixelResult:
     """Trace samples ``first[p] .. first[p] + count[p] - 1`` of pixels ``(cols[p], rows[p])``.
 
     Sample 0 is the pixel centre, samples >= 1 the pixel's stratified positions (see
     :mod:`engine.tracer.kernels.sampling`). ``cancel`` is an int array of one element polled
     between pixels; ``record`` an optional ``(rays float32 (N, 6), count int64 (1,))`` pair
-    that receives every intersection query (benchmarks). Releases the GIL while tracing.
+    that receives every intersection query (benchmarks); ``roulette`` > 0 makes branches lighter
+    than it play Russian roulette (unbiased; for the extra samples of noisy pixels). Releases
+    the GIL while tracing.
     """
     cols = np.ascontiguousarray(cols, dtype=np.int64)
     rows = np.ascontiguousarray(rows, dtype=np.int64)
@@ -133,7 +136,7 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
         cancel = np.zeros(1, np.int64)
     rec_rays, rec_n = record if record is not None else (np.zeros((0, 6), np.float32), np.zeros(1, np.int64))
     done = render_pixels(ctx.scene, ctx.texels, ctx.env_params, ctx.cam, cols, rows, first, count,
-                         ctx.max_depth, ctx.min_weight, MAX_NODES, sums, sumsq, sig, mask, depth,
+                         ctx.max_depth, ctx.min_weight, float(roulette), 0, MAX_NODES, sums, sumsq, sig, mask, depth,
                          counters, cancel, rec_rays, rec_n)
     return PixelResult(sums, sumsq, sig, mask, depth, counters, int(done))
 

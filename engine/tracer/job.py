@@ -31,7 +31,6 @@ from . import adaptive
 from .context import RenderContext, TraceStats, trace_pixels
 from .film import Film
 
-ADAPTIVE_FACTOR = adaptive.ADAPTIVE_FACTOR
 NOISE_TARGET = adaptive.NOISE_TARGET
 #: Design fields the image depends on (an edit of any other field keeps the film).
 VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets"})
@@ -98,6 +97,8 @@ class RenderJob:
         self.error = None
         self.seconds = None
         self.first_tile_seconds = None
+        #: ``(wave, pixels, samples, seconds)`` per wave traced (benchmarks, the status bar)
+        self.wave_log = []
         self.film = Film(self.width, self.height)
         self._previous = previous
         self._changed = None if changed is None else frozenset(changed)
@@ -213,27 +214,29 @@ class RenderJob:
             # (1) every other centre
             self._wave(pool, ctx, tiles, 1, ~grid, None)
             self._set_progress(0.35)
-            # (2...) anti-aliasing on edges, doubling up to spp
+            # (2...) anti-aliasing on edges: uniform rounds, then (adaptive) where samples scatter
             edges = adaptive.edge_mask(film.luminance(), film.signature, level)
-            steps = adaptive.uniform_steps(self.spp)
-            rounds = len(steps) + (adaptive.ADAPTIVE_ROUNDS if self.adaptive else 0)
-            for r, target in enumerate(steps):
-                want = np.where(edges, target, 0)
-                self._wave(pool, ctx, tiles, 2 + r, want > film.aa_count, want)
-                self._set_progress(0.35 + 0.65 * (r + 1) / (rounds + 1))
-            if self.adaptive:
-                for r in range(adaptive.ADAPTIVE_ROUNDS):
-                    cap = int(round(self.spp * ADAPTIVE_FACTOR ** ((r + 1) / adaptive.ADAPTIVE_ROUNDS)))
-                    want = adaptive.noise_targets(film, cap, self.noise_target, level)
-                    self._wave(pool, ctx, tiles, 2 + len(steps) + r, want > film.aa_count, want)
-                    self._set_progress(0.35 + 0.65 * (len(steps) + r + 1) / (rounds + 1))
+            plan = adaptive.plan(self.spp, self.adaptive)
+            for r, (target, varied) in enumerate(plan):
+                if varied:
+                    want = adaptive.noise_targets(film, target, self.noise_target, level)
+                else:
+                    want = np.where(edges, target, 0)
+                mask = want > film.aa_count
+                if not mask.any():
+                    break
+                self._wave(pool, ctx, tiles, 2 + r, mask, want, roulette=adaptive.ROULETTE if varied else 0.0)
+                self._set_progress(0.35 + 0.65 * (r + 1) / len(plan))
 
-    def _wave(self, pool, ctx, tiles, wave, mask, want, preview=None) -> None:
+    def _wave(self, pool, ctx, tiles, wave, mask, want, preview=None, roulette=0.0) -> None:
         """Trace the pixels of ``mask``: their centres (``want`` None) or anti-aliasing samples
         up to ``want``; one task per tile, all finished before this returns."""
         if self._cancel.is_set():
             return
         film = self.film
+        t_wave = time.perf_counter()
+        pixels = int(np.count_nonzero(mask))
+        samples = pixels if want is None else int(np.sum(np.where(mask, want - film.aa_count, 0)))
 
         def run(tl):
             x0, y0, x1, y1 = tl
@@ -255,7 +258,7 @@ class RenderJob:
             else:
                 have = film.aa_count[rows, cols]
                 count = want[rows, cols] - have
-                res = trace_pixels(ctx, cols, rows, have + 1, count, cancel=self._cancel_flag)
+                res = trace_pixels(ctx, cols, rows, have + 1, count, cancel=self._cancel_flag, roulette=roulette)
                 if res.finished < len(cols):
                     return
                 film.add_aa(cols, rows, count, res)
@@ -275,6 +278,7 @@ class RenderJob:
                 self.cancel()
         if first_error is not None:
             raise first_error
+        self.wave_log.append((wave, pixels, samples, time.perf_counter() - t_wave))
 
 
 def render_image(design, assets=None, **kw) -> np.ndarray:

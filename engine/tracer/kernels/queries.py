@@ -45,6 +45,6 @@ def radiance(scene, tex, env_p, o, d, max_depth, min_weight, max_nodes, out, cou
     rec_n = np.zeros(1, np.int64)
     for i in range(o.shape[0]):
         r, g, b, _, _ = trace_sample(scene, tex, env_p, o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2],
-                                     np.uint64(i), max_depth, min_weight, max_nodes, work, depth, counters,
+                                     np.uint64(i), max_depth, min_weight, 0.0, max_nodes, work, depth, counters,
                                      rec, rec_n)
         out[i, 0], out[i, 1], out[i, 2] = r, g, b

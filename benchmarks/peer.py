@@ -1,0 +1,248 @@
+"""Speed against accuracy, glassbench against Mitsuba 3 on the oracle scenes, in one run.
+
+Usage::
+
+    python -m benchmarks.peer [--quick] [--scenes public_1,...] [--max-spp 1024]
+
+For every shared oracle scene (``../shared/oracle``, SPEC.md) this renders the scene with
+glassbench's settings (centre sample plus 1..64 stratified anti-aliasing samples on edges, and
+adaptive rounds at several noise targets) and with **Mitsuba 3** (``llvm_ad_rgb``, the
+``volpathmis`` integrator the references were made with, no Russian roulette, box filter, the
+same thread count) at 1 to ``--max-spp`` samples per pixel, its scene built from the same SPEC
+through the same design (:func:`benchmarks.oracle_spec.spec_to_design`) and the geometry
+engine's interface meshes (:func:`engine.geometry.tessellate.tessellate_interfaces`, one mesh
+per pair of media). Each point is (wall time of the render, rel RMSE against the reference);
+Mitsuba's time excludes loading its scene (reported apart), glassbench's includes compiling
+its scene. Writes ``benchmarks/out/peer.csv`` and ``peer.png`` (log time against log error, a
+line per method and scene); prints per scene how many times faster glassbench reaches each of
+Mitsuba's errors, and last ``peer_speedup_min=X``: over the four scenes, the smallest ratio of
+Mitsuba's time at its most converged point to the time glassbench needs for the same error.
+
+Mitsuba is an optional benchmark dependency (``pip install mitsuba==3.9.1``); its LLVM back end
+needs Debian's ``libllvm19`` (the system's LLVM 15 aborts with "Cannot select fminimum"), which
+:func:`mitsuba_available` points ``DRJIT_LIBLLVM_PATH`` at (``apt-get install libllvm19``).
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import glob
+import os
+import tempfile
+import time
+
+import numpy as np
+
+from benchmarks.paths import ORACLE_SPECS
+
+OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "out")
+LLVM_CANDIDATES = ("/usr/lib/x86_64-linux-gnu/libLLVM-19.so", "/usr/lib/llvm-19/lib/libLLVM-19.so",
+                   "/usr/lib/aarch64-linux-gnu/libLLVM-19.so")
+#: Chordal tolerance (mm) of Mitsuba's meshes: its geometric error stays far below its noise.
+PEER_TOL_MM = 0.005
+
+
+def mitsuba_available() -> str | None:
+    """Import Mitsuba with the LLVM 19 back end; ``None`` if it works, else why not."""
+    if "DRJIT_LIBLLVM_PATH" not in os.environ:
+        for p in LLVM_CANDIDATES + tuple(glob.glob("/usr/lib/*/libLLVM-19*.so*")):
+            if os.path.exists(p):
+                os.environ["DRJIT_LIBLLVM_PATH"] = p
+                break
+    try:
+        import mitsuba as mi
+
+        mi.set_variant("llvm_ad_rgb")
+    except Exception as exc:  # noqa: BLE001 - any failure means: no peer here
+        return f"{type(exc).__name__}: {exc}"
+    return None
+
+
+def _write_ply(path, mesh):
+    """Binary little-endian PLY of a mesh's vertices and faces (what Mitsuba loads fastest)."""
+    v = np.ascontiguousarray(mesh.vertices, dtype="<f4")
+    f = np.ascontiguousarray(mesh.faces, dtype="<i4")
+    header = (f"ply\nformat binary_little_endian 1.0\nelement vertex {len(v)}\n"
+              "property float x\nproperty float y\nproperty float z\n"
+              f"element face {len(f)}\nproperty list uchar int vertex_indices\nend_header\n").encode()
+    faces = np.empty(len(f), dtype=[("n", "u1"), ("i", "<i4", 3)])
+    faces["n"], faces["i"] = 3, f
+    with open(path, "wb") as fh:
+        fh.write(header)
+        fh.write(v.tobytes())
+        fh.write(faces.tobytes())
+
+
+def mitsuba_scene(spec_path, folder, tol_mm=PEER_TOL_MM):
+    """A loaded Mitsuba scene of a SPEC file (meshes written into ``folder``); returns
+    ``(scene, load seconds, triangles)``."""
+    import json
+
+    import mitsuba as mi
+
+    from benchmarks.oracle_spec import spec_to_design
+    from engine.geometry.tessellate import tessellate_interfaces
+    from engine.model.fill import fill_height_of
+
+    spec = json.load(open(spec_path))
+    design, _ = spec_to_design(spec_path)
+    h = fill_height_of(design)
+    t0 = time.perf_counter()
+    meshes = tessellate_interfaces(design.shape, h, tol_mm)
+    cam, g, liq = design.camera, design.glass, design.liquid
+
+    def medium(sigma):
+        return {"type": "homogeneous", "sigma_t": {"type": "rgb", "value": list(map(float, sigma))},
+                "albedo": {"type": "rgb", "value": [0.0, 0.0, 0.0]}}
+
+    env_file = os.path.join(os.path.dirname(os.path.abspath(spec_path)), spec["environment"]["file"])
+    rot = mi.ScalarTransform4f([[0, 0, -1, 0], [1, 0, 0, 0], [0, 1, 0, 0], [0, 0, 0, 1]])
+    d = {"type": "scene",
+         "integrator": {"type": "volpathmis", "max_depth": 1024, "rr_depth": 1024},
+         "sensor": {"type": "perspective", "fov_axis": "y", "fov": float(cam.fov_y_deg),
+                    "to_world": mi.ScalarTransform4f().look_at(origin=list(cam.eye), target=list(cam.target),
+                                                               up=list(cam.up)),
+                    "film": {"type": "hdrfilm", "width": design.render.width, "height": design.render.height,
+                             "rfilter": {"type": "box"}, "pixel_format": "rgb"},
+                    "sampler": {"type": "independent", "sample_count": 1}},
+         "env": {"type": "envmap", "filename": env_file, "scale": float(spec["environment"].get("scale", 1.0)),
+                 "to_world": rot},
+         "glass_medium": medium(g.absorption)}
+    if liq is not None:
+        d["liquid_medium"] = medium(liq.absorption)
+    sides = {"glass_air": (g.ior, 1.0, "glass_medium", None),
+             "glass_liquid": (g.ior, liq.ior if liq else 1.0, "glass_medium", "liquid_medium"),
+             "liquid_air": (liq.ior if liq else 1.0, 1.0, "liquid_medium", None)}
+    tris = 0
+    for name, mesh in meshes.items():
+        path = os.path.join(folder, f"{name}.ply")
+        _write_ply(path, mesh)
+        tris += len(mesh.faces)
+        n_int, n_ext, m_int, m_ext = sides[name]
+        shape = {"type": "ply", "filename": path, "face_normals": True,
+                 "bsdf": {"type": "dielectric", "int_ior": float(n_int), "ext_ior": float(n_ext)},
+                 "interior": {"type": "ref", "id": m_int}}
+        if m_ext is not None:
+            shape["exterior"] = {"type": "ref", "id": m_ext}
+        d[name] = shape
+    scene = mi.load_dict(d)
+    return scene, time.perf_counter() - t0, tris
+
+
+def mitsuba_points(spec_path, ref, spps):
+    """``[(spp, seconds, rel RMSE)]`` of Mitsuba renders (after a warm-up that compiles its
+    kernels), and the scene's load time and triangle count."""
+    import mitsuba as mi
+
+    from benchmarks.oracle_render import rel_rmse
+
+    with tempfile.TemporaryDirectory() as folder:
+        scene, load_s, tris = mitsuba_scene(spec_path, folder)
+        mi.render(scene, spp=1, seed=99)  # compile
+        pts = []
+        for k, spp in enumerate(spps):
+            t0 = time.perf_counter()
+            img = np.array(mi.render(scene, spp=spp, seed=k + 1))
+            secs = time.perf_counter() - t0
+            pts.append((spp, secs, rel_rmse(img, ref)))
+            print(f"    mitsuba {spp:5d} spp: {secs:7.2f} s, rel RMSE {pts[-1][2]:.4f}")
+    return pts, load_s, tris
+
+
+GLASSBENCH_SETTINGS = (
+    # (label, anti-aliasing samples, adaptive noise target or None)
+    ("centre only", 1, None), ("AA 4", 4, None), ("AA 16", 16, None), ("AA 64", 64, None),
+    ("adaptive 0.02", 16, 0.02), ("adaptive 0.01", 16, 0.01), ("adaptive 0.005", 16, 0.005),
+)
+
+
+def glassbench_points(spec_path, ref, settings, threads):
+    """``[(label, seconds, rel RMSE, mean samples per pixel)]`` of glassbench renders."""
+    from benchmarks.oracle_render import render_spec, rel_rmse
+
+    render_spec(spec_path, 1, threads, adaptive=False)  # kernels loaded, environment decoded
+    pts = []
+    for label, spp, target in settings:
+        img, secs, job = render_spec(spec_path, spp, threads, noise_target=target or 1.0,
+                                     adaptive=target is not None)
+        pts.append((label, secs, rel_rmse(img, ref), float(job.sample_counts().mean())))
+        print(f"    glassbench {label:14s}: {secs:7.2f} s, rel RMSE {pts[-1][2]:.4f} "
+              f"(mean {pts[-1][3]:.2f} samples/px)")
+    return pts
+
+
+def time_to_reach(points, err):
+    """Least time among ``(seconds, error)`` points whose error is at most ``err`` (inf if none)."""
+    ok = [t for t, e in points if e <= err]
+    return min(ok) if ok else np.inf
+
+
+def main(argv=None) -> int:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from benchmarks.oracle_render import reference_path
+    from engine.tracer.environment import read_radiance_image
+
+    p = argparse.ArgumentParser(prog="python -m benchmarks.peer")
+    p.add_argument("--quick", action="store_true", help="fewer settings, Mitsuba up to 256 spp")
+    p.add_argument("--scenes", default="public_1,public_2,public_3,public_4")
+    p.add_argument("--max-spp", type=int, default=1024)
+    p.add_argument("--threads", type=int, default=2)
+    a = p.parse_args(argv)
+    why = mitsuba_available()
+    if why is not None:
+        raise SystemExit(f"benchmarks.peer needs Mitsuba 3 with LLVM 19: {why}")
+    names = a.scenes.split(",")
+    max_spp = min(a.max_spp, 256) if a.quick else a.max_spp
+    spps = [s for s in (1, 4, 16, 64, 256, 1024, 4096) if s <= max_spp]
+    settings = GLASSBENCH_SETTINGS[:2] + GLASSBENCH_SETTINGS[4:6] if a.quick else GLASSBENCH_SETTINGS
+    os.makedirs(OUT, exist_ok=True)
+    rows, speed = [], {}
+    fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 4), squeeze=False)
+    for ax, name in zip(axes[0], names):
+        spec = str(ORACLE_SPECS / f"{name}.json")
+        ref = read_radiance_image(reference_path(spec))
+        print(f"{name}:")
+        gb = glassbench_points(spec, ref, settings, a.threads)
+        mt, load_s, tris = mitsuba_points(spec, ref, spps)
+        print(f"    (Mitsuba scene: {tris} triangles at {PEER_TOL_MM} mm, loaded in {load_s:.1f} s)")
+        for label, secs, err, mean in gb:
+            rows.append({"scene": name, "renderer": "glassbench", "setting": label, "seconds": secs,
+                         "rel_rmse": err, "samples_per_px": mean})
+        for spp, secs, err in mt:
+            rows.append({"scene": name, "renderer": "mitsuba", "setting": f"{spp} spp", "seconds": secs,
+                         "rel_rmse": err, "samples_per_px": spp})
+        g_pts = [(s, e) for _, s, e, _ in gb]
+        ratios = [(spp, ms / time_to_reach(g_pts, me)) for spp, ms, me in mt]
+        speed[name] = ratios[-1][1]
+        below = all(r > 1.0 for _, r in ratios)
+        print(f"    glassbench reaches Mitsuba's error at " +
+              ", ".join(f"{spp} spp {r:.1f}x" for spp, r in ratios) +
+              f" faster; below Mitsuba's curve everywhere: {'yes' if below else 'no'}")
+        ax.plot([s for _, s, _ in mt], [e for _, _, e in mt], "o-", color="tab:red", label="Mitsuba 3 volpathmis")
+        ga = sorted(g_pts)
+        ax.plot(*zip(*ga), "s-", color="tab:blue", label="glassbench (analytic)")
+        for label, secs, err, _ in gb:
+            ax.annotate(label, (secs, err), fontsize=5, xytext=(2, 2), textcoords="offset points")
+        ax.set_xscale("log")
+        ax.set_yscale("log")
+        ax.set_title(f"{name}: {speed[name]:.1f}x at Mitsuba {spps[-1]} spp", fontsize=8)
+        ax.set_xlabel(f"wall time (s, {a.threads} threads, 256x256)")
+        ax.set_ylabel("rel RMSE against the reference")
+        ax.legend(fontsize=6)
+    fig.tight_layout()
+    fig.savefig(os.path.join(OUT, "peer.png"), dpi=110)
+    with open(os.path.join(OUT, "peer.csv"), "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(rows[0]))
+        w.writeheader()
+        w.writerows(rows)
+    print(f"wrote {OUT}/peer.csv and peer.png")
+    print(f"peer_speedup_min={min(speed.values()):.2f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

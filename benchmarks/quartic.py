@@ -8,8 +8,8 @@ Methods (all float64, all vectorised over rays):
   batched through ``numpy.linalg.eigvals``; a root is real when ``|imag| <= 1e-8 max(1, |re|)``;
 * ``robust``: :func:`engine.intersect.ray_torus_hits` (bracketed roots of the geometric
   quartic in the unit-tube frame);
-* ``robust_numba``: the same algorithm written per ray and compiled with numba, to see
-  whether compiling wins over numpy vectorisation.
+* ``tracer_kernel``: the tracer's own compiled solver (the same algorithm, one ray at a time,
+  numba), the one every arc of a render goes through.
 
 Accuracy uses the tolerant rule of ``/work/shared/quartic`` (README): error
 ``|t - t_accepted| / a`` in tube radii, misses, false hits. Throughput: each category's rays
@@ -129,151 +129,41 @@ def first_hit(roots, tau):
     return np.where(np.isfinite(out), out, np.nan)
 
 
-_NUMBA_KERNEL = None
 
 
-def _compile_numba_kernel():
-    """The robust algorithm of engine/intersect/torus.py, one ray at a time, for numba."""
-    import numba
-
-    @numba.njit(cache=False, fastmath=False)
-    def f_geo(Q0, D, Rn, u):
-        x = Q0[0] + u * D[0]
-        y = Q0[1] + u * D[1]
-        z = Q0[2] + u * D[2]
-        rho = math.hypot(x, y)
-        dd = rho - Rn
-        z2 = z * z
-        return (dd - 1.0) * (dd + 1.0) + z2, (rho + Rn) ** 2 - 1.0 + z2
-
-    @numba.njit(cache=False)
-    def kernel(o, d, R, a, b, tau, out):
-        Q0 = np.empty(3)
-        D = np.empty(3)
-        crit = np.empty(3)
-        ends = np.empty(5)
-        for i in range(o.shape[0]):
-            inv = (1.0 / a[i], 1.0 / a[i], 1.0 / b[i])
-            sp = 0.0
-            for j in range(3):
-                D[j] = d[i, j] * inv[j]
-                sp += D[j] * D[j]
-            sp = math.sqrt(sp)
-            s0 = 0.0
-            for j in range(3):
-                D[j] /= sp
-                s0 -= o[i, j] * inv[j] * D[j]
-            m2 = 0.0
-            for j in range(3):
-                Q0[j] = o[i, j] * inv[j] + s0 * D[j]
-                m2 += Q0[j] * Q0[j]
-            Rn = R[i] / a[i]
-            B = Rn + 1.0
-            if m2 >= B * B * (1.0 + 1e-12):
-                continue
-            E = D[0] * D[0] + D[1] * D[1]
-            F = 2.0 * (Q0[0] * D[0] + Q0[1] * D[1])
-            C = m2 + Rn * Rn - 1.0
-            p = 2.0 * C - 4.0 * Rn * Rn * E
-            q = -4.0 * Rn * Rn * F
-            half = math.sqrt(max(B * B - m2, 0.0)) * (1.0 + 1e-9) + 1e-12 * B
-            P, Qc = 0.5 * p, 0.25 * q
-            disc = (0.5 * Qc) ** 2 + (P / 3.0) ** 3
-            if disc > 0:
-                A = -math.copysign(1.0, Qc) * np.cbrt(0.5 * abs(Qc) + math.sqrt(disc))
-                c = A - P / (3.0 * A) if A != 0.0 else 0.0
-                crit[0] = crit[1] = crit[2] = c
-            else:
-                k = 2.0 * math.sqrt(-P / 3.0)
-                arg = 0.0 if P == 0.0 else (3.0 * Qc / (2.0 * P)) * math.sqrt(-3.0 / P)
-                phi = math.acos(min(1.0, max(-1.0, arg))) / 3.0
-                for j in range(3):
-                    crit[j] = k * math.cos(phi - 2.0 * math.pi * j / 3.0)
-            for j in range(3):
-                c = crit[j]
-                for _ in range(2):
-                    der = 3.0 * c * c + P
-                    if der != 0.0:
-                        c -= ((c * c + P) * c + Qc) / der
-                crit[j] = min(max(c, -half), half)
-            crit.sort()
-            ends[0] = -half
-            ends[1], ends[2], ends[3] = crit[0], crit[1], crit[2]
-            ends[4] = half
-            n_found = 0
-            go, gi = f_geo(Q0, D, Rn, ends[0])
-            f_prev = go * gi
-            for k in range(4):
-                lo, hi = ends[k], ends[k + 1]
-                go, gi = f_geo(Q0, D, Rn, hi)
-                f_hi = go * gi
-                f_lo = f_prev
-                f_prev = f_hi
-                if not (hi > lo) or not (f_lo * f_hi < 0.0):
-                    continue
-                x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
-                if not (x > lo and x < hi):
-                    x = 0.5 * (lo + hi)
-                last = 0
-                for _ in range(80):
-                    px = Q0[0] + x * D[0]
-                    py = Q0[1] + x * D[1]
-                    pz = Q0[2] + x * D[2]
-                    rho = math.hypot(px, py)
-                    dd = rho - Rn
-                    go = (dd - 1.0) * (dd + 1.0) + pz * pz
-                    gi = (rho + Rn) ** 2 - 1.0 + pz * pz
-                    f = go * gi
-                    if (f > 0.0) == (f_lo > 0.0):
-                        if last > 0:
-                            f_hi *= 0.5
-                        lo, f_lo, last = x, f, 1
-                    else:
-                        if last < 0:
-                            f_lo *= 0.5
-                        hi, f_hi, last = x, f, -1
-                    outer = abs(go) <= abs(gi)
-                    drho = (px * D[0] + py * D[1]) / rho if rho > 0.0 else 0.0
-                    g = go if outer else gi
-                    slope = 2.0 * (dd if outer else rho + Rn) * drho + 2.0 * pz * D[2]
-                    xn = x - g / slope if slope != 0.0 else lo - 1.0
-                    if not (xn > lo and xn < hi):
-                        xn = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
-                        if not (xn > lo and xn < hi):
-                            xn = 0.5 * (lo + hi)
-                    size2 = (rho * abs(dd) + dd * dd if outer else (rho + Rn) ** 2) + pz * pz + 1.0
-                    if abs(g) <= 8e-16 * size2:
-                        break
-                    tol = 4e-16 * (abs(xn) + Rn + 1.0)
-                    step = abs(xn - x)
-                    x = xn
-                    if step <= tol or hi - lo <= tol:
-                        break
-                go, gi = f_geo(Q0, D, Rn, x)
-                t = (s0 + x) / sp
-                if abs(go) <= abs(gi) and t > tau[i]:
-                    out[i, n_found] = t
-                    n_found += 1
-    return kernel
+_BATCH = None
 
 
-def torus_hits_numba(o, d, R, a, b, tau):
-    """Hits (N, 4) of the numba variant (unsorted within a ray's found roots: ascending by
-    construction, since pieces are visited left to right). Rays parallel to the axis are
-    not special-cased here (none of the public cases needs it)."""
-    global _NUMBA_KERNEL
-    if _NUMBA_KERNEL is None:
-        _NUMBA_KERNEL = _compile_numba_kernel()
+def torus_hits_kernel(o, d, R, a, b, tau):
+    """Hits (N, 4) of the tracer's own compiled solver (:func:`engine.tracer.kernels.roots.
+    torus_roots`, one ray at a time, the function the renderer calls for every arc)."""
+    global _BATCH
+    if _BATCH is None:
+        import numba
+
+        from engine.tracer.kernels.roots import torus_roots
+
+        @numba.njit(nogil=True)
+        def batch(o, d, R, a, b, tau, out):
+            buf, crit = np.zeros(4), np.zeros(5)
+            for i in range(o.shape[0]):
+                n = torus_roots(o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2], R[i], a[i], b[i],
+                                False, tau[i], buf, crit)
+                for j in range(n):
+                    out[i, j] = buf[j]
+
+        _BATCH = batch
     out = np.full((o.shape[0], 4), np.nan)
-    _NUMBA_KERNEL(np.ascontiguousarray(o), np.ascontiguousarray(d), R, a, b, tau, out)
+    _BATCH(np.ascontiguousarray(o), np.ascontiguousarray(d), np.ascontiguousarray(R), np.ascontiguousarray(a),
+           np.ascontiguousarray(b), np.ascontiguousarray(tau), out)
     return out
 
 
 def method_first_hits(name, o, d, R, a, b, tau):
     if name == "robust":
         return first_hit(ray_torus_hits(o, d, R, a, b, tmin=tau), tau)
-    if name == "robust_numba":
-        return first_hit(torus_hits_numba(o, d, R, a, b, tau), tau)
+    if name == "tracer_kernel":
+        return first_hit(torus_hits_kernel(o, d, R, a, b, tau), tau)
     coeffs = torus_coefficients(o, d, R, a, b)
     roots = ferrari_textbook(coeffs) if name == "ferrari" else companion_roots(coeffs)
     return first_hit(roots, tau)
@@ -298,10 +188,10 @@ def score(cases, hits):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--rays", type=int, default=20000, help="rays per timed batch")
-    ap.add_argument("--methods", default="ferrari,companion,robust,robust_numba")
+    ap.add_argument("--methods", default="ferrari,companion,robust,tracer_kernel")
     args = ap.parse_args(argv)
-    if "robust_numba" in args.methods:  # compile outside the timings
-        torus_hits_numba(np.zeros((1, 3)), np.array([[0, 0, 1.0]]), np.ones(1), np.ones(1), np.ones(1), np.zeros(1))
+    if "tracer_kernel" in args.methods:  # compile outside the timings
+        torus_hits_kernel(np.zeros((1, 3)), np.array([[0, 0, 1.0]]), np.ones(1), np.ones(1), np.ones(1), np.zeros(1))
     data = json.loads(CASES.read_text())
     methods = args.methods.split(",")
     rows = []

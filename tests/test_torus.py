@@ -24,14 +24,25 @@ def _first_hit(case):
     return float(hits[0]) if hits.size else None
 
 
-def test_public_cases_have_no_miss_no_false_hit_and_tiny_error_per_category():
+def _first_hit_kernel(case):
+    """The tracer's compiled solver, the one every arc of a render goes through."""
+    from engine.tracer.kernels.roots import torus_roots
+
+    out, crit = np.zeros(4), np.zeros(5)
+    n = torus_roots(*case["origin"], *case["direction"], case["R"], case["a"], case["b"], False,
+                    case["tau"], out, crit)
+    return float(out[0]) if n else None
+
+
+@pytest.mark.parametrize("first_hit", [_first_hit, _first_hit_kernel], ids=["numpy", "tracer kernel"])
+def test_public_cases_have_no_miss_no_false_hit_and_tiny_error_per_category(first_hit):
     data = json.loads(CASES.read_text())
     stats = defaultdict(lambda: {"n": 0, "miss": 0, "false": 0, "err": 0.0})
     for case in data["cases"]:
         st = stats[case["category"]]
         st["n"] += 1
         acc = case["ref_exact"]["accept"]
-        t = _first_hit(case)
+        t = first_hit(case)
         accepted = [x for x in (acc["t_strict"], acc["t_next"]) if x is not None] + acc["graze"]
         if t is None:
             st["miss"] += acc["t_next"] is not None

@@ -18,7 +18,7 @@ from engine.files import atomic, dxf_import, mesh_export, project
 from engine.model import check, fill
 from engine.model.design import Design
 from engine.errors import GlassbenchError
-from engine.model.scene import Scene
+from engine.model.scene import ALL_CHANGES, Scene  # noqa: F401 - ALL_CHANGES: for the window
 from engine.geometry.section import Section
 from engine.geometry.shape import BottleShape
 from engine.tracer import job as tracer_job

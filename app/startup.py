@@ -16,6 +16,7 @@ from PySide6.QtWidgets import QApplication
 
 from app import engine_bridge
 from app.sample_design import sample_design
+from app.window import MainWindow
 
 SCREENSHOT_TIMEOUT_MS = 10 * 60 * 1000
 
@@ -39,7 +40,6 @@ def grab_window(window):
 
 def run(project_path: str | None, screenshot: str | None) -> int:
     """Open the window; with ``screenshot`` save a picture once converged and quit."""
-    from app.window import MainWindow
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("glassbench")
     app.setOrganizationName("glassbench")

@@ -26,8 +26,6 @@ from widgets.preview_view import PreviewView
 from widgets.section_panel import SectionPanel
 from widgets.trade_panel import TradeNumbersPanel
 
-ALL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "lights", "render",
-                        "labels", "bumps", "cap", "name", "notes", "assets"})
 
 
 class MainWindow(QMainWindow):
@@ -112,7 +110,7 @@ class MainWindow(QMainWindow):
         self.editor.refused.connect(self._on_refused)
         self.undo_stack.cleanChanged.connect(lambda clean: self.setWindowModified(not clean))
         self._unsubscribe = self.scene.subscribe(self.on_scene_changed)
-        self.on_scene_changed(ALL_FIELDS, self.scene)
+        self.on_scene_changed(engine_bridge.ALL_CHANGES, self.scene)
         self.files.update_title()
 
     def _dock(self, title, widget, area) -> QDockWidget:
@@ -256,11 +254,4 @@ class MainWindow(QMainWindow):
             self._unsubscribe = None
 
 
-def run_gui(project_path: str | None, screenshot: str | None) -> int:
-    """Open the workbench (on ``project_path`` or the sample); with ``screenshot`` save a picture
-    of the whole window once the preview has converged, then exit. Returns the exit status."""
-    from app.startup import run
-    return run(project_path, screenshot)
-
-
-__all__ = ["MainWindow", "run_gui"]
+__all__ = ["MainWindow"]

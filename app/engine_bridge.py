@@ -15,7 +15,7 @@ import numpy as np
 from engine.geometry import capacity, offset, tessellate, validate
 
 from engine.files import atomic, dxf_import, mesh_export, project
-from engine.model import check, fill
+from engine.model import check, fill, orbit
 from engine.model.design import Design
 from engine.errors import GlassbenchError
 from engine.model.scene import ALL_CHANGES, Scene  # noqa: F401 - ALL_CHANGES: for the window
@@ -103,6 +103,12 @@ def trade_numbers(design: Design) -> dict:
         if out["fill_height_mm"] is not None:
             out["fill_point_mm"] = shape.z_top - out["fill_height_mm"]
     return out
+
+
+# ----------------------------------------------------------------------------- camera
+def orbited(start, d_azimuth_deg: float, d_elevation_deg: float):
+    """``start`` (a Camera) turned by a drag of the given degrees (:mod:`engine.model.orbit`)."""
+    return orbit.orbited(start, d_azimuth_deg, d_elevation_deg)
 
 
 # ------------------------------------------------------------------------------ files

@@ -213,16 +213,13 @@ class MainWindow(QMainWindow):
 
     def _orbit_from_preview(self, d_azimuth, d_elevation, finished):
         """A drag in the preview orbits the design camera (one undo step per drag)."""
-        from widgets.camera_panel import camera_to_orbit, orbit_to_camera
         if finished:
             self._orbit_start = None
             return
         if self._orbit_start is None:
             self._orbit_start = (self.scene.design.camera, self.editor.new_merge_key("orbit"))
         start, key = self._orbit_start
-        az, el, dist = camera_to_orbit(start)
-        cam = orbit_to_camera(start, az + d_azimuth, max(-89.0, min(89.0, el + d_elevation)), dist)
-        self.editor.apply("Orbit camera", key, camera=cam)
+        self.editor.apply("Orbit camera", key, camera=engine_bridge.orbited(start, d_azimuth, d_elevation))
 
     def camera_from_wireframe(self):
         """Copy the 3D view's camera into the design (one undo step)."""

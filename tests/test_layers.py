@@ -83,3 +83,10 @@ def test_widgets_never_import_the_application_shell():
     bad = {m: sorted(d for d in deps if d.startswith("app")) for m, deps in graph.items()
            if m.startswith("widgets")}
     assert not {m: d for m, d in bad.items() if d}
+def test_section_geometry_and_orbit_maths_live_in_the_engine():
+    import engine.geometry.editing as editing
+    import engine.model.orbit as orbit
+    for name in ("move_joint", "convert_segment", "split_segment", "set_arc_radius", "handles_of"):
+        assert callable(getattr(editing, name))
+    assert callable(orbit.camera_to_orbit) and callable(orbit.orbit_to_camera)
+    assert not (ROOT / "widgets" / "section_edits.py").exists()

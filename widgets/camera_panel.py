@@ -2,13 +2,12 @@
 of view, environment strength and turn, render size and samples.
 
 Design rule: the camera is stored as eye/target/up (SPEC section 2); this panel shows it as an
-orbit about the target, which is how a designer turns a bottle. ``orbit_to_camera`` and
-``camera_to_orbit`` convert exactly (for a +z up vector).
+orbit about the target, which is how a designer turns a bottle. The conversion is the engine's
+(:mod:`engine.model.orbit`); the panel only binds spin boxes to it.
 """
 from __future__ import annotations
 
 import dataclasses
-import math
 from pathlib import Path
 
 from PySide6.QtCore import QSignalBlocker, Signal
@@ -16,24 +15,7 @@ from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFileDialog, QFormLayo
                                QPushButton, QSpinBox, QVBoxLayout, QWidget)
 
 from engine.files.project import DEFAULT_LIMITS
-from engine.model.design import Camera
-
-
-def camera_to_orbit(cam: Camera) -> tuple[float, float, float]:
-    """``(azimuth_deg, elevation_deg, distance_mm)`` of the eye about the target."""
-    d = [e - t for e, t in zip(cam.eye, cam.target)]
-    dist = math.sqrt(sum(v * v for v in d)) or 1.0
-    return (math.degrees(math.atan2(d[0], -d[1])), math.degrees(math.asin(max(-1, min(1, d[2] / dist)))), dist)
-
-
-def orbit_to_camera(cam: Camera, azimuth_deg, elevation_deg, distance, target_z=None) -> Camera:
-    """``cam`` with its eye placed on the orbit (azimuth 0: looking along +y)."""
-    tx, ty, tz = cam.target
-    tz = tz if target_z is None else float(target_z)
-    az, el = math.radians(azimuth_deg), math.radians(elevation_deg)
-    eye = (tx + distance * math.cos(el) * math.sin(az), ty - distance * math.cos(el) * math.cos(az),
-           tz + distance * math.sin(el))
-    return dataclasses.replace(cam, eye=eye, target=(tx, ty, tz), up=(0.0, 0.0, 1.0))
+from engine.model.orbit import camera_to_orbit, orbit_to_camera
 
 
 def _spin(lo, hi, step, suffix, decimals=1):

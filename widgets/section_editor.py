@@ -12,7 +12,6 @@ select it; wheel zooms about the cursor; middle- or right-drag pans. Holding Ctr
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt, Signal
@@ -21,43 +20,10 @@ from PySide6.QtWidgets import QSizePolicy, QWidget
 
 from engine.geometry.section import Section
 from engine.geometry.segments import Arc, EllipseArc
-from widgets import section_edits as edits
+from engine.geometry import editing as edits
+from engine.geometry.editing import Handle, handles_of, propose_drag
 
 HANDLE_PX = 7.0
-
-
-@dataclass(frozen=True)
-class Handle:
-    """Something the designer can grab: ``kind`` is joint / centre / radius_r / radius_z."""
-
-    kind: str
-    index: int
-    point: tuple[float, float]
-
-
-def handles_of(section: Section) -> list[Handle]:
-    """Every draggable point of ``section`` (joints, arc centres, ellipse radius handles)."""
-    out = [Handle("joint", i, seg.p1) for i, seg in enumerate(section.segments)]
-    for i, seg in enumerate(section.segments):
-        if isinstance(seg, Arc):
-            out.append(Handle("centre", i, seg.center))
-        elif isinstance(seg, EllipseArc):
-            c = seg.center
-            out.append(Handle("radius_r", i, (c[0] + seg.radius_r, c[1])))
-            out.append(Handle("radius_z", i, (c[0], c[1] + seg.radius_z)))
-    return out
-
-
-def propose_drag(section: Section, handle: Handle, delta, local: bool) -> Section:
-    """The section after dragging ``handle`` by ``delta`` (mm); may raise ``ValueError``."""
-    if handle.kind == "joint":
-        return edits.move_joint(section, handle.index, delta, "local" if local else "stretch")
-    seg = section.segments[handle.index]
-    if handle.kind == "centre":
-        return edits.move_arc_centre(section, handle.index, delta)
-    if handle.kind == "radius_r":
-        return edits.set_ellipse_radii(section, handle.index, seg.radius_r + delta[0], seg.radius_z)
-    return edits.set_ellipse_radii(section, handle.index, seg.radius_r, seg.radius_z + delta[1])
 
 
 class SectionCanvas(QWidget):

@@ -12,7 +12,7 @@ from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFormLayout, QHBoxLayo
                                QLabel, QSplitter, QTableView, QToolButton, QVBoxLayout, QWidget)
 
 from engine.geometry.shape import SECTION_NAMES, BottleShape
-from widgets import section_edits as edits
+from engine.geometry import editing as edits
 from widgets.section_editor import SectionCanvas
 from widgets.section_table import KindDelegate, MillimetreDelegate, SectionTableModel
 

@@ -1,7 +1,7 @@
 """Exact numbers for a section: one table row per segment (QAbstractTableModel).
 
 Design rule: the model mirrors a ``Section`` value and never edits it. ``setData`` turns a
-typed value into a *proposed* section (via :mod:`widgets.section_edits`) and emits it; the owner
+typed value into a *proposed* section (via :mod:`engine.geometry.editing`) and emits it; the owner
 validates and applies it, and ``set_section`` then shows the result. A refused or impossible
 value leaves the table showing the model's numbers.
 """
@@ -12,7 +12,7 @@ from PySide6.QtWidgets import QComboBox, QDoubleSpinBox, QStyledItemDelegate
 
 from engine.geometry.section import Section
 from engine.geometry.segments import Arc, EllipseArc
-from widgets import section_edits as edits
+from engine.geometry import editing as edits
 
 COLUMNS = ("type", "end r", "end z", "centre r", "centre z", "radius / r", "radius z", "dir", "smooth")
 KINDS = ("line", "arc", "ellipse_arc")

@@ -1,4 +1,4 @@
-"""The editor's section edits (pure functions, no Qt): chains stay connected, smooth joints
+"""The section edits of engine.geometry.editing (pure functions, no Qt): chains stay connected, smooth joints
 stay tangent under stretch drags, and the inverse edits restore the section."""
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from app.sample_design import bordeaux_section
 from engine.geometry.segments import Arc, EllipseArc, Line
-from widgets import section_edits as edits
+from engine.geometry import editing as edits
 
 SECTION = bordeaux_section()
 

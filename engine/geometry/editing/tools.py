@@ -11,6 +11,7 @@ import math
 from ..section import Section
 from ..segments import Arc, EllipseArc, Line
 from .curves import _add, _arc_on_bisector, _tangent, _unit
+from . import tangency
 from .joints import _with_tail_moved
 
 def split_segment(section: Section, index: int) -> Section:
@@ -58,15 +59,29 @@ def insert_line_after(section: Section, index: int, length: float = 10.0) -> Sec
 
 
 def convert_segment(section: Section, index: int, kind: str) -> Section:
-    """Segment ``index`` as a ``"line"``, ``"arc"`` or ``"ellipse_arc"`` with the same ends.
+    """Segment ``index`` as a ``"line"``, ``"arc"`` or ``"ellipse_arc"``.
 
-    A line becomes a gentle convex arc (sagitta an eighth of the chord); an arc becomes the
-    ellipse with equal radii (exact); an ellipse becomes the arc through its ends.
+    An arc becomes the ellipse with equal radii (exact). A line or an ellipse next to a smooth
+    joint becomes a gentle arc tangent to its neighbours, which slide along themselves to meet
+    it (:func:`engine.geometry.editing.tangency.arc_between_neighbours`); between two corners a
+    line becomes the convex arc through its ends with a sagitta of an eighth of the chord, an
+    ellipse the arc through its ends. The finish (the last segment) stays a vertical line.
     """
     seg = section.segments[index]
+    if kind not in ("line", "arc", "ellipse_arc"):
+        raise ValueError(f"unknown segment kind {kind!r}")
     if kind == seg.kind:
         return section
+    if index == len(section.segments) - 1:
+        raise ValueError("this is the finish (the neck up to the mouth): it stays a vertical line")
     p0, p1 = seg.p0, seg.p1
+    near_smooth = (index > 0 and section.smooth[index - 1]) or \
+        (index < len(section.smooth) and section.smooth[index])
+    if kind != "line" and not isinstance(seg, Arc) and near_smooth:
+        new = tangency.arc_between_neighbours(section, index)
+        if kind == "ellipse_arc":
+            new = new.replace_segment(index, tangency.equal_radii_ellipse(new.segments[index]))
+        return new
     if kind == "line":
         new = Line(p0, p1)
     elif isinstance(seg, Line):
@@ -80,15 +95,16 @@ def convert_segment(section: Section, index: int, kind: str) -> Section:
         new = Arc(c, radius, p0, p1, "ccw") if kind == "arc" else EllipseArc(c, radius, radius, p0, p1, "ccw")
     elif kind == "ellipse_arc":
         new = EllipseArc(seg.center, seg.radius, seg.radius, p0, p1, seg.direction)
-    elif kind == "arc":
-        new = _arc_on_bisector(Arc(seg.center, 1.0, p0, p1, seg.direction), p0, p1)
     else:
-        raise ValueError(f"unknown segment kind {kind!r}")
+        new = _arc_on_bisector(Arc(seg.center, 1.0, p0, p1, seg.direction), p0, p1)
     return section.replace_segment(index, new)
 
 
 def set_smooth(section: Section, joint: int, smooth: bool) -> Section:
-    """The designer's tangency request at ``joint`` switched on or off."""
+    """The designer's tangency request at ``joint`` (between segments ``joint`` and
+    ``joint + 1``) switched on or off."""
+    if not 0 <= joint < len(section.smooth):
+        raise ValueError("the last segment ends at the mouth: there is no joint above it")
     flags = list(section.smooth)
     flags[joint] = bool(smooth)
     return Section(section.segments, tuple(flags))

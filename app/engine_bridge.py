@@ -15,7 +15,7 @@ import numpy as np
 from engine.geometry import capacity, offset, tessellate, validate
 
 from engine.files import atomic, dxf_import, mesh_export, project
-from engine.model import check, fill, orbit
+from engine.model import check, fill, makeable, naming, orbit
 from engine.model.design import Design
 from engine.errors import GlassbenchError
 from engine.model.scene import ALL_CHANGES, Scene  # noqa: F401 - ALL_CHANGES: for the window
@@ -109,6 +109,21 @@ def trade_numbers(design: Design) -> dict:
 def orbited(start, d_azimuth_deg: float, d_elevation_deg: float):
     """``start`` (a Camera) turned by a drag of the given degrees (:mod:`engine.model.orbit`)."""
     return orbit.orbited(start, d_azimuth_deg, d_elevation_deg)
+
+
+def design_warnings(design: Design, fill_height_mm: float | None = None) -> list[str]:
+    """What the design cannot be made or filled with, in words (:mod:`engine.model.makeable`);
+    nothing for a shape the engine refuses (validation speaks then)."""
+    try:
+        return makeable.design_warnings(design, fill_height_mm)
+    except (GlassbenchError, ValueError, ArithmeticError):
+        return []
+
+
+def name_for_fill(name: str, fill_ml: float) -> str | None:
+    """``name`` with the volume it quotes replaced by ``fill_ml`` (:mod:`engine.model.naming`),
+    or ``None`` when it quotes none or quotes this one already."""
+    return naming.updated_name(name, fill_ml)
 
 
 # ------------------------------------------------------------------------------ files

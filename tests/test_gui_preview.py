@@ -31,7 +31,7 @@ def test_tiles_arrive_and_the_render_converges(make_window, qtbot):
     assert rc.converged_generation == rc.generation
     assert w.preview.image_size() == (48, 64)
     assert w.preview.tiles_painted >= 1
-    assert w.render_state.text() == "Render converged"
+    assert w.render_state.text() == "Converged 48\u00d764"
     assert w.render_progress.value() == 100
     pixels = {w.preview.pixel_rgb(x, y) for x in range(0, 48, 6) for y in range(0, 64, 6)}
     assert len(pixels) > 3, "the preview shows an image, not a flat fill"

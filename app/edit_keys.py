@@ -100,6 +100,13 @@ class UndoKeys(QObject):
         act.triggered.connect(slot)
         return act
 
+    def attach_menu(self, menu):
+        """Put the actions in ``menu`` (Edit); opening it commits the field being typed in, so
+        Undo is offered for the value just typed."""
+        menu.addAction(self.undo_action)
+        menu.addAction(self.redo_action)
+        menu.aboutToShow.connect(lambda: commit_field(QApplication.focusWidget()))
+
     def undo(self):
         """Commit the field being typed in, then undo the last step of the design."""
         commit_field(QApplication.focusWidget())

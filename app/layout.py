@@ -15,12 +15,13 @@ from PySide6.QtWidgets import QDockWidget, QFrame, QScrollArea
 
 #: Widths (px) of the side docks on a fresh layout; the preview gets the rest.
 SECTION_WIDTH = 440
-SIDE_WIDTH = 330
+SIDE_WIDTH = 350
 #: Height (px) of the 3D view on a fresh layout.
 WIREFRAME_HEIGHT = 300
 #: Largest default window (px); bigger screens get this much, smaller ones all they have.
 DEFAULT_SIZE = QSize(1600, 1000)
-KEYS = {"geometry": "window/geometry", "state": "window/state", "split": "window/section_split",
+KEYS = {"geometry": "window/geometry", "rect": "window/rect", "state": "window/state",
+        "split": "window/section_split",
         "glass_mm": "tint/glass_mm", "liquid_mm": "tint/liquid_mm"}
 STATE_VERSION = 2
 
@@ -105,6 +106,12 @@ def restore(window, settings) -> bool:
     if not isinstance(geometry, QByteArray) or not isinstance(state, QByteArray):
         return False
     ok = window.restoreGeometry(geometry) and window.restoreState(state, STATE_VERSION)
+    rect = settings.value(KEYS["rect"])
+    if isinstance(rect, QRect) and not window.isMaximized():
+        # why: restoreGeometry guesses the window frame without a window manager and shrinks
+        # the window by a title bar it does not have; the plain rectangle comes back exactly
+        window.resize(rect.size())
+        window.move(rect.topLeft())
     split = settings.value(KEYS["split"])
     if isinstance(split, QByteArray):
         window.section_panel.split.restoreState(split)
@@ -124,6 +131,7 @@ def restore(window, settings) -> bool:
 def save(window, settings):
     """Store the window's layout in ``settings`` (on closing)."""
     settings.setValue(KEYS["geometry"], window.saveGeometry())
+    settings.setValue(KEYS["rect"], QRect(window.pos(), window.size()))
     settings.setValue(KEYS["state"], window.saveState(STATE_VERSION))
     settings.setValue(KEYS["split"], window.section_panel.split.saveState())
     settings.setValue(KEYS["glass_mm"], window.materials_panel.glass_thickness.value())

@@ -25,7 +25,9 @@ from app.document import RecentFiles
 from app.sample_design import sample_design
 from app.window import MainWindow
 
-SCREENSHOT_TIMEOUT_MS = 10 * 60 * 1000
+#: How long --screenshot waits for the preview to converge at the pane's size (the numpy tracer on
+#: two shared cores takes tens of minutes for the Bordeaux sample at 16 samples per pixel).
+SCREENSHOT_TIMEOUT_MS = 2 * 60 * 60 * 1000
 
 
 def grab_window(window):

@@ -143,9 +143,8 @@ class MainWindow(QMainWindow):
     # ------------------------------------------------------------------------- menus
     def _build_menus(self):
         self.files.build_menu(self.menuBar().addMenu("&File"))
-        edit = self.menuBar().addMenu("&Edit")
-        edit.addAction(self.undo_action)
-        edit.addAction(self.redo_action)
+        self.edit_menu = self.menuBar().addMenu("&Edit")
+        self.undo_keys.attach_menu(self.edit_menu)
         view = self.menuBar().addMenu("&View")
         for text, slot, key in (("Preview 1:1", self.preview.zoom_one_to_one, "Ctrl+1"),
                                 ("Preview fit", self.preview.zoom_fit, "Ctrl+0"),

@@ -112,7 +112,7 @@ class SectionCanvas(QWidget):
         pts = edits.section_polyline(self.section)
         rmax = max(float(pts[:, 0].max()), 1.0)
         zmax = max(float(pts[:, 1].max()), self.fill_z or 0.0, 1.0)
-        margin_x, margin_top, margin_bottom = 90.0, 40.0, 28.0  # room for the labels
+        margin_x, margin_top, margin_bottom = 44.0, 40.0, 28.0  # room for the labels
         self.scale = min((self.width() - 2 * margin_x) / (2 * rmax),
                          (self.height() - margin_top - margin_bottom) / zmax)
         self.origin = QPointF(self.width() / 2, self.height() - margin_bottom)
@@ -172,10 +172,9 @@ class SectionCanvas(QWidget):
             p.setBrush(colour)
             p.drawPolygon(QPolygonF([b, b + QPointF(9, -6), b + QPointF(9, 6)]))  # the grip
             p.setBrush(Qt.NoBrush)
-            # why on the left: the joints' handles are on the right half
+            # why above the left half: the joints' handles are all on the right half
             text = f"fill {self.fill_z:.1f} mm" + (" (above the brim)" if above else "")
-            width = p.fontMetrics().horizontalAdvance(text)
-            p.drawText(a + QPointF(-width - 6, 4), text)
+            p.drawText(a + QPointF(2, -4), text)
         for i, seg in enumerate(self.section.segments):
             sel = i == self.selected
             p.setPen(QPen(QColor(220, 90, 20) if sel else QColor(20, 20, 20), 3 if sel else 2))
@@ -212,10 +211,15 @@ class SectionCanvas(QWidget):
         sec = self.section
         p.setPen(QPen(QColor(160, 40, 40), 1))
         rmax, ztop = self._rmax(), sec.z_top
-        x = self.to_px((rmax, 0)).x() + 24
+        x = self.to_px((rmax, 0)).x() + 20
         a, b = QPointF(x, self.to_px((0, 0)).y()), QPointF(x, self.to_px((0, ztop)).y())
         p.drawLine(a, b)
-        p.drawText(QPointF(x + 4, (a.y() + b.y()) / 2), f"H {ztop:.2f}")
+        p.save()  # why upright along the line: a narrow canvas has no room for it sideways
+        p.translate(x + 14, (a.y() + b.y()) / 2)
+        p.rotate(-90)
+        text = f"H {ztop:.2f}"
+        p.drawText(QPointF(-p.fontMetrics().horizontalAdvance(text) / 2, 0), text)
+        p.restore()
         y = self.to_px((0, ztop)).y() - 14
         p.drawLine(QPointF(self.to_px((-rmax, 0)).x(), y), QPointF(self.to_px((rmax, 0)).x(), y))
         p.drawText(QPointF(self.origin.x() + 4, y - 4), f"\u2300 {2 * rmax:.2f}")

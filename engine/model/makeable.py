@@ -63,7 +63,8 @@ def design_warnings(design, fill_height_mm: float | None = None) -> list[str]:
             out.insert(0, f"The fill line ({fill_height_mm:.1f} mm) is {-headspace:.1f} mm above the "
                           f"brim ({shape.z_top:.1f} mm): the bottle cannot hold it.")
         elif headspace < MIN_HEADSPACE_MM:
-            out.insert(0, f"The liquid stands {headspace:.1f} mm below the brim: a filled bottle "
+            where = "at the brim" if headspace < 0.05 else f"{headspace:.1f} mm below the brim"
+            out.insert(0, f"The liquid stands {where} ({fill_height_mm:.1f} mm): a filled bottle "
                           f"needs at least {MIN_HEADSPACE_MM:g} mm of headspace to be filled "
                           f"and closed.")
     return out

@@ -18,7 +18,7 @@ from .model.design import Camera, Design, RenderSettings
 from . import limits
 from .errors import GlassbenchError, ProjectError, bounded, shown
 from .geometry.shape import BottleShape
-from .model.trade import trade_numbers  # noqa: F401 - glassbench info's numbers, here for callers
+from .model.trade import format_table, trade_numbers  # noqa: F401 - also for callers of the CLI
 
 SUBCOMMANDS = ("info", "export-mesh", "new", "render", "batch", "turntable")
 EXIT_ERROR = 2
@@ -94,23 +94,6 @@ def one_line(exc: BaseException) -> str:
 
 
 # ---------------------------------------------------------------------------------- info
-
-_INFO_ROWS = (("brimful_ml", "Brimful capacity", "ml"), ("fill_ml", "Fill volume", "ml"),
-              ("fill_height_mm", "Fill height", "mm"),
-              ("fill_point_below_top_mm", "Fill point below top", "mm"),
-              ("glass_volume_cm3", "Glass volume", "cm3"), ("glass_mass_g", "Glass mass", "g"),
-              ("height_mm", "Height", "mm"), ("max_diameter_mm", "Max diameter", "mm"))
-
-
-def format_table(numbers: dict) -> str:
-    """The trade numbers as an aligned, human-readable table."""
-    lines = [f"{numbers.get('name', '')}".strip() or "Design"]
-    for key, label, unit in _INFO_ROWS:
-        v = numbers.get(key)
-        text = "-" if v is None else f"{v:10.1f} {unit}"
-        lines.append(f"  {label:<22}{text}")
-    return "\n".join(lines)
-
 
 def cmd_info(args) -> int:
     """``info PROJECT [--json]``: trade numbers (ml, mm, cm^3, g) as a table or JSON."""

@@ -91,7 +91,7 @@ def test_trade_numbers_follow_a_section_drag(make_window, qtbot):
     w = make_window()
     qtbot.waitUntil(w.derived_idle)
     brimful = w.trade_numbers["brimful_ml"]
-    glass = w.trade_numbers["glass_g"]
+    glass = w.trade_numbers["glass_mass_g"]
     canvas = w.section_panel.canvas
     sec = w.scene.design.shape.primary
     canvas.begin_drag(Handle("joint", 2, sec.segments[2].p1), "grow")
@@ -99,7 +99,7 @@ def test_trade_numbers_follow_a_section_drag(make_window, qtbot):
     canvas.end_drag()
     qtbot.waitUntil(w.derived_idle)
     assert w.trade_numbers["brimful_ml"] > brimful + 50
-    assert w.trade_numbers["glass_g"] > glass
+    assert w.trade_numbers["glass_mass_g"] > glass
     assert w.trade_panel.text("brimful_ml") == f"{w.trade_numbers['brimful_ml']:.1f} ml"
 
 

@@ -17,9 +17,9 @@ ROWS = (
     ("brimful_ml", "Brimful capacity", "{:.1f} ml", "Volume up to the brim"),
     ("fill_ml", "Fill capacity", "{:.1f} ml", "Volume of liquid at the fill line"),
     ("fill_height_mm", "Fill height", "{:.2f} mm", "Height of the fill line above the standing plane"),
-    ("fill_point_mm", "Fill point (below top)", "{:.2f} mm", "Distance from the brim down to the fill line"),
-    ("glass_cm3", "Glass volume", "{:.2f} cm\u00b3", "Volume of the glass"),
-    ("glass_g", "Glass weight", "{:.1f} g", "Weight of the glass at its density"),
+    ("fill_point_below_top_mm", "Fill point (below top)", "{:.2f} mm", "Distance from the brim down to the fill line"),
+    ("glass_volume_cm3", "Glass volume", "{:.2f} cm\u00b3", "Volume of the glass"),
+    ("glass_mass_g", "Glass weight", "{:.1f} g", "Weight of the glass at its density"),
 )
 
 

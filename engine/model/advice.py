@@ -1,13 +1,21 @@
-"""Warnings for a design that is valid geometry but cannot be made or filled as drawn.
+"""What the window tells a designer about a valid design without refusing it.
 
 Design rule: validation (:mod:`engine.geometry.validate`, :mod:`engine.model.fill`) refuses what
-is not a bottle at all; this module says, without refusing, what a glassworks or a filling line
-would send back: a neck bore too narrow to form or to fill through, glass too thin to blow, a
-liquid with no headspace left below the brim. :func:`design_warnings` returns the texts in
-designer's words (mm), the most serious first; an empty list means nothing to say. The limits
-are the module's constants, so the window and the command line warn alike.
+is not a bottle at all; this module only advises, in designer's words (mm, ml), and never
+changes the design itself.
+
+* **Warnings** (:func:`design_warnings`): what a glassworks or a filling line would send back,
+  the most serious first: a neck bore too narrow to form or to fill through, glass too thin to
+  blow, a liquid with no headspace left below the brim. The limits are the module's constants,
+  so the window and the command line warn alike.
+* **A name that states the fill** (:func:`updated_name`): a name may quote the bottle's nominal
+  volume in ml, cl or l (``750 ml``, ``75cl``, ``0.75 l``). When the fill moves away from it,
+  the name with the new volume in the same unit and style, which the window *offers*; a name
+  without a volume, or whose volume matches the fill to :data:`MATCH_TOLERANCE`, is left alone.
 """
 from __future__ import annotations
+
+import re
 
 from ..errors import GlassbenchError
 from . import fill
@@ -68,3 +76,42 @@ def design_warnings(design, fill_height_mm: float | None = None) -> list[str]:
                           f"needs at least {MIN_HEADSPACE_MM:g} mm of headspace to be filled "
                           f"and closed.")
     return out
+
+
+# ------------------------------------------------------------------- names and volumes
+#: A volume in a name: a number and a unit, not part of a longer word or number.
+VOLUME = re.compile(r"(?<![\w.,])(\d+(?:[.,]\d+)?)(\s*)(ml|cl|l)(?!\w)", re.IGNORECASE)
+_ML_PER = {"ml": 1.0, "cl": 10.0, "l": 1000.0}
+#: Relative difference (and at least 0.5 ml) below which a quoted volume matches the fill.
+MATCH_TOLERANCE = 0.005
+
+
+def volume_in_name(name: str) -> float | None:
+    """The volume (ml) the name quotes, or ``None`` (the last volume when it quotes several)."""
+    found = list(VOLUME.finditer(name))
+    if not found:
+        return None
+    m = found[-1]
+    return float(m.group(1).replace(",", ".")) * _ML_PER[m.group(3).lower()]
+
+
+def _format(ml: float, unit: str, decimal_comma: bool) -> str:
+    value = ml / _ML_PER[unit.lower()]
+    digits = 0 if unit.lower() == "ml" and value >= 10 else 1 if unit.lower() != "l" else 2
+    text = f"{value:.{digits}f}".rstrip("0").rstrip(".") if digits else f"{value:.0f}"
+    return text.replace(".", ",") if decimal_comma else text
+
+
+def updated_name(name: str, fill_ml: float) -> str | None:
+    """``name`` with its quoted volume replaced by ``fill_ml`` (same unit and style), or
+    ``None`` when it quotes no volume or already quotes this one."""
+    found = list(VOLUME.finditer(name))
+    if not found or not fill_ml > 0:
+        return None
+    m = found[-1]
+    quoted = volume_in_name(name)
+    if abs(quoted - fill_ml) <= max(MATCH_TOLERANCE * fill_ml, 0.5):
+        return None
+    number = _format(fill_ml, m.group(3), "," in m.group(1))
+    new = f"{name[:m.start()]}{number}{m.group(2)}{m.group(3)}{name[m.end():]}"
+    return None if new == name else new

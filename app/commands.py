@@ -162,8 +162,8 @@ class DesignEditor(QObject):
         self.stack.push(ReplacePartsCommand(self.scene, label, before, changed, merge_key,
                                             assets_before, assets))
         if "liquid" in changed and "liquid" not in parts:
-            level = changed["liquid"].fill_value
+            level, was = changed["liquid"].fill_value, before["liquid"].fill_value
             unit = "mm" if changed["liquid"].fill_mode == "height" else "ml"
-            self.adjusted.emit(f"The liquid was lowered to {level:.1f} {unit}: the new mouth is below "
-                               f"where it stood")
+            why = ("lowered", "the new mouth is below") if level < was else ("raised", "the new inner base is above")
+            self.adjusted.emit(f"The liquid was {why[0]} to {level:.1f} {unit}: {why[1]} where it stood")
         return True

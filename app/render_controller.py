@@ -19,6 +19,7 @@ the tracer's constructor.
 from __future__ import annotations
 
 import os
+import time
 
 import numpy as np
 from PySide6.QtCore import QObject, QTimer, Signal
@@ -28,6 +29,9 @@ from app import engine_bridge
 #: The live pass during a held gesture: this fraction of the preview's size, 1 sample per pixel.
 LIVE_SCALE = 0.25
 LIVE_SPP = 1
+#: A gesture's first live pass starts this soon (ms); the next ones at most this often.
+LIVE_FIRST_MS = 15
+LIVE_INTERVAL_MS = 60
 
 
 class RenderController(QObject):
@@ -61,7 +65,7 @@ class RenderController(QObject):
         self._pending = None
         self._timer = QTimer(self)
         self._timer.setSingleShot(True)
-        self._timer.setInterval(restart_delay_ms)
+        self._delay_ms = restart_delay_ms
         self._timer.timeout.connect(self._start_pending)
         self._dirty: list = []
         self._flush_timer = QTimer(self)
@@ -83,6 +87,7 @@ class RenderController(QObject):
         self.wave = -1
         self.state = "idle"
         self._latest = None  # (design, assets) of the newest start: what a release renders
+        self._live_started = -1e9  # when the last live pass started (time.monotonic, s)
 
     # -------------------------------------------------------------------- control
     def set_size(self, size: tuple[int, int] | None):
@@ -95,15 +100,22 @@ class RenderController(QObject):
         return self.wanted_size or (design.render.width, design.render.height)
 
     def start(self, design, assets=None):
-        """Cancel what is running and render ``design`` (after the debounce delay): the full
-        render, or while held the live pass (or nothing, for a hold without one)."""
+        """Cancel what is running and render ``design``: the full render after the debounce
+        delay, or while held the live pass (or nothing, for a hold without one). Live passes
+        are throttled, not debounced: a continuous drag starts one every
+        :data:`LIVE_INTERVAL_MS` of the newest design, where a debounce would wait for a pause."""
+        due = self._timer.remainingTime() if self.held and self._timer.isActive() else -1
         self.cancel()
         self.generation += 1
         self._latest = (design, dict(assets or {}))
         self._pending = (self.generation, design, self._latest[1], self.held)
         self._set_state("stale" if self.held else "refining", -1, 0.0)
-        if not self.held or self._live_allowed:
-            self._timer.start()
+        if not self.held:
+            self._timer.start(self._delay_ms)
+        elif self._live_allowed:
+            since = (time.monotonic() - self._live_started) * 1000.0
+            wait = max(LIVE_FIRST_MS, LIVE_INTERVAL_MS - since)
+            self._timer.start(int(due if due >= 0 else wait))
 
     def hold(self, on: bool, live: bool = True):
         """While held (a drag or an orbit in progress) edits start only the live pass (none
@@ -176,6 +188,7 @@ class RenderController(QObject):
         if live:
             width, height = max(1, round(width * LIVE_SCALE)), max(1, round(height * LIVE_SCALE))
             spp = LIVE_SPP
+            self._live_started = time.monotonic()
         try:
             job = self._make_job(generation, design, assets, width, height, spp)
             self.job, self.live, self.size = job, live, (width, height)

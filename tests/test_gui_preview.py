@@ -162,6 +162,25 @@ def test_a_held_drag_shows_a_live_pass_and_says_stale_until_release(make_window,
     assert w.render_progress.value() == 100
 
 
+def test_live_passes_are_throttled_not_debounced(make_window, qtbot):
+    from app.render_controller import LIVE_FIRST_MS
+    from widgets.section_editor import Handle
+    w = make_window()
+    rc = w.render_controller
+    canvas = w.section_panel.canvas
+    sec = w.scene.design.shape.primary
+    canvas.begin_drag(Handle("joint", 2, sec.segments[2].p1), "throttle#1")
+    canvas.drag_to((0.0, 1.0))
+    first = rc._timer.remainingTime()
+    assert 0 <= first <= LIVE_FIRST_MS
+    for dz in (1.5, 2.0, 2.5, 3.0):  # a continuous drag: each step comes before the pass is due
+        canvas.drag_to((0.0, dz))
+        assert 0 <= rc._timer.remainingTime() <= first, "a new step never pushes the live pass back"
+    qtbot.waitUntil(lambda: rc.job is not None and rc.live, timeout=10_000)
+    assert rc.job.design.shape.primary.segments[2].p1[1] == pytest.approx(sec.segments[2].p1[1] + 3.0)
+    canvas.end_drag()
+
+
 def test_an_orbit_drag_in_the_preview_holds_the_render_and_is_one_step(make_window, qtbot):
     w = make_window()
     w.resize(900, 700)

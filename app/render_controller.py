@@ -22,7 +22,7 @@ import os
 import time
 
 import numpy as np
-from PySide6.QtCore import QObject, QTimer, Signal
+from PySide6.QtCore import QObject, Qt, QTimer, Signal
 
 from app import engine_bridge
 
@@ -65,6 +65,7 @@ class RenderController(QObject):
         self._pending = None
         self._timer = QTimer(self)
         self._timer.setSingleShot(True)
+        self._timer.setTimerType(Qt.PreciseTimer)  # why: live passes are due within milliseconds
         self._delay_ms = restart_delay_ms
         self._timer.timeout.connect(self._start_pending)
         self._dirty: list = []
@@ -104,7 +105,8 @@ class RenderController(QObject):
         delay, or while held the live pass (or nothing, for a hold without one). Live passes
         are throttled, not debounced: a continuous drag starts one every
         :data:`LIVE_INTERVAL_MS` of the newest design, where a debounce would wait for a pause."""
-        due = self._timer.remainingTime() if self.held and self._timer.isActive() else -1
+        live_due = self.held and self._timer.isActive() and self._pending is not None and self._pending[3]
+        due = self._timer.remainingTime() if live_due else -1
         self.cancel()
         self.generation += 1
         self._latest = (design, dict(assets or {}))

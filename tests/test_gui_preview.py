@@ -172,10 +172,10 @@ def test_live_passes_are_throttled_not_debounced(make_window, qtbot):
     canvas.begin_drag(Handle("joint", 2, sec.segments[2].p1), "throttle#1")
     canvas.drag_to((0.0, 1.0))
     first = rc._timer.remainingTime()
-    assert 0 <= first <= LIVE_FIRST_MS
+    assert 0 <= first <= LIVE_FIRST_MS + 2 < rc._delay_ms, "the first live pass is due at once"
     for dz in (1.5, 2.0, 2.5, 3.0):  # a continuous drag: each step comes before the pass is due
         canvas.drag_to((0.0, dz))
-        assert 0 <= rc._timer.remainingTime() <= first, "a new step never pushes the live pass back"
+        assert 0 <= rc._timer.remainingTime() <= first + 2, "a new step never pushes the live pass back"
     qtbot.waitUntil(lambda: rc.job is not None and rc.live, timeout=10_000)
     assert rc.job.design.shape.primary.segments[2].p1[1] == pytest.approx(sec.segments[2].p1[1] + 3.0)
     canvas.end_drag()

@@ -4,11 +4,15 @@ Design rule: panels never write to the scene; they hand the :class:`DesignEditor
 values of the parts they changed. The editor validates the result (an invalid design is refused
 with the engine's message and the scene is left as it was), wraps it in a
 :class:`ReplacePartsCommand` and pushes it onto the ``QUndoStack``. Commands that share a
-*merge key* (one drag, one spin-box being scrolled) collapse into one undo step.
+*merge key* collapse into one undo step: always for one gesture (a drag's key, from
+:meth:`DesignEditor.new_merge_key`), and for a field's key (a spin box being scrolled) while the
+edits come less than :data:`FIELD_MERGE_S` apart, so two values typed a moment apart stay two
+steps.
 """
 from __future__ import annotations
 
 import dataclasses
+import time
 
 from PySide6.QtCore import QObject, Signal
 from PySide6.QtGui import QUndoCommand, QUndoStack
@@ -18,6 +22,8 @@ from engine.model.design import Design
 from engine.errors import GlassbenchError
 
 _merge_ids: dict[str, int] = {}
+#: A field's edits closer together than this (seconds) merge into one undo step.
+FIELD_MERGE_S = 1.5
 
 
 def merge_id(key: str | None) -> int:
@@ -43,6 +49,8 @@ class ReplacePartsCommand(QUndoCommand):
         self.assets_before = dict(assets_before or {})
         self.assets_after = dict(assets_after or {})
         self._id = merge_id(merge_key)
+        self._gesture = merge_key is not None and "#" in merge_key
+        self._last_edit = time.monotonic()
 
     def id(self) -> int:  # noqa: A003 - Qt's name
         return self._id
@@ -63,6 +71,9 @@ class ReplacePartsCommand(QUndoCommand):
     def mergeWith(self, other: QUndoCommand) -> bool:
         if not isinstance(other, ReplacePartsCommand) or other.id() != self._id or self._id < 0:
             return False
+        if not self._gesture and other._last_edit - self._last_edit > FIELD_MERGE_S:
+            return False
+        self._last_edit = other._last_edit
         for key, value in other.after.items():
             self.before.setdefault(key, other.before[key])
             self.after[key] = value
@@ -79,9 +90,13 @@ class DesignEditor(QObject):
     -------
     refused(str)
         An edit was refused; the text names the problem (engine validation message).
+    adjusted(str)
+        An edit was made with a consequence the designer did not ask for (a lower mouth
+        lowered the liquid too); the text says what.
     """
 
     refused = Signal(str)
+    adjusted = Signal(str)
 
     def __init__(self, scene, stack: QUndoStack, parent=None):
         super().__init__(parent)
@@ -146,4 +161,9 @@ class DesignEditor(QObject):
         assets_before = {k: old_assets.get(k) for k in assets}
         self.stack.push(ReplacePartsCommand(self.scene, label, before, changed, merge_key,
                                             assets_before, assets))
+        if "liquid" in changed and "liquid" not in parts:
+            level, was = changed["liquid"].fill_value, before["liquid"].fill_value
+            unit = "mm" if changed["liquid"].fill_mode == "height" else "ml"
+            why = ("lowered", "the new mouth is below") if level < was else ("raised", "the new inner base is above")
+            self.adjusted.emit(f"The liquid was {why[0]} to {level:.1f} {unit}: {why[1]} where it stood")
         return True

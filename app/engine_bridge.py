@@ -12,13 +12,13 @@ import dataclasses
 
 import numpy as np
 
-from engine.geometry import capacity, offset, tessellate, validate
+from engine.geometry import offset, tessellate, validate
 
 from engine.files import atomic, dxf_import, mesh_export, project
-from engine.model import check, fill
+from engine.model import advice, check, fill, orbit, trade
 from engine.model.design import Design
 from engine.errors import GlassbenchError
-from engine.model.scene import Scene
+from engine.model.scene import ALL_CHANGES, Scene  # noqa: F401 - ALL_CHANGES: for the window
 from engine.geometry.section import Section
 from engine.geometry.shape import BottleShape
 from engine.tracer import job as tracer_job
@@ -83,26 +83,30 @@ def inner_sections(shape: BottleShape) -> dict:
 
 # ----------------------------------------------------------------------- trade numbers
 def trade_numbers(design: Design) -> dict:
-    """Brimful and fill capacity (ml), fill height (mm), fill point below the top (mm),
-    glass volume (cm^3) and mass (g); a value is ``None`` where it cannot be computed."""
-    keys = ("brimful_ml", "fill_ml", "fill_height_mm", "fill_point_mm", "glass_cm3", "glass_g")
-    out = dict.fromkeys(keys)
-    shape, liquid = design.shape, design.liquid
+    """The design's trade numbers (:func:`engine.model.trade.trade_numbers`: ml, mm, cm^3, g),
+    with ``None`` where one cannot be computed for the design being edited."""
+    return trade.trade_numbers(design, tolerant=True)
 
-    def attempt(key, fn, *args):
-        # why: one number the engine cannot compute must not hide the others
-        with contextlib.suppress(GlassbenchError, ValueError, ArithmeticError):
-            out[key] = float(fn(*args))
 
-    attempt("brimful_ml", capacity.brimful_ml, shape)
-    attempt("glass_cm3", capacity.glass_volume_cm3, shape)
-    attempt("glass_g", capacity.glass_mass_g, shape, design.glass.density_g_cm3)
-    if liquid is not None:
-        attempt("fill_height_mm", fill.fill_height_mm, shape, liquid)
-        attempt("fill_ml", fill.fill_volume_ml, shape, liquid)
-        if out["fill_height_mm"] is not None:
-            out["fill_point_mm"] = shape.z_top - out["fill_height_mm"]
-    return out
+# ----------------------------------------------------------------------------- camera
+def orbited(start, d_azimuth_deg: float, d_elevation_deg: float):
+    """``start`` (a Camera) turned by a drag of the given degrees (:mod:`engine.model.orbit`)."""
+    return orbit.orbited(start, d_azimuth_deg, d_elevation_deg)
+
+
+def design_warnings(design: Design, fill_height_mm: float | None = None) -> list[str]:
+    """What the design cannot be made or filled with, in words (:mod:`engine.model.advice`);
+    nothing for a shape the engine refuses (validation speaks then)."""
+    try:
+        return advice.design_warnings(design, fill_height_mm)
+    except (GlassbenchError, ValueError, ArithmeticError):
+        return []
+
+
+def name_for_fill(name: str, fill_ml: float) -> str | None:
+    """``name`` with the volume it quotes replaced by ``fill_ml`` (:mod:`engine.model.advice`),
+    or ``None`` when it quotes none or quotes this one already."""
+    return advice.updated_name(name, fill_ml)
 
 
 # ------------------------------------------------------------------------------ files

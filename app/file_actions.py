@@ -97,6 +97,7 @@ class FileActions(QObject):
         self.path = path
         self.update_title()
         w.setWindowModified(dirty)
+        w.document_replaced()
 
     def new_design(self) -> bool:
         if not self.may_discard():

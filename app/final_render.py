@@ -150,7 +150,7 @@ class FinalRenderDialog(QDialog):
             return False
         preview = self.window.render_controller
         preview.cancel()
-        preview.hold(True)  # why: the final render gets the cores; released in _on_done
+        preview.hold(True, live=False)  # why: the final render gets the cores; released in _on_done
         self.open_button.setEnabled(False)
         self.progress.setValue(0)
         r = self.current

@@ -3,7 +3,7 @@
 Design rule: this is the only place that decides between the command line and the GUI.
 ``glassbench info|export-mesh|new|render ...`` goes to :mod:`engine.cli` without importing
 Qt; ``glassbench [PROJECT]`` and ``glassbench --screenshot OUT.png [PROJECT]`` open the window
-(``app.window.run_gui``, imported only then). On Linux without a display (no ``DISPLAY`` or
+(``app.startup.run``, imported only then). On Linux without a display (no ``DISPLAY`` or
 ``WAYLAND_DISPLAY``) and without ``--screenshot``, the project (default: the Bordeaux sample)
 is rendered to a PNG with the tracer instead, and its path printed. Errors are one line on
 stderr and exit status 2.
@@ -54,8 +54,8 @@ def main(argv: list[str] | None = None) -> int:
                 return headless_preview(args.project)
             # A screenshot needs no screen: let Qt draw off-screen.
             os.environ.setdefault("QT_QPA_PLATFORM", "offscreen")
-        from app.window import run_gui  # why here: Qt is loaded only to open a window
-        result = run_gui(args.project, args.screenshot)
+        from app.startup import run  # why here: Qt is loaded only to open a window
+        result = run(args.project, args.screenshot)
         return 0 if result is None else int(result)
     except (cli.GlassbenchError, OSError, ValueError, ImportError) as exc:
         print(f"glassbench: error: {cli.one_line(exc)}", file=sys.stderr)

@@ -3,17 +3,35 @@
 Design rule: each ``start`` bumps a *generation* number and cancels the running job at once;
 the worker threads' ``on_tile`` callbacks only emit a queued signal carrying their generation,
 and the GUI-thread slot drops anything from an older generation, so a stale tile is never
-shown. Finished tiles are collected and painted together at most ~30 times a second. A job's failure is reported through ``failed`` and the controller stays usable. Starting
-is debounced (``restart_delay_ms``) so a drag does not build a render scene per mouse event.
+shown. Finished tiles are collected and painted together at most ~30 times a second. Starting
+is debounced (``restart_delay_ms``) so a burst of edits does not build a render scene per edit.
+
+The preview renders at the size the window asks for (the pane in device pixels, see
+:meth:`set_size`). While a gesture *holds* the render (a section drag, an orbit), each edit starts
+a cheap **live pass** instead: a quarter-size job at 1 sample per pixel, cancelled by the next
+edit; releasing the hold starts the full render of the newest design. The controller says
+honestly what the picture is (:attr:`state`, signal ``stateChanged``): ``"stale"`` while a hold
+keeps the full render back, ``"refining"`` while a full job adds waves, ``"converged"`` once it
+is done for the design shown, ``"failed"``. A job's failure is reported through ``failed`` and
+the controller stays usable. Every job is made in :meth:`_make_job`, the one place that knows
+the tracer's constructor.
 """
 from __future__ import annotations
 
 import os
+import time
 
 import numpy as np
-from PySide6.QtCore import QObject, QTimer, Signal
+from PySide6.QtCore import QObject, Qt, QTimer, Signal
 
 from app import engine_bridge
+
+#: The live pass during a held gesture: this fraction of the preview's size, 1 sample per pixel.
+LIVE_SCALE = 0.25
+LIVE_SPP = 1
+#: A gesture's first live pass starts this soon (ms); the next ones at most this often.
+LIVE_FIRST_MS = 15
+LIVE_INTERVAL_MS = 60
 
 
 class RenderController(QObject):
@@ -26,13 +44,16 @@ class RenderController(QObject):
     progressed(int, float, int, int)
         ``(generation, fraction done, image width, image height)``.
     finished(int), failed(int, str)
-        The job of that generation converged / failed (the message says why).
+        The full job of that generation converged / failed (the message says why).
+    stateChanged(str, int, float)
+        ``(state, wave, fraction)``: see the module rule; ``wave`` is the newest wave shown.
     """
 
     tileReady = Signal(int, int, int, object)
     progressed = Signal(int, float, int, int)
     finished = Signal(int)
     failed = Signal(int, str)
+    stateChanged = Signal(str, int, float)
     _worker_tile = Signal(int, object, object)
     _worker_done = Signal(int, object)
 
@@ -44,7 +65,8 @@ class RenderController(QObject):
         self._pending = None
         self._timer = QTimer(self)
         self._timer.setSingleShot(True)
-        self._timer.setInterval(restart_delay_ms)
+        self._timer.setTimerType(Qt.PreciseTimer)  # why: live passes are due within milliseconds
+        self._delay_ms = restart_delay_ms
         self._timer.timeout.connect(self._start_pending)
         self._dirty: list = []
         self._flush_timer = QTimer(self)
@@ -57,29 +79,64 @@ class RenderController(QObject):
         cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 2)
         self.threads = max(1, min(8, cores - 1))
         self.held = False
+        self._live_allowed = True
         self.converged_generation = -1
         self.ended_generation = -1  # converged or failed: nothing more will come
         self.size = (0, 0)
+        self.wanted_size: tuple[int, int] | None = None
+        self.live = False  # whether the current job is a live pass
+        self.wave = -1
+        self.state = "idle"
+        self._latest = None  # (design, assets) of the newest start: what a release renders
+        self._live_started = -1e9  # when the last live pass started (time.monotonic, s)
 
     # -------------------------------------------------------------------- control
+    def set_size(self, size: tuple[int, int] | None):
+        """Render at ``size`` (width, height in pixels: the preview pane in device pixels),
+        or at the design's own render size for ``None``; takes effect at the next start."""
+        self.wanted_size = None if size is None else (max(1, int(size[0])), max(1, int(size[1])))
+
+    def full_size(self, design) -> tuple[int, int]:
+        """The size (pixels) a full render of ``design`` has."""
+        return self.wanted_size or (design.render.width, design.render.height)
+
     def start(self, design, assets=None):
-        """Cancel what is running and render ``design`` (after the debounce delay)."""
+        """Cancel what is running and render ``design``: the full render after the debounce
+        delay, or while held the live pass (or nothing, for a hold without one). Live passes
+        are throttled, not debounced: a continuous drag starts one every
+        :data:`LIVE_INTERVAL_MS` of the newest design, where a debounce would wait for a pause."""
+        live_due = self.held and self._timer.isActive() and self._pending is not None and self._pending[3]
+        due = self._timer.remainingTime() if live_due else -1
         self.cancel()
         self.generation += 1
-        self._pending = (self.generation, design, dict(assets or {}))
+        self._latest = (design, dict(assets or {}))
+        self._pending = (self.generation, design, self._latest[1], self.held)
+        self._set_state("stale" if self.held else "refining", -1, 0.0)
         if not self.held:
-            self._timer.start()
+            self._timer.start(self._delay_ms)
+        elif self._live_allowed:
+            since = (time.monotonic() - self._live_started) * 1000.0
+            wait = max(LIVE_FIRST_MS, LIVE_INTERVAL_MS - since)
+            self._timer.start(int(due if due >= 0 else wait))
 
-    def hold(self, on: bool):
-        """While held (a drag in progress) edits cancel the job but start none; releasing
-        starts the newest pending render."""
-        self.held = bool(on)
+    def hold(self, on: bool, live: bool = True):
+        """While held (a drag or an orbit in progress) edits start only the live pass (none
+        with ``live=False``: a final render wants the cores); releasing renders the newest
+        design in full."""
+        on = bool(on)
+        if on == self.held:
+            return
+        self.held = on
+        self._live_allowed = bool(live)
         if on:
             # why: the running job stays until an edit really arrives (a refused drag changes
             # nothing, and must not leave the preview half rendered)
-            self._timer.stop()
-        elif self._pending is not None:
-            self._timer.start()
+            if self.live or self._pending is not None:
+                self._set_state("stale", self.wave, 0.0)
+            return
+        if self.live or (self._pending is not None and self._pending[3]):
+            design, assets = self._latest
+            self.start(design, assets)
 
     def cancel(self):
         """Cancel the running job and any pending start; late tiles will be ignored."""
@@ -112,25 +169,37 @@ class RenderController(QObject):
             job.wait(timeout)
         self._old_jobs = []
 
+    def _set_state(self, state: str, wave: int, fraction: float):
+        self.state, self.wave = state, wave
+        self.stateChanged.emit(state, wave, float(fraction))
+
+    def _make_job(self, generation, design, assets, width, height, spp):
+        """The tracer job for one render (the one place that builds one)."""
+        return engine_bridge.tracer_job_class()(
+            design, assets, width=width, height=height, spp=spp, threads=self.threads,
+            on_tile=lambda j, t, g=generation: self._worker_tile.emit(g, j, t),
+            on_done=lambda j, g=generation: self._worker_done.emit(g, j))
+
     def _start_pending(self):
         if self._pending is None:
             return
-        generation, design, assets = self._pending
+        generation, design, assets, live = self._pending
         self._pending = None
-        job_class = engine_bridge.tracer_job_class()
-        r = design.render
+        width, height = self.full_size(design)
+        spp = design.render.spp
+        if live:
+            width, height = max(1, round(width * LIVE_SCALE)), max(1, round(height * LIVE_SCALE))
+            spp = LIVE_SPP
+            self._live_started = time.monotonic()
         try:
-            job = job_class(design, assets, width=r.width, height=r.height, spp=r.spp,
-                            threads=self.threads,
-                            on_tile=lambda j, t, g=generation: self._worker_tile.emit(g, j, t),
-                            on_done=lambda j, g=generation: self._worker_done.emit(g, j))
-            self.job = job
-            self.size = (r.width, r.height)
-            self.progressed.emit(generation, 0.0, r.width, r.height)
+            job = self._make_job(generation, design, assets, width, height, spp)
+            self.job, self.live, self.size = job, live, (width, height)
+            self.progressed.emit(generation, 0.0, width, height)
             job.start()
         except Exception as exc:  # why: a design the tracer cannot build must not kill the GUI
             self.job = None
             self.ended_generation = generation
+            self._set_state("failed", -1, 0.0)
             self.failed.emit(generation, f"{type(exc).__name__}: {exc}")
 
     # ---------------------------------------------------------------- GUI thread
@@ -159,17 +228,25 @@ class RenderController(QObject):
         except Exception as exc:  # why: a bad tile is reported, the job keeps running
             self.failed.emit(generation, f"tile: {exc}")
             return
-        self.progressed.emit(generation, float(job.progress), *self.size)
+        fraction = float(job.progress)
+        self.progressed.emit(generation, fraction, *self.size)
+        wave = max(max(t.wave for t in tiles), self.wave)
+        self._set_state("stale" if self.live else "refining", wave, 0.0 if self.live else fraction)
 
     def _on_worker_done(self, generation, job):
         if generation != self.generation or job is not self.job:
             return
         self.flush_tiles()  # the last tiles before the verdict
-        self.ended_generation = generation
         if getattr(job, "error", None) is not None:
+            self.ended_generation = generation
+            self._set_state("failed", self.wave, 0.0)
             self.failed.emit(generation, str(job.error))
+        elif self.live:
+            self._set_state("stale", self.wave, 0.0)  # the full render waits for the release
         elif not getattr(job, "cancelled", False):
+            self.ended_generation = generation
             self.converged_generation = generation
+            self._set_state("converged", self.wave, 1.0)
             self.finished.emit(generation)
 
 

@@ -3,20 +3,22 @@
 Design rule: data flows one way. Panels hand edits to the :class:`DesignEditor` (validated,
 undoable commands); commands change the scene; the scene's notification (``changed`` = the
 top-level Design fields that really changed) reaches :meth:`MainWindow.on_scene_changed`,
-which refreshes only the views that depend on those fields.
+which refreshes only the views that depend on those fields. Where the panes sit is
+:mod:`app.layout`'s; undo and redo from any field are :mod:`app.edit_keys`'; the preview's
+renders are :mod:`app.render_controller`'s, at the preview pane's size in device pixels.
 """
 from __future__ import annotations
 
 import sys
 
-
-from PySide6.QtCore import QSettings, Qt
+from PySide6.QtCore import QEvent, QObject, QSettings, Qt, QTimer
 from PySide6.QtGui import QAction, QKeySequence, QUndoStack
-from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QProgressBar, QSplitter
+from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QProgressBar
 
-from app import engine_bridge
+from app import engine_bridge, layout
 from app.commands import DesignEditor
 from app.document import DocumentDialogs, RecentFiles
+from app.edit_keys import UndoKeys
 from app.file_actions import FileActions
 from app.render_controller import RenderController
 from app.wireframe_controller import DerivedController
@@ -26,8 +28,26 @@ from widgets.preview_view import PreviewView
 from widgets.section_panel import SectionPanel
 from widgets.trade_panel import TradeNumbersPanel
 
-ALL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "lights", "render",
-                        "labels", "bumps", "cap", "name", "notes", "assets"})
+#: Most pixels a preview render may have (a 4K pane would otherwise ask for 8 million).
+MAX_PREVIEW_PIXELS = 3_000_000
+#: How long (ms) the pane's size must hold still before the preview renders at the new size.
+RESIZE_SETTLE_MS = 250
+STATE_TEXT = {"stale": "Stale: a quick pass while you drag; the full render follows on release",
+              "refining": "Refining", "converged": "Converged", "failed": "Render failed",
+              "idle": ""}
+
+
+class _PaneWatcher(QObject):
+    """Tells the window when the preview pane is shown or changes size."""
+
+    def __init__(self, window):
+        super().__init__(window)
+        self.window = window
+
+    def eventFilter(self, obj, event) -> bool:  # noqa: N802 - Qt's name
+        if event.type() in (QEvent.Resize, QEvent.Show):
+            self.window.resize_timer.start()
+        return False
 
 
 class MainWindow(QMainWindow):
@@ -38,7 +58,7 @@ class MainWindow(QMainWindow):
     design, assets, path
         The design to open, its embedded assets and the file it came from (``None``: unsaved).
     settings
-        Where recent files are remembered (default: the user's glassbench settings).
+        Where recent files and the layout are remembered (default: the user's settings).
     wireframe
         Build the 3D wireframe view (tests of other parts may leave it out for speed).
     autosave_ms
@@ -52,27 +72,29 @@ class MainWindow(QMainWindow):
         # switch interval hands it back to the GUI thread quickly, so drags stay smooth.
         sys.setswitchinterval(min(sys.getswitchinterval(), 0.001))
         self.setAttribute(Qt.WA_DeleteOnClose, False)
-        self.resize(1500, 950)
+        self.settings = settings or QSettings("glassbench", "glassbench")
         self.scene = engine_bridge.make_scene(design, assets)
         self.undo_stack = QUndoStack(self)
         self.editor = DesignEditor(self.scene, self.undo_stack, self)
         self.dialogs = DocumentDialogs(self)
-        self.recent = RecentFiles(settings)
+        self.recent = RecentFiles(self.settings)
         self.trade_numbers: dict = {}
+        self.warnings: list[str] = []
+        self._shown_fill_ml = None  # the fill of the last numbers shown: a change may offer a rename
 
         self.section_panel = SectionPanel(self.editor)
         self.materials_panel = MaterialsPanel(self.editor)
-        self.trade_panel = TradeNumbersPanel()
+        self.trade_panel = TradeNumbersPanel(self.editor)
         self.camera_panel = CameraPanel(self.editor)
         self.preview = PreviewView()
         self.derived_controller = DerivedController(self)
         self.derived_controller.resultReady.connect(self._on_derived)
-        self.derived_controller.failed.connect(lambda msg: self.statusBar().showMessage(msg, 5000))
+        self.derived_controller.failed.connect(self._show_status)
         self.render_controller = RenderController(self)
         self.render_controller.tileReady.connect(self._on_tile)
         self.render_controller.progressed.connect(self._on_render_progress)
         self.render_controller.failed.connect(self._on_render_failed)
-        self.render_controller.finished.connect(self._on_render_finished)
+        self.render_controller.stateChanged.connect(self._on_render_state)
 
         self.final_render = None  # the Render -> Final image dialog, made when first asked for
         self.wireframe = None
@@ -82,24 +104,25 @@ class MainWindow(QMainWindow):
             self.wireframe = WireframeView()
             self.wireframe_controller = WireframeController(self)
             self.wireframe_controller.meshReady.connect(self.wireframe.show_lines)
-            self.wireframe_controller.failed.connect(lambda msg: self.statusBar().showMessage(msg, 5000))
+            self.wireframe_controller.failed.connect(self._show_status)
             self.camera_panel.syncFromWireframe.connect(self.camera_from_wireframe)
-
-        views = QSplitter(Qt.Horizontal)
-        views.addWidget(self.preview)
-        if self.wireframe is not None:
-            views.addWidget(self.wireframe)
-        self.views = views
+        self.docks = layout.build_docks(self)
+        self.section_dock = self.docks["section"]
+        self._restored = layout.restore(self, self.settings)
+        if not self._restored:
+            layout.fit_to_screen(self)
         self.preview.orbitRequested.connect(self._orbit_from_preview)
+        self.preview.orbiting.connect(self.render_controller.hold)
         self._orbit_start = None
-        self.setCentralWidget(views)
-        self.section_dock = self._dock("Section", self.section_panel, Qt.LeftDockWidgetArea)
-        self._dock("Materials", self.materials_panel, Qt.RightDockWidgetArea)
-        self._dock("Trade numbers", self.trade_panel, Qt.RightDockWidgetArea)
-        self._dock("Camera and environment", self.camera_panel, Qt.RightDockWidgetArea)
-        self.section_dock.setMinimumWidth(560)
+        self.resize_timer = QTimer(self)
+        self.resize_timer.setSingleShot(True)
+        self.resize_timer.setInterval(RESIZE_SETTLE_MS)
+        self.resize_timer.timeout.connect(self.update_render_size)
+        self.preview.installEventFilter(_PaneWatcher(self))
 
         self.files = FileActions(self, path, autosave_ms)
+        self.undo_keys = UndoKeys(self, self.undo_stack)
+        self.undo_action, self.redo_action = self.undo_keys.undo_action, self.undo_keys.redo_action
         self._build_menus()
         self.section_panel.canvas.dragging.connect(self.render_controller.hold)
         # Render state lives in permanent widgets so edit messages do not hide it.
@@ -107,31 +130,21 @@ class MainWindow(QMainWindow):
         self.render_progress = QProgressBar()
         self.render_progress.setRange(0, 100)
         self.render_progress.setMaximumWidth(160)
+        self.render_progress.setToolTip("How far the preview's render has come")
         self.statusBar().addPermanentWidget(self.render_state)
         self.statusBar().addPermanentWidget(self.render_progress)
         self.editor.refused.connect(self._on_refused)
-        self.undo_stack.cleanChanged.connect(lambda clean: self.setWindowModified(not clean))
+        self.editor.adjusted.connect(lambda text: self._show_status(text, 8000))
+        self.undo_stack.cleanChanged.connect(self._on_clean_changed)
         self._unsubscribe = self.scene.subscribe(self.on_scene_changed)
-        self.on_scene_changed(ALL_FIELDS, self.scene)
+        self.on_scene_changed(engine_bridge.ALL_CHANGES, self.scene)
         self.files.update_title()
-
-    def _dock(self, title, widget, area) -> QDockWidget:
-        dock = QDockWidget(title, self)
-        dock.setObjectName(title)
-        dock.setWidget(widget)
-        self.addDockWidget(area, dock)
-        return dock
 
     # ------------------------------------------------------------------------- menus
     def _build_menus(self):
         self.files.build_menu(self.menuBar().addMenu("&File"))
-        edit = self.menuBar().addMenu("&Edit")
-        self.undo_action = self.undo_stack.createUndoAction(self, "&Undo")
-        self.undo_action.setShortcut(QKeySequence.Undo)
-        self.redo_action = self.undo_stack.createRedoAction(self, "&Redo")
-        self.redo_action.setShortcut(QKeySequence.Redo)
-        edit.addAction(self.undo_action)
-        edit.addAction(self.redo_action)
+        self.edit_menu = self.menuBar().addMenu("&Edit")
+        self.undo_keys.attach_menu(self.edit_menu)
         view = self.menuBar().addMenu("&View")
         for text, slot, key in (("Preview 1:1", self.preview.zoom_one_to_one, "Ctrl+1"),
                                 ("Preview fit", self.preview.zoom_fit, "Ctrl+0"),
@@ -157,10 +170,19 @@ class MainWindow(QMainWindow):
         self.final_render.raise_()
         return self.final_render
 
+    def showEvent(self, event):
+        super().showEvent(event)
+        if not self._restored:  # why here: dock sizes take only once the window is laid out
+            self._restored = True
+            layout.default_sizes(self, self.docks)
+
     # ------------------------------------------------------------------ notifications
     def on_scene_changed(self, changed, scene=None):
         """Refresh what depends on ``changed`` (a set of Design field names)."""
         design = self.scene.design
+        self.section_panel.clear_problem()  # a refusal was about the design before this change
+        if self.statusBar().currentMessage().startswith("Refused"):
+            self.statusBar().clearMessage()
         if changed & {"shape", "liquid", "glass"}:
             self.derived_controller.request(design)  # trade numbers, inner walls: off-thread
         if changed & {"shape", "liquid"}:
@@ -169,10 +191,30 @@ class MainWindow(QMainWindow):
             self.materials_panel.refresh(design)
         if changed & {"camera", "environment", "render"}:
             self.camera_panel.refresh(design)
-        if "shape" in changed and self.wireframe is not None:
-            self.wireframe_controller.request(design.shape)
+        if "name" in changed:
+            self.trade_panel.show_name(design.name)
+            self._offer_name(self._shown_fill_ml, only_if_shown=True)
+        if self.wireframe is not None:
+            if "shape" in changed:
+                self.wireframe_controller.request(design.shape)
+            if "camera" in changed:
+                self.wireframe.set_camera(design.camera)  # the 3D view looks through the design's camera
+        if "render" in changed:
+            self.update_render_size(restart=False)
         if changed - {"name", "notes"}:
             self.restart_render()
+
+    def document_replaced(self):
+        """A design was opened or started: fit the section to it, offer nothing about its name."""
+        self.section_panel.canvas.request_fit()
+        self._shown_fill_ml = None
+        self.trade_panel.offer_name("", None)
+
+    def _show_status(self, text: str, ms: int = 5000):
+        self.statusBar().showMessage(text, ms)
+
+    def _on_clean_changed(self, clean: bool):
+        self.setWindowModified(not clean)
 
     def _on_refused(self, message: str):
         """A refused edit: say why, and put the widget that asked for it back to the model."""
@@ -180,18 +222,49 @@ class MainWindow(QMainWindow):
         design = self.scene.design
         self.materials_panel.refresh(design)
         self.camera_panel.refresh(design)
+        self.trade_panel.show_name(design.name)
 
     def _on_derived(self, result):
-        design, numbers, inner = result
+        design, numbers, inner, warnings = result
         self.trade_numbers = numbers
+        self.warnings = list(warnings)
         self.materials_panel.trade_numbers = numbers
         self.trade_panel.refresh(numbers)
         fill_z = numbers.get("fill_height_mm") if design.liquid is not None else None
         self.section_panel.set_derived(inner, fill_z)
+        self.section_panel.set_warnings(self.warnings)
+        fill_ml = numbers.get("fill_ml")
+        if self._shown_fill_ml is not None and fill_ml is not None and abs(fill_ml - self._shown_fill_ml) > 0.05:
+            self._offer_name(fill_ml)
+        self._shown_fill_ml = fill_ml
+
+    def _offer_name(self, fill_ml, only_if_shown: bool = False):
+        """Offer a name that states ``fill_ml`` (ml) when the design's name quotes another
+        volume; with ``only_if_shown`` just bring an offer on show up to date."""
+        if only_if_shown and self.trade_panel.offered is None:
+            return
+        name = self.scene.design.name
+        proposed = engine_bridge.name_for_fill(name, fill_ml) if fill_ml is not None else None
+        why = f"The bottle now holds {fill_ml:.0f} ml at its fill line." if fill_ml is not None else ""
+        self.trade_panel.offer_name(name, proposed, why)
 
     def derived_idle(self) -> bool:
         """Whether the trade numbers and inner walls shown are those of the current design."""
         return self.derived_controller.is_idle()
+
+    # --------------------------------------------------------------------- preview
+    def update_render_size(self, restart: bool = True):
+        """Render at the preview pane's size in device pixels (in the design's image shape),
+        or at the design's own size while the pane is not on screen."""
+        rc, design = self.render_controller, self.scene.design
+        size = None
+        if self.preview.isVisible():
+            size = layout.preview_size(self.preview.pane_pixels(), design.render.width,
+                                       design.render.height, MAX_PREVIEW_PIXELS)
+        if size != rc.wanted_size:
+            rc.set_size(size)
+            if restart:
+                self.restart_render()
 
     def restart_render(self):
         self.render_controller.start(self.scene.snapshot(), engine_bridge.scene_assets(self.scene))
@@ -202,29 +275,30 @@ class MainWindow(QMainWindow):
     def _on_render_progress(self, generation, fraction, width, height):
         if self.preview.image_size() != (width, height):
             self.preview.reset(width, height)
-        self.render_progress.setValue(int(round(fraction * 100)))
-        self.render_state.setText(f"Rendering {width}\u00d7{height}")
 
-    def _on_render_finished(self, generation):
-        self.render_progress.setValue(100)
-        self.render_state.setText("Render converged")
+    def _on_render_state(self, state: str, wave: int, fraction: float):
+        rc = self.render_controller
+        text = STATE_TEXT.get(state, state)
+        if state == "refining" and wave >= 0:
+            text = f"Refining (wave {wave}) {int(fraction * 100)} %"
+        elif state == "converged":
+            text = f"Converged {rc.size[0]}\u00d7{rc.size[1]}"
+        self.render_state.setText(text)
+        self.render_progress.setValue(int(round(fraction * 100)))
+        self.preview.set_note({"stale": "stale: live pass", "refining": "refining"}.get(state, ""))
 
     def _on_render_failed(self, generation, message):
-        self.render_state.setText("Render failed")
         self.statusBar().showMessage(f"Render failed: {message}")
 
     def _orbit_from_preview(self, d_azimuth, d_elevation, finished):
         """A drag in the preview orbits the design camera (one undo step per drag)."""
-        from widgets.camera_panel import camera_to_orbit, orbit_to_camera
         if finished:
             self._orbit_start = None
             return
         if self._orbit_start is None:
             self._orbit_start = (self.scene.design.camera, self.editor.new_merge_key("orbit"))
         start, key = self._orbit_start
-        az, el, dist = camera_to_orbit(start)
-        cam = orbit_to_camera(start, az + d_azimuth, max(-89.0, min(89.0, el + d_elevation)), dist)
-        self.editor.apply("Orbit camera", key, camera=cam)
+        self.editor.apply("Orbit camera", key, camera=engine_bridge.orbited(start, d_azimuth, d_elevation))
 
     def camera_from_wireframe(self):
         """Copy the 3D view's camera into the design (one undo step)."""
@@ -238,12 +312,14 @@ class MainWindow(QMainWindow):
         if not self.files.may_discard():
             event.ignore()
             return
+        layout.save(self, self.settings)
         self.shutdown()
         event.accept()
 
     def shutdown(self):
         """Stop workers, timers and observers; safe to call twice."""
         self.files.shutdown()
+        self.resize_timer.stop()
         if self.final_render is not None:
             self.final_render.shutdown()
         self.derived_controller.shutdown()
@@ -251,16 +327,13 @@ class MainWindow(QMainWindow):
         if self.wireframe is not None:
             self.wireframe_controller.shutdown()
             self.wireframe.shutdown()
+        self.undo_keys.shutdown()
         if self._unsubscribe is not None:
             self._unsubscribe()
             self._unsubscribe = None
+            # why: the stack is deleted with the window at exit and announces that it is clean;
+            # nothing of the window may answer then
+            self.undo_stack.cleanChanged.disconnect(self._on_clean_changed)
 
 
-def run_gui(project_path: str | None, screenshot: str | None) -> int:
-    """Open the workbench (on ``project_path`` or the sample); with ``screenshot`` save a picture
-    of the whole window once the preview has converged, then exit. Returns the exit status."""
-    from app.startup import run
-    return run(project_path, screenshot)
-
-
-__all__ = ["MainWindow", "run_gui"]
+__all__ = ["MainWindow"]

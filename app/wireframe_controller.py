@@ -130,10 +130,13 @@ class WireframeController(LatestOnlyWorker):
 
 
 class DerivedController(LatestOnlyWorker):
-    """Trade numbers and inner walls of a Design: ``resultReady((design, numbers, inner))``."""
+    """Trade numbers, inner walls and warnings of a Design:
+    ``resultReady((design, numbers, inner, warnings))``."""
 
     thread_name = "derived-numbers"
     what = "Trade numbers"
 
     def compute(self, design):
-        return design, engine_bridge.trade_numbers(design), engine_bridge.inner_sections(design.shape)
+        numbers = engine_bridge.trade_numbers(design)
+        warnings = engine_bridge.design_warnings(design, numbers.get("fill_height_mm"))
+        return design, numbers, engine_bridge.inner_sections(design.shape), warnings

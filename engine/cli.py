@@ -18,6 +18,7 @@ from .model.design import Camera, Design, RenderSettings
 from . import limits
 from .errors import GlassbenchError, ProjectError, bounded, shown
 from .geometry.shape import BottleShape
+from .model.trade import format_table, trade_numbers  # noqa: F401 - also for callers of the CLI
 
 SUBCOMMANDS = ("info", "export-mesh", "new", "render", "batch", "turntable")
 EXIT_ERROR = 2
@@ -93,47 +94,6 @@ def one_line(exc: BaseException) -> str:
 
 
 # ---------------------------------------------------------------------------------- info
-
-def trade_numbers(design: Design) -> dict:
-    """The numbers ``glassbench info`` reports (ml, mm, cm^3, g); fill values ``None`` if empty.
-
-    ``fill_ml``/``fill_height_mm`` follow the liquid's fill mode: a height is converted to
-    the volume below it, a volume to the height that holds it (:mod:`engine.model.fill`).
-    """
-    from .geometry import capacity
-    from .model import fill
-    shape = design.shape
-    out = {"name": design.name,
-           "brimful_ml": capacity.brimful_ml(shape),
-           "fill_ml": None, "fill_height_mm": None, "fill_point_below_top_mm": None,
-           "glass_volume_cm3": capacity.glass_volume_cm3(shape),
-           "glass_mass_g": capacity.glass_mass_g(shape, design.glass.density_g_cm3),
-           "height_mm": capacity.height_mm(shape),
-           "max_diameter_mm": capacity.max_diameter_mm(shape)}
-    if design.liquid is not None:
-        height = fill.fill_height_mm(shape, design.liquid)
-        out.update(fill_ml=fill.fill_volume_ml(shape, design.liquid), fill_height_mm=height,
-                   fill_point_below_top_mm=float(shape.z_top - height))
-    return {k: (float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v)
-            for k, v in out.items()}
-
-
-_INFO_ROWS = (("brimful_ml", "Brimful capacity", "ml"), ("fill_ml", "Fill volume", "ml"),
-              ("fill_height_mm", "Fill height", "mm"),
-              ("fill_point_below_top_mm", "Fill point below top", "mm"),
-              ("glass_volume_cm3", "Glass volume", "cm3"), ("glass_mass_g", "Glass mass", "g"),
-              ("height_mm", "Height", "mm"), ("max_diameter_mm", "Max diameter", "mm"))
-
-
-def format_table(numbers: dict) -> str:
-    """The trade numbers as an aligned, human-readable table."""
-    lines = [f"{numbers.get('name', '')}".strip() or "Design"]
-    for key, label, unit in _INFO_ROWS:
-        v = numbers.get(key)
-        text = "-" if v is None else f"{v:10.1f} {unit}"
-        lines.append(f"  {label:<22}{text}")
-    return "\n".join(lines)
-
 
 def cmd_info(args) -> int:
     """``info PROJECT [--json]``: trade numbers (ml, mm, cm^3, g) as a table or JSON."""

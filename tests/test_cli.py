@@ -118,9 +118,9 @@ def test_render_rejects_bad_extension_and_sizes(project, tmp_path, capsys):
 
 def test_app_main_routes_to_gui(project, monkeypatch):
     calls = []
-    fake = types.ModuleType("app.window")
-    fake.run_gui = lambda path, screenshot: calls.append((path, screenshot))
-    monkeypatch.setitem(sys.modules, "app.window", fake)
+    fake = types.ModuleType("app.startup")
+    fake.run = lambda path, screenshot: calls.append((path, screenshot))
+    monkeypatch.setitem(sys.modules, "app.startup", fake)
     monkeypatch.setenv("DISPLAY", ":0")
     assert app_main.main([str(project)]) == 0
     assert app_main.main([]) == 0

@@ -7,6 +7,7 @@ import pytest
 from PySide6.QtCore import QPoint, QPointF, Qt
 
 from engine.geometry.segments import Arc, EllipseArc, Line
+from widgets import words
 from widgets.section_editor import Handle
 
 pytestmark = pytest.mark.usefixtures("no_leaks")
@@ -24,7 +25,7 @@ def _window(make_window):
     return w
 
 
-def test_mouse_drag_of_a_joint_is_one_undoable_step(make_window, qtbot):
+def test_mouse_drag_of_a_joint_is_one_undoable_step_and_keeps_the_finish(make_window, qtbot):
     w = _window(make_window)
     canvas = w.section_panel.canvas
     before = w.scene.design
@@ -35,7 +36,9 @@ def test_mouse_drag_of_a_joint_is_one_undoable_step(make_window, qtbot):
         qtbot.mouseMove(canvas, start - QPoint(0, dy))
     qtbot.mouseRelease(canvas, Qt.LeftButton, pos=start - QPoint(0, 30))
     after = w.scene.design
-    assert after.shape.z_top > before.shape.z_top + 5
+    assert after.shape.primary.segments[2].p1[1] > joint[1] + 5, "the body got taller"
+    neck, old_neck = after.shape.primary.segments[-1], before.shape.primary.segments[-1]
+    assert (neck.p0[0], neck.p1) == (old_neck.p0[0], old_neck.p1), "neck radius and height stay"
     assert w.undo_stack.count() == 1, "a drag must merge into one command"
     assert w.undo_action.text().endswith("Move joint")
     assert w.isWindowModified()
@@ -72,8 +75,8 @@ def test_invalid_drag_is_refused_with_a_message(make_window):
     canvas.end_drag()
     assert w.scene.design == before
     assert w.undo_stack.count() == 0
-    assert "segment" in w.section_panel.message.text()
-    assert "Refused" in w.statusBar().currentMessage()
+    message = w.section_panel.message.text()
+    assert "the joint between segments 4 and 5" in message and "crosses the axis" in message
 
 
 def test_table_edit_of_an_arc_radius(make_window):
@@ -84,7 +87,7 @@ def test_table_edit_of_an_arc_radius(make_window):
     assert model.setData(model.index(1, 5), 8.0)
     new = w.scene.design.shape.primary
     assert new.segments[1].radius == pytest.approx(8.0)
-    assert model.data(model.index(1, 5)) == "8.0000"
+    assert model.data(model.index(1, 5)) == "8.00"
     w.undo_stack.undo()
     assert w.scene.design.shape.primary == sec
 
@@ -151,16 +154,17 @@ def test_wall_spin_box_edits_and_refreshes_without_echo(make_window):
 def test_cross_section_kind_becomes_rounded_square(make_window):
     w = _window(make_window)
     panel = w.section_panel
-    panel.kind_combo.setCurrentText("rounded_square")
+    words.select_key(panel.kind_combo, "rounded_square")
     shape = w.scene.design.shape
     assert shape.cross_section == "rounded_square"
     assert [n for n, _ in shape.sections] == ["u", "v"]
-    assert [panel.name_combo.itemText(i) for i in range(panel.name_combo.count())] == ["u", "v"]
-    panel.name_combo.setCurrentText("v")
+    assert words.keys_of(panel.name_combo) == ["u", "v"]
+    assert panel.name_combo.itemText(1) == "v \u2014 across the corners", "designer words, not keys"
+    words.select_key(panel.name_combo, "v")
     assert panel.model.section == shape.section("v")
     w.undo_stack.undo()
     assert w.scene.design.shape.cross_section == "round"
-    assert panel.kind_combo.currentText() == "round"
+    assert panel.kind_combo.currentData() == "round" and panel.kind_combo.currentText() == "Round"
 
 
 def test_zoom_and_pan_change_the_mapping_only(make_window, qtbot):
@@ -230,7 +234,7 @@ def test_typing_in_the_table_view_edits_the_model(make_window, qtbot):
     table.setCurrentIndex(kind)
     table.edit(kind)
     combo = table.viewport().findChild(QComboBox)
-    combo.setCurrentText("ellipse_arc")
+    words.select_key(combo, "ellipse_arc")
     table.commitData(combo)
     assert isinstance(w.scene.design.shape.primary.segments[1], EllipseArc)
     assert w.undo_stack.count() == 2

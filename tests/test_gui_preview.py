@@ -31,7 +31,7 @@ def test_tiles_arrive_and_the_render_converges(make_window, qtbot):
     assert rc.converged_generation == rc.generation
     assert w.preview.image_size() == (48, 64)
     assert w.preview.tiles_painted >= 1
-    assert w.render_state.text() == "Render converged"
+    assert w.render_state.text() == "Converged 48\u00d764"
     assert w.render_progress.value() == 100
     pixels = {w.preview.pixel_rgb(x, y) for x in range(0, 48, 6) for y in range(0, 64, 6)}
     assert len(pixels) > 3, "the preview shows an image, not a flat fill"
@@ -130,22 +130,76 @@ def test_orbit_drag_in_the_preview_is_one_camera_step(make_window):
     assert w.scene.design.camera == before
 
 
-def test_no_render_starts_while_a_handle_is_dragged(make_window, qtbot):
+def test_a_held_drag_shows_a_live_pass_and_says_stale_until_release(make_window, qtbot):
+    from app.render_controller import LIVE_SCALE
     from widgets.section_editor import Handle
     w = make_window()
     rc = w.render_controller
     _wait_converged(qtbot, w)
-    generation = rc.generation
+    assert w.render_state.text().startswith("Converged")
     canvas = w.section_panel.canvas
     sec = w.scene.design.shape.primary
-    canvas.begin_drag(Handle("joint", 2, sec.segments[2].p1), "held")
+    canvas.begin_drag(Handle("joint", 2, sec.segments[2].p1), "held#1")
     canvas.drag_to((0.0, 4.0))
-    canvas.drag_to((0.0, 8.0))
-    assert rc.generation == generation + 2
-    assert rc.held and rc.job is None and rc.is_idle() is False
+    assert rc.state == "stale" and w.render_state.text().startswith("Stale")
+    assert w.render_progress.value() == 0, "a held render never claims to be done"
+    qtbot.waitUntil(lambda: rc.job is not None and rc.live, timeout=10_000)
+    assert rc.size == (round(48 * LIVE_SCALE), round(64 * LIVE_SCALE))
+    assert rc.job.spp == 1
+    live = rc.job
+    canvas.drag_to((0.0, 8.0))  # the next step cancels the live pass at once
+    assert live.cancelled
+    qtbot.waitUntil(lambda: w.preview.image_size() == rc.size and w.preview.tiles_painted > 0, timeout=30_000)
+    assert rc.state == "stale" and w.preview.note.startswith("stale")
+    states = []
+    rc.stateChanged.connect(lambda state, wave, fraction: states.append((state, wave)))
     with qtbot.waitSignal(rc.finished, timeout=60_000) as blocker:
         canvas.end_drag()
     assert blocker.args == [rc.generation]
+    assert rc.size == (48, 64) and not rc.live
+    assert any(state == "refining" and wave >= 0 for state, wave in states), "refining, wave by wave"
+    assert states[-1][0] == "converged" and w.render_state.text() == "Converged 48\u00d764"
+    assert w.render_progress.value() == 100
+
+
+def test_live_passes_are_throttled_not_debounced(make_window, qtbot):
+    from app.render_controller import LIVE_FIRST_MS
+    from widgets.section_editor import Handle
+    w = make_window()
+    rc = w.render_controller
+    canvas = w.section_panel.canvas
+    sec = w.scene.design.shape.primary
+    canvas.begin_drag(Handle("joint", 2, sec.segments[2].p1), "throttle#1")
+    canvas.drag_to((0.0, 1.0))
+    first = rc._timer.remainingTime()
+    assert 0 <= first <= LIVE_FIRST_MS + 2 < rc._delay_ms, "the first live pass is due at once"
+    for dz in (1.5, 2.0, 2.5, 3.0):  # a continuous drag: each step comes before the pass is due
+        canvas.drag_to((0.0, dz))
+        assert 0 <= rc._timer.remainingTime() <= first + 2, "a new step never pushes the live pass back"
+    qtbot.waitUntil(lambda: rc.job is not None and rc.live, timeout=10_000)
+    assert rc.job.design.shape.primary.segments[2].p1[1] == pytest.approx(sec.segments[2].p1[1] + 3.0)
+    canvas.end_drag()
+
+
+def test_an_orbit_drag_in_the_preview_holds_the_render_and_is_one_step(make_window, qtbot):
+    w = make_window()
+    w.resize(900, 700)
+    w.show()
+    qtbot.waitExposed(w)
+    rc = w.render_controller
+    before = w.scene.design.camera
+    centre = w.preview.rect().center()
+    qtbot.mousePress(w.preview, Qt.LeftButton, pos=centre)
+    assert rc.held
+    for dx in (10, 20, 40):
+        qtbot.mouseMove(w.preview, centre + QPoint(dx, 0))
+    assert rc.state == "stale"
+    qtbot.waitUntil(lambda: rc.job is not None and rc.live, timeout=10_000)
+    qtbot.mouseRelease(w.preview, Qt.LeftButton, pos=centre + QPoint(40, 0))
+    assert not rc.held and w.undo_stack.count() == 1
+    assert w.scene.design.camera != before
+    qtbot.waitUntil(lambda: rc.job is not None and not rc.live, timeout=10_000)
+    assert rc.state == "refining"
 
 
 def test_a_refused_drag_leaves_the_render_running(make_window, qtbot):

@@ -2,6 +2,7 @@
 autosave and crash recovery, DXF import, mesh export, and the screenshot entry."""
 from __future__ import annotations
 
+import dataclasses
 import os
 import subprocess
 import sys
@@ -9,6 +10,7 @@ import sys
 import pytest
 
 from engine.model.design import Glass
+from engine.model.orbit import camera_to_orbit, orbit_to_camera
 from engine.files.project import load_project, save_project
 
 pytestmark = pytest.mark.usefixtures("no_leaks")
@@ -121,17 +123,23 @@ def test_export_mesh(make_window, tmp_path):
     assert out.stat().st_size > 1000
 
 
-def test_screenshot_entry_saves_a_picture_and_exits(gui_paths, tiny_design, no_leaks):
-    # A separate process, as a user runs it: `glassbench --screenshot OUT.png PROJECT`.
-    project = gui_paths / "tiny.glassbench"
-    save_project(project, tiny_design, {})
+def test_screenshot_entry_saves_a_picture_and_exits(gui_paths, no_leaks):
+    # A separate process, as a user runs it: `glassbench --screenshot OUT.png PROJECT`. The
+    # preview renders at its pane's size, so the test bottle stands far off at 1 sample per
+    # pixel (most rays miss it): quick to converge at any size.
+    design, assets = load_project(os.path.join(RESOURCES, "bordeaux.glassbench"))
+    az, el, dist = camera_to_orbit(design.camera)
+    far = dataclasses.replace(design, render=dataclasses.replace(design.render, width=48, height=64, spp=1),
+                              camera=orbit_to_camera(design.camera, az, el, 3 * dist))
+    project = gui_paths / "far.glassbench"
+    save_project(project, far, assets)
     out = gui_paths / "shot.png"
     done = subprocess.run([sys.executable, "-m", "app.main", "--screenshot", str(out), str(project)],
                           cwd=REPO, capture_output=True, text=True, timeout=240)
     assert done.returncode == 0, done.stderr
     from PySide6.QtGui import QImage
     img = QImage(str(out))
-    assert img.width() > 600 and img.height() > 400
+    assert (img.width(), img.height()) == (1600, 1000), "the window fits a 1600 x 1000 screen"
     # The VTK view was painted in: its area is not one flat colour.
     view_row = {img.pixel(x, img.height() // 2) for x in range(img.width() // 2, img.width(), 7)}
     assert len(view_row) > 5

@@ -20,7 +20,8 @@ def test_wireframe_follows_a_drag_and_coalesces_requests(make_window, qtbot):
     z_before = float(w.wireframe.poly.points[:, 2].max())
     canvas = w.section_panel.canvas
     sec = w.scene.design.shape.primary
-    canvas.begin_drag(Handle("joint", 2, sec.segments[2].p1), "wire-drag")
+    mouth = len(sec.segments) - 1  # the mouth: a drag up makes the bottle taller
+    canvas.begin_drag(Handle("joint", mouth, sec.segments[mouth].p1), "wire-drag")
     for dz in np.linspace(1.0, 25.0, 25):
         canvas.drag_to((0.0, float(dz)))
     canvas.end_drag()
@@ -43,12 +44,28 @@ def test_the_wireframe_framebuffer_can_be_grabbed(make_window, qtbot):
     assert len(colours) >= 2, "the bottle's lines are drawn over the background"
 
 
-def test_camera_from_the_3d_view_is_undoable(make_window, qtbot):
+def _distance(cam):
+    return float(np.linalg.norm(np.subtract(cam.eye, cam.target)))
+
+
+def test_the_3d_view_shows_the_design_camera_and_copies_it_back_without_a_jump(make_window, qtbot):
     w = make_window(wireframe=True)
     qtbot.waitUntil(w.wireframe_controller.is_idle, timeout=30_000)
     before = w.scene.design.camera
+    vtk = w.wireframe.plotter.camera
+    assert tuple(vtk.position) == pytest.approx(before.eye) and vtk.view_angle == pytest.approx(before.fov_y_deg)
     w.camera_panel.sync_button.click()
-    assert w.scene.design.camera != before
+    assert w.scene.design.camera == before and w.undo_stack.count() == 0, \
+        "the 3D view already shows the design's camera: copying it changes nothing"
+    w.camera_panel.azimuth.setValue(40.0)  # the design camera turns: the 3D view turns with it
+    assert tuple(w.wireframe.plotter.camera.position) == pytest.approx(w.scene.design.camera.eye)
+    w.undo_stack.undo()
+    vtk.azimuth = vtk.azimuth + 25.0  # the designer orbits the 3D view ...
+    w.camera_panel.sync_button.click()  # ... and takes that view for the design
+    after = w.scene.design.camera
+    assert after.eye != pytest.approx(before.eye)
+    assert _distance(after) == pytest.approx(_distance(before), rel=1e-6), "the framing is kept"
+    assert after.fov_y_deg == pytest.approx(before.fov_y_deg)
     w.undo_stack.undo()
     assert w.scene.design.camera == before
 

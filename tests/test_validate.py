@@ -40,7 +40,7 @@ def test_gap_names_the_segment():
 
 def test_broken_tangency_request():
     s = Section((Line((0, 0), (20, 0)), Line((20, 0), (25, 40)), Line((25, 40), (25, 80))), (False, True))
-    _expect(s, 2, "smooth")
+    _expect(s, 2, "the joint between segments 1 and 2 is set smooth")
     Section.__init__  # the same section with the corner allowed is valid
     validate_section(Section(s.segments, (False, False)))
 
@@ -66,6 +66,14 @@ def test_arc_through_horizontal_is_an_overhang():
 def test_axis_crossing():
     s = Section((Line((0, 0), (20, 0)), Line((20, 0), (-5, 40)), Line((-5, 40), (-5, 80))), (False, False))
     _expect(s, 1, "axis")
+
+
+def test_a_crossing_of_the_axis_is_named_before_the_tangents_it_breaks():
+    # A negative radius typed into a smooth chain also turns the tangent: the axis is the cause.
+    s = Section((Line((0, 0), (20, 0)), Line((20, 0), (20, 40)), Line((20, 40), (-5, 60)),
+                 Line((-5, 60), (-5, 90))), (False, True, True))
+    with pytest.raises(SectionError, match="segment 2: the section crosses the axis"):
+        validate_section(s)
 
 
 def test_degenerate_and_off_circle_arcs():
@@ -103,8 +111,11 @@ def test_punt_rules():
 
 def test_wall_errors():
     sec = torus_foot_section(20.0, 5.0, 100.0)
-    with pytest.raises(WallError, match="segment 1.*radius of curvature"):
+    with pytest.raises(WallError, match="segment 1: a 5.5 mm wall does not fit inside the 5 mm radius"):
         validate_shape(BottleShape("round", {"profile": sec}, 5.5, 6.0))
+    # The real cause first: a thicker base would not cure a wall too thick for the arc.
+    with pytest.raises(WallError, match="segment 1: a 14 mm wall does not fit inside the 5 mm radius"):
+        validate_shape(BottleShape("round", {"profile": sec}, 14.0, 6.0))
     thin_neck = stepped_section(30.0, 100.0, 3.0, 130.0, 170.0)
     with pytest.raises(WallError, match="segment [23].*reaches the axis"):
         validate_shape(BottleShape("round", {"profile": thin_neck}, 3.5, 6.0))

@@ -2,13 +2,12 @@
 of view, environment strength and turn, render size and samples.
 
 Design rule: the camera is stored as eye/target/up (SPEC section 2); this panel shows it as an
-orbit about the target, which is how a designer turns a bottle. ``orbit_to_camera`` and
-``camera_to_orbit`` convert exactly (for a +z up vector).
+orbit about the target, which is how a designer turns a bottle. The conversion is the engine's
+(:mod:`engine.model.orbit`); the panel only binds spin boxes to it.
 """
 from __future__ import annotations
 
 import dataclasses
-import math
 from pathlib import Path
 
 from PySide6.QtCore import QSignalBlocker, Signal
@@ -16,33 +15,18 @@ from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFileDialog, QFormLayo
                                QPushButton, QSpinBox, QVBoxLayout, QWidget)
 
 from engine.files.project import DEFAULT_LIMITS
-from engine.model.design import Camera
+from engine.model.orbit import camera_to_orbit, orbit_to_camera
+from widgets import words
 
 
-def camera_to_orbit(cam: Camera) -> tuple[float, float, float]:
-    """``(azimuth_deg, elevation_deg, distance_mm)`` of the eye about the target."""
-    d = [e - t for e, t in zip(cam.eye, cam.target)]
-    dist = math.sqrt(sum(v * v for v in d)) or 1.0
-    return (math.degrees(math.atan2(d[0], -d[1])), math.degrees(math.asin(max(-1, min(1, d[2] / dist)))), dist)
-
-
-def orbit_to_camera(cam: Camera, azimuth_deg, elevation_deg, distance, target_z=None) -> Camera:
-    """``cam`` with its eye placed on the orbit (azimuth 0: looking along +y)."""
-    tx, ty, tz = cam.target
-    tz = tz if target_z is None else float(target_z)
-    az, el = math.radians(azimuth_deg), math.radians(elevation_deg)
-    eye = (tx + distance * math.cos(el) * math.sin(az), ty - distance * math.cos(el) * math.cos(az),
-           tz + distance * math.sin(el))
-    return dataclasses.replace(cam, eye=eye, target=(tx, ty, tz), up=(0.0, 0.0, 1.0))
-
-
-def _spin(lo, hi, step, suffix, decimals=1):
+def _spin(lo, hi, step, suffix, decimals=1, tip=""):
     s = QDoubleSpinBox()
     s.setRange(lo, hi)
     s.setSingleStep(step)
     s.setDecimals(decimals)
     s.setSuffix(suffix)
     s.setKeyboardTracking(False)
+    s.setToolTip(tip)
     return s
 
 
@@ -60,24 +44,38 @@ class CameraPanel(QWidget):
     def __init__(self, editor, parent=None):
         super().__init__(parent)
         self.editor = editor
-        self.azimuth = _spin(-180, 180, 5, " \u00b0")
+        self.azimuth = _spin(-180, 180, 5, " \u00b0", tip="Turn of the camera about the bottle "
+                             "(degrees; 0 looks at the front)")
         self.azimuth.setWrapping(True)
-        self.elevation = _spin(-89, 89, 2, " \u00b0")
-        self.distance = _spin(10, 20000, 10, " mm")
-        self.target_z = _spin(-1000, 5000, 5, " mm")
-        self.fov = _spin(1, 120, 1, " \u00b0")
+        self.elevation = _spin(-89, 89, 2, " \u00b0", tip="Height of the camera above the target, "
+                               "as an angle (degrees)")
+        self.distance = _spin(10, 20000, 10, " mm", tip="Distance from the camera to the target (mm)")
+        self.target_z = _spin(-1000, 5000, 5, " mm", tip="Height on the bottle's axis the camera looks "
+                              "at (mm)")
+        self.fov = _spin(1, 120, 1, " \u00b0", tip="Vertical field of view (degrees): smaller is a "
+                         "longer lens")
         self.env_kind = QComboBox()
-        self.env_kind.addItems(["studio", "file"])
+        words.fill_combo(self.env_kind, words.ENVIRONMENTS)
+        self.env_kind.setToolTip("The light around the bottle")
         self.env_load = QPushButton("Load environment image\u2026")
-        self.env_scale = _spin(0, 100, 0.1, "", 2)
-        self.env_rotation = _spin(-180, 180, 5, " \u00b0")
+        self.env_load.setToolTip("Embed an equirectangular image (EXR, HDR, PNG) in the project and "
+                                 "light the bottle with it")
+        self.env_scale = _spin(0, 100, 0.1, "", 2, tip="Brightness of the environment (1: as it is)")
+        self.env_rotation = _spin(-180, 180, 5, " \u00b0", tip="Turn of the environment about the "
+                                  "vertical axis (degrees)")
         self.width_px = QSpinBox()
         self.height_px = QSpinBox()
         self.spp = QSpinBox()
-        for s, hi in ((self.width_px, 8192), (self.height_px, 8192), (self.spp, 4096)):
+        for s, hi, tip in ((self.width_px, 8192, "Width of rendered images (px): glassbench render, "
+                            "Final image; the preview renders at its pane's size in this shape"),
+                           (self.height_px, 8192, "Height of rendered images (px), as the width"),
+                           (self.spp, 4096, "Samples per pixel: more is smoother and slower")):
             s.setRange(1, hi)
             s.setKeyboardTracking(False)
+            s.setToolTip(tip)
         self.sync_button = QPushButton("Camera from 3D view")
+        self.sync_button.setToolTip("Make the design's camera the 3D view's (one undoable step); the "
+                                    "3D view always starts from the design's camera")
         cam_box = QGroupBox("Camera")
         cf = QFormLayout(cam_box)
         for label, w in (("Azimuth", self.azimuth), ("Elevation", self.elevation),
@@ -85,18 +83,23 @@ class CameraPanel(QWidget):
                          ("Field of view", self.fov)):
             cf.addRow(label, w)
         cf.addRow(self.sync_button)
-        env_box = QGroupBox("Environment and render")
+        env_box = QGroupBox("Environment")
         ef = QFormLayout(env_box)
-        ef.addRow("Environment", self.env_kind)
+        ef.addRow("Light", self.env_kind)
         ef.addRow(self.env_load)
-        ef.addRow("Light strength", self.env_scale)
+        ef.addRow("Strength", self.env_scale)
         ef.addRow("Turn", self.env_rotation)
-        ef.addRow("Width px", self.width_px)
-        ef.addRow("Height px", self.height_px)
-        ef.addRow("Samples / px", self.spp)
+        image_box = QGroupBox("Images")
+        imf = QFormLayout(image_box)
+        imf.addRow("Width", self.width_px)
+        imf.addRow("Height", self.height_px)
+        imf.addRow("Samples / px", self.spp)
+        for form in (cf, ef, imf):
+            form.setFieldGrowthPolicy(QFormLayout.AllNonFixedFieldsGrow)
         layout = QVBoxLayout(self)
         layout.addWidget(cam_box)
         layout.addWidget(env_box)
+        layout.addWidget(image_box)
         layout.addStretch(1)
         for w in (self.azimuth, self.elevation, self.distance, self.target_z):
             w.valueChanged.connect(self._orbit_changed)
@@ -108,7 +111,7 @@ class CameraPanel(QWidget):
         self.height_px.valueChanged.connect(lambda v: self._render("Image height", height=v))
         self.spp.valueChanged.connect(lambda v: self._render("Samples per pixel", spp=v))
         self.sync_button.clicked.connect(self.syncFromWireframe)
-        self.env_kind.currentTextChanged.connect(self._env_kind_chosen)
+        self.env_kind.currentIndexChanged.connect(lambda _: self._env_kind_chosen(self.env_kind.currentData()))
         self.env_load.clicked.connect(self.load_environment)
 
     def choose_environment_file(self) -> str | None:
@@ -137,13 +140,13 @@ class CameraPanel(QWidget):
 
     def _env_kind_chosen(self, kind: str):
         env = self.editor.design.environment
-        if kind == env.kind:
+        if not kind or kind == env.kind:
             return
         if kind == "file" and not env.asset:
             if not self.load_environment():
                 self.refresh(self.editor.design)
             return
-        self._env(f"Environment {kind}", None, kind=kind)
+        self._env(f"Environment {words.word(words.ENVIRONMENTS, kind).lower()}", None, kind=kind)
 
     def refresh(self, design):
         widgets = (self.azimuth, self.elevation, self.distance, self.target_z, self.fov,
@@ -155,7 +158,7 @@ class CameraPanel(QWidget):
         self.distance.setValue(dist)
         self.target_z.setValue(design.camera.target[2])
         self.fov.setValue(design.camera.fov_y_deg)
-        self.env_kind.setCurrentText(design.environment.kind)
+        words.select_key(self.env_kind, design.environment.kind)
         self.env_scale.setValue(design.environment.scale)
         self.env_rotation.setValue(design.environment.rotation_deg)
         self.width_px.setValue(design.render.width)

@@ -1,9 +1,12 @@
 """The render preview: the tracer's image, painted tile by tile, at 1:1 or fitted.
 
 Design rule: the view holds a ``QImage`` the size of the render and only ever writes tiles
-handed to it on the GUI thread (``paint_tile``); it knows nothing of jobs or generations.
-Dragging in the view asks for a camera orbit (``orbitRequested``); the window turns that
-into an undoable camera edit, which restarts the render. At 1:1 the middle button pans.
+handed to it on the GUI thread (``paint_tile``); it knows nothing of jobs or generations. A new
+image starts as the old picture scaled to the new size (never a blank flash), and the window's
+note (``set_note``: "stale", "refining") is drawn over it. Renders are sized in device pixels
+(:meth:`pane_pixels`), so at 1:1 one image pixel is one screen pixel. Dragging in the view asks
+for a camera orbit (``orbitRequested``); the window turns that into an undoable camera edit,
+which restarts the render. At 1:1 the middle button pans.
 """
 from __future__ import annotations
 
@@ -20,9 +23,12 @@ class PreviewView(QWidget):
     -------
     orbitRequested(float, float, bool)
         ``(degrees of azimuth, degrees of elevation, drag finished)`` from a mouse drag.
+    orbiting(bool)
+        An orbit drag started (True) or ended (False): the render holds meanwhile.
     """
 
     orbitRequested = Signal(float, float, bool)
+    orbiting = Signal(bool)
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -34,15 +40,37 @@ class PreviewView(QWidget):
         self._press = None
         self._pan_from = None
         self.pan = QPointF(0.0, 0.0)  # offset (px) of the 1:1 image from centred
+        self.note = ""
+        self.setToolTip("The glass as the tracer sees it: drag to orbit the camera; Ctrl+1 for 1:1, "
+                        "Ctrl+0 to fit")
 
     # ----------------------------------------------------------------------- image
     def image_size(self) -> tuple[int, int]:
         return (self._image.width(), self._image.height())
 
+    def pane_pixels(self) -> tuple[int, int]:
+        """The view's size in device pixels (what a render at the pane's resolution needs)."""
+        dpr = self.devicePixelRatioF()
+        return (max(1, round(self.width() * dpr)), max(1, round(self.height() * dpr)))
+
+    def set_note(self, text: str):
+        """A line drawn over the picture saying what it is (empty: none)."""
+        if text != self.note:
+            self.note = text
+            self.update()
+
     def reset(self, width: int, height: int):
-        """Start a new, empty image of ``width`` x ``height`` pixels."""
+        """Start a new image of ``width`` x ``height`` pixels, showing the old picture scaled
+        until the new tiles arrive."""
+        old = self._image
         self._image = QImage(width, height, QImage.Format_RGB888)
-        self._image.fill(QColor(40, 40, 44))
+        if old.isNull():
+            self._image.fill(QColor(40, 40, 44))
+        else:
+            p = QPainter(self._image)
+            p.setRenderHint(QPainter.SmoothPixmapTransform)
+            p.drawImage(QRectF(0, 0, width, height), old)
+            p.end()
         self.tiles_painted = 0
         self.update()
 
@@ -81,7 +109,7 @@ class PreviewView(QWidget):
         iw, ih = self._image.width(), self._image.height()
         if iw == 0 or ih == 0:
             return QRectF()
-        scale = min(self.width() / iw, self.height() / ih) if self.fit else 1.0
+        scale = min(self.width() / iw, self.height() / ih) if self.fit else 1.0 / self.devicePixelRatioF()
         w, h = iw * scale, ih * scale
         offset = QPointF(0.0, 0.0) if self.fit else self.pan
         return QRectF((self.width() - w) / 2 + offset.x(), (self.height() - h) / 2 + offset.y(), w, h)
@@ -94,11 +122,14 @@ class PreviewView(QWidget):
             p.drawImage(self._target_rect(), self._image)
         p.setPen(QColor(200, 200, 200))
         p.drawText(QPointF(8, 16), "fit" if self.fit else "1:1")
+        if self.note:
+            p.drawText(QPointF(8, self.height() - 8), self.note)
 
     # ----------------------------------------------------------------------- orbit
     def mousePressEvent(self, event):
         if event.button() == Qt.LeftButton:
             self._press = event.position()
+            self.orbiting.emit(True)
         elif event.button() == Qt.MiddleButton and not self.fit:
             self._pan_from = event.position()
 
@@ -116,3 +147,4 @@ class PreviewView(QWidget):
         if self._press is not None:
             self._press = None
             self.orbitRequested.emit(0.0, 0.0, True)
+            self.orbiting.emit(False)

@@ -5,14 +5,16 @@ turns mouse gestures into *proposed* sections (signal ``sectionProposed``); whoe
 undo stack validates and applies them, and the scene notification brings the result back here.
 A refused proposal therefore leaves the canvas showing the last valid section.
 
-Mouse: left-drag a joint (square), an arc centre (circle) or an ellipse radius handle
-(diamond); Shift moves a joint alone instead of stretching the section; click a segment to
-select it; wheel zooms about the cursor; middle- or right-drag pans. Holding Ctrl disables snap.
+Mouse: left-drag a joint (square), an arc centre (circle), an ellipse radius handle (diamond)
+or the fill line (the dashed blue line, by its triangle at the right); a joint drag stretches the
+section and keeps the finish (the neck's radius and the height), Shift moves the joint alone and
+Alt carries everything above it along; click a segment to select it; wheel zooms about the
+cursor; middle- or right-drag pans. Holding Ctrl disables snap. The geometry of every gesture is
+the engine's (:mod:`engine.geometry.editing`); the canvas only maps pixels to millimetres.
 """
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
 
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt, Signal
@@ -21,43 +23,10 @@ from PySide6.QtWidgets import QSizePolicy, QWidget
 
 from engine.geometry.section import Section
 from engine.geometry.segments import Arc, EllipseArc
-from widgets import section_edits as edits
+from engine.geometry import editing as edits
+from engine.geometry.editing import Handle, handles_of, propose_drag
 
 HANDLE_PX = 7.0
-
-
-@dataclass(frozen=True)
-class Handle:
-    """Something the designer can grab: ``kind`` is joint / centre / radius_r / radius_z."""
-
-    kind: str
-    index: int
-    point: tuple[float, float]
-
-
-def handles_of(section: Section) -> list[Handle]:
-    """Every draggable point of ``section`` (joints, arc centres, ellipse radius handles)."""
-    out = [Handle("joint", i, seg.p1) for i, seg in enumerate(section.segments)]
-    for i, seg in enumerate(section.segments):
-        if isinstance(seg, Arc):
-            out.append(Handle("centre", i, seg.center))
-        elif isinstance(seg, EllipseArc):
-            c = seg.center
-            out.append(Handle("radius_r", i, (c[0] + seg.radius_r, c[1])))
-            out.append(Handle("radius_z", i, (c[0], c[1] + seg.radius_z)))
-    return out
-
-
-def propose_drag(section: Section, handle: Handle, delta, local: bool) -> Section:
-    """The section after dragging ``handle`` by ``delta`` (mm); may raise ``ValueError``."""
-    if handle.kind == "joint":
-        return edits.move_joint(section, handle.index, delta, "local" if local else "stretch")
-    seg = section.segments[handle.index]
-    if handle.kind == "centre":
-        return edits.move_arc_centre(section, handle.index, delta)
-    if handle.kind == "radius_r":
-        return edits.set_ellipse_radii(section, handle.index, seg.radius_r + delta[0], seg.radius_z)
-    return edits.set_ellipse_radii(section, handle.index, seg.radius_r, seg.radius_z + delta[1])
 
 
 class SectionCanvas(QWidget):
@@ -69,16 +38,22 @@ class SectionCanvas(QWidget):
         ``(new Section, undo label, merge key)`` for every drag step.
     selectionChanged(int)
         Index of the selected segment (-1: none).
+    fillProposed(float, str)
+        ``(fill height in mm, merge key)`` for every step of a drag of the fill line.
     dragging(bool)
         A handle drag started (True) or ended (False): slow consumers may pause meanwhile.
     toolRequested(str)
         A keyboard shortcut asked for a segment tool (``"delete"``, ``"split"``).
+    problem(str)
+        A drag step asked for geometry that does not exist; the text says why.
     """
 
     sectionProposed = Signal(object, str, str)
+    fillProposed = Signal(float, str)
     selectionChanged = Signal(int)
     dragging = Signal(bool)
     toolRequested = Signal(str)
+    problem = Signal(str)
     _gesture_serial = 0
 
     def __init__(self, parent=None):
@@ -109,6 +84,13 @@ class SectionCanvas(QWidget):
             self.fit()
         self.update()
 
+    def request_fit(self):
+        """Fit the section to the canvas now, or as soon as the canvas has a size (a newly
+        opened design)."""
+        self._fitted = False
+        if self.isVisible() and self.width() >= 10:
+            self.fit()
+
     def select(self, index: int):
         if index != self.selected:
             self.selected = index
@@ -123,14 +105,17 @@ class SectionCanvas(QWidget):
         return ((q.x() - self.origin.x()) / self.scale, (self.origin.y() - q.y()) / self.scale)
 
     def fit(self):
-        """Zoom and pan so the whole section (both halves) fits the canvas."""
+        """Zoom and pan so the whole section (both halves, the fill line and the dimensions)
+        fits the canvas."""
         if self.section is None or self.width() < 10:
             return
         pts = edits.section_polyline(self.section)
-        rmax, zmax = max(float(pts[:, 0].max()), 1.0), max(float(pts[:, 1].max()), 1.0)
-        margin = 40.0
-        self.scale = min((self.width() - 2 * margin) / (2 * rmax), (self.height() - 2 * margin) / zmax)
-        self.origin = QPointF(self.width() / 2, self.height() - margin)
+        rmax = max(float(pts[:, 0].max()), 1.0)
+        zmax = max(float(pts[:, 1].max()), self.fill_z or 0.0, 1.0)
+        margin_x, margin_top, margin_bottom = 44.0, 40.0, 28.0  # room for the labels
+        self.scale = min((self.width() - 2 * margin_x) / (2 * rmax),
+                         (self.height() - margin_top - margin_bottom) / zmax)
+        self.origin = QPointF(self.width() / 2, self.height() - margin_bottom)
         self._fitted = True
         self.update()
 
@@ -179,10 +164,17 @@ class SectionCanvas(QWidget):
             p.drawPath(self._path(self.inner))
             p.drawPath(self._path(self.inner, mirror=True))
         if self.fill_z is not None:
-            p.setPen(QPen(QColor(40, 120, 220), 1.5, Qt.DashDotLine))
+            above = self.fill_z > self.section.z_top + 1e-6
+            colour = QColor(200, 40, 40) if above else QColor(40, 120, 220)
+            p.setPen(QPen(colour, 1.5, Qt.DashDotLine))
             a, b = self.to_px((-self._rmax(), self.fill_z)), self.to_px((self._rmax(), self.fill_z))
             p.drawLine(a, b)
-            p.drawText(b + QPointF(4, -3), f"fill {self.fill_z:.1f}")
+            p.setBrush(colour)
+            p.drawPolygon(QPolygonF([b, b + QPointF(9, -6), b + QPointF(9, 6)]))  # the grip
+            p.setBrush(Qt.NoBrush)
+            # why above the left half: the joints' handles are all on the right half
+            text = f"fill {self.fill_z:.1f} mm" + (" (above the brim)" if above else "")
+            p.drawText(a + QPointF(2, -4), text)
         for i, seg in enumerate(self.section.segments):
             sel = i == self.selected
             p.setPen(QPen(QColor(220, 90, 20) if sel else QColor(20, 20, 20), 3 if sel else 2))
@@ -219,10 +211,15 @@ class SectionCanvas(QWidget):
         sec = self.section
         p.setPen(QPen(QColor(160, 40, 40), 1))
         rmax, ztop = self._rmax(), sec.z_top
-        x = self.to_px((rmax, 0)).x() + 24
+        x = self.to_px((rmax, 0)).x() + 20
         a, b = QPointF(x, self.to_px((0, 0)).y()), QPointF(x, self.to_px((0, ztop)).y())
         p.drawLine(a, b)
-        p.drawText(QPointF(x + 4, (a.y() + b.y()) / 2), f"H {ztop:.2f}")
+        p.save()  # why upright along the line: a narrow canvas has no room for it sideways
+        p.translate(x + 14, (a.y() + b.y()) / 2)
+        p.rotate(-90)
+        text = f"H {ztop:.2f}"
+        p.drawText(QPointF(-p.fontMetrics().horizontalAdvance(text) / 2, 0), text)
+        p.restore()
         y = self.to_px((0, ztop)).y() - 14
         p.drawLine(QPointF(self.to_px((-rmax, 0)).x(), y), QPointF(self.to_px((rmax, 0)).x(), y))
         p.drawText(QPointF(self.origin.x() + 4, y - 4), f"\u2300 {2 * rmax:.2f}")
@@ -252,6 +249,14 @@ class SectionCanvas(QWidget):
         p.setBrush(Qt.NoBrush)
 
     # ------------------------------------------------------------------------ mouse
+    def fill_grip_at(self, pos: QPointF) -> bool:
+        """Whether ``pos`` is on the fill line (within a few pixels, right of the axis)."""
+        if self.fill_z is None or self.section is None:
+            return False
+        y = self.to_px((0.0, self.fill_z)).y()
+        right = self.to_px((self._rmax(), 0.0)).x() + 10
+        return abs(pos.y() - y) <= 4 and self.origin.x() <= pos.x() <= right
+
     def handle_at(self, pos: QPointF) -> Handle | None:
         if self.section is None:
             return None
@@ -287,11 +292,13 @@ class SectionCanvas(QWidget):
         if event.button() != Qt.LeftButton:
             return
         handle = self.handle_at(pos)
+        if handle is None and self.fill_grip_at(pos):
+            handle = Handle("fill", -1, (0.0, self.fill_z))
         if handle is not None:
             SectionCanvas._gesture_serial += 1
-            key = f"drag-{handle.kind}-{handle.index}-{SectionCanvas._gesture_serial}"
+            key = f"drag-{handle.kind}-{handle.index}#{SectionCanvas._gesture_serial}"
             self.begin_drag(handle, key)
-            if handle.kind != "joint":
+            if handle.kind not in ("joint", "fill"):
                 self.select(handle.index)
             return
         self.select(self.segment_at(pos))
@@ -304,21 +311,42 @@ class SectionCanvas(QWidget):
             self.update()
             return
         if self._drag is None:
+            self.setToolTip(self._hover_text(pos))
             return
         handle, start, key = self._drag
-        snap = not (event.modifiers() & Qt.ControlModifier)
+        mods = event.modifiers()
+        snap = not (mods & Qt.ControlModifier)
         r, z = self.to_mm(pos)
         target = (self._snap(r, snap), self._snap(z, snap))
         delta = (target[0] - handle.point[0], target[1] - handle.point[1])
-        local = bool(event.modifiers() & Qt.ShiftModifier)
-        self.drag_to(delta, local)
+        self.drag_to(delta, local=bool(mods & Qt.ShiftModifier), carry=bool(mods & Qt.AltModifier))
 
-    def drag_to(self, delta, local: bool = False):
+    def _hover_text(self, pos: QPointF) -> str:
+        """What the thing under the pointer is and what dragging it does (its tooltip)."""
+        handle = self.handle_at(pos)
+        if handle is None:
+            return ("Drag the fill line to change the fill level" if self.fill_grip_at(pos) else "")
+        if handle.kind == "joint":
+            n = len(self.section.segments)
+            if handle.index == n - 1:
+                return "The mouth: drag to change the height"
+            smooth = handle.index < len(self.section.smooth) and self.section.smooth[handle.index]
+            what = edits.joint_name(handle.index).capitalize() + (" (smooth)" if smooth else " (corner)")
+            return what + ": drag to stretch (the finish stays), Shift alone, Alt carries the top along"
+        if handle.kind == "centre":
+            return f"Centre of arc {handle.index}: drag to change its radius"
+        return f"Radius of ellipse arc {handle.index}: drag to change it"
+
+    def drag_to(self, delta, local: bool = False, carry: bool = False):
         """Propose the drag-start section with the grabbed handle moved by ``delta`` (mm)."""
         handle, start, key = self._drag
+        if handle.kind == "fill":
+            self.fillProposed.emit(max(handle.point[1] + delta[1], 0.0), key)
+            return
         try:
-            proposal = propose_drag(start, handle, delta, local)
-        except ValueError:
+            proposal = propose_drag(start, handle, delta, local, carry)
+        except ValueError as exc:
+            self.problem.emit(f"{edits.joint_name(handle.index)}: {exc}" if handle.kind == "joint" else str(exc))
             return
         label = {"joint": "Move joint", "centre": "Change arc radius"}.get(handle.kind, "Change ellipse radius")
         self.sectionProposed.emit(proposal, label, key)

@@ -1,29 +1,45 @@
 """The section editor panel: canvas, segment table, tools, cross-section kind and thicknesses.
 
 Design rule: the panel talks to the model only through ``editor.apply(label, merge_key,
-shape=...)`` (an undoable, validated edit) and is refreshed by ``refresh(design)`` with its
-widgets' signals blocked, so a refresh never echoes back as an edit. A refused edit
-shows the engine's message in the panel's message line.
+shape=... | liquid=...)`` (an undoable, validated edit) and is refreshed by ``refresh(design)``
+with its widgets' signals blocked, so a refresh never echoes back as an edit. Geometry is the
+engine's (:mod:`engine.geometry.editing`). Two message lines sit under the table: a refusal (red)
+says why the last edit was not made and is cleared by the next change of the design (an undo
+that removes its cause included); the warnings (amber) say what the design cannot be made or
+filled with, for as long as that is so.
 """
 from __future__ import annotations
 
 from PySide6.QtCore import QSignalBlocker, Qt
-from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFormLayout, QHBoxLayout, QHeaderView,
-                               QLabel, QSplitter, QTableView, QToolButton, QVBoxLayout, QWidget)
+from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFormLayout, QGridLayout, QLabel,
+                               QSizePolicy, QSplitter, QToolButton, QVBoxLayout, QWidget)
 
+from engine.geometry import editing as edits
 from engine.geometry.shape import SECTION_NAMES, BottleShape
-from widgets import section_edits as edits
+from engine.model import fill
+from widgets import words
 from widgets.section_editor import SectionCanvas
-from widgets.section_table import KindDelegate, MillimetreDelegate, SectionTableModel
+from widgets.section_table import SectionTable
 
-#: Radial scale of the first section used to make the others when the kind changes. All 1:
-#: every kind must meet in a round finish at the mouth, and equal sections are the one start
-#: that is valid for any profile (the designer then edits the other sections).
-_DERIVED_SCALE: dict[str, float] = {}
+TOOLS = (
+    ("split", "Split", "Cut the selected segment in two at its middle (S)"),
+    ("delete", "Delete", "Remove the selected segment; everything above drops to close the gap (Del)"),
+    ("insert", "Insert line", "Add a 10 mm straight segment after the selected one"),
+    ("line", "\u2192 line", "Make the selected segment straight between its ends"),
+    ("arc", "\u2192 arc", "Make the selected segment a circular arc; smooth neighbours stay "
+                          "tangent (they slide along themselves to meet it)"),
+    ("ellipse_arc", "\u2192 ellipse", "Make the selected segment an ellipse arc (an arc becomes "
+                                      "the same curve with equal radii)"),
+    ("smooth", "Smooth", "Ask for tangency where the selected segment meets the next one"),
+    ("snap", "Snap", "Snap dragged points to a 0.5 mm grid (hold Ctrl to drag freely)"),
+    ("fit", "Fit", "Zoom to show the whole section (F)"),
+)
+TOOLS_PER_ROW = 5
 
 
 class SectionPanel(QWidget):
-    """Edits ``design.shape`` through ``editor`` (see :class:`app.commands.DesignEditor`)."""
+    """Edits ``design.shape`` (and the fill level, by dragging the fill line) through ``editor``
+    (see :class:`app.commands.DesignEditor`)."""
 
     def __init__(self, editor, parent=None):
         super().__init__(parent)
@@ -32,26 +48,28 @@ class SectionPanel(QWidget):
         self.current_name = "profile"
         self.derived = {"inner": {}, "fill_z": None}
         self.canvas = SectionCanvas()
-        self.model = SectionTableModel(self)
-        self.table = QTableView()
-        self.table.setModel(self.model)
-        self.table.setItemDelegateForColumn(0, KindDelegate(self.table))
-        self._mm_delegate = MillimetreDelegate(self.table)
-        for column in range(1, 7):
-            self.table.setItemDelegateForColumn(column, self._mm_delegate)
-        # why: ResizeToContents asks every cell for its size on every change; size once per reset
-        self.table.horizontalHeader().setSectionResizeMode(QHeaderView.Interactive)
-        self.model.modelReset.connect(self.table.resizeColumnsToContents)
+        self.table = SectionTable()
+        self.model = self.table.model()
         self.message = QLabel("")
         self.message.setWordWrap(True)
         self.message.setStyleSheet("color: #a02020")
+        self.warnings = QLabel("")
+        self.warnings.setWordWrap(True)
+        self.warnings.setStyleSheet("color: #8a5a00")
+        self.warnings.setToolTip("What this design cannot be made or filled with")
 
         self.kind_combo = QComboBox()
-        self.kind_combo.addItems(list(SECTION_NAMES))
+        words.fill_combo(self.kind_combo, words.CROSS_SECTIONS)
+        self.kind_combo.setToolTip("The shape across the bottle: round, rounded square, "
+                                   "rounded rectangle or oval")
         self.name_combo = QComboBox()
-        self.wall_spin = self._spin(0.3, 20.0, " mm wall")
-        self.base_spin = self._spin(0.3, 60.0, " mm base")
-        self.rotation_spin = self._spin(-180.0, 180.0, " \u00b0")
+        self.name_combo.setToolTip("Which section the canvas and the table edit (the others are "
+                                   "drawn dashed)")
+        self.wall_spin = self._spin(0.3, 20.0, " mm", "Wall thickness of the glass (mm)")
+        self.base_spin = self._spin(0.3, 60.0, " mm", "Height of the inner base above the standing "
+                                                       "plane (mm); at least the wall")
+        self.rotation_spin = self._spin(-180.0, 180.0, " \u00b0", "Turn of a non-round bottle "
+                                                                  "about its axis (degrees)")
         form = QFormLayout()
         form.addRow("Cross-section", self.kind_combo)
         form.addRow("Section", self.name_combo)
@@ -59,54 +77,57 @@ class SectionPanel(QWidget):
         form.addRow("Base", self.base_spin)
         form.addRow("Rotation", self.rotation_spin)
 
-        tools = QHBoxLayout()
+        tools = QGridLayout()  # two rows: the panel stays narrow enough for a side dock
         self.tool_buttons = {}
-        for key, text in (("split", "Split"), ("delete", "Delete"), ("insert", "Insert line"),
-                          ("line", "\u2192 line"), ("arc", "\u2192 arc"), ("ellipse_arc", "\u2192 ellipse"),
-                          ("smooth", "Smooth"), ("snap", "Snap"), ("fit", "Fit")):
+        for k, (key, text, tip) in enumerate(TOOLS):
             b = QToolButton()
             b.setText(text)
+            b.setToolTip(tip)
+            b.setSizePolicy(QSizePolicy.Expanding, QSizePolicy.Fixed)
             b.clicked.connect(lambda _=False, k=key: self.run_tool(k))
-            tools.addWidget(b)
+            tools.addWidget(b, k // TOOLS_PER_ROW, k % TOOLS_PER_ROW)
             self.tool_buttons[key] = b
         self.tool_buttons["smooth"].setCheckable(True)
         snap = self.tool_buttons["snap"]
         snap.setCheckable(True)
         snap.setChecked(True)
-        snap.setToolTip("Snap dragged points to a 0.5 mm grid (hold Ctrl to drag freely)")
-        tools.addStretch(1)
 
-        split = QSplitter(Qt.Vertical)
-        split.addWidget(self.canvas)
-        split.addWidget(self.table)
-        split.setStretchFactor(0, 3)
+        self.split = QSplitter(Qt.Vertical)
+        self.split.setObjectName("section-split")
+        self.split.addWidget(self.canvas)
+        self.split.addWidget(self.table)
+        self.split.setStretchFactor(0, 3)
         layout = QVBoxLayout(self)
         layout.addLayout(form)
         layout.addLayout(tools)
-        layout.addWidget(split, 1)
+        layout.addWidget(self.split, 1)
         layout.addWidget(self.message)
+        layout.addWidget(self.warnings)
 
         self.canvas.sectionProposed.connect(self.propose_section)
+        self.canvas.fillProposed.connect(self.propose_fill)
+        self.canvas.problem.connect(self.show_problem)
         self.model.sectionProposed.connect(self.propose_section)
         self.model.problem.connect(self.show_problem)
         self.canvas.selectionChanged.connect(self._on_canvas_selection)
         self.canvas.toolRequested.connect(self.run_tool)
         self.table.selectionModel().currentRowChanged.connect(lambda cur, _: self.canvas.select(cur.row()))
-        self.name_combo.currentTextChanged.connect(self._on_name_chosen)
-        self.kind_combo.currentTextChanged.connect(self.set_cross_section)
+        self.name_combo.currentIndexChanged.connect(lambda _: self._on_name_chosen(self.name_combo.currentData()))
+        self.kind_combo.currentIndexChanged.connect(lambda _: self.set_cross_section(self.kind_combo.currentData()))
         self.wall_spin.valueChanged.connect(lambda v: self._set_shape_number("wall_thickness", v))
         self.base_spin.valueChanged.connect(lambda v: self._set_shape_number("base_thickness", v))
         self.rotation_spin.valueChanged.connect(lambda v: self._set_shape_number("rotation_deg", v))
         editor.refused.connect(self.show_problem)
 
     @staticmethod
-    def _spin(lo, hi, suffix) -> QDoubleSpinBox:
+    def _spin(lo, hi, suffix, tip) -> QDoubleSpinBox:
         s = QDoubleSpinBox()
         s.setRange(lo, hi)
         s.setDecimals(2)
         s.setSingleStep(0.1)
         s.setSuffix(suffix)
         s.setKeyboardTracking(False)
+        s.setToolTip(tip)
         return s
 
     # ---------------------------------------------------------------- model → view
@@ -117,6 +138,10 @@ class SectionPanel(QWidget):
         if self.shape is not None:
             self.canvas.show_section(self.canvas.section, self.derived["inner"].get(self.current_name),
                                      fill_z, self.canvas.ghosts)
+
+    def set_warnings(self, warnings):
+        """Show the design's warnings (texts; empty: none)."""
+        self.warnings.setText("\n".join(f"\u26a0 {w}" for w in warnings))
 
     def refresh(self, design, derived: dict | None = None):
         """Show ``design.shape`` (with the last derived inner walls and fill line)."""
@@ -130,11 +155,10 @@ class SectionPanel(QWidget):
             self.current_name = names[0]
         blockers = [QSignalBlocker(w) for w in (self.kind_combo, self.name_combo, self.wall_spin,
                                                  self.base_spin, self.rotation_spin)]
-        self.kind_combo.setCurrentText(shape.cross_section)
-        if [self.name_combo.itemText(i) for i in range(self.name_combo.count())] != names:
-            self.name_combo.clear()
-            self.name_combo.addItems(names)
-        self.name_combo.setCurrentText(self.current_name)
+        words.select_key(self.kind_combo, shape.cross_section)
+        if words.keys_of(self.name_combo) != names:
+            words.fill_combo(self.name_combo, words.SECTIONS, names)
+        words.select_key(self.name_combo, self.current_name)
         self.wall_spin.setValue(shape.wall_thickness)
         self.base_spin.setValue(shape.base_thickness)
         self.rotation_spin.setValue(shape.rotation_deg)
@@ -154,6 +178,10 @@ class SectionPanel(QWidget):
     def show_problem(self, text: str):
         self.message.setText(text)
 
+    def clear_problem(self):
+        """The design changed: a refusal of an edit against the design before no longer applies."""
+        self.message.setText("")
+
     # ---------------------------------------------------------------- view → command
     def propose_section(self, section, label: str, merge_key: str = ""):
         """Apply ``section`` in place of the current one (one undo step per merge key)."""
@@ -162,6 +190,15 @@ class SectionPanel(QWidget):
             self.message.setText("")
             return True
         return False
+
+    def propose_fill(self, height_mm: float, merge_key: str = "") -> bool:
+        """Stand the liquid at ``height_mm`` (a drag of the fill line; one undo step per drag),
+        in the liquid's own fill mode."""
+        design = self.editor.design
+        if design.liquid is None:
+            return False
+        liquid = fill.liquid_at_height(design.shape, design.liquid, height_mm)
+        return self.editor.apply("Fill level", merge_key or None, liquid=liquid)
 
     def _set_shape_number(self, field, value):
         shape = self.editor.design.shape
@@ -174,20 +211,20 @@ class SectionPanel(QWidget):
             self.refresh(self.editor.design)
 
     def set_cross_section(self, kind: str):
-        """Change the cross-section kind; missing sections derive from the first one."""
+        """Change the cross-section kind; missing sections are copies of the first one (equal
+        sections meet in a round finish whatever the kind; the designer then edits them)."""
         shape = self.editor.design.shape
-        if kind == shape.cross_section:
+        if not kind or kind == shape.cross_section:
             return
-        first = shape.primary
-        sections = tuple((n, edits.scaled_radially(first, _DERIVED_SCALE.get(n, 1.0)))
-                         for n in SECTION_NAMES[kind])
+        sections = tuple((n, shape.primary) for n in SECTION_NAMES[kind])
         try:
             new = BottleShape(kind, sections, shape.wall_thickness, shape.base_thickness,
                               shape.rotation_deg, None)
         except ValueError as exc:
             self.show_problem(str(exc))
             new = None
-        if new is None or not self.editor.apply(f"Cross-section {kind}", None, shape=new):
+        if new is None or not self.editor.apply(f"Cross-section {words.word(words.CROSS_SECTIONS, kind)}",
+                                                None, shape=new):
             self.refresh(self.editor.design)
 
     def _on_name_chosen(self, name: str):
@@ -228,11 +265,11 @@ class SectionPanel(QWidget):
             elif key == "insert":
                 new, label = edits.insert_line_after(sec, row), "Insert line"
             elif key == "smooth":
-                if row >= len(sec.smooth):
-                    raise ValueError("the mouth has no joint above it")
-                new, label = edits.set_smooth(sec, row, not sec.smooth[row]), "Toggle smooth joint"
+                new, label = edits.set_smooth(sec, row, not sec.smooth[row]) if row < len(sec.smooth) \
+                    else edits.set_smooth(sec, row, True), "Toggle smooth joint"
             else:
-                new, label = edits.convert_segment(sec, row, key), f"Convert to {key}"
+                new = edits.convert_segment(sec, row, key)
+                label = f"Convert to {words.word(words.SEGMENT_KINDS, key).lower()}"
         except ValueError as exc:
             self.show_problem(f"segment {row}: {exc}")
             self._sync_smooth_button()

@@ -1,21 +1,41 @@
 """Exact numbers for a section: one table row per segment (QAbstractTableModel).
 
 Design rule: the model mirrors a ``Section`` value and never edits it. ``setData`` turns a
-typed value into a *proposed* section (via :mod:`widgets.section_edits`) and emits it; the owner
-validates and applies it, and ``set_section`` then shows the result. A refused or impossible
-value leaves the table showing the model's numbers.
+typed value into a *proposed* section (via :mod:`engine.geometry.editing`: a typed end point
+is placed exactly with the smooth joints solved as a drag solves them, and the finish kept) and
+emits it; the owner validates and applies it, and ``set_section`` then shows the result. A
+refused or impossible value leaves the table showing the model's numbers. Cells show the
+designer's words (:mod:`widgets.words`) and millimetres to 0.01 mm (the tooltip has 0.0001 mm);
+the view widens a column whenever a value would not fit, so no number is ever cut off.
 """
 from __future__ import annotations
 
 from PySide6.QtCore import QAbstractTableModel, QModelIndex, Qt, Signal
-from PySide6.QtWidgets import QComboBox, QDoubleSpinBox, QStyledItemDelegate
+from PySide6.QtWidgets import (QAbstractItemView, QComboBox, QDoubleSpinBox, QHeaderView,
+                               QStyledItemDelegate, QTableView)
 
+from engine.geometry import editing as edits
 from engine.geometry.section import Section
 from engine.geometry.segments import Arc, EllipseArc
-from widgets import section_edits as edits
+from widgets import words
 
 COLUMNS = ("type", "end r", "end z", "centre r", "centre z", "radius / r", "radius z", "dir", "smooth")
+HEADERS = ("Type", "End r", "End z", "Centre r", "Centre z", "Radius", "Radius z", "Bulge",
+           "Smooth → next")
+HEADER_TIPS = (
+    "Line, arc or ellipse arc (the base segment stays what it is)",
+    "Radius (mm from the axis) where the segment ends; typed values keep smooth joints tangent",
+    "Height (mm above the standing plane) where the segment ends",
+    "Radius (mm) of the arc's or ellipse's centre",
+    "Height (mm) of the arc's or ellipse's centre",
+    "Arc radius, or the ellipse's radius along r (mm)",
+    "The ellipse's radius along z (mm)",
+    "Convex (bulges outwards) or concave (curves inwards)",
+    "Tangent (smooth) where this segment meets the next one, the segment in the row below",
+)
 KINDS = ("line", "arc", "ellipse_arc")
+#: Widest number a column must show without cutting it.
+WIDEST_NUMBER = "-99999.99"
 
 
 def _cell(seg, column: int):
@@ -72,9 +92,13 @@ class SectionTableModel(QAbstractTableModel):
         return 0 if parent.isValid() else len(COLUMNS)
 
     def headerData(self, section, orientation, role=Qt.DisplayRole):
-        if role != Qt.DisplayRole:
-            return None
-        return COLUMNS[section] if orientation == Qt.Horizontal else str(section)
+        if orientation != Qt.Horizontal:
+            if role == Qt.DisplayRole:
+                return str(section)
+            return f"Segment {section}" if role == Qt.ToolTipRole else None
+        if role == Qt.DisplayRole:
+            return HEADERS[section]
+        return HEADER_TIPS[section] if role == Qt.ToolTipRole else None
 
     def flags(self, index):
         if not index.isValid():
@@ -102,7 +126,16 @@ class SectionTableModel(QAbstractTableModel):
             return None
         value = _cell(seg, col)
         if role == Qt.DisplayRole:
-            return "" if value is None else (f"{value:.4f}" if isinstance(value, float) else value)
+            if value is None:
+                return ""
+            if isinstance(value, float):
+                return f"{value:.2f}"
+            return words.word(words.SEGMENT_KINDS if col == 0 else words.DIRECTIONS, value)
+        if role == Qt.ToolTipRole:
+            if isinstance(value, float):
+                return f"{HEADERS[col]} of segment {index.row()}: {value:.4f} mm"
+            table = words.SEGMENT_KINDS if col == 0 else words.DIRECTIONS
+            return table.get(value, ("", ""))[1] if value is not None else None
         if role == Qt.EditRole:
             return value
         if role == Qt.TextAlignmentRole and isinstance(value, float):
@@ -115,16 +148,15 @@ class SectionTableModel(QAbstractTableModel):
         seg = sec.segments[row]
         if column == 0:
             if value not in KINDS:
-                raise ValueError(f"segment type must be one of {', '.join(KINDS)}")
+                raise ValueError("a segment is a line, an arc or an ellipse arc")
             return edits.convert_segment(sec, row, value)
         if column == 8:
             return edits.set_smooth(sec, row, bool(value))
         number = float(value)
-        if column in (1, 2):
-            target = list(seg.p1)
-            target[column - 1] = number
-            delta = (target[0] - seg.p1[0], target[1] - seg.p1[1])
-            return edits.move_joint(sec, row, delta, "exact")
+        if column == 1:
+            return edits.place_joint(sec, row, r=number)
+        if column == 2:
+            return edits.place_joint(sec, row, z=number)
         if column == 5 and isinstance(seg, Arc):
             return edits.set_arc_radius(sec, row, number)
         if column == 5:
@@ -146,7 +178,7 @@ class SectionTableModel(QAbstractTableModel):
         except (ValueError, TypeError) as exc:
             self.problem.emit(f"segment {index.row()}: {exc}")
             return False
-        self.sectionProposed.emit(proposal, f"Edit {COLUMNS[col]} of segment {index.row()}", "")
+        self.sectionProposed.emit(proposal, f"Edit {HEADERS[col].lower()} of segment {index.row()}", "")
         return True
 
 
@@ -155,14 +187,14 @@ class KindDelegate(QStyledItemDelegate):
 
     def createEditor(self, parent, option, index):
         combo = QComboBox(parent)
-        combo.addItems(list(KINDS))
+        words.fill_combo(combo, words.SEGMENT_KINDS, KINDS)
         return combo
 
     def setEditorData(self, editor, index):
-        editor.setCurrentText(str(index.data(Qt.EditRole)))
+        words.select_key(editor, str(index.data(Qt.EditRole)))
 
     def setModelData(self, editor, model, index):
-        model.setData(index, editor.currentText(), Qt.EditRole)
+        model.setData(index, editor.currentData(), Qt.EditRole)
 
 
 class MillimetreDelegate(QStyledItemDelegate):
@@ -183,3 +215,43 @@ class MillimetreDelegate(QStyledItemDelegate):
     def setModelData(self, editor, model, index):
         editor.interpretText()
         model.setData(index, editor.value(), Qt.EditRole)
+
+
+class SectionTable(QTableView):
+    """The table of a :class:`SectionTableModel`: kind and millimetre editors, and columns that
+    widen so that every value shows in full (checked on every change; it never shrinks during a
+    drag, so the columns do not jump)."""
+
+    def __init__(self, parent=None):
+        super().__init__(parent)
+        self.setModel(SectionTableModel(self))
+        self.setItemDelegateForColumn(0, KindDelegate(self))
+        self._mm_delegate = MillimetreDelegate(self)
+        for column in range(1, 7):
+            self.setItemDelegateForColumn(column, self._mm_delegate)
+        self.setSelectionBehavior(QAbstractItemView.SelectRows)
+        self.setToolTip("Exact numbers of the section's segments; double-click a value to type it")
+        header = self.horizontalHeader()
+        header.setSectionResizeMode(QHeaderView.Interactive)
+        self.model().modelReset.connect(self.fit_columns)
+        self.model().dataChanged.connect(lambda *_: self.fit_columns(grow_only=True))
+
+    def needed_width(self, column: int) -> int:
+        """Pixels ``column`` needs for its header and its widest value (and a plausible one)."""
+        fm = self.fontMetrics()
+        model = self.model()
+        texts = [model.headerData(column, Qt.Horizontal)]
+        texts += [model.data(model.index(row, column)) or "" for row in range(model.rowCount())]
+        if 1 <= column <= 6:
+            texts.append(WIDEST_NUMBER)
+        pad = 2 * self.style().pixelMetric(self.style().PixelMetric.PM_FocusFrameHMargin) + 16
+        if column == 8:
+            pad += 24  # the check box
+        return max(fm.horizontalAdvance(str(t)) for t in texts) + pad
+
+    def fit_columns(self, grow_only: bool = False):
+        header = self.horizontalHeader()
+        for column in range(self.model().columnCount()):
+            need = self.needed_width(column)
+            if not grow_only or header.sectionSize(column) < need:
+                header.resizeSection(column, need)

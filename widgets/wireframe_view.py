@@ -2,7 +2,9 @@
 
 Design rule: the view only uploads finished line sets (built off the GUI thread by
 :mod:`app.wireframe_controller`) into one persistent ``PolyData`` and renders once; it never
-tessellates. ``auto_update`` is off on purpose: the view renders when it gets new lines or
+tessellates. It looks through the design's camera (:meth:`set_camera`, called whenever the
+design's camera changes, so the two views stay in step: the same eye, target and vertical field
+of view); the designer may orbit it freely, and "Camera from 3D view" copies it back. ``auto_update`` is off on purpose: the view renders when it gets new lines or
 the user orbits, not on a timer. ``grab_framebuffer`` returns what VTK drew, so the window
 can paint it into a ``QWidget.grab`` (which cannot see the OpenGL surface by itself).
 """
@@ -35,6 +37,9 @@ class WireframeView(QWidget):
         layout.addWidget(self.plotter.interactor)
         self.poly = None
         self.actor = None
+        self.camera: Camera | None = None  # the design camera shown (None: frame the bottle)
+        self.setToolTip("The bottle's outer glass through the design's camera: drag to orbit, "
+                        "wheel to zoom; \u201cCamera from 3D view\u201d copies this view")
         self.last_upload_s = 0.0
         self.uploads = 0
         self._closed = False
@@ -50,12 +55,16 @@ class WireframeView(QWidget):
         new = self._pv.PolyData(np.asarray(points, dtype=float), lines=cells.ravel())
         if self.poly is None:
             self.poly = new
-            self.actor = self.plotter.add_mesh(self.poly, color="#d8e4f0", line_width=1.0)
-            self.plotter.view_xz()
-            self.plotter.reset_camera()
-            self.plotter.camera.zoom(1.5)  # why: reset_camera leaves a wide margin around the bottle
+            self.actor = self.plotter.add_mesh(self.poly, color="#d8e4f0", line_width=1.0,
+                                               reset_camera=False)
+            if self.camera is None:
+                self.plotter.view_xz()
+                self.plotter.reset_camera()
+            else:
+                self._apply_camera()
         else:
             self.poly.copy_from(new)
+        self.plotter.renderer.ResetCameraClippingRange()
         self.plotter.render()
         self.uploads += 1
         self.last_upload_s = time.perf_counter() - t0
@@ -68,10 +77,18 @@ class WireframeView(QWidget):
                       up=tuple(map(float, up)), fov_y_deg=float(cam.view_angle) or template.fov_y_deg)
 
     def set_camera(self, camera: Camera):
-        cam = self.plotter.camera
-        cam.position, cam.focal_point, cam.up = camera.eye, camera.target, camera.up
-        cam.view_angle = camera.fov_y_deg
+        """Look through the design's ``camera`` (eye, target, up in mm; vertical field of view)."""
+        if self._closed:
+            return
+        self.camera = camera
+        self._apply_camera()
         self.plotter.render()
+
+    def _apply_camera(self):
+        cam, c = self.plotter.camera, self.camera
+        cam.position, cam.focal_point, cam.up = c.eye, c.target, c.up
+        cam.view_angle = c.fov_y_deg
+        self.plotter.renderer.ResetCameraClippingRange()
 
     def grab_framebuffer(self) -> QImage:
         """What VTK drew, as a QImage the size of the view (for window screenshots)."""

@@ -14,6 +14,7 @@ import io
 import json
 import os
 
+from ..model.trade import NUMBER_KEYS, trade_numbers
 from .images import display_rgb8, write_bytes_atomic
 
 CONTACT_SHEET = "contact_sheet.png"
@@ -22,8 +23,6 @@ SUMMARY_JSON = "summary.json"
 #: Thumbnail box (pixels) and views per row of the contact sheet.
 THUMB = 160
 COLUMNS = 8
-NUMBER_KEYS = ("brimful_ml", "fill_ml", "fill_height_mm", "fill_point_below_top_mm",
-               "glass_volume_cm3", "glass_mass_g", "height_mm", "max_diameter_mm")
 
 
 def contact_sheet(job, frames, path: str, title: str = "") -> None:
@@ -69,7 +68,6 @@ def _fit(text: str, width: int, font) -> str:
 
 def variant_rows(job, manifest) -> list[dict]:
     """One summary row per variant: names, overrides, trade numbers, frames and render time."""
-    from ..cli import trade_numbers
     by_variant: dict = {}
     for frame in job.frames():
         entry = manifest.frames.get(frame.relpath, {})

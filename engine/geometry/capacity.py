@@ -95,6 +95,7 @@ def capacity_ml(shape, fill_height_mm: float) -> float:
     return _cavity_below_mm3(shape, float(fill_height_mm)) / MM3_PER_ML
 
 
+@lru_cache(maxsize=256)  # why: a drag checks the fill and then shows its numbers, same shape
 def fill_height_for_volume(shape, ml: float) -> float:
     """Height of the liquid surface when the bottle holds ``ml`` millilitres.
 

@@ -252,7 +252,9 @@ def _punt_junction(inner_base, inner_wall_full, name):
     """Where the raised inner base meets the inner wall: ``(segment index, t, z)``.
 
     Walks the inner base outwards until it reaches the inner wall's radius at its height
-    (a point below the inner wall's start counts as outside), then bisects.
+    (a point below the inner wall's start counts as outside), then narrows the crossing by
+    sampling it 64 times finer per step (vectorised: a few calls instead of 60 bisections,
+    since every call of the wall's radius has a fixed cost).
     """
     z_start = inner_wall_full[0].p0[1]
 
@@ -268,8 +270,12 @@ def _punt_junction(inner_base, inner_wall_full, name):
         hit = np.nonzero(outside(seg.point(t)))[0]
         if len(hit):
             lo, hi = t[hit[0] - 1], t[hit[0]]  # hit[0] > 0: t = 0 was inside (the previous end)
-            for _ in range(60):
-                lo, hi = (lo, 0.5 * (lo + hi)) if outside(seg.point(0.5 * (lo + hi))) else (0.5 * (lo + hi), hi)
+            for _ in range(10):  # each step 64x narrower: past float64 resolution after 10
+                ts = np.linspace(lo, hi, 65)
+                k = int(np.argmax(outside(seg.point(ts))[1:])) + 1  # the first sample outside
+                lo, hi = ts[k - 1], ts[k]
+                if hi - lo <= 1e-16:
+                    break
             tj = 0.5 * (lo + hi)
             return m, tj, float(seg.point(tj)[1])
     raise WallError(f"{name} section: the inner base never meets the inner wall "

@@ -101,6 +101,9 @@ def validate_section(section) -> None:
         raise SectionError(0, f"the section must start on the axis (r = 0), starts at r = {segs[0].p0[0]:g} mm")
     for i, seg in enumerate(segs):
         _check_segment(i, seg)
+        if _r_min(seg) < -POINT_TOL_MM:  # why first: a crossing also breaks tangents and joints
+            raise SectionError(i, f"the section crosses the axis (it reaches r = {_r_min(seg):.4g} mm; "
+                                  f"every point must stay at r >= 0)")
     for i in range(len(segs) - 1):
         a, b = segs[i].p1, segs[i + 1].p0
         gap = math.hypot(a[0] - b[0], a[1] - b[1])
@@ -110,8 +113,8 @@ def validate_section(section) -> None:
             ta, tb = segs[i].tangent(1.0), segs[i + 1].tangent(0.0)
             turn = math.atan2(ta[0] * tb[1] - ta[1] * tb[0], float(np.dot(ta, tb)))
             if abs(turn) > ANGLE_TOL_RAD:
-                raise SectionError(i + 1, f"joint {i} is set smooth but the tangent turns "
-                                          f"{math.degrees(turn):.4g} deg there")
+                raise SectionError(i + 1, f"the joint between segments {i} and {i + 1} is set "
+                                          f"smooth but the tangent turns {math.degrees(turn):.4g} deg there")
     base, wall, k = split_at_ring(section)
     _check_base(section, base, wall, k)
     for i, seg in enumerate(wall, start=k):
@@ -190,6 +193,7 @@ def validate_shape(shape) -> BodyProfile:
     w, bt = shape.wall_thickness, shape.base_thickness
     if not (w > 0 and math.isfinite(w)):
         raise WallError(f"the wall thickness must be a positive number of mm, got {w:g}")
+    _check_convex_radii(shape)  # why before the base: a thicker base cannot cure this one
     if not (bt >= w and math.isfinite(bt)):
         raise WallError(f"the base ({bt:g} mm) must be at least as thick as the wall ({w:g} mm)")
     if not math.isfinite(shape.rotation_deg):
@@ -234,9 +238,8 @@ def _check_cross_sections(kind, chains, z_lo, z_hi, which, err=SectionError) -> 
         raise WallError(where)
 
 
-def _check_walls(shape) -> BodyProfile:
-    """Wall thinner than convex radii of curvature; inner walls off the axis, rising and valid.
-    Returns the body profile it had to build for that."""
+def _check_convex_radii(shape) -> None:
+    """The wall thinner than the radius of curvature of every convex part of every section."""
     for name, sec in shape.sections:
         _, wall, k = split_at_ring(sec)
         walls = shape.wall_per_segment or [shape.wall_thickness] * len(wall)
@@ -251,8 +254,15 @@ def _check_walls(shape) -> BodyProfile:
                             a, b = seg.radius_r, seg.radius_z
                             kappa = max(kappa, a * b / (a * a * math.sin(s) ** 2 + b * b * math.cos(s) ** 2) ** 1.5)
                 if w * kappa >= 1.0 - 1e-12:
-                    raise WallError(f"{name} section, segment {i}: wall {w:g} mm is not thinner than the "
-                                    f"radius of curvature {1 / kappa:.4g} mm of this convex part")
+                    what = "arc" if isinstance(seg, Arc) else "ellipse arc (at its tightest)"
+                    raise WallError(f"{name} section, segment {i}: a {w:g} mm wall does not fit inside "
+                                    f"the {1 / kappa:.4g} mm radius of this convex {what}; the wall "
+                                    f"must be thinner than {1 / kappa:.4g} mm here")
+
+
+def _check_walls(shape) -> BodyProfile:
+    """Inner walls off the axis, rising and valid (the convex radii were checked before).
+    Returns the body profile it had to build for that."""
     prof = build_body_profile(shape)
     for sp, (name, sec) in zip(prof.sections, shape.sections):
         outer, k = sp.outer_wall, split_at_ring(sec)[2]

@@ -117,3 +117,16 @@ def fill_volume_ml(shape, liquid) -> float | None:
 def fill_height_of(design) -> float | None:
     """The liquid level (mm) of a whole design: :func:`fill_height_mm` of its shape and liquid."""
     return fill_height_mm(design.shape, design.liquid)
+
+
+def liquid_at_height(shape, liquid, height_mm: float):
+    """``liquid`` standing at ``height_mm`` (mm above z = 0), in its own fill mode: a height
+    liquid gets that height, a volume liquid the volume below it (ml, rounded to 0.01 ml), so a
+    drag of the fill line keeps the designer's choice of mode. ``None`` stays ``None``; the
+    result is not checked (:func:`check_fill` says whether it fits)."""
+    if liquid is None:
+        return None
+    check_fill_mode(liquid)
+    if liquid.fill_mode == "height":
+        return dataclasses.replace(liquid, fill_value=round(float(height_mm), 2))
+    return dataclasses.replace(liquid, fill_value=round(capacity.capacity_ml(shape, height_mm), 2))

@@ -19,6 +19,9 @@ from .design import Design
 
 #: Top-level field names of ``Design``: the names observers may receive (plus ``"assets"``).
 DESIGN_FIELDS = frozenset(f.name for f in dataclasses.fields(Design))
+#: Everything an observer may be told changed: every ``Design`` field and ``"assets"`` (what a
+#: view that shows a whole new design, such as a window opening, refreshes).
+ALL_CHANGES = DESIGN_FIELDS | {"assets"}
 
 Observer = Callable[[frozenset, "Scene"], None]
 

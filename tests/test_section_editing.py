@@ -1,4 +1,4 @@
-"""The editor's section edits (pure functions, no Qt): chains stay connected, smooth joints
+"""The section edits of engine.geometry.editing (pure functions, no Qt): chains stay connected, smooth joints
 stay tangent under stretch drags, and the inverse edits restore the section."""
 from __future__ import annotations
 
@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 
 from app.sample_design import bordeaux_section
 from engine.geometry.segments import Arc, EllipseArc, Line
-from widgets import section_edits as edits
+from engine.geometry import editing as edits
 
 SECTION = bordeaux_section()
 
@@ -117,3 +117,88 @@ def test_scaled_radially_keeps_heights_and_tangent_directions_of_vertical_lines(
         assert a.p1[1] == pytest.approx(b.p1[1])
         assert a.p1[0] == pytest.approx(1.25 * b.p1[0])
     assert _connected(wide) and _ends_on_curves(wide)
+
+
+# ------------------------------------------------------------- the finish stays, tangents hold
+from engine.files.project import load_project  # noqa: E402
+from engine.geometry.editing.joints import joint_name, place_joint  # noqa: E402
+from engine.geometry.validate import validate_shape  # noqa: E402
+
+BORDEAUX = load_project(__file__.rsplit("/tests/", 1)[0] + "/resources/bordeaux.glassbench")[0]
+PROFILE = BORDEAUX.shape.primary
+
+
+def _finish(section):
+    neck = section.segments[-1]
+    return neck.p1[0], neck.p1[1], neck.p0[0]
+
+
+@settings(max_examples=120, deadline=None)
+@given(joint=st.integers(0, len(PROFILE.segments) - 3), dr=st.floats(-4.0, 4.0),
+       dz=st.floats(-4.0, 4.0), mode=st.sampled_from(["stretch", "exact"]))
+def test_moving_a_joint_below_the_neck_keeps_the_finish_and_every_tangent(joint, dr, dz, mode):
+    if joint == 0 and mode == "exact":
+        dz = 0.0  # the base ends on z = 0 (a typed end z there is refused: see below)
+    try:
+        new = edits.move_joint(PROFILE, joint, (dr, dz), mode)
+    except ValueError:
+        return  # no such geometry: refused with a reason (see the tests below)
+    assert _connected(new) and _tangent_at_smooth_joints(new) and _ends_on_curves(new)
+    assert _finish(new) == pytest.approx(_finish(PROFILE), abs=1e-9)
+    if mode == "exact":
+        target = (PROFILE.segments[joint].p1[0] + dr, PROFILE.segments[joint].p1[1] + dz)
+        assert new.segments[joint].p1 == pytest.approx(target, abs=1e-9)
+
+
+def test_dragging_the_shoulder_keeps_neck_radius_and_height():
+    new = edits.move_joint(PROFILE, 3, (2.0, 6.0))  # the shoulder: end of the convex arc
+    assert new.segments[3].p1 == pytest.approx((PROFILE.segments[3].p1[0] + 2, PROFILE.segments[3].p1[1] + 6))
+    assert new.z_top == pytest.approx(300.0) and new.r_top == pytest.approx(14.5)
+    assert new.segments[5].p0[0] == pytest.approx(14.5), "the neck stays vertical at its radius"
+    validate_shape(BORDEAUX.shape.with_section("profile", new))
+    carried = edits.move_joint(PROFILE, 3, (2.0, 6.0), "carry")
+    assert carried.z_top == pytest.approx(306.0), "carry moves the finish with the joint"
+
+
+def test_the_mouth_and_the_neck_start_move_the_finish():
+    taller = edits.move_joint(PROFILE, 5, (0.0, 12.0))
+    assert taller.z_top == pytest.approx(312.0)
+    neck_start = edits.move_joint(PROFILE, 4, (0.0, 5.0))
+    assert neck_start.z_top == pytest.approx(300.0), "the neck gets shorter, the height stays"
+
+
+def test_a_typed_end_r_on_the_straight_body_keeps_it_tangent():
+    new = place_joint(PROFILE, 2, r=36.0)  # the body: tangent to the heel and to the shoulder
+    assert new.segments[2].p0[0] == pytest.approx(36.0) and new.segments[2].p1[0] == pytest.approx(36.0)
+    assert _tangent_at_smooth_joints(new) and _connected(new)
+    assert _finish(new) == pytest.approx(_finish(PROFILE))
+    validate_shape(BORDEAUX.shape.with_section("profile", new))
+
+
+def test_a_typed_value_that_cannot_be_reached_says_why():
+    with pytest.raises(ValueError, match="crosses the axis"):
+        place_joint(PROFILE, 2, r=-5.0)
+    with pytest.raises(ValueError, match="end z stays 0"):
+        place_joint(PROFILE, 0, z=3.0)
+
+
+def test_joints_are_named_by_the_segments_they_join():
+    assert joint_name(2) == "the joint between segments 2 and 3"
+
+
+def test_a_line_between_smooth_joints_becomes_an_arc_tangent_to_both_neighbours():
+    new = edits.convert_segment(PROFILE, 2, "arc")
+    assert isinstance(new.segments[2], Arc)
+    assert _connected(new) and _tangent_at_smooth_joints(new) and _ends_on_curves(new)
+    assert new.segments[1].center == PROFILE.segments[1].center, "the heel slides along its circle"
+    assert new.segments[3].center == PROFILE.segments[3].center
+    assert new.segments[2].p1[0] > 37.0 and max(new.segments[2].point(np.linspace(0, 1, 33))[:, 0]) > 37.5
+    assert _finish(new) == _finish(PROFILE)
+    validate_shape(BORDEAUX.shape.with_section("profile", new))
+    ellipse = edits.convert_segment(PROFILE, 2, "ellipse_arc")
+    assert isinstance(ellipse.segments[2], EllipseArc) and _tangent_at_smooth_joints(ellipse)
+
+
+def test_the_finish_stays_a_line():
+    with pytest.raises(ValueError, match="finish"):
+        edits.convert_segment(PROFILE, 5, "arc")

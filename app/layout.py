@@ -1,0 +1,148 @@
+"""Where the panes sit: the preview the largest, the window inside the screen, the layout kept.
+
+Design rule: the preview is the central widget and takes what the docks leave: the section
+editor on the left, the 3D view above the design numbers on the right, and the materials and the
+camera as tabs below them. Every dock's panel sits in a scroll area, so no panel's size can push
+the window past the screen (a 1600 x 1000 screen fits everything, status bar included). The
+window opens on the available part of its screen; closing it stores its geometry, the docks'
+state, the section splitter and the tint thicknesses in the window's ``QSettings``, and the next
+window restores them (clamped to the screen it opens on).
+"""
+from __future__ import annotations
+
+from PySide6.QtCore import QByteArray, QRect, QSignalBlocker, QSize, Qt
+from PySide6.QtWidgets import QDockWidget, QFrame, QScrollArea
+
+#: Widths (px) of the side docks on a fresh layout; the preview gets the rest.
+SECTION_WIDTH = 440
+SIDE_WIDTH = 350
+#: Height (px) of the 3D view on a fresh layout.
+WIREFRAME_HEIGHT = 300
+#: Largest default window (px); bigger screens get this much, smaller ones all they have.
+DEFAULT_SIZE = QSize(1600, 1000)
+KEYS = {"geometry": "window/geometry", "rect": "window/rect", "state": "window/state",
+        "split": "window/section_split",
+        "glass_mm": "tint/glass_mm", "liquid_mm": "tint/liquid_mm"}
+STATE_VERSION = 2
+
+
+def scrolled(widget) -> QScrollArea:
+    """``widget`` in a frameless scroll area that lets it shrink below its own minimum size."""
+    area = QScrollArea()
+    area.setWidget(widget)
+    area.setWidgetResizable(True)
+    area.setFrameShape(QFrame.NoFrame)
+    area.setHorizontalScrollBarPolicy(Qt.ScrollBarAsNeeded)
+    return area
+
+
+def add_dock(window, title: str, widget, area, scroll: bool = True) -> QDockWidget:
+    dock = QDockWidget(title, window)
+    dock.setObjectName(title)
+    dock.setWidget(scrolled(widget) if scroll else widget)
+    window.addDockWidget(area, dock)
+    return dock
+
+
+def build_docks(window) -> dict:
+    """Put ``window``'s panels in docks around the preview; returns them by name."""
+    window.setCentralWidget(window.preview)
+    docks = {"section": add_dock(window, "Section", window.section_panel, Qt.LeftDockWidgetArea)}
+    if window.wireframe is not None:
+        docks["wireframe"] = add_dock(window, "3D view", window.wireframe, Qt.RightDockWidgetArea,
+                                      scroll=False)
+    docks["design"] = add_dock(window, "Design", window.trade_panel, Qt.RightDockWidgetArea)
+    docks["materials"] = add_dock(window, "Materials", window.materials_panel, Qt.RightDockWidgetArea)
+    docks["camera"] = add_dock(window, "Camera and environment", window.camera_panel,
+                               Qt.RightDockWidgetArea)
+    window.tabifyDockWidget(docks["materials"], docks["camera"])
+    docks["materials"].raise_()
+    return docks
+
+
+def default_sizes(window, docks: dict):
+    """The fresh layout: side docks at their default widths, the 3D view at its height."""
+    window.resizeDocks([docks["section"]], [SECTION_WIDTH], Qt.Horizontal)
+    window.resizeDocks([docks["design"]], [SIDE_WIDTH], Qt.Horizontal)
+    if "wireframe" in docks:
+        window.resizeDocks([docks["wireframe"]], [WIREFRAME_HEIGHT], Qt.Vertical)
+
+
+def screen_rect(window) -> QRect:
+    """The available geometry (px) of the screen the window is on (or the primary one)."""
+    screen = window.screen()
+    return screen.availableGeometry() if screen is not None else QRect(0, 0, 1600, 1000)
+
+
+def fit_to_screen(window):
+    """Give ``window`` the default size, or all of its screen when that is smaller, and keep
+    it (frame included) inside the screen."""
+    avail = screen_rect(window)
+    frame = window.frameGeometry().size() - window.geometry().size()
+    width = min(DEFAULT_SIZE.width(), avail.width()) - frame.width()
+    height = min(DEFAULT_SIZE.height(), avail.height()) - frame.height()
+    window.resize(max(width, 200), max(height, 200))
+    clamp_to_screen(window)
+
+
+def clamp_to_screen(window):
+    """Shrink and move ``window`` so that all of it is on its screen."""
+    avail = screen_rect(window)
+    frame = window.frameGeometry().size() - window.geometry().size()
+    width = min(window.width(), avail.width() - frame.width())
+    height = min(window.height(), avail.height() - frame.height())
+    if (width, height) != (window.width(), window.height()):
+        window.resize(width, height)
+    g = window.frameGeometry()
+    x = min(max(g.x(), avail.x()), avail.right() - g.width() + 1)
+    y = min(max(g.y(), avail.y()), avail.bottom() - g.height() + 1)
+    if (x, y) != (g.x(), g.y()):
+        window.move(x, y)
+
+
+def restore(window, settings) -> bool:
+    """Restore the layout stored in ``settings``; ``False`` when there was none."""
+    geometry, state = settings.value(KEYS["geometry"]), settings.value(KEYS["state"])
+    if not isinstance(geometry, QByteArray) or not isinstance(state, QByteArray):
+        return False
+    ok = window.restoreGeometry(geometry) and window.restoreState(state, STATE_VERSION)
+    rect = settings.value(KEYS["rect"])
+    if isinstance(rect, QRect) and not window.isMaximized():
+        # why: restoreGeometry guesses the window frame without a window manager and shrinks
+        # the window by a title bar it does not have; the plain rectangle comes back exactly
+        window.resize(rect.size())
+        window.move(rect.topLeft())
+    split = settings.value(KEYS["split"])
+    if isinstance(split, QByteArray):
+        window.section_panel.split.restoreState(split)
+    panel = window.materials_panel
+    for key, spin in (("glass_mm", panel.glass_thickness), ("liquid_mm", panel.liquid_thickness)):
+        try:
+            value = float(settings.value(KEYS[key], spin.value()))
+        except (TypeError, ValueError):
+            continue
+        with QSignalBlocker(spin):  # a remembered view of the tint, not an edit of the glass
+            spin.setValue(value)
+    panel.refresh(window.scene.design)
+    clamp_to_screen(window)
+    return ok
+
+
+def save(window, settings):
+    """Store the window's layout in ``settings`` (on closing)."""
+    settings.setValue(KEYS["geometry"], window.saveGeometry())
+    settings.setValue(KEYS["rect"], QRect(window.pos(), window.size()))
+    settings.setValue(KEYS["state"], window.saveState(STATE_VERSION))
+    settings.setValue(KEYS["split"], window.section_panel.split.saveState())
+    settings.setValue(KEYS["glass_mm"], window.materials_panel.glass_thickness.value())
+    settings.setValue(KEYS["liquid_mm"], window.materials_panel.liquid_thickness.value())
+    settings.sync()
+
+
+def preview_size(pane_px: tuple[int, int], width: int, height: int, max_pixels: int) -> tuple[int, int]:
+    """The largest render with the aspect of ``width`` x ``height`` (the design's image) that
+    fits ``pane_px`` (device pixels) and has at most ``max_pixels`` pixels."""
+    pw, ph = pane_px
+    scale = min(pw / width, ph / height)
+    scale = min(scale, (max_pixels / (width * height)) ** 0.5)
+    return max(1, int(width * scale)), max(1, int(height * scale))

@@ -1,0 +1,92 @@
+"""The layers of the code: no import circles between modules, widgets never import the
+application shell, and the geometry and camera maths the panels use live in the engine."""
+from __future__ import annotations
+
+import ast
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+PACKAGES = ("app", "widgets", "engine")
+
+
+def _module_name(path: Path) -> str:
+    parts = list(path.relative_to(ROOT).with_suffix("").parts)
+    if parts[-1] == "__init__":
+        parts.pop()
+    return ".".join(parts)
+
+
+def _imports(path: Path, known: set[str]) -> set[str]:
+    """Modules of this repository that ``path`` imports, at any depth of its code."""
+    tree = ast.parse(path.read_text(encoding="utf-8"))
+    here = _module_name(path).split(".")
+    package = here if path.name == "__init__.py" else here[:-1]
+    found = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names = [a.name for a in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                base = ".".join(package[:len(package) - node.level + 1] + ([base] if base else []))
+            names = [base] + [f"{base}.{a.name}" for a in node.names]
+        else:
+            continue
+        found |= {n for n in names if n in known}
+    return found
+
+
+def _graph() -> dict[str, set[str]]:
+    files = [p for pkg in PACKAGES for p in (ROOT / pkg).rglob("*.py")]
+    known = {_module_name(p) for p in files}
+    return {_module_name(p): _imports(p, known) - {_module_name(p)} for p in files}
+
+
+def _cycle(graph: dict[str, set[str]]) -> list[str] | None:
+    state: dict[str, int] = {}
+    stack: list[str] = []
+
+    def visit(node: str) -> list[str] | None:
+        state[node] = 1
+        stack.append(node)
+        for nxt in sorted(graph.get(node, ())):
+            if nxt.rsplit(".", 1)[0] == node or node.rsplit(".", 1)[0] == nxt:
+                continue  # a package and its own modules (re-exports) are one unit
+            if state.get(nxt) == 1:
+                return stack[stack.index(nxt):] + [nxt]
+            if nxt not in state:
+                found = visit(nxt)
+                if found:
+                    return found
+        stack.pop()
+        state[node] = 2
+        return None
+
+    for node in sorted(graph):
+        if node not in state:
+            found = visit(node)
+            if found:
+                return found
+    return None
+
+
+def test_no_module_imports_itself_through_others():
+    assert _cycle(_graph()) is None, f"import circle: {' -> '.join(_cycle(_graph()))}"
+
+
+def test_the_cycle_finder_finds_a_circle():
+    assert _cycle({"a.x": {"a.y"}, "a.y": {"a.z"}, "a.z": {"a.x"}}) == ["a.x", "a.y", "a.z", "a.x"]
+
+
+def test_widgets_never_import_the_application_shell():
+    graph = _graph()
+    bad = {m: sorted(d for d in deps if d.startswith("app")) for m, deps in graph.items()
+           if m.startswith("widgets")}
+    assert not {m: d for m, d in bad.items() if d}
+def test_section_geometry_and_orbit_maths_live_in_the_engine():
+    import engine.geometry.editing as editing
+    import engine.model.orbit as orbit
+    for name in ("move_joint", "convert_segment", "split_segment", "set_arc_radius", "handles_of"):
+        assert callable(getattr(editing, name))
+    assert callable(orbit.camera_to_orbit) and callable(orbit.orbit_to_camera)
+    assert not (ROOT / "widgets" / "section_edits.py").exists()

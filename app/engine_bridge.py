@@ -18,7 +18,7 @@ from engine.files import atomic, dxf_import, mesh_export, project
 from engine.model import advice, check, fill, orbit, trade
 from engine.model.design import Design
 from engine.errors import GlassbenchError
-from engine.model.scene import ALL_CHANGES, Scene  # noqa: F401 - ALL_CHANGES: for the window
+from engine.model.scene import ALL_CHANGES, Scene, changed_fields  # noqa: F401 - for the window
 from engine.geometry.section import Section
 from engine.geometry.shape import BottleShape
 from engine.tracer import job as tracer_job
@@ -173,6 +173,13 @@ def wireframe_lines(shape: BottleShape, tol_mm: float = 0.5):
 
 
 # ---------------------------------------------------------------------------- tracer
+def warm_up_tracer():
+    """Load (or compile) the tracer's kernels on a background thread; returns the thread."""
+    from engine.tracer.warmup import warm_up_async
+
+    return warm_up_async()
+
+
 def tracer_job_class():
     """The class that renders a Design progressively (``engine.tracer.job.RenderJob``)."""
     return tracer_job.RenderJob

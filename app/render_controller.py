@@ -75,9 +75,11 @@ class RenderController(QObject):
         self._flush_timer.timeout.connect(self.flush_tiles)
         self._worker_tile.connect(self._on_worker_tile)
         self._worker_done.connect(self._on_worker_done)
-        # why: leave one core to the GUI thread, or drags stutter while the tracer runs
+        # why: every core: the tracer's kernels release the GIL, and the GUI thread only copies
+        # finished tiles (the GUI-drag benchmark measures the cost of this choice)
         cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 2)
-        self.threads = max(1, min(8, cores - 1))
+        self.threads = max(1, min(8, cores))
+        self._last_full = None  # the last full render's job: what an edit that changes nothing reuses
         self.held = False
         self._live_allowed = True
         self.converged_generation = -1
@@ -173,12 +175,24 @@ class RenderController(QObject):
         self.state, self.wave = state, wave
         self.stateChanged.emit(state, wave, float(fraction))
 
-    def _make_job(self, generation, design, assets, width, height, spp):
-        """The tracer job for one render (the one place that builds one)."""
-        return engine_bridge.tracer_job_class()(
+    def _make_job(self, generation, design, assets, width, height, spp, live=False):
+        """The tracer job for one render (the one place that builds one). A full render is told
+        the design fields that changed since the last full render, so that an edit of nothing
+        it renders (a name, the notes) keeps that film instead of tracing it again."""
+        reuse = {}
+        prev = self._last_full
+        if not live and prev is not None:
+            changed = set(engine_bridge.changed_fields(prev.design, design))
+            if dict(prev.assets or {}) != dict(assets or {}):
+                changed.add("assets")
+            reuse = {"previous": prev, "changed": changed}
+        job = engine_bridge.tracer_job_class()(
             design, assets, width=width, height=height, spp=spp, threads=self.threads,
             on_tile=lambda j, t, g=generation: self._worker_tile.emit(g, j, t),
-            on_done=lambda j, g=generation: self._worker_done.emit(g, j))
+            on_done=lambda j, g=generation: self._worker_done.emit(g, j), **reuse)
+        if not live:
+            self._last_full = job
+        return job
 
     def _start_pending(self):
         if self._pending is None:
@@ -192,7 +206,7 @@ class RenderController(QObject):
             spp = LIVE_SPP
             self._live_started = time.monotonic()
         try:
-            job = self._make_job(generation, design, assets, width, height, spp)
+            job = self._make_job(generation, design, assets, width, height, spp, live)
             self.job, self.live, self.size = job, live, (width, height)
             self.progressed.emit(generation, 0.0, width, height)
             job.start()

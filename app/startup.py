@@ -25,9 +25,10 @@ from app.document import RecentFiles
 from app.sample_design import sample_design
 from app.window import MainWindow
 
-#: How long --screenshot waits for the preview to converge at the pane's size (the numpy tracer on
-#: two shared cores takes tens of minutes for the Bordeaux sample at 16 samples per pixel).
-SCREENSHOT_TIMEOUT_MS = 2 * 60 * 60 * 1000
+#: How long --screenshot waits for the preview to converge at the pane's size (the compiled
+#: tracer needs seconds to a minute on two shared cores; compiling its kernels on a fresh
+#: machine adds about a minute).
+SCREENSHOT_TIMEOUT_MS = 20 * 60 * 1000
 
 
 def grab_window(window):
@@ -70,6 +71,8 @@ def initial_document(project_path: str | None, recent: RecentFiles | None):
 
 def run(project_path: str | None, screenshot: str | None) -> int:
     """Open the window; with ``screenshot`` save a picture once converged and quit."""
+    # why: the tracer's kernels load (or, on a fresh machine, compile) while the window opens
+    engine_bridge.warm_up_tracer()
     app = QApplication.instance() or QApplication(sys.argv[:1])
     app.setApplicationName("glassbench")
     app.setOrganizationName("glassbench")

@@ -2,7 +2,7 @@
 
 Design rule: the tree is walked depth first; at every boundary the material's children are
 pushed smallest weight first, so the heaviest child is followed next. The stack therefore
-never holds more than one waiting sibling per level: its capacity ``max_depth + 2`` bounds the
+never holds more than ``MAX_CHILDREN - 1`` waiting siblings per level: its capacity bounds the
 memory of a sample whatever the scene, and the first chain followed (always the heaviest
 child) is the sample's *dominant path*, whose object sequence is the sample's signature (the
 sampler compares neighbours' signatures to find edges). A branch ends when it escapes (adds
@@ -33,7 +33,8 @@ import numpy as np
 from numba import njit
 
 from .intersect import O_MAT, fill_interaction, I_NGX, nearest_hit, object_media
-from .materials import M_KIND, SMOOTH_DIELECTRIC, smooth_dielectric
+from .materials import (CONDUCTOR, K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND, PLASTIC,
+                        SMOOTH_DIELECTRIC, conductor, smooth_dielectric)
 from .roots import INLINE, JIT
 from .sampling import branch_seed, env_lookup, mix64, uniform01
 
@@ -84,7 +85,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
     dominant path's objects, and a bit per object the tree met.
     """
     seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
-    stk_f, stk_i, stk_u, roots, crit, ivals, si, kids = work
+    stk_f, stk_i, stk_u, roots, crit, ivals, si, kids, order = work
     scale, rot = env_p[0], env_p[1]
     cap = stk_f.shape[0]
     lr = lg = lb = 0.0
@@ -159,17 +160,26 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
             counters[C_MISMATCH] += 1
         kind = mat_i[mat, M_KIND]
         nk = 0
+        cos_i = abs(dn)
         if kind == SMOOTH_DIELECTRIC:
-            nk = smooth_dielectric(dx, dy, dz, fx, fy, fz, abs(dn), media[trn, 0] / media[inc, 0], kids)
-        # push children lightest first, so the heaviest is followed next
-        order0, order1 = 0, 1
-        if nk == 2 and kids[1, 3] < kids[0, 3]:
-            order0, order1 = 1, 0
+            nk = smooth_dielectric(dx, dy, dz, fx, fy, fz, cos_i, media[trn, 0] / media[inc, 0], 1.0, kids, 0)
+        elif kind == CONDUCTOR:
+            nk = conductor(mat_f, mat, dx, dy, dz, fx, fy, fz, cos_i, 1.0, kids, 0)
+        # push children lightest first, so the heaviest is followed next (insertion by weight)
+        for a_ in range(nk):
+            order[a_] = a_
+        for a_ in range(1, nk):
+            v = order[a_]
+            wv = kids[v, KW_R] + kids[v, KW_G] + kids[v, KW_B]
+            b_ = a_ - 1
+            while b_ >= 0 and kids[order[b_], KW_R] + kids[order[b_], KW_G] + kids[order[b_], KW_B] > wv:
+                order[b_ + 1] = order[b_]
+                b_ -= 1
+            order[b_ + 1] = v
         for q in range(nk):
-            c = order0 if q == 0 else order1
-            f = kids[c, 3]
-            cr, cg, cb = wr * f, wg * f, wb * f
-            cdx, cdy, cdz = kids[c, 0], kids[c, 1], kids[c, 2]
+            c = order[q]
+            cr, cg, cb = wr * kids[c, KW_R], wg * kids[c, KW_G], wb * kids[c, KW_B]
+            cdx, cdy, cdz = kids[c, KD_X], kids[c, KD_Y], kids[c, KD_Z]
             wmax = max(cr, max(cg, cb))
             if wmax < rr_weight:  # Russian roulette: survive with probability w / rr_weight
                 q_s = wmax / rr_weight
@@ -192,7 +202,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
             stk_f[top, K_OX], stk_f[top, K_OY], stk_f[top, K_OZ] = px, py, pz
             stk_f[top, K_DX], stk_f[top, K_DY], stk_f[top, K_DZ] = cdx, cdy, cdz
             stk_f[top, K_WR], stk_f[top, K_WG], stk_f[top, K_WB] = cr, cg, cb
-            stk_i[top, KI_MEDIUM] = trn if kids[c, 4] > 0.5 else inc
+            stk_i[top, KI_MEDIUM] = trn if kids[c, K_SIDE] > 0.5 else inc
             stk_i[top, KI_DEPTH] = depth + 1
             stk_i[top, KI_LAST] = k
             stk_i[top, KI_SIDE] = 1 if cdx * nx + cdy * ny + cdz * nz >= 0.0 else -1

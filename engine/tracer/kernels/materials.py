@@ -1,13 +1,20 @@
 """What a hit does to a branch: the materials of the tracer, compiled.
 
 Design rule: a material turns one incoming branch at a surface interaction into at most
-``MAX_CHILDREN`` outgoing branches (direction, weight, medium) plus radiance it returns at once
-(emission or a lit diffuse part); the integrator owns the tree. Today's material is the smooth
-dielectric interface between the media on the two sides of a surface (SPEC section 5:
-unpolarised Fresnel, total internal reflection, both branches). Rough dielectrics, paper and
-conductors take their own kind number here and their parameters from ``mat_f``; branches that
-need random numbers draw them from the branch's own seed (:func:`~engine.tracer.kernels.
-sampling.uniform01`), so the image stays deterministic.
+``MAX_CHILDREN`` outgoing branches (direction, RGB weight factor, which side's medium) written
+into ``kids``, and returns the radiance it sends back at once (a lit diffuse part); the
+integrator owns the tree. Kinds (``mat_i[m, M_KIND]``, parameters in ``mat_f``):
+
+=================  =========================================================================
+SMOOTH_DIELECTRIC  the interface between the media on the two sides (SPEC section 5: unpolarised
+                   Fresnel, total internal reflection, both branches)
+CONDUCTOR          a metal: complex IOR ``(n, k)`` per RGB channel, times a tint (foil, caps)
+PLASTIC            a dielectric coat (IOR) over a lit diffuse base (albedo RGB)
+=================  =========================================================================
+
+Paper labels are a decal over another material (:mod:`~engine.tracer.kernels.appearance`).
+Branches that need random numbers draw them from the branch's own seed
+(:func:`~engine.tracer.kernels.sampling.uniform01`), so the image stays deterministic.
 """
 from __future__ import annotations
 
@@ -17,10 +24,17 @@ from numba import njit
 
 from .roots import INLINE, JIT
 
-SMOOTH_DIELECTRIC = 0
-MAX_CHILDREN = 2
+SMOOTH_DIELECTRIC, CONDUCTOR, PLASTIC = 0, 1, 2
+MAX_CHILDREN = 4
+# kids columns: direction, RGB weight factor, medium side (0: incident side, 1: transmitted)
+KD_X, KD_Y, KD_Z, KW_R, KW_G, KW_B, K_SIDE = range(7)
+KID_COLS = 8
 # mat_i columns
 M_KIND = 0
+# mat_f columns: CONDUCTOR n (rgb), k (rgb), tint (rgb); PLASTIC albedo (rgb), coat ior
+MF_N, MF_K, MF_TINT = 0, 3, 6
+MF_ALBEDO, MF_COAT_IOR = 0, 3
+MAT_COLS = 12
 
 
 @njit(**JIT)
@@ -41,24 +55,66 @@ def fresnel_dielectric(cos_i, eta):
 
 
 @njit(**JIT)
-def smooth_dielectric(dx, dy, dz, nx, ny, nz, cos_i, eta, out):
-    """Both branches of a smooth interface; ``n`` faces the incident side (``d . n < 0``).
+def fresnel_conductor(cos_i, n, k):
+    """Unpolarised reflectance of a conductor with complex IOR ``n + i k`` (from a dielectric
+    of index 1) at incidence cosine ``cos_i``: the exact s and p amplitudes, averaged."""
+    c = min(1.0, max(0.0, cos_i))
+    c2 = c * c
+    s2 = 1.0 - c2
+    t0 = n * n - k * k - s2
+    a2b2 = math.sqrt(t0 * t0 + 4.0 * n * n * k * k)
+    a = math.sqrt(max(0.5 * (a2b2 + t0), 0.0))
+    t1 = a2b2 + c2
+    t2 = 2.0 * a * c
+    rs = (t1 - t2) / (t1 + t2)
+    t3 = c2 * a2b2 + s2 * s2
+    t4 = t2 * s2
+    rp = rs * (t3 - t4) / (t3 + t4)
+    return min(1.0, max(0.0, 0.5 * (rs + rp)))
 
-    Writes ``out[c] = (dx, dy, dz, weight factor, transmitted?)`` per child and returns the
-    number of children (1 under total internal reflection, else 2: reflected, refracted).
-    """
+
+@njit(**INLINE)
+def _mirror(kids, c, dx, dy, dz, nx, ny, nz, cos_i, fr, fg, fb):
+    kids[c, KD_X] = dx + 2.0 * cos_i * nx
+    kids[c, KD_Y] = dy + 2.0 * cos_i * ny
+    kids[c, KD_Z] = dz + 2.0 * cos_i * nz
+    kids[c, KW_R], kids[c, KW_G], kids[c, KW_B] = fr, fg, fb
+    kids[c, K_SIDE] = 0.0
+
+
+@njit(**JIT)
+def smooth_dielectric(dx, dy, dz, nx, ny, nz, cos_i, eta, scale, kids, c):
+    """Both branches of a smooth interface, their weights times ``scale``, into ``kids[c:]``;
+    ``n`` faces the incident side (``d . n < 0``). Returns the number of children (1 under
+    total internal reflection, else 2: reflected, refracted)."""
     refl, cos_t = fresnel_dielectric(cos_i, eta)
-    out[0, 0] = dx + 2.0 * cos_i * nx
-    out[0, 1] = dy + 2.0 * cos_i * ny
-    out[0, 2] = dz + 2.0 * cos_i * nz
-    out[0, 3] = refl
-    out[0, 4] = 0.0
+    _mirror(kids, c, dx, dy, dz, nx, ny, nz, cos_i, refl * scale, refl * scale, refl * scale)
     if refl >= 1.0:
         return 1
     k = cos_i / eta - cos_t
     tx, ty, tz = dx / eta + k * nx, dy / eta + k * ny, dz / eta + k * nz
     h = math.sqrt(tx * tx + ty * ty + tz * tz)
-    out[1, 0], out[1, 1], out[1, 2] = tx / h, ty / h, tz / h
-    out[1, 3] = 1.0 - refl
-    out[1, 4] = 1.0
+    f = (1.0 - refl) * scale
+    kids[c + 1, KD_X], kids[c + 1, KD_Y], kids[c + 1, KD_Z] = tx / h, ty / h, tz / h
+    kids[c + 1, KW_R], kids[c + 1, KW_G], kids[c + 1, KW_B] = f, f, f
+    kids[c + 1, K_SIDE] = 1.0
     return 2
+
+
+@njit(**JIT)
+def conductor(mat_f, m, dx, dy, dz, nx, ny, nz, cos_i, scale, kids, c):
+    """The mirror branch of a metal (per-channel Fresnel of ``(n, k)`` times the tint)."""
+    fr = fresnel_conductor(cos_i, mat_f[m, MF_N], mat_f[m, MF_K]) * mat_f[m, MF_TINT]
+    fg = fresnel_conductor(cos_i, mat_f[m, MF_N + 1], mat_f[m, MF_K + 1]) * mat_f[m, MF_TINT + 1]
+    fb = fresnel_conductor(cos_i, mat_f[m, MF_N + 2], mat_f[m, MF_K + 2]) * mat_f[m, MF_TINT + 2]
+    _mirror(kids, c, dx, dy, dz, nx, ny, nz, cos_i, fr * scale, fg * scale, fb * scale)
+    return 1
+
+
+@njit(**JIT)
+def coat(ior, dx, dy, dz, nx, ny, nz, cos_i, scale, kids, c):
+    """The mirror branch of a dielectric coat of index ``ior`` over a diffuse base; returns the
+    fraction ``1 - R`` that reaches the base."""
+    refl, _ = fresnel_dielectric(cos_i, ior)
+    _mirror(kids, c, dx, dy, dz, nx, ny, nz, cos_i, refl * scale, refl * scale, refl * scale)
+    return 1.0 - refl

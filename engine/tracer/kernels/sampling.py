@@ -78,28 +78,27 @@ def env_lookup(tex, scale, rot, dx, dy, dz):
     """Radiance ``(r, g, b)`` arriving along unit direction ``d`` (SPEC 3, bilinear, u wraps,
     rows clamped), times ``scale``; the map is turned by ``rot`` rad about +z."""
     h, w = tex.shape[0], tex.shape[1]
-    phi = math.atan2(dy, dx) - rot
-    u = (phi / (2.0 * math.pi)) % 1.0
-    v = math.acos(min(1.0, max(-1.0, dz))) / math.pi
-    x = (u * w - 0.5) % w
+    u = (math.atan2(dy, dx) - rot) * (0.5 / math.pi)
+    u -= math.floor(u)
+    v = math.acos(min(1.0, max(-1.0, dz))) * (1.0 / math.pi)
+    x = u * w - 0.5
+    x -= w * math.floor(x / w)
     y = v * (h - 1)
-    i0 = int(math.floor(x))
+    i0 = int(x)
     fx = x - i0
     if i0 > w - 1:
         i0 = w - 1
-    i1 = (i0 + 1) % w
-    j0 = min(int(math.floor(y)), h - 2)
+    i1 = i0 + 1 if i0 + 1 < w else 0
+    j0 = int(y)
+    if j0 > h - 2:
+        j0 = h - 2
     fy = y - j0
     j1 = j0 + 1
-    out0 = out1 = out2 = 0.0
-    for c in range(3):
-        top = tex[j0, i0, c] * (1.0 - fx) + tex[j0, i1, c] * fx
-        bot = tex[j1, i0, c] * (1.0 - fx) + tex[j1, i1, c] * fx
-        val = (top * (1.0 - fy) + bot * fy) * scale
-        if c == 0:
-            out0 = val
-        elif c == 1:
-            out1 = val
-        else:
-            out2 = val
-    return out0, out1, out2
+    w00 = (1.0 - fx) * (1.0 - fy)
+    w01 = fx * (1.0 - fy)
+    w10 = (1.0 - fx) * fy
+    w11 = fx * fy
+    r = (tex[j0, i0, 0] * w00 + tex[j0, i1, 0] * w01 + tex[j1, i0, 0] * w10 + tex[j1, i1, 0] * w11) * scale
+    g = (tex[j0, i0, 1] * w00 + tex[j0, i1, 1] * w01 + tex[j1, i0, 1] * w10 + tex[j1, i1, 1] * w11) * scale
+    b = (tex[j0, i0, 2] * w00 + tex[j0, i1, 2] * w01 + tex[j1, i0, 2] * w10 + tex[j1, i1, 2] * w11) * scale
+    return r, g, b

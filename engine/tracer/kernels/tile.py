@@ -11,16 +11,20 @@ import numpy as np
 from numba import njit
 
 from .integrator import trace_sample
+from .intersect import I_COLS
+from .materials import KID_COLS, MAX_CHILDREN
 from .roots import JIT
 from .sampling import C_EYE, C_W, camera_ray, mix64, pixel_offset
 
 
 @njit(**JIT)
 def make_work(max_depth):
-    """Scratch arrays for one worker: stack (``max_depth + 2`` entries) and solver space."""
-    cap = max_depth + 2
+    """Scratch arrays for one worker: the stack (a depth-first tree holds at most
+    ``MAX_CHILDREN - 1`` waiting siblings per level) and solver space."""
+    cap = (MAX_CHILDREN - 1) * max_depth + 2
     return (np.zeros((cap, 9)), np.zeros((cap, 4), np.int64), np.zeros(cap, np.uint64),
-            np.zeros(16), np.zeros(5), np.zeros((64, 2)), np.zeros(18), np.zeros((2, 5)))
+            np.zeros(16), np.zeros(5), np.zeros((64, 2)), np.zeros(I_COLS), np.zeros((MAX_CHILDREN, KID_COLS)),
+            np.zeros(MAX_CHILDREN, np.int64))
 
 
 @njit(**JIT)

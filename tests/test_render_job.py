@@ -127,3 +127,20 @@ def test_render_command_writes_png_and_exr(tmp_path, capsys):
         img = read_radiance_image(tmp_path / name)
         assert img.shape == (16, 20, 3) and img.max() > 0
     assert "rendered 20x16" in capsys.readouterr().out
+
+
+def test_an_edit_of_nothing_rendered_keeps_the_film_and_a_visible_edit_does_not():
+    import dataclasses
+
+    design = simple_design(40.0, width=24, height=24, spp=2)
+    first = RenderJob(design, threads=2).start()
+    assert first.wait(120) and first.error is None
+    renamed = dataclasses.replace(design, name="another name", notes="n")
+    again = RenderJob(renamed, threads=2, previous=first, changed={"name", "notes"}).start()
+    assert again.wait(120) and again.error is None
+    assert again.film is first.film and again.stats.rays_cast == first.stats.rays_cast
+    assert again.progress == 1.0 and np.array_equal(again.image(), first.image())
+    tinted = dataclasses.replace(design, glass=dataclasses.replace(design.glass, absorption=(0.05, 0, 0)))
+    third = RenderJob(tinted, threads=2, previous=first, changed={"glass"}).start()
+    assert third.wait(120) and third.film is not first.film
+    assert not np.array_equal(third.image(), first.image())

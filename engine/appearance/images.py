@@ -169,7 +169,7 @@ def check_png_chunks(data, name: str) -> None:
         length, kind = struct.unpack_from(">I4s", data, at)
         end = at + 12 + length
         if length > n or end > n:
-            raise ArtworkError(f"{name} is truncated (a PNG chunk runs past the end of the file)")
+            raise ArtworkError(f"{name} is truncated or damaged (a PNG chunk runs past the end of the file)")
         if not kind.isalpha() or (not seen_ihdr and kind != b"IHDR"):
             raise ArtworkError(f"{name} is a damaged PNG (bad chunk {shown(kind)})")
         if zlib.crc32(data[at + 4:end - 4]) != struct.unpack_from(">I", data, end - 4)[0]:

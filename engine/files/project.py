@@ -28,6 +28,7 @@ import zlib
 from dataclasses import dataclass
 from typing import Mapping
 
+from ..appearance.placement import check_label_placement
 from ..geometry.validate import body_profile
 from ..model.check import check_values
 from ..model.design import Design
@@ -287,6 +288,7 @@ def check_design(design: Design, assets: Mapping[str, bytes]) -> None:
             raise ProjectError(f"design.{where} names asset {shown(name)}, which the project lacks")
     validate_design_shape(design)
     check_fill(design.shape, design.liquid)
+    check_label_placement(design)
 
 
 def check_assets(assets: Mapping[str, bytes], limits: Limits = DEFAULT_LIMITS) -> None:

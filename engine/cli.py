@@ -1,4 +1,4 @@
-"""The ``glassbench`` subcommands that need no window: info, export-mesh, new, render.
+"""The ``glassbench`` subcommands that need no window: info, export-mesh, new, render, labels.
 
 Design rule: each subcommand is a small function over the engine's public API; ``main``
 turns every expected failure (a bad project, a bad DXF, a missing file, a tracer that
@@ -20,7 +20,8 @@ from .errors import GlassbenchError, ProjectError, bounded, shown
 from .geometry.shape import BottleShape
 from .model.trade import format_table, trade_numbers  # noqa: F401 - also for callers of the CLI
 
-SUBCOMMANDS = ("info", "export-mesh", "new", "render", "batch", "turntable")
+SUBCOMMANDS = ("info", "export-mesh", "new", "render", "batch", "turntable", "labels", "dieline",
+               "label")
 EXIT_ERROR = 2
 
 
@@ -60,6 +61,7 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--height", type=int, default=None)
     render.add_argument("--spp", type=int, default=None)
     add_batch_parsers(sub)
+    add_label_parsers(sub)
     return p
 
 
@@ -67,7 +69,8 @@ def main(argv: list[str] | None = None) -> int:
     """Run one subcommand; returns the exit status (0 ok, 2 error; argparse exits 2 itself)."""
     args = build_parser().parse_args(argv)
     handler = {"info": cmd_info, "export-mesh": cmd_export_mesh, "new": cmd_new,
-               "render": cmd_render, "batch": cmd_batch, "turntable": cmd_turntable}[args.command]
+               "render": cmd_render, "batch": cmd_batch, "turntable": cmd_turntable,
+               "labels": cmd_labels, "dieline": cmd_dieline, "label": cmd_label}[args.command]
     try:
         return handler(args)
     except KeyboardInterrupt:
@@ -220,4 +223,31 @@ def cmd_batch(args) -> int:
 def cmd_turntable(args) -> int:
     """``turntable PROJECT --frames N -o DIR``: DIR/frame_0000.EXT ... about the bottle's axis."""
     from .batch.commands import cmd_turntable as run
+    return run(args)
+
+
+# ------------------------------------------------------------- labels, dieline, label
+# What the printer needs and scripted label variants live in engine.appearance.label_cli.
+
+def add_label_parsers(sub) -> None:
+    """Add ``labels``, ``dieline`` and ``label`` (see :mod:`engine.appearance.label_cli`)."""
+    from .appearance.label_cli import add_parsers
+    add_parsers(sub)
+
+
+def cmd_labels(args) -> int:
+    """``labels PROJECT [--json]``: area, flat die-line, largest strain, warnings per label."""
+    from .appearance.label_cli import cmd_labels as run
+    return run(args)
+
+
+def cmd_dieline(args) -> int:
+    """``dieline PROJECT LABEL -o OUT.svg|pdf|dxf``: the label's flat shape, 1:1."""
+    from .appearance.label_cli import cmd_dieline as run
+    return run(args)
+
+
+def cmd_label(args) -> int:
+    """``label PROJECT add IMAGE --z --height --width ...`` / ``remove LABEL``: saves."""
+    from .appearance.label_cli import cmd_label as run
     return run(args)

@@ -64,6 +64,35 @@ MAX_ENV_TEXELS = 1 << 25
 #: Largest texel value kept; brighter texels (and +Inf) are clipped to it.
 MAX_TEXEL = 1e9
 
+# ------------------------------------------------------------------------------------ labels
+#: Label height (slant) and width (girth arc) in mm: a millimetre-wide strip up to 2 m.
+LABEL_SIZE_RANGE_MM = (1.0, MAX_EXTENT_MM)
+#: Label coefficients (diffuse K, specular coat, diffuse transmission) and face colours
+#: (linear RGB): fractions of the light; ``diffuse + transmission`` may not exceed 1 either.
+LABEL_COEFFICIENT_RANGE = (0.0, 1.0)
+LABEL_COLOR_RANGE = (0.0, 1.0)
+#: Chroma-key tolerance: Euclidean distance of sRGB values (0..1 each); 1 keys most colours.
+KEY_TOLERANCE_RANGE = (0.0, 1.0)
+#: Most finish regions per label (region maps are uint8: 0 is plain paper) and key colours
+#: per region.
+MAX_LABEL_REGIONS = 32
+MAX_KEY_COLORS = 16
+#: Emboss relief (mm; negative: debossed) and finish gloss (0 matte .. 1 mirror).
+EMBOSS_DEPTH_RANGE_MM = (-2.0, 2.0)
+GLOSS_RANGE = (0.0, 1.0)
+#: Artwork and mask images: bytes of one file, texels of one image (4096 x 4096, 256 MB as
+#: linear float32 RGBA), its longest side, its shortest side (a 1 x 1 image is a plain colour:
+#: give the colour), and texels of all label images of one design together.
+MAX_ARTWORK_BYTES = 64 << 20
+MAX_ARTWORK_TEXELS = 1 << 24
+MAX_ARTWORK_SIDE = 16384
+MIN_ARTWORK_SIDE = 2
+MAX_DESIGN_ARTWORK_TEXELS = 1 << 25
+#: Strain paper takes before it wrinkles or lifts (0.5 %): more is a warning, with where.
+PAPER_STRAIN = 0.005
+#: Most grid nodes along either side of a label's decal (its (s, t) table for the tracer).
+MAX_DECAL_NODES = 256
+
 # ------------------------------------------------------------------------------------- render
 WIDTH_RANGE = (1, 16384)
 HEIGHT_RANGE = (1, 16384)

@@ -16,9 +16,21 @@ from engine.model.design import Camera, Label
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 BORDEAUX = os.path.join(REPO, "resources", "bordeaux.glassbench")
-PNG_1PX = (b"\x89PNG\r\n\x1a\n\x00\x00\x00\rIHDR\x00\x00\x00\x01\x00\x00\x00\x01\x08\x02\x00\x00\x00"
-           b"\x90wS\xde\x00\x00\x00\x0cIDATx\x9cc\xf8\xcf\xc0\x00\x00\x03\x01\x01\x00\xc9\xfe\x92\xef"
-           b"\x00\x00\x00\x00IEND\xaeB`\x82")
+
+
+def png(width: int, height: int) -> bytes:
+    """A red RGB PNG of ``width`` x ``height`` pixels, built by hand."""
+    import struct
+    import zlib
+
+    def chunk(kind, body):
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+    rows = b"".join(b"\x00" + b"\xff\x00\x00" * width for _ in range(height))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+PNG_2PX = png(2, 2)
 
 JOB = f"""\
 # a review of two bottles
@@ -140,16 +152,19 @@ def test_json_lines_are_kept_for_nested_keys(tmp_path):
 def test_label_artwork_replaces_the_named_labels_asset(tmp_path):
     design, assets = load_project(BORDEAUX)
     project = tmp_path / "labelled.glassbench"
-    save_project(project, dataclasses.replace(design, labels=(Label("front"), Label("back"))), assets)
-    (tmp_path / "front.png").write_bytes(PNG_1PX)
+    save_project(project, dataclasses.replace(design, labels=(Label("front"), Label("back", angle_deg=90.0))), assets)
+    (tmp_path / "front.png").write_bytes(PNG_2PX)
+    (tmp_path / "dot.png").write_bytes(png(1, 1))
     (tmp_path / "notes.txt").write_text("not an image")
     text = (f'output = "o"\n[[projects]]\nfile = "{project}"\n[[projects.variants]]\n'
             'labels = { front = "front.png" }\n')
     var = read_job(write(tmp_path, text)).variants[0]
     front, back = var.design.labels
-    assert var.assets[front.asset] == PNG_1PX and back.asset is None
+    assert var.assets[front.front.asset] == PNG_2PX and back.front.asset is None
     with pytest.raises(JobError, match=r"job.toml:5: labels: label 'front': .*notes.txt is not a PNG"):
         read_job(write(tmp_path, text.replace("front.png", "notes.txt")))
+    with pytest.raises(JobError, match=r"job.toml:5: labels: label 'front': dot.png is 1 x 1 pixels"):
+        read_job(write(tmp_path, text.replace("front.png", "dot.png")))
 
 
 def test_turntable_frames_orbit_the_axis_and_keep_the_view():

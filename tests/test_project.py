@@ -11,8 +11,8 @@ import zipfile
 
 import pytest
 
-from engine.model.design import (BumpTile, Cap, Camera, Design, Environment, Glass, Label, Light,
-                           Liquid, RenderSettings)
+from engine.model.design import (BumpTile, Cap, Camera, Design, Environment, Glass, Label, LabelSide,
+                                 Light, Liquid, RenderSettings)
 from engine.errors import ProjectError
 from engine.files.project import Limits, load_project, load_project_bytes, save_project
 from engine.geometry.section import Section
@@ -41,7 +41,8 @@ def make_design() -> Design:
                   environment=Environment("file", "studio.exr", 1.25, 10.0),
                   lights=(Light(), Light((1, 0, 1), (0.5, 0.5, 0.4), 2.0)),
                   render=RenderSettings(360, 480, 8, 20, 1e-4),
-                  labels=(Label("front", "front.png"),), bumps=(BumpTile(),), cap=Cap(18.0),
+                  labels=(Label("front", LabelSide("front.png"), z_mm=50.0, height_mm=40.0,
+                                width_mm=90.0 + 1.0 / 3.0),), bumps=(BumpTile(),), cap=Cap(18.0),
                   name="Test ✓", notes="line1\nline2")
 
 
@@ -291,7 +292,7 @@ def test_save_refuses_what_load_would_refuse(tmp_path):
 def test_awkward_text_and_asset_names_round_trip(tmp_path):
     design = dataclasses.replace(make_design(), notes="[" * 500 + '{"q": "\\"}' + "\u00e9\U0001F37E",
                                  environment=Environment("file", "my studio (2).exr", 1.0, 0.0),
-                                 labels=(Label("front", "café label.png"),))
+                                 labels=(Label("front", LabelSide("café label.png"), z_mm=50.0),))
     assets = {"my studio (2).exr": b"env", "café label.png": b"png"}
     save_project(tmp_path / "p.glassbench", design, assets)
     assert load_project(tmp_path / "p.glassbench") == (design, assets)

@@ -15,7 +15,7 @@ key                 meaning
 ``fill_height_mm``  liquid surface height above the bottom (mm)
 ``fill_ml``         liquid volume (ml), solved to a height by the capacity engine
 ``empty``           ``true``: no liquid
-``labels``          ``{label name = "artwork.png"}``: replaces that label's artwork asset
+``labels``          ``{label name = "artwork.png"}``: replaces the front artwork of that label
 ``camera``          ``{eye, target, up, fov_y_deg}``: replaces those camera fields
 ==================  ==================================================================
 """
@@ -129,7 +129,7 @@ def _apply_labels(design, assets, value, base_dir, fail):
         asset = f"label-{name}{ext}"
         i = names.index(name)
         assets[asset] = data
-        labels[i] = dataclasses.replace(labels[i], asset=asset)
+        labels[i] = dataclasses.replace(labels[i], front=dataclasses.replace(labels[i].front, asset=asset))
     return dataclasses.replace(design, labels=tuple(labels))
 
 
@@ -143,8 +143,15 @@ def _read_artwork(path, fail):
         raise fail(f"{path} is larger than {MAX_ARTWORK_BYTES} bytes")
     for magic, ext in IMAGE_MAGIC.items():
         if data.startswith(magic):
-            return data, ext
-    raise fail(f"{path} is not a PNG, JPEG, TIFF or EXR image")
+            break
+    else:
+        raise fail(f"{path} is not a PNG, JPEG, TIFF or EXR image")
+    from ..appearance.images import ArtworkError, probe_image
+    try:  # the header: size, and a file OpenImageIO can open (nothing decoded yet)
+        probe_image(data, os.path.basename(path))
+    except ArtworkError as exc:
+        raise fail(str(exc)) from None
+    return data, ext
 
 
 def camera_from_table(value, base: Camera, fail) -> Camera:

@@ -4,8 +4,10 @@ Design rule: every part is a frozen dataclass of plain numbers, strings and tupl
 ``Design`` hashes, compares by value and can be handed to worker threads as a snapshot. Edits
 make a new value with ``dataclasses.replace``; :class:`engine.model.scene.Scene` holds the current
 one and tells observers which top-level fields changed. Units: mm, 1/mm for absorption,
-degrees where a name ends in ``_deg``. Parts that later issues fill in (labels, bump tiles,
-cap) have their place here as tuples so that the file format already carries them.
+degrees where a name ends in ``_deg``. Parts that later issues fill in (bump tiles, cap) have
+their place here so that the file format already carries them. Labels are complete values:
+placement, faces, coefficients and finish regions (their mapping onto the glass is
+:mod:`engine.appearance`).
 """
 from __future__ import annotations
 
@@ -84,12 +86,83 @@ class RenderSettings:
     min_weight: float = 1e-3
 
 
+#: What a finish region of a label turns its part of the artwork into (optics in
+#: :mod:`engine.appearance.presets`): metal foils, clear film that lets the glass show (with or
+#: without a white underprint), a relief that bends the normal, a gloss varnish.
+FINISH_KINDS = ("gold_foil", "silver_foil", "clear_vinyl", "clear_vinyl_white", "emboss", "varnish")
+#: Where a finish region comes from: artwork colours near key colours, or a separate mask image.
+REGION_SOURCES = ("chroma", "mask")
+
+
+@dataclass(frozen=True)
+class LabelSide:
+    """One face of a label sheet: artwork, or a plain colour.
+
+    ``asset`` names an image embedded in the project (PNG, JPEG, TIFF, EXR; decoded to linear
+    RGBA by :mod:`engine.appearance.images`); with ``asset`` ``None`` the face is the plain
+    linear-RGB ``color`` (each channel 0..1). Either is multiplied by the label's ``diffuse``.
+    """
+
+    asset: str | None = None
+    color: RGB = (1.0, 1.0, 1.0)
+
+
+@dataclass(frozen=True)
+class FinishRegion:
+    """A part of the front artwork with a finish of its own.
+
+    ``source`` ``"chroma"``: the texels whose sRGB colour lies within ``tolerance`` (Euclidean
+    distance of sRGB values 0..1) of one of ``keys`` (sRGB 0..1, as an eyedropper reads them);
+    ``"mask"``: the texels where the image ``mask_asset`` is inked (dark, as print separations
+    are delivered; resampled to the artwork's size). ``finish`` is one of :data:`FINISH_KINDS`;
+    ``depth_mm`` is the relief of ``"emboss"`` (mm, negative: debossed) and ``gloss`` (0 matte
+    .. 1 mirror) the smoothness of foils, film and varnish. Later regions win where they overlap.
+    """
+
+    name: str = "foil"
+    finish: str = "gold_foil"
+    source: str = "chroma"
+    keys: tuple[RGB, ...] = ()
+    tolerance: float = 0.1
+    mask_asset: str | None = None
+    depth_mm: float = 0.0
+    gloss: float = 0.9
+
+
 @dataclass(frozen=True)
 class Label:
-    """A paper or vinyl label (filled in by the labels issue)."""
+    """A thin two-sided sheet of paper or film on the outer wall.
+
+    Placement is measured on the surface (mm): ``z_mm`` is the height of the label's centre
+    above the standing plane, ``angle_deg`` the azimuth of its centre about +z (world frame,
+    from +x towards +y), ``height_mm`` its length along the wall (slant) and ``width_mm`` its
+    arc length around the girth at mid-height (on a non-round body the cross-section's
+    perimeter). Seen from outside, the front artwork's top is up and it reads left to right
+    with increasing azimuth; the back is seen from inside the bottle, the right way round for
+    a viewer there (:func:`engine.appearance.decal.back_coordinates`).
+
+    ``diffuse`` (K) multiplies the face colour (artwork decoded from sRGB to linear),
+    ``specular`` weights a clear coat, ``transmission`` is the diffuse transmission of the
+    sheet; each is 0..1 and ``diffuse + transmission <= 1``. ``regions`` are finish regions of
+    the front; the order of ``Design.labels`` is the overlap order (later on top).
+    """
 
     name: str = "label"
-    asset: str | None = None
+    front: LabelSide = field(default_factory=LabelSide)
+    back: LabelSide = field(default_factory=LabelSide)
+    z_mm: float = 100.0
+    angle_deg: float = -90.0
+    height_mm: float = 60.0
+    width_mm: float = 80.0
+    diffuse: float = 0.85
+    specular: float = 0.05
+    transmission: float = 0.1
+    regions: tuple[FinishRegion, ...] = ()
+
+    def asset_names(self) -> tuple[str, ...]:
+        """The assets the label refers to (front, back, masks), in that order, each once."""
+        names = [self.front.asset, self.back.asset] + [r.mask_asset for r in self.regions]
+        return tuple(dict.fromkeys(n for n in names if n is not None))
 
 
 @dataclass(frozen=True)

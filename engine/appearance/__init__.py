@@ -1,0 +1,27 @@
+"""Surface appearance: what covers the glass and how it lies on it.
+
+Design rule: this package owns everything about what sits on the bottle's surface except the
+ray tracing itself: labels now (images decoded to linear RGBA, finish regions, the exact map of
+a label onto the outer wall and its flat die-line, the tables the tracer reads), bump tiles and
+closures from another engineer. It is plain Python and numpy (no Qt); :mod:`engine.tracer`
+reads the data it produces and never the other way round.
+
+==========================  ===================================================================
+module                      holds
+==========================  ===================================================================
+``images``                  artwork and mask files -> linear float32 RGBA, checked, cached
+``regions``                 chroma keys and masks -> uint8 region index maps
+``girth``                   arc length around a cross-section (round, rounded square/rect, oval)
+``surface``                 the outer wall in label terms: arc length along a round section,
+                            girth and slant of non-round walls, the tracer's ``(theta, h)``
+``frame``                   one label's exact map between ``(theta, h)`` and artwork ``(s, t)``
+``placement``               whether a label lies on the glass (for ``check_design``)
+``flatten``                 least-distortion (as-rigid-as-possible) flattening of a grid, strain
+``decal``                   the tracer's table per label: footprint, (s, t) grid, strain
+``dieline``                 the flat shape a printer cuts, area, largest strain, warnings
+``dieline_files``           the die-line as SVG, PDF or DXF, to scale with dimensions
+``compiled``                every label of a design packed into flat arrays for the kernels
+``presets``                 finish optics (foil n, k) and presets of coefficients and finishes
+``label_cli``               ``glassbench labels / dieline / label add``
+==========================  ===================================================================
+"""

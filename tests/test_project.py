@@ -41,7 +41,7 @@ def make_design() -> Design:
                   environment=Environment("file", "studio.exr", 1.25, 10.0),
                   lights=(Light(), Light((1, 0, 1), (0.5, 0.5, 0.4), 2.0)),
                   render=RenderSettings(360, 480, 8, 20, 1e-4),
-                  labels=(Label("front", "front.png"),), bumps=(BumpTile(),), cap=Cap(18.0),
+                  labels=(Label("front", "front.png"),), bumps=(BumpTile(),), cap=Cap(height=18.0),
                   name="Test ✓", notes="line1\nline2")
 
 

@@ -6,12 +6,13 @@ becomes one :class:`engine.errors.ProjectError` naming it; nothing is half-loade
 atomic: a temporary file in the same folder, fsync, ``os.replace``; the previous file is
 kept as ``NAME.glassbench.bak``.
 
-``project.json`` (format 1, current)::
+``project.json`` (format 2, current)::
 
-    {"format_version": 1, "generator": "glassbench 0.1.0",
+    {"format_version": 2, "generator": "glassbench 0.1.0",
      "design": {... engine.files.serialize.design_to_dict ...}}
 
-Older formats (format 0, the prototype layout documented in :mod:`engine.files.serialize`) are
+Older formats (format 0, the prototype layout documented in :mod:`engine.files.serialize`;
+format 1, with placeholder bump tiles and cap, :mod:`engine.files.migrate_finishes`) are
 migrated step by step to the current one before the design is read.
 """
 from __future__ import annotations
@@ -27,6 +28,7 @@ import zlib
 from dataclasses import dataclass
 from typing import Mapping
 
+from ..appearance.finish_check import check_finishes
 from ..geometry.validate import body_profile
 from ..model.check import check_values
 from ..model.design import Design
@@ -271,8 +273,10 @@ def check_design(design: Design, assets: Mapping[str, bytes]) -> None:
     values (:func:`engine.model.check.check_values`, the limits of :mod:`engine.limits`), the
     assets (:func:`check_assets`) and those named by the environment and labels, the geometry
     (:func:`engine.geometry.validate.validate_shape`), the liquid level
-    (:func:`engine.model.fill.check_fill`). Raises ``ProjectError`` (a ``DesignError`` for a
-    value); ``SectionError`` / ``WallError`` from validation are wrapped with their message kept.
+    (:func:`engine.model.fill.check_fill`), the relief images and the closure's fit
+    (:func:`engine.appearance.finish_check.check_finishes`). Raises ``ProjectError`` (a
+    ``DesignError`` for a value); ``SectionError`` / ``WallError`` from validation are wrapped
+    with their message kept.
     """
     check_values(design)
     check_assets(assets)
@@ -283,6 +287,7 @@ def check_design(design: Design, assets: Mapping[str, bytes]) -> None:
             raise ProjectError(f"design.{where} names asset {shown(name)}, which the project lacks")
     validate_design_shape(design)
     check_fill(design.shape, design.liquid)
+    check_finishes(design, assets)
 
 
 def check_assets(assets: Mapping[str, bytes], limits: Limits = DEFAULT_LIMITS) -> None:

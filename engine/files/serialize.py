@@ -11,7 +11,8 @@ Floats are written as Python floats; ``json`` writes them with ``repr``, which r
 float64 exactly.
 
 A *document* is what ``project.json`` holds: ``{"format_version": N, "generator": str,
-"design": {...}}``. Format 1 is current. Format 0, the prototype layout, is still read::
+"design": {...}}``. Format 2 is current (format 1 had placeholder bump tiles and cap:
+:mod:`engine.files.migrate_finishes`). Format 0, the prototype layout, is still read::
 
     {"format_version": 0, "name": str,
      "shape": {"cross_section": str, "sections": {NAME: [segment, ...]},
@@ -36,11 +37,12 @@ from functools import lru_cache
 from ..errors import ProjectError, shown
 from ..limits import MAX_LIST_ITEMS as LIST_LIMIT, MAX_SEGMENTS, MAX_TEXT_CHARS
 from ..model.design import Design
+from .migrate_finishes import migrate_1_to_2
 from ..geometry.section import Section
 from ..geometry.shape import SECTION_NAMES, BottleShape
 
 #: The format this glassbench writes (``project.json``'s ``format_version``).
-CURRENT_FORMAT = 1
+CURRENT_FORMAT = 2
 #: Longest string accepted anywhere in a design (:data:`engine.limits.MAX_TEXT_CHARS`).
 MAX_STRING_CHARS = MAX_TEXT_CHARS
 #: Most items accepted in any list (:data:`engine.limits.MAX_LIST_ITEMS`); a section's
@@ -336,4 +338,4 @@ _PLACEHOLDER_SHAPE = BottleShape("round", (("profile", Section.from_dicts([
     {"type": "line", "p0": [0.0, 0.0], "p1": [10.0, 0.0]},
     {"type": "line", "p0": [10.0, 0.0], "p1": [10.0, 10.0]}])),))
 
-MIGRATIONS = {0: _migrate_0_to_1}
+MIGRATIONS = {0: _migrate_0_to_1, 1: migrate_1_to_2}

@@ -1,4 +1,4 @@
-"""The ``glassbench`` subcommands that need no window: info, export-mesh, new, render.
+"""The ``glassbench`` subcommands that need no window: info, export-mesh, new, render, cap, bump.
 
 Design rule: each subcommand is a small function over the engine's public API; ``main``
 turns every expected failure (a bad project, a bad DXF, a missing file, a tracer that
@@ -19,7 +19,7 @@ from . import limits
 from .errors import GlassbenchError, ProjectError, bounded, shown
 from .geometry.shape import BottleShape
 
-SUBCOMMANDS = ("info", "export-mesh", "new", "render", "batch", "turntable")
+SUBCOMMANDS = ("info", "export-mesh", "new", "render", "batch", "turntable", "cap", "bump")
 EXIT_ERROR = 2
 
 
@@ -59,6 +59,7 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--height", type=int, default=None)
     render.add_argument("--spp", type=int, default=None)
     add_batch_parsers(sub)
+    add_finish_parsers(sub)
     return p
 
 
@@ -66,7 +67,8 @@ def main(argv: list[str] | None = None) -> int:
     """Run one subcommand; returns the exit status (0 ok, 2 error; argparse exits 2 itself)."""
     args = build_parser().parse_args(argv)
     handler = {"info": cmd_info, "export-mesh": cmd_export_mesh, "new": cmd_new,
-               "render": cmd_render, "batch": cmd_batch, "turntable": cmd_turntable}[args.command]
+               "render": cmd_render, "batch": cmd_batch, "turntable": cmd_turntable,
+               "cap": cmd_cap, "bump": cmd_bump}[args.command]
     try:
         return handler(args)
     except KeyboardInterrupt:
@@ -99,7 +101,11 @@ def trade_numbers(design: Design) -> dict:
 
     ``fill_ml``/``fill_height_mm`` follow the liquid's fill mode: a height is converted to
     the volume below it, a volume to the height that holds it (:mod:`engine.model.fill`).
+    ``closure`` is ``None`` or ``{"kind", "diameter_mm", "height_mm"}`` and
+    ``overall_height_mm`` the height with the closure on
+    (:func:`engine.appearance.closures.closure_trade`).
     """
+    from .appearance.closures import closure_trade
     from .geometry import capacity
     from .model import fill
     shape = design.shape
@@ -114,6 +120,7 @@ def trade_numbers(design: Design) -> dict:
         height = fill.fill_height_mm(shape, design.liquid)
         out.update(fill_ml=fill.fill_volume_ml(shape, design.liquid), fill_height_mm=height,
                    fill_point_below_top_mm=float(shape.z_top - height))
+    out["closure"], out["overall_height_mm"] = closure_trade(design)
     return {k: (float(v) if isinstance(v, (int, float)) and not isinstance(v, bool) else v)
             for k, v in out.items()}
 
@@ -122,7 +129,8 @@ _INFO_ROWS = (("brimful_ml", "Brimful capacity", "ml"), ("fill_ml", "Fill volume
               ("fill_height_mm", "Fill height", "mm"),
               ("fill_point_below_top_mm", "Fill point below top", "mm"),
               ("glass_volume_cm3", "Glass volume", "cm3"), ("glass_mass_g", "Glass mass", "g"),
-              ("height_mm", "Height", "mm"), ("max_diameter_mm", "Max diameter", "mm"))
+              ("height_mm", "Height", "mm"), ("max_diameter_mm", "Max diameter", "mm"),
+              ("overall_height_mm", "Overall height", "mm"))
 
 
 def format_table(numbers: dict) -> str:
@@ -132,6 +140,10 @@ def format_table(numbers: dict) -> str:
         v = numbers.get(key)
         text = "-" if v is None else f"{v:10.1f} {unit}"
         lines.append(f"  {label:<22}{text}")
+    closure = numbers.get("closure")
+    if closure:
+        lines.append(f"  {'Closure':<22}{closure['kind']}, {closure['diameter_mm']:.1f} mm across, "
+                     f"{closure['height_mm']:.1f} mm high")
     return "\n".join(lines)
 
 
@@ -260,4 +272,25 @@ def cmd_batch(args) -> int:
 def cmd_turntable(args) -> int:
     """``turntable PROJECT --frames N -o DIR``: DIR/frame_0000.EXT ... about the bottle's axis."""
     from .batch.commands import cmd_turntable as run
+    return run(args)
+
+
+# ------------------------------------------------------------------------- cap, bump
+# Closures and bump tiles live in engine.appearance; these three functions hand over to it.
+
+def add_finish_parsers(sub) -> None:
+    """Add ``cap`` and ``bump`` (see :mod:`engine.appearance.commands`)."""
+    from .appearance.commands import add_parsers
+    add_parsers(sub)
+
+
+def cmd_cap(args) -> int:
+    """``cap PROJECT set KIND [--colour HEX]``: put a closure on the finish (``none``: off)."""
+    from .appearance.commands import cmd_cap as run
+    return run(args)
+
+
+def cmd_bump(args) -> int:
+    """``bump PROJECT add KIND --z0 MM --z1 MM [--repeat N] [--depth MM]``, ``list``, ``remove``."""
+    from .appearance.commands import cmd_bump as run
     return run(args)

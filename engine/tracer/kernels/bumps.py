@@ -116,7 +116,8 @@ def _relief(kind, p, u, v):
         else:                                # diamond: grooves at +-45 deg, pyramids between
             g1, d1 = _ridge(a + b, k)
             g2, d2 = _ridge(a - b, k)
-            f, fa, fb = 0.25 * (g1 + g2) - 0.5, 0.25 * (d1 + d2), 0.25 * (d1 - d2)
+            m, wm = _smin(g1, g2, 1.05 - k)
+            f, fa, fb = 0.5 * (m - 1.0), 0.5 * (wm * d1 + (1.0 - wm) * d2), 0.5 * (wm * d1 - (1.0 - wm) * d2)
         return depth * w * f, depth * w * fa / pu, depth * (dw * f + w * fb / pv)
     if kind == STIPPLE:
         row = math.floor(b)

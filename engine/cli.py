@@ -1,4 +1,5 @@
-"""The ``glassbench`` subcommands that need no window: info, export-mesh, new, render, labels.
+"""The ``glassbench`` subcommands that need no window: info, export-mesh, new, render, labels,
+dieline, label, cap, bump.
 
 Design rule: each subcommand is a small function over the engine's public API; ``main``
 turns every expected failure (a bad project, a bad DXF, a missing file, a tracer that
@@ -21,7 +22,7 @@ from .geometry.shape import BottleShape
 from .model.trade import format_table, trade_numbers  # noqa: F401 - also for callers of the CLI
 
 SUBCOMMANDS = ("info", "export-mesh", "new", "render", "batch", "turntable", "labels", "dieline",
-               "label")
+               "label", "cap", "bump")
 EXIT_ERROR = 2
 
 
@@ -62,6 +63,7 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--spp", type=int, default=None)
     add_batch_parsers(sub)
     add_label_parsers(sub)
+    add_finish_parsers(sub)
     return p
 
 
@@ -70,7 +72,8 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     handler = {"info": cmd_info, "export-mesh": cmd_export_mesh, "new": cmd_new,
                "render": cmd_render, "batch": cmd_batch, "turntable": cmd_turntable,
-               "labels": cmd_labels, "dieline": cmd_dieline, "label": cmd_label}[args.command]
+               "labels": cmd_labels, "dieline": cmd_dieline, "label": cmd_label,
+               "cap": cmd_cap, "bump": cmd_bump}[args.command]
     try:
         return handler(args)
     except KeyboardInterrupt:
@@ -250,4 +253,22 @@ def cmd_dieline(args) -> int:
 def cmd_label(args) -> int:
     """``label PROJECT add IMAGE --z --height --width ...`` / ``remove LABEL``: saves."""
     from .appearance.label_cli import cmd_label as run
+# ------------------------------------------------------------------------- cap, bump
+# Closures and bump tiles live in engine.appearance; these three functions hand over to it.
+
+def add_finish_parsers(sub) -> None:
+    """Add ``cap`` and ``bump`` (see :mod:`engine.appearance.commands`)."""
+    from .appearance.commands import add_parsers
+    add_parsers(sub)
+
+
+def cmd_cap(args) -> int:
+    """``cap PROJECT set KIND [--colour HEX]``: put a closure on the finish (``none``: off)."""
+    from .appearance.commands import cmd_cap as run
+    return run(args)
+
+
+def cmd_bump(args) -> int:
+    """``bump PROJECT add KIND --z0 MM --z1 MM [--repeat N] [--depth MM]``, ``list``, ``remove``."""
+    from .appearance.commands import cmd_bump as run
     return run(args)

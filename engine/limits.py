@@ -92,6 +92,24 @@ MAX_DESIGN_ARTWORK_TEXELS = 1 << 25
 PAPER_STRAIN = 0.005
 #: Most grid nodes along either side of a label's decal (its (s, t) table for the tracer).
 MAX_DECAL_NODES = 256
+# ------------------------------------------------------------------- bump tiles and closures
+#: Deepest relief (mm) of a bump tile: deeper relief than this is geometry, not a finish.
+MAX_BUMP_DEPTH_MM = 10.0
+#: Pattern repeats around the girth (knurl grooves, flutes, facets, dots, image copies).
+BUMP_REPEAT_RANGE = (1, 4096)
+#: Microfacet roughness of frosted or satin glass (GGX alpha): 0.02 satin .. 0.5 deep etch.
+GGX_ALPHA_RANGE = (0.02, 0.5)
+#: Texels of a relief image (height, colour-code or normal map): 2048 x 2048 float texels
+#: (48 MB as slopes); a larger image is refused from its header, before it is decoded.
+MAX_RELIEF_TEXELS = 1 << 22
+#: Longest side (texels) of a relief image, and the smallest (a map needs a neighbourhood).
+RELIEF_SIDE_RANGE = (2, 8192)
+#: Height of a closure above or along the finish (mm); 0 asks for the kind's standard size.
+CAP_HEIGHT_RANGE = (0.0, 300.0)
+#: Ridges, flutes or lugs on a closure; 0 asks for the kind's standard count.
+CAP_COUNT_RANGE = (0, 720)
+#: Lugs of a lug cap (twist-off), when given.
+CAP_LUGS_RANGE = (2, 8)
 
 # ------------------------------------------------------------------------------------- render
 WIDTH_RANGE = (1, 16384)

@@ -37,11 +37,12 @@ def test_a_labelled_design_round_trips_exactly(tmp_path):
 
 
 def test_the_migration_turns_format_1_placeholders_into_placed_labels(tmp_path):
-    assert CURRENT_FORMAT == 2 and MIGRATIONS[1] is migrate_1_to_2
+    assert CURRENT_FORMAT == 2
     design = design_with(cylinder_shape(r=30.0, top=150.0))
     doc1 = {"format_version": 1, "generator": "glassbench 0.1.0", "design": design_to_dict(design)}
     doc1["design"]["labels"] = [{"name": "front", "asset": "front.png"}, {"name": "neck", "asset": None}]
     migrated = migrate_1_to_2(json.loads(json.dumps(doc1)))
+    assert MIGRATIONS[1](json.loads(json.dumps(doc1))) == migrated  # the registered step
     assert migrated["format_version"] == 2 and migrated["generator"] == "glassbench 0.1.0"
     new = design_from_document(doc1)
     front, neck = new.labels

@@ -42,7 +42,8 @@ def make_design() -> Design:
                   lights=(Light(), Light((1, 0, 1), (0.5, 0.5, 0.4), 2.0)),
                   render=RenderSettings(360, 480, 8, 20, 1e-4),
                   labels=(Label("front", LabelSide("front.png"), z_mm=50.0, height_mm=40.0,
-                                width_mm=90.0 + 1.0 / 3.0),), bumps=(BumpTile(),), cap=Cap(18.0),
+                                width_mm=90.0 + 1.0 / 3.0),), bumps=(BumpTile(),),
+                  cap=Cap(height=18.0),
                   name="Test ✓", notes="line1\nline2")
 
 

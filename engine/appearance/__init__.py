@@ -3,7 +3,7 @@
 Design rule: this package owns everything about what sits on the bottle's surface except the
 ray tracing itself: labels now (images decoded to linear RGBA, finish regions, the exact map of
 a label onto the outer wall and its flat die-line, the tables the tracer reads), bump tiles and
-closures from another engineer. It is plain Python and numpy (no Qt); :mod:`engine.tracer`
+closures. It is plain Python and numpy (no Qt); :mod:`engine.tracer`
 reads the data it produces and never the other way round.
 
 ==========================  ===================================================================
@@ -23,5 +23,12 @@ module                      holds
 ``compiled``                every label of a design packed into flat arrays for the kernels
 ``presets``                 finish optics (foil n, k) and presets of coefficients and finishes
 ``label_cli``               ``glassbench labels / dieline / label add``
+``bump_tables``              bump tiles -> rows of numbers for the compiled relief functions
+``relief_image``            relief images (height, colour code, normal maps) -> slope textures
+``threads``                 the SPI/GPI finish table and thread sizes
+``closures``                a closure as meridian chains of section segments with a material
+``closure_shapes``          the profile of each closure kind, sized from the finish
+``finish_check``            relief images and the closure's fit, for ``check_design``
+``commands``                ``glassbench cap / bump``
 ==========================  ===================================================================
 """

@@ -11,7 +11,8 @@ kept as ``NAME.glassbench.bak``.
     {"format_version": 2, "generator": "glassbench 0.1.0",
      "design": {... engine.files.serialize.design_to_dict ...}}
 
-Older formats (format 1 with placeholder labels, format 0 the prototype layout, documented in
+Older formats (format 1 with placeholder labels, bump tiles and cap: :mod:`engine.files.migrate_labels`,
+:mod:`engine.files.migrate_finishes`; format 0 the prototype layout, documented in
 :mod:`engine.files.serialize`) are migrated step by step to the current one before the design
 is read.
 """
@@ -28,6 +29,7 @@ import zlib
 from dataclasses import dataclass
 from typing import Mapping
 
+from ..appearance.finish_check import check_finishes
 from ..appearance.placement import check_label_placement
 from ..geometry.validate import body_profile
 from ..model.check import check_values
@@ -275,7 +277,8 @@ def check_design(design: Design, assets: Mapping[str, bytes]) -> None:
     (:func:`engine.geometry.validate.validate_shape`), the liquid level
     (:func:`engine.model.fill.check_fill`), the labels on the wall
     (:func:`engine.appearance.placement.check_label_placement`; artwork images are checked
-    when they are imported and decoded, :mod:`engine.appearance.images`). Raises
+    when they are imported and decoded, :mod:`engine.appearance.images`), the relief images
+    and the closure's fit (:func:`engine.appearance.finish_check.check_finishes`). Raises
     ``ProjectError`` (a ``DesignError`` for a value); ``SectionError`` / ``WallError`` from
     validation are wrapped with their message kept.
     """
@@ -289,6 +292,7 @@ def check_design(design: Design, assets: Mapping[str, bytes]) -> None:
     validate_design_shape(design)
     check_fill(design.shape, design.liquid)
     check_label_placement(design)
+    check_finishes(design, assets)
 
 
 def check_assets(assets: Mapping[str, bytes], limits: Limits = DEFAULT_LIMITS) -> None:

@@ -12,8 +12,9 @@ float64 exactly.
 
 A *document* is what ``project.json`` holds: ``{"format_version": N, "generator": str,
 "design": {...}}``. Format 2 is current: labels with placement, faces, coefficients and
-finish regions. Format 1 differs only in its placeholder labels, ``{"name", "asset"}``
-(:mod:`engine.files.migrate_labels`). Format 0, the prototype layout, is still read::
+finish regions; bump tiles and the closure as real values. Format 1 had placeholder labels,
+``{"name", "asset"}`` (:mod:`engine.files.migrate_labels`), and placeholder bump tiles and cap
+(:mod:`engine.files.migrate_finishes`). Format 0, the prototype layout, is still read::
 
     {"format_version": 0, "name": str,
      "shape": {"cross_section": str, "sections": {NAME: [segment, ...]},
@@ -38,7 +39,8 @@ from functools import lru_cache
 from ..errors import ProjectError, shown
 from ..limits import MAX_LIST_ITEMS as LIST_LIMIT, MAX_SEGMENTS, MAX_TEXT_CHARS
 from ..model.design import Design
-from .migrate_labels import migrate_1_to_2
+from .migrate_finishes import migrate_1_to_2 as _finishes_1_to_2
+from .migrate_labels import migrate_1_to_2 as _labels_1_to_2
 from ..geometry.section import Section
 from ..geometry.shape import SECTION_NAMES, BottleShape
 
@@ -339,4 +341,9 @@ _PLACEHOLDER_SHAPE = BottleShape("round", (("profile", Section.from_dicts([
     {"type": "line", "p0": [0.0, 0.0], "p1": [10.0, 0.0]},
     {"type": "line", "p0": [10.0, 0.0], "p1": [10.0, 10.0]}])),))
 
-MIGRATIONS = {0: _migrate_0_to_1, 1: migrate_1_to_2}
+def _migrate_1_to_2(doc: dict) -> dict:
+    """Format 1 -> 2: placeholder labels, then placeholder bump tiles and cap, become values."""
+    return _finishes_1_to_2(_labels_1_to_2(doc))
+
+
+MIGRATIONS = {0: _migrate_0_to_1, 1: _migrate_1_to_2}

@@ -19,6 +19,7 @@ from ..geometry.segments import Arc, EllipseArc
 from ..geometry.shape import BottleShape
 from .fill import check_fill_mode
 from .label_values import check_label_values
+from .finish_values import check_finish_values
 
 ENVIRONMENT_KINDS = ("studio", "file")
 
@@ -30,7 +31,8 @@ def check_values(design) -> None:
     design; the shape's sizes (segments per section, coordinates, radii, thicknesses, turn);
     the glass and liquid; the camera (distinct eye and target, an up vector off the viewing
     direction, the field of view); the environment; the lights; the labels
-    (:func:`engine.model.label_values.check_label_values`); the render settings.
+    (:func:`engine.model.label_values.check_label_values`); the bump tiles and the closure
+    (:func:`~engine.model.finish_values.check_finish_values`); the render settings.
     """
     _check_texts_and_lists(design, "design")
     _check_shape(design.shape)
@@ -51,8 +53,7 @@ def check_values(design) -> None:
             L.check_range(f"{where}.color[{c}]", v, L.LIGHT_COLOR_RANGE)
         L.check_range(f"{where}.intensity", light.intensity, L.LIGHT_INTENSITY_RANGE)
     check_label_values(design.labels)
-    if design.cap is not None:
-        L.check_range("design.cap.height", design.cap.height, (0.1, L.MAX_EXTENT_MM), "mm")
+    check_finish_values(design)
     r = design.render
     L.check_image_size(r.width, r.height, r.spp)
     L.check_range("design.render.max_depth", r.max_depth, L.MAX_DEPTH_RANGE, integer=True)

@@ -4,10 +4,10 @@ Design rule: every part is a frozen dataclass of plain numbers, strings and tupl
 ``Design`` hashes, compares by value and can be handed to worker threads as a snapshot. Edits
 make a new value with ``dataclasses.replace``; :class:`engine.model.scene.Scene` holds the current
 one and tells observers which top-level fields changed. Units: mm, 1/mm for absorption,
-degrees where a name ends in ``_deg``. Parts that later issues fill in (bump tiles, cap) have
-their place here so that the file format already carries them. Labels are complete values:
-placement, faces, coefficients and finish regions (their mapping onto the glass is
-:mod:`engine.appearance`).
+degrees where a name ends in ``_deg``. Labels are complete values: placement, faces,
+coefficients and finish regions. Bump tiles and the closure are plain numbers too. What they
+look like is derived from them (and from the shape: a cap follows the finish, a label lies on
+the wall) by :mod:`engine.appearance`.
 """
 from __future__ import annotations
 
@@ -165,19 +165,87 @@ class Label:
         return tuple(dict.fromkeys(n for n in names if n is not None))
 
 
+#: Procedural bump kinds (relief from formulas: smooth at any magnification).
+PROCEDURAL_BUMPS = ("knurl", "stipple", "flutes", "facets", "diamond", "thread", "frosted")
+#: Bump kinds read from an embedded image (``BumpTile.asset``): a grey height map, the original
+#: system's colour code (red = vertical, green:blue = horizontal deviation of the normal), a
+#: tangent-space normal map in the OpenGL (green up) or DirectX (green down) convention, and an
+#: embossed logo or text (the image's ink raised with a rounded bevel).
+IMAGE_BUMPS = ("height_map", "colour_code", "normal_gl", "normal_dx", "emboss")
+BUMP_KINDS = PROCEDURAL_BUMPS + IMAGE_BUMPS
+
+
 @dataclass(frozen=True)
 class BumpTile:
-    """A bump tile: knurling, threads, cut pattern, frosting, emboss (later issue)."""
+    """Relief on a band of the outer surface: it bends the shading normal, never the geometry.
+
+    The band runs from height ``z0`` to ``z1`` (mm above z = 0, ``z0 < z1``) all around the
+    bottle; the pattern repeats ``repeat`` times around the girth, turned by ``angle_deg``
+    about the axis. ``depth`` (mm, >= 0) is the relief's size: cut kinds (``knurl``,
+    ``flutes``, ``facets``, ``diamond``) go into the glass, raised kinds (``stipple``,
+    ``thread``, image kinds) stand out of it, and ``inverted`` swaps the two (a debossed logo,
+    pressed lugs). Meaning of the shape fields per kind (``engine.appearance.bump_tables``):
+
+    ``pitch`` (mm)
+        vertical period: knurl and stipple rows (0: square cells), thread pitch (0: from the
+        finish standard).
+    ``width`` (0..1 of one period)
+        flute, dot or groove width; thread: half-width of each flank; knurl: 0 diamond, 1
+        straight (vertical ridges); emboss: bevel as a fraction of the band height.
+    ``sharpness`` (0..1)
+        how crisp ridges, groove bottoms and facet edges are (1: nearly sharp; always rounded
+        enough that the normal stays continuous).
+    ``alpha``
+        ``frosted``: GGX roughness 0.02 (satin) to 0.5 (deep etch).
+    ``finish``
+        ``thread``: a standard finish ``"28-400"`` (neck size mm - series); ``""`` takes the
+        standard size nearest to the neck, series 400.
+    ``asset``, ``width_deg``
+        image kinds: the embedded image, and the angle one copy spans around the axis
+        (360 / repeat or more: the copies tile seamlessly).
+    """
 
     name: str = "bump"
-    kind: str = "frosted"
+    kind: str = "knurl"
+    z0: float = 0.0
+    z1: float = 10.0
+    repeat: int = 24
+    depth: float = 0.3
+    angle_deg: float = 0.0
+    pitch: float = 0.0
+    width: float = 0.5
+    sharpness: float = 0.7
+    alpha: float = 0.2
+    finish: str = ""
+    asset: str | None = None
+    width_deg: float = 360.0
+    inverted: bool = False
+
+
+#: Closure kinds: screw cap with a knurled skirt, crown cork, cork with a capsule, aluminium
+#: roll-on pilfer-proof screwcap, lug (twist-off) cap.
+CAP_KINDS = ("screw", "crown", "cork", "ropp", "lug")
+#: ``metal``: aluminium (a conductor) under a lacquer of ``Cap.color``; ``plastic``: a
+#: dielectric over a diffuse base of ``Cap.color``.
+CAP_MATERIALS = ("metal", "plastic")
 
 
 @dataclass(frozen=True)
 class Cap:
-    """A metal cap on the finish (later issue)."""
+    """The closure on the finish. It follows the finish: its size comes from the neck's outer
+    radius and the mouth's height (:func:`engine.appearance.closures.closure_geometry`), so an
+    edit of the neck moves and resizes it. ``color`` is linear RGB in 0..1: the lacquer's tint
+    over bare aluminium for metal, the base colour for plastic. ``height`` (mm) is the cap's
+    height from its top to the skirt's edge (for a cork: the cork's length) and ``count`` the
+    knurl ridges, crown flutes or lugs; 0 takes the kind's standard. ``capsule`` puts a foil
+    capsule (of ``material`` and ``color``) over a cork."""
 
-    height: float = 20.0
+    kind: str = "screw"
+    material: str = "plastic"
+    color: RGB = (0.9, 0.9, 0.88)
+    height: float = 0.0
+    count: int = 0
+    capsule: bool = True
 
 
 @dataclass(frozen=True)

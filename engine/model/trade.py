@@ -2,7 +2,8 @@
 
 Design rule: one function, :func:`trade_numbers`, gives every number ``glassbench info``, the
 batch summary and the window show: brimful and fill capacity (ml), fill height and fill point
-below the top (mm), glass volume (cm^3) and mass (g), height and largest diameter (mm). It
+below the top (mm), glass volume (cm^3) and mass (g), height and largest diameter (mm), the
+closure (kind, diameter and height, mm) and the overall height with it on. It
 reads the geometry through :mod:`engine.geometry.capacity` and the liquid's level through
 :mod:`engine.model.fill` (the one volume -> height), so no caller resolves either itself.
 Strictly (the command line: a number that cannot be computed is an error) or tolerantly (the
@@ -18,13 +19,15 @@ from . import fill
 
 #: The keys of :func:`trade_numbers` that are numbers (``name`` is the design's name).
 NUMBER_KEYS = ("brimful_ml", "fill_ml", "fill_height_mm", "fill_point_below_top_mm",
-               "glass_volume_cm3", "glass_mass_g", "height_mm", "max_diameter_mm")
+               "glass_volume_cm3", "glass_mass_g", "height_mm", "max_diameter_mm",
+               "overall_height_mm")
 #: ``(key, label, unit)`` of each number in ``glassbench info``'s table.
 INFO_ROWS = (("brimful_ml", "Brimful capacity", "ml"), ("fill_ml", "Fill volume", "ml"),
              ("fill_height_mm", "Fill height", "mm"),
              ("fill_point_below_top_mm", "Fill point below top", "mm"),
              ("glass_volume_cm3", "Glass volume", "cm3"), ("glass_mass_g", "Glass mass", "g"),
-             ("height_mm", "Height", "mm"), ("max_diameter_mm", "Max diameter", "mm"))
+             ("height_mm", "Height", "mm"), ("max_diameter_mm", "Max diameter", "mm"),
+             ("overall_height_mm", "Overall height", "mm"))
 
 
 def trade_numbers(design, tolerant: bool = False) -> dict:
@@ -34,7 +37,11 @@ def trade_numbers(design, tolerant: bool = False) -> dict:
     the volume below it, a volume to the height that holds it (:mod:`engine.model.fill`).
     Raises the geometry's errors for an invalid shape and ``DesignError`` for a liquid that
     does not fit, unless ``tolerant``: then each number that cannot be computed is ``None``.
+    ``closure`` is ``None`` or ``{"kind", "diameter_mm", "height_mm"}`` and
+    ``overall_height_mm`` the height with the closure on
+    (:func:`engine.appearance.closures.closure_trade`).
     """
+    from ..appearance.closures import closure_trade  # why: appearance reads the model, not back
     shape, liquid = design.shape, design.liquid
     out = {"name": design.name, **dict.fromkeys(NUMBER_KEYS)}
 
@@ -55,6 +62,12 @@ def trade_numbers(design, tolerant: bool = False) -> dict:
         put("fill_ml", fill.fill_volume_ml, shape, liquid)
         if out["fill_height_mm"] is not None:
             out["fill_point_below_top_mm"] = float(shape.z_top - out["fill_height_mm"])
+    out["closure"] = None
+    if tolerant:
+        with contextlib.suppress(GlassbenchError, ValueError, ArithmeticError):
+            out["closure"], out["overall_height_mm"] = closure_trade(design)
+    else:
+        out["closure"], out["overall_height_mm"] = closure_trade(design)
     return out
 
 
@@ -65,4 +78,8 @@ def format_table(numbers: dict) -> str:
         v = numbers.get(key)
         text = "-" if v is None else f"{v:10.1f} {unit}"
         lines.append(f"  {label:<22}{text}")
+    closure = numbers.get("closure")
+    if closure:
+        lines.append(f"  {'Closure':<22}{closure['kind']}, {closure['diameter_mm']:.1f} mm across, "
+                     f"{closure['height_mm']:.1f} mm high")
     return "\n".join(lines)

@@ -1,0 +1,163 @@
+"""``glassbench cap`` and ``glassbench bump``: closures and bump tiles from the command line.
+
+Design rule: :mod:`engine.cli` owns the program; this module adds two subparsers and their
+handlers. Each handler loads the project, makes the one change, runs the project's own check
+(:func:`engine.files.project.check_design`) and saves atomically (the previous file kept as
+``.bak``), so a refused change leaves the file untouched. Errors reach ``engine.cli.main``,
+which prints one line and exits with status 2.
+"""
+from __future__ import annotations
+
+import dataclasses
+import os
+
+from ..errors import shown
+from ..limits import BUMP_REPEAT_RANGE, GGX_ALPHA_RANGE, MAX_BUMP_DEPTH_MM, MAX_EXTENT_MM, check_range
+from ..model.design import BUMP_KINDS, CAP_KINDS, CAP_MATERIALS
+
+CAP_CHOICES = CAP_KINDS + ("none",)
+#: Relief maps by their command-line name (``--map``).
+MAP_MODES = {"height": "height_map", "colour-code": "colour_code", "normal-gl": "normal_gl",
+             "normal-dx": "normal_dx", "emboss": "emboss"}
+
+
+def add_parsers(sub) -> None:
+    """Add the ``cap`` and ``bump`` subcommands to an argparse subparsers object."""
+    cap = sub.add_parser("cap", help="put a closure on the finish (or take it off)")
+    cap.add_argument("project")
+    cap.add_argument("action", choices=("set",))
+    cap.add_argument("kind", choices=CAP_CHOICES, metavar="KIND", help=", ".join(CAP_CHOICES))
+    cap.add_argument("--colour", "--color", dest="colour", default=None, metavar="HEX",
+                     help="sRGB colour, e.g. '#c8a040' (metal: the lacquer's tint)")
+    cap.add_argument("--material", choices=CAP_MATERIALS, default=None)
+    cap.add_argument("--height", type=float, default=None, help="cap height (cork: length), mm")
+    cap.add_argument("--count", type=int, default=None, help="knurl ridges, crown flutes or lugs")
+    cap.add_argument("--no-capsule", action="store_true", help="a cork without its capsule")
+    bump = sub.add_parser("bump", help="add, list or remove bump tiles")
+    bump.add_argument("project")
+    bump.add_argument("action", choices=("add", "list", "remove"))
+    bump.add_argument("what", nargs="?", metavar="KIND|INDEX",
+                      help="add: knurl, stipple, thread, flutes, facets, diamond, frosted or "
+                           "image:FILE; remove: the tile's index (see list)")
+    for flag, unit in (("--z0", "mm"), ("--z1", "mm"), ("--depth", "mm"), ("--alpha", "GGX"),
+                       ("--angle", "deg"), ("--width-deg", "deg"), ("--pitch", "mm")):
+        bump.add_argument(flag, type=float, default=None, help=unit)
+    bump.add_argument("--repeat", type=int, default=None, help="repeats around the girth")
+    bump.add_argument("--finish", default=None, help="thread standard, e.g. 28-400")
+    bump.add_argument("--map", choices=tuple(MAP_MODES), default="height",
+                      help="how an image's texels are read (default: height)")
+    bump.add_argument("--inverted", action="store_true", help="press in instead of raise")
+    bump.add_argument("--name", default=None)
+
+
+def srgb_hex_to_linear(text: str) -> tuple[float, float, float]:
+    """``'#RRGGBB'`` (or ``RRGGBB``) in sRGB to linear RGB in 0..1; ``ValueError`` otherwise."""
+    s = text.strip().lstrip("#")
+    if len(s) != 6 or any(c not in "0123456789abcdefABCDEF" for c in s):
+        raise ValueError(f"--colour {shown(text)} is not a colour like '#c8a040'")
+    out = []
+    for i in (0, 2, 4):
+        c = int(s[i:i + 2], 16) / 255.0
+        out.append(c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4)
+    return tuple(round(c, 6) for c in out)
+
+
+def _save(path, design, assets) -> None:
+    from ..files.project import check_design, save_project
+    check_design(design, assets)
+    save_project(path, design, assets)
+
+
+def cmd_cap(args) -> int:
+    """``cap PROJECT set KIND [--colour HEX] [--material M] [--height MM] [--count N]``."""
+    from ..files.project import load_project
+    from .closure_shapes import default_cap
+    from .closures import closure_trade
+    design, assets = load_project(args.project)
+    if args.kind == "none":
+        _save(args.project, dataclasses.replace(design, cap=None), assets)
+        print(f"wrote {args.project}: no closure")
+        return 0
+    cap = default_cap(args.kind)
+    changes = {}
+    if args.colour is not None:
+        changes["color"] = srgb_hex_to_linear(args.colour)
+    if args.material is not None:
+        changes["material"] = args.material
+    if args.height is not None:
+        changes["height"] = args.height
+    if args.count is not None:
+        changes["count"] = args.count
+    if args.no_capsule:
+        changes["capsule"] = False
+    new = dataclasses.replace(design, cap=dataclasses.replace(cap, **changes))
+    _save(args.project, new, assets)
+    info, overall = closure_trade(new)
+    print(f"wrote {args.project}: {info['kind']} closure {info['diameter_mm']:.1f} mm across, "
+          f"{info['height_mm']:.1f} mm high; overall height {overall:.1f} mm")
+    return 0
+
+
+def cmd_bump(args) -> int:
+    """``bump PROJECT add KIND --z0 MM --z1 MM [...]``, ``bump PROJECT list``,
+    ``bump PROJECT remove INDEX``."""
+    from ..cli import CliError
+    from ..files.project import load_project
+    design, assets = load_project(args.project)
+    if args.action == "list":
+        for i, t in enumerate(design.bumps):
+            print(f"{i}: {t.name} ({t.kind}) z {t.z0:g}..{t.z1:g} mm, x{t.repeat}, depth {t.depth:g} mm")
+        return 0
+    if args.action == "remove":
+        try:
+            index = int(args.what)
+        except (TypeError, ValueError):
+            raise CliError(f"bump remove needs a tile index, got {shown(args.what)}") from None
+        if not 0 <= index < len(design.bumps):
+            raise CliError(f"the project has no bump tile {index} (it has {len(design.bumps)})")
+        bumps = design.bumps[:index] + design.bumps[index + 1:]
+        _save(args.project, dataclasses.replace(design, bumps=bumps), assets)
+        print(f"wrote {args.project}: {len(bumps)} bump tile(s)")
+        return 0
+    tile, assets = _new_tile(args, design, dict(assets), CliError)
+    _save(args.project, dataclasses.replace(design, bumps=design.bumps + (tile,)), assets)
+    print(f"wrote {args.project}: added {tile.name} ({tile.kind}) on z {tile.z0:g}..{tile.z1:g} mm")
+    return 0
+
+
+def _new_tile(args, design, assets, CliError):
+    from .tile_defaults import add_image_tile, new_tile
+    what = args.what or ""
+    if args.z0 is None or args.z1 is None:
+        raise CliError("bump add needs the band's heights: --z0 MM --z1 MM")
+    ext = (-MAX_EXTENT_MM, MAX_EXTENT_MM)
+    check_range("--z0", args.z0, ext, "mm")
+    check_range("--z1", args.z1, ext, "mm")
+    for flag, value, bounds in (("--depth", args.depth, (0.0, MAX_BUMP_DEPTH_MM)),
+                                ("--alpha", args.alpha, GGX_ALPHA_RANGE)):
+        if value is not None:
+            check_range(flag, value, bounds)
+    if args.repeat is not None:
+        check_range("--repeat", args.repeat, BUMP_REPEAT_RANGE, integer=True)
+    given = dict(repeat=args.repeat, depth=args.depth, alpha=args.alpha, angle_deg=args.angle,
+                 width_deg=args.width_deg, pitch=args.pitch, name=args.name,
+                 inverted=True if args.inverted else None)
+    if what.startswith("image:"):
+        path = what[len("image:"):]
+        from ..files.project import DEFAULT_LIMITS
+        size = os.path.getsize(path)
+        if size > DEFAULT_LIMITS.asset_bytes:
+            raise CliError(f"{shown(path)} is {size} bytes, larger than any relief image should be")
+        with open(path, "rb") as fh:
+            data = fh.read()
+        tile, name = add_image_tile(design, assets, MAP_MODES[args.map], path, data, args.z0,
+                                    args.z1, **given)
+        assets[name] = data
+        return tile, assets
+    procedural = tuple(k for k in BUMP_KINDS if k not in MAP_MODES.values())
+    if what not in procedural:
+        raise CliError(f"bump add KIND: {shown(what)} is not one of {', '.join(procedural)} "
+                       f"or image:FILE")
+    if args.finish is not None:
+        given["finish"] = args.finish
+    return new_tile(design, what, args.z0, args.z1, **given), assets

@@ -45,8 +45,10 @@ def reference_path(spec_path: str) -> str:
 
 
 def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
-                noise_target: float = ORACLE_NOISE_TARGET, tile: int = 64, adaptive: bool = True, **settings):
-    """Render a SPEC scene; returns ``(image (H, W, 3) float32, seconds, job)``.
+                noise_target: float = ORACLE_NOISE_TARGET, tile: int = 64, adaptive: bool = True,
+                scene=None, **settings):
+    """Render a SPEC scene (or ``scene``, a ``(design, assets)`` pair made from one); returns
+    ``(image (H, W, 3) float32, seconds, job)``.
 
     ``settings`` may override ``RenderSettings`` fields (``max_depth``, ``min_weight``, ...);
     by default the oracle cut-offs above are used.
@@ -54,7 +56,7 @@ def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
     from benchmarks.oracle_spec import spec_to_design
     from engine.tracer.job import RenderJob
 
-    design, assets = spec_to_design(spec_path)
+    design, assets = spec_to_design(spec_path) if scene is None else scene
     settings = {"max_depth": ORACLE_MAX_DEPTH, "min_weight": ORACLE_MIN_WEIGHT, **settings}
     design = dataclasses.replace(design, render=dataclasses.replace(design.render, spp=int(spp), **settings))
     t0 = time.perf_counter()

@@ -32,6 +32,9 @@ LIVE_SPP = 1
 #: A gesture's first live pass starts this soon (ms); the next ones at most this often.
 LIVE_FIRST_MS = 15
 LIVE_INTERVAL_MS = 60
+#: Niceness of the render workers: every core renders, and the scheduler still prefers the GUI
+#: thread when they compete for a core (``python -m benchmarks.wireframe``).
+WORKER_NICE = 10
 
 
 class RenderController(QObject):
@@ -188,7 +191,7 @@ class RenderController(QObject):
             reuse = {"previous": prev, "changed": changed}
         job = engine_bridge.tracer_job_class()(
             design, assets, width=width, height=height, spp=spp, threads=self.threads,
-            on_tile=lambda j, t, g=generation: self._worker_tile.emit(g, j, t),
+            worker_nice=WORKER_NICE, on_tile=lambda j, t, g=generation: self._worker_tile.emit(g, j, t),
             on_done=lambda j, g=generation: self._worker_done.emit(g, j), **reuse)
         if not live:
             self._last_full = job

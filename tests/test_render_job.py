@@ -144,3 +144,23 @@ def test_an_edit_of_nothing_rendered_keeps_the_film_and_a_visible_edit_does_not(
     third = RenderJob(tinted, threads=2, previous=first, changed={"glass"}).start()
     assert third.wait(120) and third.film is not first.film
     assert not np.array_equal(third.image(), first.image())
+
+
+def test_workers_run_niced_and_render_the_same_image():
+    """The window's workers yield the core to the GUI thread (niceness) without changing a pixel."""
+    import os
+
+    design = simple_design(40.0, width=24, height=32, spp=2)
+    seen = []
+
+    def record(job, tile):
+        seen.append(os.getpriority(os.PRIO_PROCESS, threading.get_native_id()))
+
+    base = os.getpriority(os.PRIO_PROCESS, 0)
+    plain = render_image(design, width=24, height=32, threads=2)
+    job = RenderJob(design, width=24, height=32, threads=2, worker_nice=5, on_tile=record).start()
+    job.wait()
+    assert job.error is None and seen
+    assert set(seen) == {min(19, base + 5)}
+    assert os.getpriority(os.PRIO_PROCESS, 0) == base  # the calling thread keeps its priority
+    assert np.array_equal(job.image(), plain)

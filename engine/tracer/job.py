@@ -74,11 +74,15 @@ class RenderJob:
         The job this one replaces and the design fields that changed since: when none of
         :data:`VISUAL_FIELDS` changed and the previous job finished at the same size, its film
         is kept and this job is done at once.
+    worker_nice : int
+        Niceness added to each worker thread (Linux; ignored elsewhere): the window passes a
+        positive value so that, with every core rendering, the scheduler still prefers its GUI
+        thread. Never changes the image.
     """
 
     def __init__(self, design, assets=None, *, width=None, height=None, spp=None, threads=None,
                  tile=32, on_tile=None, on_done=None, adaptive=True, noise_target=NOISE_TARGET,
-                 previous=None, changed=None, _tile_shuffle_seed=None):
+                 previous=None, changed=None, worker_nice=0, _tile_shuffle_seed=None):
         self.design = design
         self.assets = assets
         self.width = int(width or design.render.width)
@@ -103,6 +107,7 @@ class RenderJob:
         self._previous = previous
         self._changed = None if changed is None else frozenset(changed)
         self._shuffle = _tile_shuffle_seed
+        self.worker_nice = max(0, int(worker_nice))
         self._cancel_flag = np.zeros(1, np.int64)
         self._cancel = threading.Event()
         self._finished = threading.Event()
@@ -204,7 +209,8 @@ class RenderJob:
         tiles = self._tiles()
         h, w = self.height, self.width
         b = adaptive.preview_block(w, h)
-        with ThreadPoolExecutor(max_workers=self.threads, thread_name_prefix="render") as pool:
+        with ThreadPoolExecutor(max_workers=self.threads, thread_name_prefix="render",
+                                initializer=_lower_priority, initargs=(self.worker_nice,)) as pool:
             # (0) preview: the centre of every b x b block, painted over the block
             grid = np.zeros((h, w), bool)
             grid[np.minimum(np.arange(0, h, b) + b // 2, h - 1)[:, None],
@@ -279,6 +285,16 @@ class RenderJob:
         if first_error is not None:
             raise first_error
         self.wave_log.append((wave, pixels, samples, time.perf_counter() - t_wave))
+
+
+def _lower_priority(nice: int) -> None:
+    """Raise the calling thread's niceness by ``nice`` (Linux threads have their own)."""
+    if nice > 0 and hasattr(os, "setpriority") and hasattr(threading, "get_native_id"):
+        try:
+            os.setpriority(os.PRIO_PROCESS, threading.get_native_id(),
+                           min(19, os.getpriority(os.PRIO_PROCESS, threading.get_native_id()) + nice))
+        except OSError:  # a platform without per-thread priorities: only the GUI's comfort lost
+            pass
 
 
 def render_image(design, assets=None, **kw) -> np.ndarray:

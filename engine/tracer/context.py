@@ -8,6 +8,7 @@ benchmarks and the job all trace through the same code.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -19,6 +20,7 @@ from .kernels.integrator import (C_BUDGET, C_CUT_DEPTH, C_CUT_WEIGHT, C_LEAKS, C
                                  C_QUERIES, N_COUNTERS)
 from .kernels.sampling import C_COLS
 from .kernels.tile import render_pixels
+from .labels import empty_label_arrays, label_arrays
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays
 
 #: Boundaries one camera sample may visit before what it still holds is closed with the
@@ -55,6 +57,9 @@ class RenderContext:
     n_materials: int
     reference_level: float
     environment: EnvironmentMap = field(repr=False, default=None)
+    #: the label tables (:func:`engine.tracer.labels.label_arrays`); a label edit replaces only
+    #: this field (:meth:`with_labels`)
+    labels: tuple = field(repr=False, default_factory=empty_label_arrays)
 
     @classmethod
     def from_design(cls, design, assets=None, width=None, height=None, environment=None) -> "RenderContext":
@@ -71,7 +76,14 @@ class RenderContext:
         params = np.array([float(env.scale), math.radians(float(env.rotation_deg))])
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
         return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
-                   float(design.render.min_weight), int(scene[7].shape[0]), level, env)
+                   float(design.render.min_weight), int(scene[7].shape[0]), level, env,
+                   label_arrays(design, assets, tex))
+
+    def with_labels(self, design, assets=None) -> "RenderContext":
+        """This context with the labels (and lights) of ``design``: geometry, media, camera and
+        environment are kept as they are (the caller vouches that only labels, lights or label
+        assets differ)."""
+        return dataclasses.replace(self, labels=label_arrays(design, assets, self.texels))
 
 
 @dataclass
@@ -137,7 +149,7 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
     rec_rays, rec_n = record if record is not None else (np.zeros((0, 6), np.float32), np.zeros(1, np.int64))
     done = render_pixels(ctx.scene, ctx.texels, ctx.env_params, ctx.cam, cols, rows, first, count,
                          ctx.max_depth, ctx.min_weight, float(roulette), 0, MAX_NODES, sums, sumsq, sig, mask, depth,
-                         counters, cancel, rec_rays, rec_n)
+                         counters, cancel, rec_rays, rec_n, ctx.labels)
     return PixelResult(sums, sumsq, sig, mask, depth, counters, int(done))
 
 
@@ -183,5 +195,5 @@ def trace_rays(ctx: RenderContext, origins, directions):
     d = np.ascontiguousarray(np.asarray(directions, float).reshape(-1, 3))
     out = np.zeros((len(o), 3))
     counters = np.zeros(N_COUNTERS, np.int64)
-    radiance(ctx.scene, ctx.texels, ctx.env_params, o, d, ctx.max_depth, ctx.min_weight, MAX_NODES, out, counters)
+    radiance(ctx.scene, ctx.texels, ctx.env_params, o, d, ctx.max_depth, ctx.min_weight, MAX_NODES, out, counters, ctx.labels)
     return out, counters

@@ -15,9 +15,23 @@ Threading contract: ``on_tile(job, tile)`` and ``on_done(job)`` run on worker th
 must marshal to its own thread. ``image()``, ``progress`` and ``sample_counts()`` may be read
 at any time. A job started with ``previous=`` and ``changed=`` (the design fields an edit
 changed) reuses the previous film when nothing it renders changed.
+
+Relabel: when only labels, lights or label images changed (every other field of the design
+equal, same size and sampling), the job keeps the previous job's compiled scene (a label edit
+never rebuilds geometry, media or environment: :meth:`RenderContext.with_labels`) and replays
+the same waves: a pixel's traced samples are reused from the previous job's per-wave record
+when the pixel is clean and the wave asks it for the same samples, and traced again otherwise.
+A pixel is dirty when its ray trees (any sample, shadow rays included) consulted a label whose
+artwork, finish or coefficients changed (the label bits of the object mask,
+:mod:`engine.tracer.kernels.labels`), any label when lights changed, and every pixel whose
+trees met the outer wall when a label moved, was added, removed or reordered (the new
+footprint may cover it). Since samples are seeded by (pixel, sample) and the film is the same
+function of the traced results, the image equals a full render of the new design bit for bit.
+Records are kept only for designs with labels.
 """
 from __future__ import annotations
 
+import dataclasses
 import os
 import random
 import threading
@@ -28,12 +42,56 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import adaptive
-from .context import RenderContext, TraceStats, trace_pixels
+from ..appearance.frame import Placement
+from .context import PixelResult, RenderContext, TraceStats, trace_pixels
 from .film import Film
+from .kernels.integrator import N_COUNTERS
+from .kernels.labels import LABEL_BIT0, MAX_LABEL_BIT
 
 NOISE_TARGET = adaptive.NOISE_TARGET
 #: Design fields the image depends on (an edit of any other field keeps the film).
-VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets"})
+VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets",
+                           "labels", "lights", "bumps", "cap"})
+#: Object-mask bits of the outer wall and of all labels (engine.tracer.kernels.labels).
+_OUTER_WALL_BIT = np.int64(1)
+_ALL_LABEL_BITS = np.int64(sum(1 << b for b in range(LABEL_BIT0, MAX_LABEL_BIT + 1)))
+
+
+def _label_bit(k: int) -> np.int64:
+    return np.int64(1 << min(LABEL_BIT0 + k, MAX_LABEL_BIT))
+
+
+@dataclass
+class _WaveRecord:
+    """The traced results of one wave, by pixel index ``row * width + col`` (sorted)."""
+
+    pix: np.ndarray
+    first: np.ndarray
+    count: np.ndarray
+    sums: np.ndarray
+    sumsq: np.ndarray
+    signature: np.ndarray
+    objects: np.ndarray
+    depth: np.ndarray
+
+    @classmethod
+    def join(cls, chunks) -> "_WaveRecord":
+        parts = [np.concatenate([getattr(c, f) for c in chunks]) for f in cls.__dataclass_fields__]
+        order = np.argsort(parts[0], kind="stable")
+        return cls(*(a[order] for a in parts))
+
+    def result(self, idx) -> PixelResult:
+        return PixelResult(self.sums[idx], self.sumsq[idx], self.signature[idx], self.objects[idx],
+                           self.depth[idx], np.zeros(N_COUNTERS, np.int64), len(idx))
+
+
+def _without_labels(design):
+    return dataclasses.replace(design, labels=(), lights=(), name="", notes="")
+
+
+def _label_assets_equal(old, new, old_assets, new_assets) -> bool:
+    a, b = old_assets or {}, new_assets or {}
+    return all(a.get(n) is b.get(n) or a.get(n) == b.get(n) for n in old.asset_names())
 
 
 @dataclass(frozen=True)
@@ -110,6 +168,14 @@ class RenderJob:
         self._progress = 0.0
         self._thread = None
         self._t0 = None
+        #: per wave, the traced results (designs with labels only; relabel reads them)
+        self._records = {} if design.labels else None
+        self._chunks = None
+        self._ctx = None
+        #: for a relabel: the previous job and the (H, W) mask of pixels to trace again
+        self._reuse = None
+        #: pixels traced again by a relabel (None: a full render or a kept film)
+        self.relabelled_pixels = None
 
     # ------------------------------------------------------------------ public API
     def start(self) -> "RenderJob":
@@ -157,9 +223,43 @@ class RenderJob:
     # ------------------------------------------------------------------ internals
     def _reusable(self) -> bool:
         prev = self._previous
-        return (prev is not None and self._changed is not None and not (self._changed & VISUAL_FIELDS)
-                and prev.done and prev.error is None and not prev.cancelled
+        if prev is None or self._changed is None:
+            return False
+        visual = self._changed & VISUAL_FIELDS
+        if not self.design.labels and not prev.design.labels:
+            visual = visual - {"lights", "labels"}  # lights shade labels only
+        return (not visual and prev.done and prev.error is None and not prev.cancelled
                 and (prev.width, prev.height, prev.spp) == (self.width, self.height, self.spp))
+
+    def _relabel_dirty(self):
+        """The ``(H, W)`` mask of pixels to trace again when this job can relabel the previous
+        one (module rule), else ``None``."""
+        prev = self._previous
+        if (prev is None or prev._records is None or prev._ctx is None or self._records is None
+                or not prev.done or prev.error is not None or prev.cancelled
+                or (prev.width, prev.height, prev.spp, prev.adaptive, prev.noise_target)
+                != (self.width, self.height, self.spp, self.adaptive, self.noise_target)
+                or _without_labels(prev.design) != _without_labels(self.design)):
+            return None
+        env = self.design.environment
+        if env.asset is not None:
+            a, b = (prev.assets or {}).get(env.asset), (self.assets or {}).get(env.asset)
+            if not (a is b or (isinstance(a, bytes) and a == b)):
+                return None
+        old, new = prev.design.labels, self.design.labels
+        bits = np.int64(0)
+        if prev.design.lights != self.design.lights:
+            bits |= _ALL_LABEL_BITS
+        if len(old) != len(new):
+            bits |= _OUTER_WALL_BIT | _ALL_LABEL_BITS
+        else:
+            for k, (a, b) in enumerate(zip(old, new)):
+                if a == b and _label_assets_equal(a, b, prev.assets, self.assets):
+                    continue
+                bits |= _label_bit(k)
+                if Placement.of(a) != Placement.of(b):
+                    bits |= _OUTER_WALL_BIT
+        return (prev.film.objects & bits) != 0
 
     def _tiles(self):
         t = self.tile
@@ -181,7 +281,13 @@ class RenderJob:
                 self.film = self._previous.film
                 self.stats = self._previous.stats
             else:
-                self._render()
+                dirty = self._relabel_dirty()
+                if dirty is not None:
+                    self._reuse = dirty
+                    self.relabelled_pixels = int(np.count_nonzero(dirty))
+                    self._render(self._previous._ctx.with_labels(self.design, self.assets))
+                else:
+                    self._render()
         except BaseException as exc:  # reported, never swallowed
             self.error = exc
             self.cancel()
@@ -197,8 +303,10 @@ class RenderJob:
                     if self.error is None:
                         self.error = exc
 
-    def _render(self) -> None:
-        ctx = RenderContext.from_design(self.design, self.assets, self.width, self.height)
+    def _render(self, ctx=None) -> None:
+        if ctx is None:
+            ctx = RenderContext.from_design(self.design, self.assets, self.width, self.height)
+        self._ctx = ctx
         self.film = film = Film(self.width, self.height, ctx.n_materials)
         level = max(ctx.reference_level, 1e-6)
         tiles = self._tiles()
@@ -237,6 +345,9 @@ class RenderJob:
         t_wave = time.perf_counter()
         pixels = int(np.count_nonzero(mask))
         samples = pixels if want is None else int(np.sum(np.where(mask, want - film.aa_count, 0)))
+        self._chunks = [] if self._records is not None else None
+        if self._reuse is not None:
+            mask = self._replay(wave, mask, want, preview)
 
         def run(tl):
             x0, y0, x1, y1 = tl
@@ -263,6 +374,9 @@ class RenderJob:
                     return
                 film.add_aa(cols, rows, count, res)
             with self._lock:
+                if self._chunks is not None:
+                    first = np.zeros(len(cols), np.int64) if want is None else have + 1
+                    self._chunks.append(self._record(rows, cols, first, 1 if want is None else count, res))
                 self.stats.add_counters(res.counters)
                 if self.first_tile_seconds is None:
                     self.first_tile_seconds = time.perf_counter() - self._t0
@@ -278,7 +392,51 @@ class RenderJob:
                 self.cancel()
         if first_error is not None:
             raise first_error
+        if self._chunks:
+            self._records[wave] = _WaveRecord.join(self._chunks)
+        self._chunks = None
         self.wave_log.append((wave, pixels, samples, time.perf_counter() - t_wave))
+
+    def _record(self, rows, cols, first, count, res) -> _WaveRecord:
+        n = len(cols)
+        return _WaveRecord(rows * self.width + cols, np.asarray(first, np.int64),
+                           np.broadcast_to(np.asarray(count, np.int64), (n,)).copy(), res.sums, res.sumsq,
+                           res.signature, res.objects, res.depth)
+
+    def _replay(self, wave, mask, want, preview):
+        """Relabel: put the previous job's results of this wave into the film for the clean
+        pixels it traced with the same samples; returns the mask of pixels left to trace."""
+        rec = self._previous._records.get(wave)
+        ys, xs = np.nonzero(mask & ~self._reuse)
+        if rec is None or not len(xs):
+            return mask
+        film = self.film
+        pix = ys * self.width + xs
+        idx = np.minimum(np.searchsorted(rec.pix, pix), len(rec.pix) - 1)
+        if want is None:
+            first, count = np.zeros(len(xs), np.int64), np.ones(len(xs), np.int64)
+        else:
+            have = film.aa_count[ys, xs]
+            first, count = have + 1, want[ys, xs] - have
+        same = (rec.pix[idx] == pix) & (rec.first[idx] == first) & (rec.count[idx] == count)
+        idx, rows, cols = idx[same], ys[same], xs[same]
+        res = rec.result(idx)
+        if want is None:
+            film.add_centre(cols, rows, res)
+            if preview is not None:
+                for c, r, v in zip(cols, rows, res.sums):
+                    by, bx = (r // preview) * preview, (c // preview) * preview
+                    x1 = min((c // self.tile + 1) * self.tile, self.width)  # the pixel's tile
+                    y1 = min((r // self.tile + 1) * self.tile, self.height)
+                    film.set_preview(by, min(by + preview, y1), bx, min(bx + preview, x1), v)
+        else:
+            film.add_aa(cols, rows, count[same], res)
+        self._chunks.append(self._record(rows, cols, first[same], count[same], res))
+        left = mask.copy()
+        left[rows, cols] = False
+        if self.on_tile is not None:
+            self.on_tile(self, Tile(0, 0, self.width, self.height, wave))
+        return left
 
 
 def render_image(design, assets=None, **kw) -> np.ndarray:

@@ -20,7 +20,8 @@ from .kernels.integrator import (C_BUDGET, C_CUT_DEPTH, C_CUT_WEIGHT, C_LEAKS, C
                                  C_QUERIES, N_COUNTERS)
 from .kernels.sampling import C_COLS
 from .kernels.tile import render_pixels
-from .labels import empty_label_arrays, label_arrays
+from .kernels.labels import LB_HIT_F, LB_HIT_I, LB_HIT_N, LB_SMP_F, LB_SMP_I
+from .labels import empty_label_arrays, label_arrays, with_buffers
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays
 
 #: Boundaries one camera sample may visit before what it still holds is closed with the
@@ -120,18 +121,23 @@ class PixelResult:
     depth: np.ndarray     # (P, n_materials) int64 shallowest depth each material was met (255: never)
     counters: np.ndarray  # (N_COUNTERS,) int64 kernel counters (see kernels.integrator)
     finished: int         # pixels done (fewer than P when cancelled)
+    #: with ``record_labels``: ``(smp_f, smp_i, hit_f, hit_i)``, per traced sample (pixels in
+    #: order, their samples in order) its radiance without label terms and its hits' range, and
+    #: the hits (kernels.labels ``H_*``); ``None`` otherwise
+    label_record: tuple | None = None
 
 
 def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, record=None,
-                 roulette: float = 0.0) -> PixelResult:
+                 roulette: float = 0.0, record_labels: bool = False) -> PixelResult:
     """Trace samples ``first[p] .. first[p] + count[p] - 1`` of pixels ``(cols[p], rows[p])``.
 
     Sample 0 is the pixel centre, samples >= 1 the pixel's stratified positions (see
     :mod:`engine.tracer.kernels.sampling`). ``cancel`` is an int array of one element polled
     between pixels; ``record`` an optional ``(rays float32 (N, 6), count int64 (1,))`` pair
     that receives every intersection query (benchmarks); ``roulette`` > 0 makes branches lighter
-    than it play Russian roulette (unbiased; for the extra samples of noisy pixels). Releases
-    the GIL while tracing.
+    than it play Russian roulette (unbiased; for the extra samples of noisy pixels);
+    ``record_labels`` keeps the label terms of every sample (``PixelResult.label_record``, for
+    a relabel; only with labels). Releases the GIL while tracing.
     """
     cols = np.ascontiguousarray(cols, dtype=np.int64)
     rows = np.ascontiguousarray(rows, dtype=np.int64)
@@ -147,10 +153,23 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
     if cancel is None:
         cancel = np.zeros(1, np.int64)
     rec_rays, rec_n = record if record is not None else (np.zeros((0, 6), np.float32), np.zeros(1, np.int64))
-    done = render_pixels(ctx.scene, ctx.texels, ctx.env_params, ctx.cam, cols, rows, first, count,
-                         ctx.max_depth, ctx.min_weight, float(roulette), 0, MAX_NODES, sums, sumsq, sig, mask, depth,
-                         counters, cancel, rec_rays, rec_n, ctx.labels)
-    return PixelResult(sums, sumsq, sig, mask, depth, counters, int(done))
+    samples = int(count.sum()) if record_labels and ctx.labels[0].shape[0] > 0 else 0
+    hits = None
+    while True:
+        labels = with_buffers(ctx.labels, samples, hits)
+        done = render_pixels(ctx.scene, ctx.texels, ctx.env_params, ctx.cam, cols, rows, first, count,
+                             ctx.max_depth, ctx.min_weight, float(roulette), 0, MAX_NODES, sums, sumsq, sig, mask,
+                             depth, counters, cancel, rec_rays, rec_n, labels)
+        if not samples or not labels[LB_HIT_N][1] or done < p:
+            break
+        # more hits than room: trace the call again with room for all (same seeds, same result)
+        hits = 4 * labels[LB_HIT_F].shape[0]
+        sums[:], sumsq[:], sig[:], mask[:], depth[:], counters[:] = 0, 0, 0, 0, 255, 0
+    rec = None
+    if samples and done == p:
+        n = int(labels[LB_HIT_N][0])
+        rec = (labels[LB_SMP_F], labels[LB_SMP_I], labels[LB_HIT_F][:n].copy(), labels[LB_HIT_I][:n].copy())
+    return PixelResult(sums, sumsq, sig, mask, depth, counters, int(done), rec)
 
 
 # --------------------------------------------------------------------------- ray queries
@@ -195,5 +214,6 @@ def trace_rays(ctx: RenderContext, origins, directions):
     d = np.ascontiguousarray(np.asarray(directions, float).reshape(-1, 3))
     out = np.zeros((len(o), 3))
     counters = np.zeros(N_COUNTERS, np.int64)
-    radiance(ctx.scene, ctx.texels, ctx.env_params, o, d, ctx.max_depth, ctx.min_weight, MAX_NODES, out, counters, ctx.labels)
+    radiance(ctx.scene, ctx.texels, ctx.env_params, o, d, ctx.max_depth, ctx.min_weight, MAX_NODES, out, counters,
+              with_buffers(ctx.labels))
     return out, counters

@@ -18,6 +18,7 @@ import numpy as np
 
 from ..appearance.compiled import F_COLS, L_COLS, compile_labels
 from ..appearance.decal import D_COLS
+from .kernels.labels import H_COLS
 
 #: Rows x columns of the irradiance table (lat-long, the environment's convention): a cosine
 #: lobe is smooth, so 32 x 64 holds it to well under 1 %.
@@ -130,3 +131,22 @@ def label_arrays(design, assets, env_texels) -> tuple:
     cl = compile_labels(design, assets or {})
     size = np.array([[lab.width_mm, lab.height_mm] for lab in design.labels], float)
     return _tuple(cl, size, irradiance_table(env_texels), light_table(design.lights))
+
+
+#: The record buffers of a call that does not record (never written: the kernels test the
+#: hit table's length first), shared by every call.
+_NO_RECORD = (np.zeros((0, H_COLS)), np.zeros((0, 2), np.int64), np.zeros(2, np.int64), np.zeros(3),
+              np.zeros((0, 3)), np.zeros((0, 2), np.int64))
+#: Hits a recording call makes room for per sample at first (it retries with more on overflow).
+HITS_PER_SAMPLE = 2
+
+
+def with_buffers(labels: tuple, samples: int = 0, hits: int | None = None) -> tuple:
+    """``labels`` with the record buffers the kernels append hits to (layout ``LB_HIT_F ..
+    LB_SMP_I`` of :mod:`engine.tracer.kernels.labels`): for ``samples`` samples and ``hits``
+    hits (default :data:`HITS_PER_SAMPLE` a sample), or none (``samples = 0``: not recording)."""
+    if samples <= 0:
+        return labels + _NO_RECORD
+    cap = HITS_PER_SAMPLE * samples + 64 if hits is None else int(hits)
+    return labels + (np.zeros((cap, H_COLS)), np.zeros((cap, 2), np.int64), np.zeros(2, np.int64), np.zeros(3),
+                     np.zeros((samples, 3)), np.zeros((samples, 2), np.int64))

@@ -33,7 +33,7 @@ import numpy as np
 from numba import njit
 
 from .intersect import O_MAT, fill_interaction, I_NGX, nearest_hit, object_media
-from .labels import label_hit
+from .labels import LB_HIT_F, LB_REST, finish_radiance, label_hit
 from .materials import (CONDUCTOR, K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND, PLASTIC,
                         SMOOTH_DIELECTRIC, conductor, smooth_dielectric)
 from .roots import INLINE, JIT
@@ -94,6 +94,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
     scale, rot = env_p[0], env_p[1]
     cap = stk_f.shape[0]
     lr = lg = lb = 0.0
+    ar = ag = ab = 0.0  # the labels' terms (kernels.labels module rule)
     sig = np.uint64(0x243F6A8885A308D3)
     objmask = np.int64(0)
     dominant = True
@@ -168,12 +169,12 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
         cos_i = abs(dn)
         if k == 0 and labels[0].shape[0] > 0:
             nk, er, eg, eb, lbits = label_hit(labels, scene, env_p, part, px, py, pz, nx, ny, nz, dx, dy, dz,
-                                              inc, trn, kids, roots, crit, ivals)
+                                              inc, trn, wr, wg, wb, kids, roots, crit, ivals)
             objmask |= lbits
-            if nk >= 0:
-                lr += wr * er
-                lg += wg * eg
-                lb += wb * eb
+            if nk >= 0:  # summed apart and added last, so a relabel can recompute them alone
+                ar += wr * er
+                ag += wg * eg
+                ab += wb * eb
                 if dominant:
                     sig = mix64(sig ^ np.uint64(0x5BD1E995 + lbits))
                 kind = -1  # answered by the label
@@ -226,6 +227,8 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
             stk_i[top, KI_SIDE] = 1 if cdx * nx + cdy * ny + cdz * nz >= 0.0 else -1
             stk_u[top] = branch_seed(bseed, c)
             top += 1
-    if not (math.isfinite(lr) and math.isfinite(lg) and math.isfinite(lb)):
-        lr = lg = lb = 0.0
-    return max(lr, 0.0), max(lg, 0.0), max(lb, 0.0), sig, objmask
+    if labels[LB_HIT_F].shape[0] > 0:
+        rest = labels[LB_REST]
+        rest[0], rest[1], rest[2] = lr, lg, lb
+    r, g, b = finish_radiance(lr, lg, lb, ar, ag, ab)
+    return r, g, b, sig, objmask

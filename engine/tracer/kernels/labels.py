@@ -41,6 +41,15 @@ normal; it ignores the bottle's own occlusion (a distant-environment approximati
 * emboss: the paper with its shading normal bent by the slope of a relief of ``depth_mm`` whose
   height is the region's (bilinear) indicator; slopes per mm use the label's size.
 
+Relabel. Every sheet emission is ``alpha (P c + Q)`` per channel, with ``c`` the face colour
+(texel or plain colour) and ``P``, ``Q`` free of it; the integrator sums these terms apart from
+the rest of the sample's radiance and adds them last. With record buffers (a job's label
+record) each hit's weight, alpha, ``P``, ``Q`` and artwork coordinates are written in order,
+and each sample's radiance without them: :func:`replay_samples` then recomputes a sample's
+radiance for new artwork colours with the same operations in the same order, bit for bit
+equal to tracing it again, as long as the ray tree is the same (alpha, regions, coefficients
+and placement unchanged: engine.tracer.job checks).
+
 Lights are directional (``Design.lights``: towards the light, colour x intensity is the
 irradiance at normal incidence). Each lit sheet point casts one straight shadow ray per light
 towards it (:func:`shadow`): labels on the outer wall block it (times ``1 - alpha``), glass and
@@ -65,6 +74,16 @@ from .sampling import env_lookup
 # the tuple of label tables (engine.tracer.labels.label_arrays)
 (LB_ROWS, LB_NODES, LB_F, LB_TEXELS, LB_TEX_I, LB_CODES, LB_REGION_I, LB_FINISH, LB_SIZE, LB_IRR,
  LB_LIGHTS) = range(11)
+# ... then the per-call record buffers (engine.tracer.labels.with_buffers; empty: not recording):
+# hits (float64 (cap, H_COLS), int64 (cap, 2)), their count and overflow flag (int64 (2,)), the
+# current sample's radiance without label terms (float64 (3,)), and per sample of the call its
+# radiance without label terms (float64 (S, 3)) and its hits' range (int64 (S, 2))
+LB_HIT_F, LB_HIT_I, LB_HIT_N, LB_REST, LB_SMP_F, LB_SMP_I = range(11, 17)
+#: Columns of a recorded hit: branch weight, alpha, the colour factor P and the colour-free term
+#: Q of its emission ``alpha (P c + Q)``, the face's artwork coordinates; label row and face.
+H_WR, H_WG, H_WB, H_ALPHA, H_P, H_Q, H_S, H_T = 0, 1, 2, 3, 4, 7, 10, 11
+H_COLS = 12
+H_LABEL, H_FACE = 0, 1
 # columns of engine.appearance.decal.pack_decals rows and of engine.appearance.compiled tables
 # (repeated here as literals because a kernel must not import the appearance package: its
 # source is not part of the kernel cache key; tests check they agree)
@@ -312,9 +331,92 @@ def _emboss_normal(lab, k, q, code, depth, s, t, px, py, nx, ny, nz):
     return mx / m, my / m, mz / m
 
 
+@njit(**INLINE)
+def _emit(alpha, p, c, q):
+    """One channel of a sheet's emission (module rule: the one formula tracing and replay use)."""
+    return alpha * (p * c + q)
+
+
 @njit(**JIT)
-def label_hit(lab, scene, env_p, part, px, py, pz, nx, ny, nz, dx, dy, dz, inc, trn, kids, roots, crit,
-              ivals):
+def face_colour(lab, k, face, s_face, t):
+    """Linear RGB of face ``face`` (0 front, 1 back) of label ``k`` at that face's artwork
+    coordinates (the texel, else the plain colour)."""
+    lf = lab[LB_F]
+    m = int(lf[k, _L_FRONT_TEX]) if face == 0 else int(lf[k, _L_BACK_TEX])
+    if m >= 0:
+        r, g, b, _ = texel(lab, m, s_face, t)
+        return r, g, b
+    col = _L_FRONT_R if face == 0 else _L_BACK_R
+    return lf[k, col], lf[k, col + 1], lf[k, col + 2]
+
+
+@njit(**JIT)
+def _record_hit(lab, wr, wg, wb, alpha, pr, pg, pb, qr, qg, qb, s_face, t, k, face):
+    hf, hn = lab[LB_HIT_F], lab[LB_HIT_N]
+    i = hn[0]
+    if i >= hf.shape[0]:
+        hn[1] = 1  # overflow: this call's samples cannot be replayed
+        return
+    hf[i, H_WR], hf[i, H_WG], hf[i, H_WB], hf[i, H_ALPHA] = wr, wg, wb, alpha
+    hf[i, H_P], hf[i, H_P + 1], hf[i, H_P + 2] = pr, pg, pb
+    hf[i, H_Q], hf[i, H_Q + 1], hf[i, H_Q + 2] = qr, qg, qb
+    hf[i, H_S], hf[i, H_T] = s_face, t
+    lab[LB_HIT_I][i, H_LABEL], lab[LB_HIT_I][i, H_FACE] = k, face
+    hn[0] = i + 1
+
+
+@njit(**JIT)
+def record_sample(lab, s, h0):
+    """After sample ``s`` of a call (recording only): its radiance without label terms and the
+    range ``[h0, now)`` of its hits."""
+    if lab[LB_HIT_F].shape[0] == 0:
+        return
+    sf = lab[LB_SMP_F]
+    sf[s, 0], sf[s, 1], sf[s, 2] = lab[LB_REST][0], lab[LB_REST][1], lab[LB_REST][2]
+    lab[LB_SMP_I][s, 0], lab[LB_SMP_I][s, 1] = h0, lab[LB_HIT_N][0]
+
+
+@njit(**INLINE)
+def finish_radiance(lr, lg, lb, ar, ag, ab):
+    """A sample's radiance: the rest plus the label terms, cleaned (non-finite -> 0, >= 0)."""
+    lr += ar
+    lg += ag
+    lb += ab
+    if not (math.isfinite(lr) and math.isfinite(lg) and math.isfinite(lb)):
+        lr = lg = lb = 0.0
+    return max(lr, 0.0), max(lg, 0.0), max(lb, 0.0)
+
+
+@njit(**JIT)
+def replay_samples(lab, s0, count, smp_f, smp_i, hit_f, hit_i, out_sum, out_sumsq):
+    """Per-pixel sums (as :func:`~engine.tracer.kernels.tile.render_pixels` writes them) of
+    recorded samples ``s0[p] .. s0[p] + count[p] - 1`` with the label tables ``lab`` (module
+    rule: the same operations in the same order as tracing them)."""
+    for p in range(s0.shape[0]):
+        sr = sg = sb = ssq = 0.0
+        for s in range(s0[p], s0[p] + count[p]):
+            ar = ag = ab = 0.0
+            for i in range(smp_i[s, 0], smp_i[s, 1]):
+                cr, cg, cb = face_colour(lab, hit_i[i, H_LABEL], hit_i[i, H_FACE], hit_f[i, H_S], hit_f[i, H_T])
+                a = hit_f[i, H_ALPHA]
+                ar += hit_f[i, H_WR] * _emit(a, hit_f[i, H_P], cr, hit_f[i, H_Q])
+                ag += hit_f[i, H_WG] * _emit(a, hit_f[i, H_P + 1], cg, hit_f[i, H_Q + 1])
+                ab += hit_f[i, H_WB] * _emit(a, hit_f[i, H_P + 2], cb, hit_f[i, H_Q + 2])
+            r, g, b = finish_radiance(smp_f[s, 0], smp_f[s, 1], smp_f[s, 2], ar, ag, ab)
+            sr += r
+            sg += g
+            sb += b
+            lum = (r + g + b) / 3.0
+            ssq += lum * lum
+        out_sum[p, 0] = sr
+        out_sum[p, 1] = sg
+        out_sum[p, 2] = sb
+        out_sumsq[p] = ssq
+
+
+@njit(**JIT)
+def label_hit(lab, scene, env_p, part, px, py, pz, nx, ny, nz, dx, dy, dz, inc, trn, wr, wg, wb, kids,
+              roots, crit, ivals):
     """What a label does at a hit on the outer wall (module rule).
 
     ``n`` is the outer wall's oriented unit normal (pointing into the air), ``d`` the ray, ``inc``
@@ -336,25 +438,25 @@ def label_hit(lab, scene, env_p, part, px, py, pz, nx, ny, nz, dx, dy, dz, inc, 
         frow = int(lf[k, _L_REGION0]) + code - 1
         kind = int(lab[LB_FINISH][frow, _F_KIND])
     diff, trans = lf[k, _L_DIFFUSE], lf[k, _L_TRANSMISSION]
-    # the colour of the face the ray sees
-    if outside:
-        col, m, s_face = _L_FRONT_R, int(lf[k, _L_FRONT_TEX]), s
-    else:
-        col, m, s_face = _L_BACK_R, int(lf[k, _L_BACK_TEX]), 1.0 - s  # back_coordinates
-    if m >= 0:
-        cr, cg, cb, _ = texel(lab, m, s_face, t)
-    else:
-        cr, cg, cb = lf[k, col], lf[k, col + 1], lf[k, col + 2]
-    if outside and kind == CLEAR_VINYL_WHITE:
-        f = lab[LB_FINISH][frow]
-        cr, cg, cb = cr * f[_F_UNDER], cg * f[_F_UNDER + 1], cb * f[_F_UNDER + 2]
+    face = 0 if outside else 1
+    s_face = s if outside else 1.0 - s  # back_coordinates
+    cr, cg, cb = face_colour(lab, k, face, s_face, t)
     # shading normal (outward)
     sx, sy, sz = nx, ny, nz
     if outside and kind == EMBOSS:
         sx, sy, sz = _emboss_normal(lab, k, int(lf[k, _L_REGION_MAP]), code, lab[LB_FINISH][frow, _F_DEPTH],
                                     s, t, px, py, nx, ny, nz)
+    # irradiance / pi on the outer (o*) and the inner (i*) side: environment, then lights
+    or_, og, ob = env_lookup(irr, scale, rot, sx, sy, sz)
+    ir, ig, ib = env_lookup(irr, scale, rot, -sx, -sy, -sz)
+    if lab[LB_LIGHTS].shape[0] > 0:
+        fr, fg, fb, br, bg, bb, b = _lights(scene, lab, px, py, pz, sx, sy, sz, trn if outside else inc,
+                                            roots, crit, ivals)
+        bits |= b
+        or_, og, ob, ir, ig, ib = or_ + fr, og + fg, ob + fb, ir + br, ig + bg, ib + bb
     nk = 0
-    er = eg = eb = 0.0
+    # emission alpha (P c + Q): P the colour's factor, Q what no colour tints
+    pr = pg = pb = qr = qg = qb = 0.0
     if outside:
         cos_i = max(-(dx * sx + dy * sy + dz * sz), 1e-6)
         if kind == GOLD_FOIL or kind == SILVER_FOIL:
@@ -366,8 +468,7 @@ def label_hit(lab, scene, env_p, part, px, py, pz, nx, ny, nz, dx, dy, dz, inc, 
             _mirror_kid(kids, 0, dx, dy, dz, sx, sy, sz, nx, ny, nz, alpha * g * rr, alpha * g * rg, alpha * g * rb)
             nk = 1
             # the rough part of the foil: a lobe as wide as the hemisphere
-            dr, dg, db = rr * (1.0 - g), rg * (1.0 - g), rb * (1.0 - g)
-            tr_ = 0.0
+            qr, qg, qb = rr * (1.0 - g) * or_, rg * (1.0 - g) * og, rb * (1.0 - g) * ob
         else:
             r0, _ = fresnel_dielectric(1.0, COAT_IOR)
             rf, _ = fresnel_dielectric(cos_i, COAT_IOR)
@@ -378,32 +479,20 @@ def label_hit(lab, scene, env_p, part, px, py, pz, nx, ny, nz, dx, dy, dz, inc, 
                 _mirror_kid(kids, 0, dx, dy, dz, sx, sy, sz, nx, ny, nz, alpha * rc, alpha * rc, alpha * rc)
                 nk = 1
             base = 1.0 - rc
-            dr, dg, db = base * diff * cr, base * diff * cg, base * diff * cb
-            tr_ = base * trans
-        er, eg, eb = env_lookup(irr, scale, rot, sx, sy, sz)
-        er, eg, eb = er * dr, eg * dg, eb * db
-        if tr_ > 0.0:
-            ir, ig, ib = env_lookup(irr, scale, rot, -sx, -sy, -sz)
-            er, eg, eb = er + ir * tr_ * cr, eg + ig * tr_ * cg, eb + ib * tr_ * cb
-        if lab[LB_LIGHTS].shape[0] > 0:
-            fr, fg, fb, br, bg, bb, b = _lights(scene, lab, px, py, pz, sx, sy, sz, trn, roots, crit, ivals)
-            bits |= b
-            er += fr * dr + br * tr_ * cr
-            eg += fg * dg + bg * tr_ * cg
-            eb += fb * db + bb * tr_ * cb
+            pr = base * (diff * or_ + trans * ir)
+            pg = base * (diff * og + trans * ig)
+            pb = base * (diff * ob + trans * ib)
+            if kind == CLEAR_VINYL_WHITE:  # the ink over the white underprint
+                f = lab[LB_FINISH][frow]
+                pr, pg, pb = pr * f[_F_UNDER], pg * f[_F_UNDER + 1], pb * f[_F_UNDER + 2]
     else:  # the back face, seen through the glass: the ray ends on the paper
-        ir, ig, ib = env_lookup(irr, scale, rot, -nx, -ny, -nz)
-        jr, jg, jb = env_lookup(irr, scale, rot, nx, ny, nz)
-        er, eg, eb = (diff * ir + trans * jr) * cr, (diff * ig + trans * jg) * cg, (diff * ib + trans * jb) * cb
-        if lab[LB_LIGHTS].shape[0] > 0:
-            fr, fg, fb, br, bg, bb, b = _lights(scene, lab, px, py, pz, nx, ny, nz, inc, roots, crit, ivals)
-            bits |= b
-            er += (diff * br + trans * fr) * cr
-            eg += (diff * bg + trans * fg) * cg
-            eb += (diff * bb + trans * fb) * cb
+        pr, pg, pb = diff * ir + trans * or_, diff * ig + trans * og, diff * ib + trans * ob
+    er, eg, eb = _emit(alpha, pr, cr, qr), _emit(alpha, pg, cg, qg), _emit(alpha, pb, cb, qb)
+    if lab[LB_HIT_F].shape[0] > 0:
+        _record_hit(lab, wr, wg, wb, alpha, pr, pg, pb, qr, qg, qb, s_face, t, k, face)
     if alpha < 1.0:  # the uncovered part of the texel: the glass beneath, as without a label
         fx, fy, fz = (nx, ny, nz) if outside else (-nx, -ny, -nz)
         cos_g = abs(dx * nx + dy * ny + dz * nz)
         nk += smooth_dielectric(dx, dy, dz, fx, fy, fz, cos_g, media[trn, 0] / media[inc, 0], 1.0 - alpha,
                                 kids, nk)
-    return nk, alpha * er, alpha * eg, alpha * eb, bits
+    return nk, er, eg, eb, bits

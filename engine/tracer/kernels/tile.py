@@ -11,6 +11,7 @@ import numpy as np
 from numba import njit
 
 from .integrator import trace_sample
+from .labels import LB_HIT_N, record_sample
 from .intersect import I_COLS
 from .materials import KID_COLS, MAX_CHILDREN
 from .roots import JIT
@@ -44,6 +45,7 @@ def render_pixels(scene, tex, env_p, cam, cols, rows, first, count, max_depth, m
     work = make_work(max_depth)
     width = int(cam[C_W])
     ex, ey, ez = cam[C_EYE], cam[C_EYE + 1], cam[C_EYE + 2]
+    smp = 0
     for p in range(cols.shape[0]):
         if cancel[0] != 0:
             return p
@@ -54,10 +56,13 @@ def render_pixels(scene, tex, env_p, cam, cols, rows, first, count, max_depth, m
             fx, fy = pixel_offset(pix, k)
             dx, dy, dz = camera_ray(cam, cols[p] + fx, rows[p] + fy)
             seed = mix64(np.uint64(pix) * np.uint64(0x9E3779B97F4A7C15) ^ np.uint64(k))
+            h0 = labels[LB_HIT_N][0]
             r, g, b, sig, m = trace_sample(scene, tex, env_p, ex, ey, ez, dx, dy, dz, seed,
                                            max_depth, min_weight, rr_weight if k >= rr_from else 0.0,
                                            max_nodes, work, out_depth[p],
                                            counters, rec_rays, rec_n, labels)
+            record_sample(labels, smp, h0)
+            smp += 1
             if k == first[p]:
                 out_sig[p] = sig
             sr += r

@@ -89,6 +89,8 @@ class _WaveRecord:
 
     @classmethod
     def join(cls, chunks) -> "_WaveRecord":
+        if len(chunks) == 1 and (len(chunks[0].pix) < 2 or bool(np.all(np.diff(chunks[0].pix) > 0))):
+            return chunks[0]  # a relabel that kept the whole wave: already a record
         s_off = h_off = 0
         s0, smp_f, smp_i, hit_f, hit_i = [], [], [], [], []
         for c in chunks:
@@ -465,7 +467,10 @@ class RenderJob:
             if self.on_tile is not None:
                 self.on_tile(self, Tile(x0, y0, x1, y1, wave))
 
-        futures = [pool.submit(run, tl) for tl in tiles]
+        t = self.tile  # which tiles have work (one pass over the mask, not one per tile)
+        busy = np.logical_or.reduceat(np.logical_or.reduceat(mask, np.arange(0, self.height, t), 0),
+                                      np.arange(0, self.width, t), 1)
+        futures = [pool.submit(run, tl) for tl in tiles if busy[tl[1] // t, tl[0] // t]]
         first_error = None
         for f in futures:
             exc = f.exception()
@@ -535,7 +540,10 @@ class RenderJob:
         same = (rec.pix[idx] == pix) & (rec.first[idx] == first) & (rec.count[idx] == count)
         same &= ~recolour[ys, xs] | (rec.s0[idx] >= 0)
         idx, rows, cols = idx[same], ys[same], xs[same]
-        part = rec.subset(idx)
+        # every row of the record kept (idx is then 0, 1, ...: both are in pixel order): share
+        # its arrays instead of copying them
+        whole = len(idx) == len(rec.pix)
+        part = rec if whole else rec.subset(idx)
         again = np.nonzero(recolour[rows, cols])[0]
         if len(again):
             sums, sumsq = part.sums.copy(), part.sumsq.copy()
@@ -543,7 +551,7 @@ class RenderJob:
             replay_samples(with_buffers(self._ctx.labels), part.s0[again], part.count[again], rec.smp_f, rec.smp_i,
                            rec.hit_f, rec.hit_i, out_s, out_q)
             sums[again], sumsq[again] = out_s, out_q
-            part = rec.subset(idx, sums, sumsq)
+            part = dataclasses.replace(part, sums=sums, sumsq=sumsq)
         res = part.result()
         if want is None:
             film.add_centre(cols, rows, res)

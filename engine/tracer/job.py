@@ -25,9 +25,14 @@ A pixel is dirty when its ray trees (any sample, shadow rays included) consulted
 artwork, finish or coefficients changed (the label bits of the object mask,
 :mod:`engine.tracer.kernels.labels`), any label when lights changed, and every pixel whose
 trees met the outer wall when a label moved, was added, removed or reordered (the new
-footprint may cover it). Since samples are seeded by (pixel, sample) and the film is the same
-function of the traced results, the image equals a full render of the new design bit for bit.
-Records are kept only for designs with labels.
+footprint may cover it). A label whose edit changes its face colours only (artwork of the same
+size with the same alpha channel and region map, everything else equal) leaves every ray tree
+as it was: its pixels are not traced but their label terms recomputed from the recorded hits
+(:func:`engine.tracer.kernels.labels.replay_samples`). Since samples are seeded by (pixel,
+sample) and the film is the same function of the traced results, the image equals a full render
+of the new design bit for bit; a pixel the new image's sampling plan asks other samples of is
+traced as in a full render. Records (per wave: each pixel's sums and records, each sample's
+label hits) are kept only for designs with labels.
 """
 from __future__ import annotations
 
@@ -55,7 +60,7 @@ from .labels import with_buffers
 NOISE_TARGET = adaptive.NOISE_TARGET
 #: Design fields the image depends on (an edit of any other field keeps the film).
 VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets",
-                           "labels", "lights", "bumps", "cap"})
+                           "labels", "lights"})
 #: Object-mask bits of the outer wall and of all labels (engine.tracer.kernels.labels).
 _OUTER_WALL_BIT = np.int64(1)
 _ALL_LABEL_BITS = np.int64(sum(1 << b for b in range(LABEL_BIT0, MAX_LABEL_BIT + 1)))

@@ -8,6 +8,7 @@ benchmarks and the job all trace through the same code.
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 from dataclasses import dataclass, field
 
@@ -19,6 +20,8 @@ from .kernels.integrator import (C_BUDGET, C_CUT_DEPTH, C_CUT_WEIGHT, C_LEAKS, C
                                  C_QUERIES, N_COUNTERS)
 from .kernels.sampling import C_COLS
 from .kernels.tile import render_pixels
+from .kernels.labels import LB_HIT_F, LB_HIT_I, LB_HIT_N, LB_SMP_F, LB_SMP_I
+from .labels import empty_label_arrays, label_arrays, with_buffers
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays
 
 #: Boundaries one camera sample may visit before what it still holds is closed with the
@@ -55,6 +58,9 @@ class RenderContext:
     n_materials: int
     reference_level: float
     environment: EnvironmentMap = field(repr=False, default=None)
+    #: the label tables (:func:`engine.tracer.labels.label_arrays`); a label edit replaces only
+    #: this field (:meth:`with_labels`)
+    labels: tuple = field(repr=False, default_factory=empty_label_arrays)
 
     @classmethod
     def from_design(cls, design, assets=None, width=None, height=None, environment=None) -> "RenderContext":
@@ -71,7 +77,14 @@ class RenderContext:
         params = np.array([float(env.scale), math.radians(float(env.rotation_deg))])
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
         return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
-                   float(design.render.min_weight), int(scene[7].shape[0]), level, env)
+                   float(design.render.min_weight), int(scene[7].shape[0]), level, env,
+                   label_arrays(design, assets, tex))
+
+    def with_labels(self, design, assets=None) -> "RenderContext":
+        """This context with the labels (and lights) of ``design``: geometry, media, camera and
+        environment are kept as they are (the caller vouches that only labels, lights or label
+        assets differ)."""
+        return dataclasses.replace(self, labels=label_arrays(design, assets, self.texels))
 
 
 @dataclass
@@ -108,18 +121,23 @@ class PixelResult:
     depth: np.ndarray     # (P, n_materials) int64 shallowest depth each material was met (255: never)
     counters: np.ndarray  # (N_COUNTERS,) int64 kernel counters (see kernels.integrator)
     finished: int         # pixels done (fewer than P when cancelled)
+    #: with ``record_labels``: ``(smp_f, smp_i, hit_f, hit_i)``, per traced sample (pixels in
+    #: order, their samples in order) its radiance without label terms and its hits' range, and
+    #: the hits (kernels.labels ``H_*``); ``None`` otherwise
+    label_record: tuple | None = None
 
 
 def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, record=None,
-                 roulette: float = 0.0) -> PixelResult:
+                 roulette: float = 0.0, record_labels: bool = False) -> PixelResult:
     """Trace samples ``first[p] .. first[p] + count[p] - 1`` of pixels ``(cols[p], rows[p])``.
 
     Sample 0 is the pixel centre, samples >= 1 the pixel's stratified positions (see
     :mod:`engine.tracer.kernels.sampling`). ``cancel`` is an int array of one element polled
     between pixels; ``record`` an optional ``(rays float32 (N, 6), count int64 (1,))`` pair
     that receives every intersection query (benchmarks); ``roulette`` > 0 makes branches lighter
-    than it play Russian roulette (unbiased; for the extra samples of noisy pixels). Releases
-    the GIL while tracing.
+    than it play Russian roulette (unbiased; for the extra samples of noisy pixels);
+    ``record_labels`` keeps the label terms of every sample (``PixelResult.label_record``, for
+    a relabel; only with labels). Releases the GIL while tracing.
     """
     cols = np.ascontiguousarray(cols, dtype=np.int64)
     rows = np.ascontiguousarray(rows, dtype=np.int64)
@@ -135,10 +153,23 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
     if cancel is None:
         cancel = np.zeros(1, np.int64)
     rec_rays, rec_n = record if record is not None else (np.zeros((0, 6), np.float32), np.zeros(1, np.int64))
-    done = render_pixels(ctx.scene, ctx.texels, ctx.env_params, ctx.cam, cols, rows, first, count,
-                         ctx.max_depth, ctx.min_weight, float(roulette), 0, MAX_NODES, sums, sumsq, sig, mask, depth,
-                         counters, cancel, rec_rays, rec_n)
-    return PixelResult(sums, sumsq, sig, mask, depth, counters, int(done))
+    samples = int(count.sum()) if record_labels and ctx.labels[0].shape[0] > 0 else 0
+    hits = None
+    while True:
+        labels = with_buffers(ctx.labels, samples, hits)
+        done = render_pixels(ctx.scene, ctx.texels, ctx.env_params, ctx.cam, cols, rows, first, count,
+                             ctx.max_depth, ctx.min_weight, float(roulette), 0, MAX_NODES, sums, sumsq, sig, mask,
+                             depth, counters, cancel, rec_rays, rec_n, labels)
+        if not samples or not labels[LB_HIT_N][1] or done < p:
+            break
+        # more hits than room: trace the call again with room for all (same seeds, same result)
+        hits = 4 * labels[LB_HIT_F].shape[0]
+        sums[:], sumsq[:], sig[:], mask[:], depth[:], counters[:] = 0, 0, 0, 0, 255, 0
+    rec = None
+    if samples and done == p:
+        n = int(labels[LB_HIT_N][0])
+        rec = (labels[LB_SMP_F], labels[LB_SMP_I], labels[LB_HIT_F][:n].copy(), labels[LB_HIT_I][:n].copy())
+    return PixelResult(sums, sumsq, sig, mask, depth, counters, int(done), rec)
 
 
 # --------------------------------------------------------------------------- ray queries
@@ -183,5 +214,6 @@ def trace_rays(ctx: RenderContext, origins, directions):
     d = np.ascontiguousarray(np.asarray(directions, float).reshape(-1, 3))
     out = np.zeros((len(o), 3))
     counters = np.zeros(N_COUNTERS, np.int64)
-    radiance(ctx.scene, ctx.texels, ctx.env_params, o, d, ctx.max_depth, ctx.min_weight, MAX_NODES, out, counters)
+    radiance(ctx.scene, ctx.texels, ctx.env_params, o, d, ctx.max_depth, ctx.min_weight, MAX_NODES, out, counters,
+              with_buffers(ctx.labels))
     return out, counters

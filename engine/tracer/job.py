@@ -15,9 +15,28 @@ Threading contract: ``on_tile(job, tile)`` and ``on_done(job)`` run on worker th
 must marshal to its own thread. ``image()``, ``progress`` and ``sample_counts()`` may be read
 at any time. A job started with ``previous=`` and ``changed=`` (the design fields an edit
 changed) reuses the previous film when nothing it renders changed.
+
+Relabel: when only labels, lights or label images changed (every other field of the design
+equal, same size and sampling), the job keeps the previous job's compiled scene (a label edit
+never rebuilds geometry, media or environment: :meth:`RenderContext.with_labels`) and replays
+the same waves: a pixel's traced samples are reused from the previous job's per-wave record
+when the pixel is clean and the wave asks it for the same samples, and traced again otherwise.
+A pixel is dirty when its ray trees (any sample, shadow rays included) consulted a label whose
+artwork, finish or coefficients changed (the label bits of the object mask,
+:mod:`engine.tracer.kernels.labels`), any label when lights changed, and every pixel whose
+trees met the outer wall when a label moved, was added, removed or reordered (the new
+footprint may cover it). A label whose edit changes its face colours only (artwork of the same
+size with the same alpha channel and region map, everything else equal) leaves every ray tree
+as it was: its pixels are not traced but their label terms recomputed from the recorded hits
+(:func:`engine.tracer.kernels.labels.replay_samples`). Since samples are seeded by (pixel,
+sample) and the film is the same function of the traced results, the image equals a full render
+of the new design bit for bit; a pixel the new image's sampling plan asks other samples of is
+traced as in a full render. Records (per wave: each pixel's sums and records, each sample's
+label hits) are kept only for designs with labels.
 """
 from __future__ import annotations
 
+import dataclasses
 import os
 import random
 import threading
@@ -28,12 +47,126 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import adaptive
-from .context import RenderContext, TraceStats, trace_pixels
+from ..appearance.frame import Placement
+from .context import PixelResult, RenderContext, TraceStats, trace_pixels
 from .film import Film
+from .kernels.integrator import N_COUNTERS
+from ..appearance.compiled import L_FRONT_TEX, L_REGION_MAP
+from ..model.design import LabelSide
+from .kernels.labels import (H_COLS, LABEL_BIT0, LB_CODES, LB_F, LB_REGION_I, LB_TEX_I, LB_TEXELS,
+                             MAX_LABEL_BIT, replay_samples)
+from .labels import with_buffers
 
 NOISE_TARGET = adaptive.NOISE_TARGET
 #: Design fields the image depends on (an edit of any other field keeps the film).
-VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets"})
+VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets",
+                           "labels", "lights"})
+#: Object-mask bits of the outer wall and of all labels (engine.tracer.kernels.labels).
+_OUTER_WALL_BIT = np.int64(1)
+_ALL_LABEL_BITS = np.int64(sum(1 << b for b in range(LABEL_BIT0, MAX_LABEL_BIT + 1)))
+
+
+def _label_bit(k: int) -> np.int64:
+    return np.int64(1 << min(LABEL_BIT0 + k, MAX_LABEL_BIT))
+
+
+@dataclass
+class _WaveRecord:
+    """The traced results of one wave, by pixel index ``row * width + col`` (sorted), and the
+    label terms of their samples: pixel ``i``'s samples are ``smp_*[s0[i] : s0[i] + count[i]]``
+    (``s0 = -1``: not recorded, the pixel can only be traced again)."""
+
+    pix: np.ndarray
+    first: np.ndarray
+    count: np.ndarray
+    sums: np.ndarray
+    sumsq: np.ndarray
+    signature: np.ndarray
+    objects: np.ndarray
+    depth: np.ndarray
+    s0: np.ndarray
+    smp_f: np.ndarray = None
+    smp_i: np.ndarray = None
+    hit_f: np.ndarray = None
+    hit_i: np.ndarray = None
+
+    PER_PIXEL = ("pix", "first", "count", "sums", "sumsq", "signature", "objects", "depth", "s0")
+
+    @classmethod
+    def join(cls, chunks) -> "_WaveRecord":
+        if len(chunks) == 1 and (len(chunks[0].pix) < 2 or bool(np.all(np.diff(chunks[0].pix) > 0))):
+            return chunks[0]  # a relabel that kept the whole wave: already a record
+        s_off = h_off = 0
+        s0, smp_f, smp_i, hit_f, hit_i = [], [], [], [], []
+        for c in chunks:
+            s0.append(np.where(c.s0 >= 0, c.s0 + s_off, -1))
+            smp_f.append(c.smp_f)
+            smp_i.append(c.smp_i + h_off)
+            hit_f.append(c.hit_f)
+            hit_i.append(c.hit_i)
+            s_off += len(c.smp_f)
+            h_off += len(c.hit_f)
+        parts = {f: np.concatenate([getattr(c, f) for c in chunks]) for f in cls.PER_PIXEL[:-1]}
+        parts["s0"] = np.concatenate(s0)
+        order = np.argsort(parts["pix"], kind="stable")
+        return cls(**{f: a[order] for f, a in parts.items()}, smp_f=np.concatenate(smp_f),
+                   smp_i=np.concatenate(smp_i), hit_f=np.concatenate(hit_f), hit_i=np.concatenate(hit_i))
+
+    def subset(self, idx, sums=None, sumsq=None) -> "_WaveRecord":
+        """Pixels ``idx`` (their samples' arrays shared), optionally with new sums."""
+        out = {f: getattr(self, f)[idx] for f in self.PER_PIXEL}
+        if sums is not None:
+            out["sums"], out["sumsq"] = sums, sumsq
+        return _WaveRecord(**out, smp_f=self.smp_f, smp_i=self.smp_i, hit_f=self.hit_f, hit_i=self.hit_i)
+
+    def result(self) -> PixelResult:
+        return PixelResult(self.sums, self.sumsq, self.signature, self.objects, self.depth,
+                           np.zeros(N_COUNTERS, np.int64), len(self.pix))
+
+
+def _colour_only(a, b, k, prev, job, old_t, new_t) -> bool:
+    """Whether label ``k`` changed from ``a`` to ``b`` in its face colours only (artwork of
+    the same size with the same alpha, region maps equal, everything else equal): then every ray
+    tree is the same and only the label terms change."""
+    blank = LabelSide()
+    if dataclasses.replace(a, front=blank, back=blank) != dataclasses.replace(b, front=blank, back=blank):
+        return False
+    pa, ja = prev.assets or {}, job.assets or {}
+    for r in a.regions:
+        if r.mask_asset is not None and not (pa.get(r.mask_asset) is ja.get(r.mask_asset)
+                                             or pa.get(r.mask_asset) == ja.get(r.mask_asset)):
+            return False
+
+    def alpha(t):
+        m = int(t[LB_F][k, L_FRONT_TEX])
+        if m < 0:
+            return None
+        first, w, h = t[LB_TEX_I][m]
+        return (int(w), int(h)), t[LB_TEXELS][first:first + w * h, 3]
+
+    def codes(t):
+        q = int(t[LB_F][k, L_REGION_MAP])
+        if q < 0:
+            return None
+        first, w, h = t[LB_REGION_I][q]
+        return (int(w), int(h)), t[LB_CODES][first:first + w * h]
+
+    for f in (alpha, codes):  # a plain front (no alpha) only matches a plain front
+        x, y = f(old_t), f(new_t)
+        if (x is None) != (y is None):
+            return False
+        if x is not None and (x[0] != y[0] or not np.array_equal(x[1], y[1])):
+            return False
+    return True
+
+
+def _without_labels(design):
+    return dataclasses.replace(design, labels=(), lights=(), name="", notes="")
+
+
+def _label_assets_equal(old, new, old_assets, new_assets) -> bool:
+    a, b = old_assets or {}, new_assets or {}
+    return all(a.get(n) is b.get(n) or a.get(n) == b.get(n) for n in old.asset_names())
 
 
 @dataclass(frozen=True)
@@ -115,6 +248,17 @@ class RenderJob:
         self._progress = 0.0
         self._thread = None
         self._t0 = None
+        #: per wave, the traced results (designs with labels only; relabel reads them)
+        self._records = {} if design.labels else None
+        self._chunks = None
+        self._ctx = None
+        #: for a relabel: the previous job and the (H, W) mask of pixels to trace again
+        self._reuse = None
+        #: pixels a relabel traced again from the start / recomputed the label terms of (None:
+        #: a full render or a kept film); pixels whose samples a new sampling plan asks for are
+        #: traced on top of these
+        self.relabelled_pixels = None
+        self.recoloured_pixels = None
 
     # ------------------------------------------------------------------ public API
     def start(self) -> "RenderJob":
@@ -162,9 +306,50 @@ class RenderJob:
     # ------------------------------------------------------------------ internals
     def _reusable(self) -> bool:
         prev = self._previous
-        return (prev is not None and self._changed is not None and not (self._changed & VISUAL_FIELDS)
-                and prev.done and prev.error is None and not prev.cancelled
+        if prev is None or self._changed is None:
+            return False
+        visual = self._changed & VISUAL_FIELDS
+        if not self.design.labels and not prev.design.labels:
+            visual = visual - {"lights", "labels"}  # lights shade labels only
+        return (not visual and prev.done and prev.error is None and not prev.cancelled
                 and (prev.width, prev.height, prev.spp) == (self.width, self.height, self.spp))
+
+    def _relabel_plan(self):
+        """``(context, trace, recolour)`` when this job can relabel the previous one (module
+        rule): the previous context with the new labels, the ``(H, W)`` masks of pixels to trace
+        again and of pixels whose label terms only are recomputed; else ``None``."""
+        prev = self._previous
+        if (prev is None or prev._records is None or prev._ctx is None or self._records is None
+                or not prev.done or prev.error is not None or prev.cancelled
+                or (prev.width, prev.height, prev.spp, prev.adaptive, prev.noise_target)
+                != (self.width, self.height, self.spp, self.adaptive, self.noise_target)
+                or _without_labels(prev.design) != _without_labels(self.design)):
+            return None
+        env = self.design.environment
+        if env.asset is not None:
+            a, b = (prev.assets or {}).get(env.asset), (self.assets or {}).get(env.asset)
+            if not (a is b or (isinstance(a, bytes) and a == b)):
+                return None
+        ctx = prev._ctx.with_labels(self.design, self.assets)
+        old, new = prev.design.labels, self.design.labels
+        bits = colour_bits = np.int64(0)
+        if prev.design.lights != self.design.lights:
+            bits |= _ALL_LABEL_BITS
+        if len(old) != len(new):
+            bits |= _OUTER_WALL_BIT | _ALL_LABEL_BITS
+        else:
+            for k, (a, b) in enumerate(zip(old, new)):
+                if a == b and _label_assets_equal(a, b, prev.assets, self.assets):
+                    continue
+                if Placement.of(a) != Placement.of(b):
+                    bits |= _OUTER_WALL_BIT | _label_bit(k)
+                elif _colour_only(a, b, k, prev, self, prev._ctx.labels, ctx.labels):
+                    colour_bits |= _label_bit(k)
+                else:
+                    bits |= _label_bit(k)
+        objects = prev.film.objects
+        trace = (objects & bits) != 0
+        return ctx, trace, ((objects & colour_bits) != 0) & ~trace
 
     def _tiles(self):
         t = self.tile
@@ -186,7 +371,15 @@ class RenderJob:
                 self.film = self._previous.film
                 self.stats = self._previous.stats
             else:
-                self._render()
+                plan = self._relabel_plan()
+                if plan is not None:
+                    ctx, trace, recolour = plan
+                    self._reuse = (trace, recolour)
+                    self.relabelled_pixels = int(np.count_nonzero(trace))
+                    self.recoloured_pixels = int(np.count_nonzero(recolour))
+                    self._render(ctx)
+                else:
+                    self._render()
         except BaseException as exc:  # reported, never swallowed
             self.error = exc
             self.cancel()
@@ -202,8 +395,10 @@ class RenderJob:
                     if self.error is None:
                         self.error = exc
 
-    def _render(self) -> None:
-        ctx = RenderContext.from_design(self.design, self.assets, self.width, self.height)
+    def _render(self, ctx=None) -> None:
+        if ctx is None:
+            ctx = RenderContext.from_design(self.design, self.assets, self.width, self.height)
+        self._ctx = ctx
         self.film = film = Film(self.width, self.height, ctx.n_materials)
         level = max(ctx.reference_level, 1e-6)
         tiles = self._tiles()
@@ -243,6 +438,10 @@ class RenderJob:
         t_wave = time.perf_counter()
         pixels = int(np.count_nonzero(mask))
         samples = pixels if want is None else int(np.sum(np.where(mask, want - film.aa_count, 0)))
+        self._chunks = [] if self._records is not None else None
+        recording = self._records is not None
+        if self._reuse is not None:
+            mask = self._replay(wave, mask, want, preview)
 
         def run(tl):
             x0, y0, x1, y1 = tl
@@ -253,7 +452,7 @@ class RenderJob:
                 return
             rows, cols = ys + y0, xs + x0
             if want is None:
-                res = trace_pixels(ctx, cols, rows, 0, 1, cancel=self._cancel_flag)
+                res = trace_pixels(ctx, cols, rows, 0, 1, cancel=self._cancel_flag, record_labels=recording)
                 if res.finished < len(cols):
                     return
                 film.add_centre(cols, rows, res)
@@ -264,18 +463,25 @@ class RenderJob:
             else:
                 have = film.aa_count[rows, cols]
                 count = want[rows, cols] - have
-                res = trace_pixels(ctx, cols, rows, have + 1, count, cancel=self._cancel_flag, roulette=roulette)
+                res = trace_pixels(ctx, cols, rows, have + 1, count, cancel=self._cancel_flag, roulette=roulette,
+                                   record_labels=recording)
                 if res.finished < len(cols):
                     return
                 film.add_aa(cols, rows, count, res)
             with self._lock:
+                if self._chunks is not None:
+                    first = np.zeros(len(cols), np.int64) if want is None else have + 1
+                    self._chunks.append(self._record(rows, cols, first, 1 if want is None else count, res))
                 self.stats.add_counters(res.counters)
                 if self.first_tile_seconds is None:
                     self.first_tile_seconds = time.perf_counter() - self._t0
             if self.on_tile is not None:
                 self.on_tile(self, Tile(x0, y0, x1, y1, wave))
 
-        futures = [pool.submit(run, tl) for tl in tiles]
+        t = self.tile  # which tiles have work (one pass over the mask, not one per tile)
+        busy = np.logical_or.reduceat(np.logical_or.reduceat(mask, np.arange(0, self.height, t), 0),
+                                      np.arange(0, self.width, t), 1)
+        futures = [pool.submit(run, tl) for tl in tiles if busy[tl[1] // t, tl[0] // t]]
         first_error = None
         for f in futures:
             exc = f.exception()
@@ -284,7 +490,92 @@ class RenderJob:
                 self.cancel()
         if first_error is not None:
             raise first_error
+        if self._chunks:
+            self._records[wave] = _WaveRecord.join(self._chunks)
+        self._chunks = None
         self.wave_log.append((wave, pixels, samples, time.perf_counter() - t_wave))
+
+    def _record(self, rows, cols, first, count, res) -> _WaveRecord:
+        n = len(cols)
+        count = np.broadcast_to(np.asarray(count, np.int64), (n,)).copy()
+        if res.label_record is None:
+            s0 = np.full(n, -1, np.int64)
+            smp_f, smp_i, hit_f, hit_i = (np.zeros((0, 3)), np.zeros((0, 2), np.int64),
+                                          np.zeros((0, H_COLS)), np.zeros((0, 2), np.int64))
+        else:
+            s0 = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(np.int64)
+            smp_f, smp_i, hit_f, hit_i = res.label_record
+        return _WaveRecord(rows * self.width + cols, np.asarray(first, np.int64), count, res.sums, res.sumsq,
+                           res.signature, res.objects, res.depth, s0, smp_f, smp_i, hit_f, hit_i)
+
+    def _paint_preview(self, cols, rows, values, b) -> None:
+        """What the tiles' preview painting does (each centre over its ``b x b`` block, clipped
+        to its tile), for many centres at once."""
+        film = self.film
+        if self.tile % b:
+            for c, r, v in zip(cols, rows, values):
+                by, bx = (r // b) * b, (c // b) * b
+                x1 = min((c // self.tile + 1) * self.tile, self.width)  # the pixel's tile
+                y1 = min((r // self.tile + 1) * self.tile, self.height)
+                film.set_preview(by, min(by + b, y1), bx, min(bx + b, x1), v)
+            return
+        # blocks then never cross a tile: paint whole blocks, cut at the image's edge
+        h, w = self.height, self.width
+        nby, nbx = -(-h // b), -(-w // b)
+        grid = np.zeros((nby, nbx, 3))
+        have = np.zeros((nby, nbx), bool)
+        grid[rows // b, cols // b] = values
+        have[rows // b, cols // b] = True
+        full = np.repeat(np.repeat(grid, b, 0), b, 1)[:h, :w]
+        on = np.repeat(np.repeat(have, b, 0), b, 1)[:h, :w]
+        with film.lock:
+            film.preview[on] = full[on]
+
+    def _replay(self, wave, mask, want, preview):
+        """Relabel: put the previous job's results of this wave into the film for the pixels it
+        traced with the same samples, as they were (clean pixels) or with their label terms
+        recomputed for the new colours (module rule); returns the mask of pixels left to trace."""
+        rec = self._previous._records.get(wave)
+        trace, recolour = self._reuse
+        ys, xs = np.nonzero(mask & ~trace)
+        if rec is None or not len(xs):
+            return mask
+        film = self.film
+        pix = ys * self.width + xs
+        idx = np.minimum(np.searchsorted(rec.pix, pix), len(rec.pix) - 1)
+        if want is None:
+            first, count = np.zeros(len(xs), np.int64), np.ones(len(xs), np.int64)
+        else:
+            have = film.aa_count[ys, xs]
+            first, count = have + 1, want[ys, xs] - have
+        same = (rec.pix[idx] == pix) & (rec.first[idx] == first) & (rec.count[idx] == count)
+        same &= ~recolour[ys, xs] | (rec.s0[idx] >= 0)
+        idx, rows, cols = idx[same], ys[same], xs[same]
+        # every row of the record kept (idx is then 0, 1, ...: both are in pixel order): share
+        # its arrays instead of copying them
+        whole = len(idx) == len(rec.pix)
+        part = rec if whole else rec.subset(idx)
+        again = np.nonzero(recolour[rows, cols])[0]
+        if len(again):
+            sums, sumsq = part.sums.copy(), part.sumsq.copy()
+            out_s, out_q = np.zeros((len(again), 3)), np.zeros(len(again))
+            replay_samples(with_buffers(self._ctx.labels), part.s0[again], part.count[again], rec.smp_f, rec.smp_i,
+                           rec.hit_f, rec.hit_i, out_s, out_q)
+            sums[again], sumsq[again] = out_s, out_q
+            part = dataclasses.replace(part, sums=sums, sumsq=sumsq)
+        res = part.result()
+        if want is None:
+            film.add_centre(cols, rows, res)
+            if preview is not None:
+                self._paint_preview(cols, rows, res.sums, preview)
+        else:
+            film.add_aa(cols, rows, part.count, res)
+        self._chunks.append(part)
+        left = mask.copy()
+        left[rows, cols] = False
+        if self.on_tile is not None:
+            self.on_tile(self, Tile(0, 0, self.width, self.height, wave))
+        return left
 
 
 def _lower_priority(nice: int) -> None:

@@ -33,6 +33,7 @@ import numpy as np
 from numba import njit
 
 from .intersect import O_MAT, fill_interaction, I_NGX, nearest_hit, object_media
+from .labels import LB_HIT_F, LB_REST, finish_radiance, label_hit
 from .materials import (CONDUCTOR, K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND, PLASTIC,
                         SMOOTH_DIELECTRIC, conductor, smooth_dielectric)
 from .roots import INLINE, JIT
@@ -65,7 +66,7 @@ def _lit(tex, scale, rot, wr, wg, wb, dx, dy, dz):
 
 @njit(**JIT)
 def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min_weight,
-                 rr_weight, max_nodes, work, depth_rec, counters, rec_rays, rec_n):
+                 rr_weight, max_nodes, work, depth_rec, counters, rec_rays, rec_n, labels):
     """Radiance ``(r, g, b)`` of one camera ray and its record.
 
     Parameters
@@ -80,6 +81,10 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
     work : tuple of scratch arrays ``(stk_f, stk_i, stk_u, roots, crit, ivals, si, kids)``.
     depth_rec : int64 array ``(n_materials,)``: the shallowest depth at which the tree met each
         material is min-ed into it.
+    labels : tuple
+        The label tables (:func:`engine.tracer.labels.label_arrays`; empty without labels): a
+        hit on the outer wall (object 0) under a label is the label's (:mod:`.labels`), and the
+        labels consulted set their bits (from ``labels.LABEL_BIT0``) in the object mask.
 
     Returns ``(r, g, b, signature, object mask)``: radiance (finite, >= 0), a hash of the
     dominant path's objects, and a bit per object the tree met.
@@ -89,6 +94,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
     scale, rot = env_p[0], env_p[1]
     cap = stk_f.shape[0]
     lr = lg = lb = 0.0
+    ar = ag = ab = 0.0  # the labels' terms (kernels.labels module rule)
     sig = np.uint64(0x243F6A8885A308D3)
     objmask = np.int64(0)
     dominant = True
@@ -161,6 +167,19 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
         kind = mat_i[mat, M_KIND]
         nk = 0
         cos_i = abs(dn)
+        if k == 0 and labels[0].shape[0] > 0:
+            nk, er, eg, eb, lbits = label_hit(labels, scene, env_p, part, px, py, pz, nx, ny, nz, dx, dy, dz,
+                                              inc, trn, wr, wg, wb, kids, roots, crit, ivals)
+            objmask |= lbits
+            if nk >= 0:  # summed apart and added last, so a relabel can recompute them alone
+                ar += wr * er
+                ag += wg * eg
+                ab += wb * eb
+                if dominant:
+                    sig = mix64(sig ^ np.uint64(0x5BD1E995 + lbits))
+                kind = -1  # answered by the label
+            else:
+                nk = 0
         if kind == SMOOTH_DIELECTRIC:
             nk = smooth_dielectric(dx, dy, dz, fx, fy, fz, cos_i, media[trn, 0] / media[inc, 0], 1.0, kids, 0)
         elif kind == CONDUCTOR:
@@ -208,6 +227,8 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
             stk_i[top, KI_SIDE] = 1 if cdx * nx + cdy * ny + cdz * nz >= 0.0 else -1
             stk_u[top] = branch_seed(bseed, c)
             top += 1
-    if not (math.isfinite(lr) and math.isfinite(lg) and math.isfinite(lb)):
-        lr = lg = lb = 0.0
-    return max(lr, 0.0), max(lg, 0.0), max(lb, 0.0), sig, objmask
+    if labels[LB_HIT_F].shape[0] > 0:
+        rest = labels[LB_REST]
+        rest[0], rest[1], rest[2] = lr, lg, lb
+    r, g, b = finish_radiance(lr, lg, lb, ar, ag, ab)
+    return r, g, b, sig, objmask

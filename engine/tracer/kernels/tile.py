@@ -11,6 +11,7 @@ import numpy as np
 from numba import njit
 
 from .integrator import trace_sample
+from .labels import LB_HIT_N, record_sample
 from .intersect import I_COLS
 from .materials import KID_COLS, MAX_CHILDREN
 from .roots import JIT
@@ -30,19 +31,21 @@ def make_work(max_depth):
 @njit(**JIT)
 def render_pixels(scene, tex, env_p, cam, cols, rows, first, count, max_depth, min_weight,
                   rr_weight, rr_from, max_nodes, out_sum, out_sumsq, out_sig, out_mask, out_depth, counters, cancel,
-                  rec_rays, rec_n):
+                  rec_rays, rec_n, labels):
     """Trace the listed samples of each pixel ``(cols[p], rows[p])``.
 
     Writes ``out_sum[p]`` (RGB radiance sum over the samples), ``out_sumsq[p]`` (sum of the
     squared per-sample mean of RGB, for noise estimates), ``out_sig[p]`` (the first sample's
     dominant-path signature), ``out_mask[p]`` (objects met, OR over samples) and min-s
     ``out_depth[p, m]`` (shallowest depth each material was met). Samples numbered ``rr_from``
-    and up play Russian roulette below ``rr_weight`` (see :func:`trace_sample`). Stops early, leaving the
+    and up play Russian roulette below ``rr_weight`` (see :func:`trace_sample`); ``labels`` is
+    the tuple of label tables :func:`trace_sample` takes. Stops early, leaving the
     rest untouched, once ``cancel[0]`` is non-zero; returns the number of pixels finished.
     """
     work = make_work(max_depth)
     width = int(cam[C_W])
     ex, ey, ez = cam[C_EYE], cam[C_EYE + 1], cam[C_EYE + 2]
+    smp = 0
     for p in range(cols.shape[0]):
         if cancel[0] != 0:
             return p
@@ -53,10 +56,13 @@ def render_pixels(scene, tex, env_p, cam, cols, rows, first, count, max_depth, m
             fx, fy = pixel_offset(pix, k)
             dx, dy, dz = camera_ray(cam, cols[p] + fx, rows[p] + fy)
             seed = mix64(np.uint64(pix) * np.uint64(0x9E3779B97F4A7C15) ^ np.uint64(k))
+            h0 = labels[LB_HIT_N][0]
             r, g, b, sig, m = trace_sample(scene, tex, env_p, ex, ey, ez, dx, dy, dz, seed,
                                            max_depth, min_weight, rr_weight if k >= rr_from else 0.0,
                                            max_nodes, work, out_depth[p],
-                                           counters, rec_rays, rec_n)
+                                           counters, rec_rays, rec_n, labels)
+            record_sample(labels, smp, h0)
+            smp += 1
             if k == first[p]:
                 out_sig[p] = sig
             sr += r

@@ -1,0 +1,498 @@
+"""Labels at an outer-wall hit, compiled: where the hit falls on which label, and what the sheet
+does to the branch there.
+
+Design rule: a label is a decal over the outer wall, not an object: :func:`label_hit` is called
+by the integrator at every hit on render object 0 (the outer wall) when the design has labels,
+and either hands the hit back (``nk = -1``: no label there, or a clear part of one; the glass's
+own material follows) or answers for it: children written into ``kids`` (coat or foil mirror
+branches, and the glass's two branches scaled by the uncovered fraction ``1 - alpha``) and the
+radiance the lit diffuse sheet sends back at once. The label tables are the tuple ``lab`` of
+:func:`engine.tracer.labels.label_arrays` (columns of :mod:`engine.appearance.compiled` and
+:mod:`engine.appearance.decal`); a design without labels passes empty tables and costs one
+length test per outer-wall hit.
+
+Lookup. The hit's surface coordinates are the labels' ``(theta, h)``
+(:mod:`engine.appearance.surface`): ``theta`` the polar angle in the bottle frame, ``h`` the
+arc length along the section (round walls, the segment's own ``v``) or the height z (swept).
+Labels are tried from the last (on top) down; the first whose artwork covers the point
+(alpha > 0 and not a clear-vinyl region) is the one hit, every label consulted on the way sets
+its bit in the returned mask (bit :data:`LABEL_BIT0` + k, labels from 30 on share bit 62), so a
+pixel's record says which labels its result depends on. Texels are fetched bilinearly (texel
+centres at half-integers), region codes at the nearest texel.
+
+Sheet model (mm, radiance in the environment's units). ``Irr(n)`` is the environment's
+cosine-convolved irradiance divided by pi (a lat-long table prefiltered once per
+environment, :mod:`engine.tracer.labels`; exactly 1 everywhere in a white furnace), looked up by
+normal; it ignores the bottle's own occlusion (a distant-environment approximation).
+
+* seen from outside (the ray in air): a coat reflects ``Rc`` (the label's ``specular`` at
+  normal incidence, rising with the dielectric Fresnel term of index 1.5 towards grazing) as a
+  mirror child about the shading normal; the rest ``1 - Rc`` reaches the paper, which sends back
+  ``colour x (K Irr(n) + T Irr(-n))`` (diffuse reflection of the front colour times ``diffuse``
+  K, diffuse transmission T of light from the far side) plus the design's lights;
+* seen from inside the glass: the back face (artwork at :func:`engine.appearance.decal.
+  back_coordinates`, ``(1 - s, t)``, or the back colour), index-matched to the glass (no coat,
+  no Fresnel child): ``back colour x (K Irr(-n) + T Irr(n))`` plus lights; the ray ends there;
+* foil (gold, silver): a conductor with the finish's complex IOR; ``gloss`` of the reflection
+  is a mirror child, ``1 - gloss`` a rough lobe approximated by ``F(cos) Irr(n)``;
+* clear vinyl: the glass shows through, exactly as without a label; with a white underprint the
+  region is the printed ink over the underprint (colour x underprint, diffuse);
+* varnish: a second coat over the paper's, weighted by its gloss (``Rc += gloss F (1 - Rc)``);
+* emboss: the paper with its shading normal bent by the slope of a relief of ``depth_mm`` whose
+  height is the region's (bilinear) indicator; slopes per mm use the label's size.
+
+Relabel. Every sheet emission is ``alpha (P c + Q)`` per channel, with ``c`` the face colour
+(texel or plain colour) and ``P``, ``Q`` free of it; the integrator sums these terms apart from
+the rest of the sample's radiance and adds them last. With record buffers (a job's label
+record) each hit's weight, alpha, ``P``, ``Q`` and artwork coordinates are written in order,
+and each sample's radiance without them: :func:`replay_samples` then recomputes a sample's
+radiance for new artwork colours with the same operations in the same order, bit for bit
+equal to tracing it again, as long as the ray tree is the same (alpha, regions, coefficients
+and placement unchanged: engine.tracer.job checks).
+
+Lights are directional (``Design.lights``: towards the light, colour x intensity is the
+irradiance at normal incidence). Each lit sheet point casts one straight shadow ray per light
+towards it (:func:`shadow`): labels on the outer wall block it (times ``1 - alpha``), glass and
+liquid attenuate it by the Fresnel transmittance of each interface crossed (``1 - R`` with the
+real indices; total internal reflection blocks) and by Beer-Lambert absorption, and refraction
+is ignored (the ray goes straight; caustics are not followed). Only label points use lights.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .intersect import (F_COS, F_SIN, O_KIND, REVOLVED, nearest_hit, object_media)
+from .materials import (K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, fresnel_conductor,
+                        fresnel_dielectric, smooth_dielectric)
+from .revolved import segment_v
+from .roots import INLINE, JIT
+from .sampling import env_lookup
+
+# the tuple of label tables (engine.tracer.labels.label_arrays)
+(LB_ROWS, LB_NODES, LB_F, LB_TEXELS, LB_TEX_I, LB_CODES, LB_REGION_I, LB_FINISH, LB_SIZE, LB_IRR,
+ LB_LIGHTS) = range(11)
+# ... then the per-call record buffers (engine.tracer.labels.with_buffers; empty: not recording):
+# hits (float64 (cap, H_COLS), int64 (cap, 2)), their count and overflow flag (int64 (2,)), the
+# current sample's radiance without label terms (float64 (3,)), and per sample of the call its
+# radiance without label terms (float64 (S, 3)) and its hits' range (int64 (S, 2))
+LB_HIT_F, LB_HIT_I, LB_HIT_N, LB_REST, LB_SMP_F, LB_SMP_I = range(11, 17)
+#: Columns of a recorded hit: branch weight, alpha, the colour factor P and the colour-free term
+#: Q of its emission ``alpha (P c + Q)``, the face's artwork coordinates; label row and face.
+H_WR, H_WG, H_WB, H_ALPHA, H_P, H_Q, H_S, H_T = 0, 1, 2, 3, 4, 7, 10, 11
+H_COLS = 12
+H_LABEL, H_FACE = 0, 1
+# columns of engine.appearance.decal.pack_decals rows and of engine.appearance.compiled tables
+# (repeated here as literals because a kernel must not import the appearance package: its
+# source is not part of the kernel cache key; tests check they agree)
+_D_THETA0, _D_THETA1, _D_H0, _D_H1, _D_NT, _D_NH, _D_OFFSET = range(7)
+(_L_DIFFUSE, _L_SPECULAR, _L_TRANSMISSION, _L_FRONT_R, _L_BACK_R, _L_FRONT_TEX, _L_BACK_TEX,
+ _L_REGION_MAP, _L_REGION0) = 0, 1, 2, 3, 6, 9, 10, 11, 12
+_F_KIND, _F_DEPTH, _F_GLOSS, _F_N, _F_K, _F_UNDER = 0, 1, 2, 3, 6, 9
+#: Finish kind codes (engine.appearance.presets.FINISH_CODES; 0: plain paper).
+GOLD_FOIL, SILVER_FOIL, CLEAR_VINYL, CLEAR_VINYL_WHITE, EMBOSS, VARNISH = 1, 2, 3, 4, 5, 6
+#: Index of the paper's coat and of varnish (engine.appearance.presets.COAT_IOR).
+COAT_IOR = 1.5
+#: First bit of the labels in a sample's object mask (objects use the bits below).
+LABEL_BIT0 = 32
+MAX_LABEL_BIT = 62
+#: Boundaries a shadow ray may cross before it counts as blocked.
+SHADOW_CROSSINGS = 24
+AIR = 0
+
+
+@njit(**INLINE)
+def label_bit(k):
+    """The object-mask bit of label ``k``."""
+    return np.int64(1) << np.int64(min(LABEL_BIT0 + k, MAX_LABEL_BIT))
+
+
+@njit(**JIT)
+def decal_lookup(rows, nodes, k, theta, h):
+    """``(s, t)`` of surface point ``(theta, h)`` on label ``k``'s decal, ``(nan, nan)`` off the
+    label: the lookup of :mod:`engine.appearance.decal` (module rule there), compiled."""
+    t0 = rows[k, _D_THETA0]
+    nt, nh, first = int(rows[k, _D_NT]), int(rows[k, _D_NH]), int(rows[k, _D_OFFSET])
+    fx = ((theta - t0) % (2.0 * math.pi)) / (rows[k, _D_THETA1] - t0) * (nt - 1)
+    fy = (h - rows[k, _D_H0]) / (rows[k, _D_H1] - rows[k, _D_H0]) * (nh - 1)
+    if not (fx >= 0.0 and fx <= nt - 1 and fy >= 0.0 and fy <= nh - 1):
+        return math.nan, math.nan
+    j, i = min(int(fx), nt - 2), min(int(fy), nh - 2)
+    wx, wy = fx - j, fy - i
+    n00 = first + i * nt + j
+    n10 = n00 + nt
+    out_s = out_t = 0.0
+    for c in range(2):
+        lo = nodes[n00, c] + (nodes[n00 + 1, c] - nodes[n00, c]) * wx
+        hi = nodes[n10, c] + (nodes[n10 + 1, c] - nodes[n10, c]) * wx
+        v = lo * (1.0 - wy) + hi * wy
+        if c == 0:
+            out_s = v
+        else:
+            out_t = v
+    if out_s >= 0.0 and out_s <= 1.0 and out_t >= 0.0 and out_t <= 1.0:
+        return out_s, out_t
+    return math.nan, math.nan
+
+
+@njit(**JIT)
+def texel(lab, m, s, t):
+    """Bilinear straight RGBA of texture ``m`` at artwork ``(s, t)`` (edges clamp)."""
+    texels, tex_i = lab[LB_TEXELS], lab[LB_TEX_I]
+    first, w, h = tex_i[m, 0], tex_i[m, 1], tex_i[m, 2]
+    x = min(max(s * w - 0.5, 0.0), w - 1.0)
+    y = min(max(t * h - 0.5, 0.0), h - 1.0)
+    x0, y0 = min(int(x), w - 2 if w > 1 else 0), min(int(y), h - 2 if h > 1 else 0)
+    x1, y1 = min(x0 + 1, w - 1), min(y0 + 1, h - 1)
+    ax, ay = x - x0, y - y0
+    a, b = first + y0 * w, first + y1 * w
+    r = g = bl = al = 0.0
+    for c in range(4):
+        v = ((texels[a + x0, c] * (1.0 - ax) + texels[a + x1, c] * ax) * (1.0 - ay)
+             + (texels[b + x0, c] * (1.0 - ax) + texels[b + x1, c] * ax) * ay)
+        if c == 0:
+            r = v
+        elif c == 1:
+            g = v
+        elif c == 2:
+            bl = v
+        else:
+            al = v
+    return r, g, bl, al
+
+
+@njit(**INLINE)
+def _code_at(lab, q, s, t):
+    """Region code of map ``q`` at the texel containing ``(s, t)``."""
+    first, w, h = lab[LB_REGION_I][q, 0], lab[LB_REGION_I][q, 1], lab[LB_REGION_I][q, 2]
+    x = min(max(int(s * w), 0), w - 1)
+    y = min(max(int(t * h), 0), h - 1)
+    return int(lab[LB_CODES][first + y * w + x])
+
+
+@njit(**JIT)
+def _indicator(lab, q, code, s, t):
+    """Bilinear of ``[region code == code]`` at ``(s, t)`` (texel centres at half-integers)."""
+    first, w, h = lab[LB_REGION_I][q, 0], lab[LB_REGION_I][q, 1], lab[LB_REGION_I][q, 2]
+    codes = lab[LB_CODES]
+    x = min(max(s * w - 0.5, 0.0), w - 1.0)
+    y = min(max(t * h - 0.5, 0.0), h - 1.0)
+    x0, y0 = int(x), int(y)
+    x1, y1 = min(x0 + 1, w - 1), min(y0 + 1, h - 1)
+    ax, ay = x - x0, y - y0
+    v00 = 1.0 if codes[first + y0 * w + x0] == code else 0.0
+    v01 = 1.0 if codes[first + y0 * w + x1] == code else 0.0
+    v10 = 1.0 if codes[first + y1 * w + x0] == code else 0.0
+    v11 = 1.0 if codes[first + y1 * w + x1] == code else 0.0
+    return (v00 * (1.0 - ax) + v01 * ax) * (1.0 - ay) + (v10 * (1.0 - ax) + v11 * ax) * ay
+
+
+@njit(**INLINE)
+def surface_point(seg, obj_i, obj_f, part, px, py, pz):
+    """The labels' ``(theta, h)`` of a point on the outer wall (object 0) on part ``part``."""
+    if obj_i[0, O_KIND] == REVOLVED:
+        return math.atan2(py, px), segment_v(seg, part, px, py, pz)
+    return math.atan2(py, px) - math.atan2(obj_f[0, F_SIN], obj_f[0, F_COS]), pz
+
+
+@njit(**JIT)
+def find_label(lab, theta, h):
+    """``(k, s, t, alpha, code, bits)`` of the label covering ``(theta, h)``: ``k = -1`` when
+    none covers it; ``bits`` the mask bits of every label consulted (module rule)."""
+    rows, lf = lab[LB_ROWS], lab[LB_F]
+    bits = np.int64(0)
+    for k in range(rows.shape[0] - 1, -1, -1):
+        s, t = decal_lookup(rows, lab[LB_NODES], k, theta, h)
+        if not (s == s):
+            continue
+        bits |= label_bit(k)
+        alpha = 1.0
+        m = int(lf[k, _L_FRONT_TEX])
+        if m >= 0:
+            alpha = texel(lab, m, s, t)[3]
+        code = 0
+        q = int(lf[k, _L_REGION_MAP])
+        if q >= 0:
+            code = _code_at(lab, q, s, t)
+            if code > 0 and int(lab[LB_FINISH][int(lf[k, _L_REGION0]) + code - 1, _F_KIND]) == CLEAR_VINYL:
+                alpha = 0.0
+        if alpha > 0.0:
+            return k, s, t, min(alpha, 1.0), code, bits
+    return -1, 0.0, 0.0, 0.0, 0, bits
+
+
+@njit(**JIT)
+def shadow(scene, lab, ox, oy, oz, lx, ly, lz, medium, last, side, roots, crit, ivals):
+    """Transmittance ``(r, g, b, bits)`` of a straight shadow ray from a point on object
+    ``last`` (left with ``side``, in ``medium``) along unit ``l`` (module rule: labels block by
+    their alpha, interfaces pass ``1 - R``, media absorb; refraction ignored)."""
+    seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
+    tr = tg = tb = 1.0
+    bits = np.int64(0)
+    for _ in range(SHADOW_CROSSINGS):
+        t, k, part, nx, ny, nz = nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, lx, ly, lz,
+                                             medium, last, side, roots, crit, ivals)
+        if k < 0:
+            return tr, tg, tb, bits
+        if medium != AIR:
+            tr *= math.exp(-media[medium, 1] * t)
+            tg *= math.exp(-media[medium, 2] * t)
+            tb *= math.exp(-media[medium, 3] * t)
+        ox, oy, oz = ox + t * lx, oy + t * ly, oz + t * lz
+        if k == 0:
+            theta, h = surface_point(seg, obj_i, obj_f, part, ox, oy, oz)
+            kl, s, tt, alpha, code, b = find_label(lab, theta, h)
+            bits |= b
+            if kl >= 0:
+                tr *= 1.0 - alpha
+                tg *= 1.0 - alpha
+                tb *= 1.0 - alpha
+                if alpha >= 1.0:
+                    return 0.0, 0.0, 0.0, bits
+        front, back = object_media(obj_i, obj_f, k, oz)
+        dn = nx * lx + ny * ly + nz * lz
+        inc, trn = (front, back) if dn < 0.0 else (back, front)
+        refl, cos_t = fresnel_dielectric(abs(dn), media[trn, 0] / media[inc, 0])
+        if refl >= 1.0:
+            return 0.0, 0.0, 0.0, bits
+        tr *= 1.0 - refl
+        tg *= 1.0 - refl
+        tb *= 1.0 - refl
+        medium, last, side = trn, k, (1 if dn >= 0.0 else -1)
+    return 0.0, 0.0, 0.0, bits
+
+
+@njit(**INLINE)
+def _lights(scene, lab, px, py, pz, nx, ny, nz, out_in, roots, crit, ivals):
+    """Irradiance / pi from the design's lights on the sheet at ``p`` with outward normal ``n``:
+    ``(front r, g, b, back r, g, b, bits)``; ``out_in`` is the medium on the inner side."""
+    lights = lab[LB_LIGHTS]
+    fr = fg = fb = br = bg = bb = 0.0
+    bits = np.int64(0)
+    for i in range(lights.shape[0]):
+        lx, ly, lz = lights[i, 0], lights[i, 1], lights[i, 2]
+        c = nx * lx + ny * ly + nz * lz
+        if c == 0.0:
+            continue
+        if c > 0.0:  # the light is on the outer side: the front face is lit
+            sr, sg, sb, b = shadow(scene, lab, px, py, pz, lx, ly, lz, AIR, 0, 1, roots, crit, ivals)
+        else:
+            sr, sg, sb, b = shadow(scene, lab, px, py, pz, lx, ly, lz, out_in, 0, -1, roots, crit, ivals)
+        bits |= b
+        f = abs(c) / math.pi
+        er, eg, eb = lights[i, 3] * sr * f, lights[i, 4] * sg * f, lights[i, 5] * sb * f
+        if c > 0.0:
+            fr, fg, fb = fr + er, fg + eg, fb + eb
+        else:
+            br, bg, bb = br + er, bg + eg, bb + eb
+    return fr, fg, fb, br, bg, bb, bits
+
+
+@njit(**INLINE)
+def _mirror_kid(kids, c, dx, dy, dz, nx, ny, nz, gx, gy, gz, wr, wg, wb):
+    """A mirror child about the unit shading normal ``n`` (facing the ray) of weights ``w``
+    into ``kids[c]``; about the geometric normal ``g`` instead where a bent normal would send it
+    into the wall (the branch must leave on the side it came from)."""
+    d = -(dx * nx + dy * ny + dz * nz)
+    rx, ry, rz = dx + 2.0 * d * nx, dy + 2.0 * d * ny, dz + 2.0 * d * nz
+    if rx * gx + ry * gy + rz * gz <= 0.0:
+        d = -(dx * gx + dy * gy + dz * gz)
+        rx, ry, rz = dx + 2.0 * d * gx, dy + 2.0 * d * gy, dz + 2.0 * d * gz
+    kids[c, KD_X], kids[c, KD_Y], kids[c, KD_Z] = rx, ry, rz
+    kids[c, KW_R], kids[c, KW_G], kids[c, KW_B] = wr, wg, wb
+    kids[c, K_SIDE] = 0.0
+
+
+@njit(**JIT)
+def _emboss_normal(lab, k, q, code, depth, s, t, px, py, nx, ny, nz):
+    """Shading normal bent by the relief ``depth x indicator`` of region ``code`` (mm)."""
+    w, h = lab[LB_REGION_I][q, 1], lab[LB_REGION_I][q, 2]
+    ds, dt = 1.0 / w, 1.0 / h
+    gs = (_indicator(lab, q, code, s + ds, t) - _indicator(lab, q, code, s - ds, t)) / (2.0 * ds)
+    gt = (_indicator(lab, q, code, s, t + dt) - _indicator(lab, q, code, s, t - dt)) / (2.0 * dt)
+    gu = depth * gs / lab[LB_SIZE][k, 0]  # dH / d(arc length around), s grows with azimuth
+    gv = depth * gt / lab[LB_SIZE][k, 1]  # dH / d(slant down the wall), t grows downwards
+    rho = math.sqrt(px * px + py * py)
+    ex, ey = (px / rho, py / rho) if rho > 0.0 else (1.0, 0.0)
+    ux, uy, uz = -ey, ex, 0.0  # around, increasing azimuth
+    a = ux * nx + uy * ny
+    ux, uy, uz = ux - a * nx, uy - a * ny, -a * nz
+    hu = math.sqrt(ux * ux + uy * uy + uz * uz)
+    vx, vy, vz = nz * ex, nz * ey, -(nx * ex + ny * ey)  # down the meridian, tangent
+    hv = math.sqrt(vx * vx + vy * vy + vz * vz)
+    mx, my, mz = nx, ny, nz
+    if hu > 0.0:
+        mx, my, mz = mx - gu * ux / hu, my - gu * uy / hu, mz - gu * uz / hu
+    if hv > 0.0:
+        mx, my, mz = mx - gv * vx / hv, my - gv * vy / hv, mz - gv * vz / hv
+    m = math.sqrt(mx * mx + my * my + mz * mz)
+    return mx / m, my / m, mz / m
+
+
+@njit(**INLINE)
+def _emit(alpha, p, c, q):
+    """One channel of a sheet's emission (module rule: the one formula tracing and replay use)."""
+    return alpha * (p * c + q)
+
+
+@njit(**JIT)
+def face_colour(lab, k, face, s_face, t):
+    """Linear RGB of face ``face`` (0 front, 1 back) of label ``k`` at that face's artwork
+    coordinates (the texel, else the plain colour)."""
+    lf = lab[LB_F]
+    m = int(lf[k, _L_FRONT_TEX]) if face == 0 else int(lf[k, _L_BACK_TEX])
+    if m >= 0:
+        r, g, b, _ = texel(lab, m, s_face, t)
+        return r, g, b
+    col = _L_FRONT_R if face == 0 else _L_BACK_R
+    return lf[k, col], lf[k, col + 1], lf[k, col + 2]
+
+
+@njit(**JIT)
+def _record_hit(lab, wr, wg, wb, alpha, pr, pg, pb, qr, qg, qb, s_face, t, k, face):
+    hf, hn = lab[LB_HIT_F], lab[LB_HIT_N]
+    i = hn[0]
+    if i >= hf.shape[0]:
+        hn[1] = 1  # overflow: this call's samples cannot be replayed
+        return
+    hf[i, H_WR], hf[i, H_WG], hf[i, H_WB], hf[i, H_ALPHA] = wr, wg, wb, alpha
+    hf[i, H_P], hf[i, H_P + 1], hf[i, H_P + 2] = pr, pg, pb
+    hf[i, H_Q], hf[i, H_Q + 1], hf[i, H_Q + 2] = qr, qg, qb
+    hf[i, H_S], hf[i, H_T] = s_face, t
+    lab[LB_HIT_I][i, H_LABEL], lab[LB_HIT_I][i, H_FACE] = k, face
+    hn[0] = i + 1
+
+
+@njit(**JIT)
+def record_sample(lab, s, h0):
+    """After sample ``s`` of a call (recording only): its radiance without label terms and the
+    range ``[h0, now)`` of its hits."""
+    if lab[LB_HIT_F].shape[0] == 0:
+        return
+    sf = lab[LB_SMP_F]
+    sf[s, 0], sf[s, 1], sf[s, 2] = lab[LB_REST][0], lab[LB_REST][1], lab[LB_REST][2]
+    lab[LB_SMP_I][s, 0], lab[LB_SMP_I][s, 1] = h0, lab[LB_HIT_N][0]
+
+
+@njit(**INLINE)
+def finish_radiance(lr, lg, lb, ar, ag, ab):
+    """A sample's radiance: the rest plus the label terms, cleaned (non-finite -> 0, >= 0)."""
+    lr += ar
+    lg += ag
+    lb += ab
+    if not (math.isfinite(lr) and math.isfinite(lg) and math.isfinite(lb)):
+        lr = lg = lb = 0.0
+    return max(lr, 0.0), max(lg, 0.0), max(lb, 0.0)
+
+
+@njit(**JIT)
+def replay_samples(lab, s0, count, smp_f, smp_i, hit_f, hit_i, out_sum, out_sumsq):
+    """Per-pixel sums (as :func:`~engine.tracer.kernels.tile.render_pixels` writes them) of
+    recorded samples ``s0[p] .. s0[p] + count[p] - 1`` with the label tables ``lab`` (module
+    rule: the same operations in the same order as tracing them)."""
+    for p in range(s0.shape[0]):
+        sr = sg = sb = ssq = 0.0
+        for s in range(s0[p], s0[p] + count[p]):
+            ar = ag = ab = 0.0
+            for i in range(smp_i[s, 0], smp_i[s, 1]):
+                cr, cg, cb = face_colour(lab, hit_i[i, H_LABEL], hit_i[i, H_FACE], hit_f[i, H_S], hit_f[i, H_T])
+                a = hit_f[i, H_ALPHA]
+                ar += hit_f[i, H_WR] * _emit(a, hit_f[i, H_P], cr, hit_f[i, H_Q])
+                ag += hit_f[i, H_WG] * _emit(a, hit_f[i, H_P + 1], cg, hit_f[i, H_Q + 1])
+                ab += hit_f[i, H_WB] * _emit(a, hit_f[i, H_P + 2], cb, hit_f[i, H_Q + 2])
+            r, g, b = finish_radiance(smp_f[s, 0], smp_f[s, 1], smp_f[s, 2], ar, ag, ab)
+            sr += r
+            sg += g
+            sb += b
+            lum = (r + g + b) / 3.0
+            ssq += lum * lum
+        out_sum[p, 0] = sr
+        out_sum[p, 1] = sg
+        out_sum[p, 2] = sb
+        out_sumsq[p] = ssq
+
+
+@njit(**JIT)
+def label_hit(lab, scene, env_p, part, px, py, pz, nx, ny, nz, dx, dy, dz, inc, trn, wr, wg, wb, kids,
+              roots, crit, ivals):
+    """What a label does at a hit on the outer wall (module rule).
+
+    ``n`` is the outer wall's oriented unit normal (pointing into the air), ``d`` the ray, ``inc``
+    / ``trn`` the media on the ray's and the far side. Returns ``(nk, r, g, b, bits)``: ``nk =
+    -1`` when no label covers the point (the glass's material follows), else the number of
+    children in ``kids`` and the radiance (per unit branch weight) the sheet sends back now;
+    ``bits`` the labels consulted (object-mask bits, module rule).
+    """
+    seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
+    theta, h = surface_point(seg, obj_i, obj_f, part, px, py, pz)
+    k, s, t, alpha, code, bits = find_label(lab, theta, h)
+    if k < 0:
+        return -1, 0.0, 0.0, 0.0, bits
+    lf, irr = lab[LB_F], lab[LB_IRR]
+    scale, rot = env_p[0], env_p[1]
+    outside = inc == AIR
+    kind, frow = 0, -1
+    if code > 0:
+        frow = int(lf[k, _L_REGION0]) + code - 1
+        kind = int(lab[LB_FINISH][frow, _F_KIND])
+    diff, trans = lf[k, _L_DIFFUSE], lf[k, _L_TRANSMISSION]
+    face = 0 if outside else 1
+    s_face = s if outside else 1.0 - s  # back_coordinates
+    cr, cg, cb = face_colour(lab, k, face, s_face, t)
+    # shading normal (outward)
+    sx, sy, sz = nx, ny, nz
+    if outside and kind == EMBOSS:
+        sx, sy, sz = _emboss_normal(lab, k, int(lf[k, _L_REGION_MAP]), code, lab[LB_FINISH][frow, _F_DEPTH],
+                                    s, t, px, py, nx, ny, nz)
+    # irradiance / pi on the outer (o*) and the inner (i*) side: environment, then lights
+    or_, og, ob = env_lookup(irr, scale, rot, sx, sy, sz)
+    ir, ig, ib = env_lookup(irr, scale, rot, -sx, -sy, -sz)
+    if lab[LB_LIGHTS].shape[0] > 0:
+        fr, fg, fb, br, bg, bb, b = _lights(scene, lab, px, py, pz, sx, sy, sz, trn if outside else inc,
+                                            roots, crit, ivals)
+        bits |= b
+        or_, og, ob, ir, ig, ib = or_ + fr, og + fg, ob + fb, ir + br, ig + bg, ib + bb
+    nk = 0
+    # emission alpha (P c + Q): P the colour's factor, Q what no colour tints
+    pr = pg = pb = qr = qg = qb = 0.0
+    if outside:
+        cos_i = max(-(dx * sx + dy * sy + dz * sz), 1e-6)
+        if kind == GOLD_FOIL or kind == SILVER_FOIL:
+            f = lab[LB_FINISH][frow]
+            g = f[_F_GLOSS]
+            rr = fresnel_conductor(cos_i, f[_F_N], f[_F_K])
+            rg = fresnel_conductor(cos_i, f[_F_N + 1], f[_F_K + 1])
+            rb = fresnel_conductor(cos_i, f[_F_N + 2], f[_F_K + 2])
+            _mirror_kid(kids, 0, dx, dy, dz, sx, sy, sz, nx, ny, nz, alpha * g * rr, alpha * g * rg, alpha * g * rb)
+            nk = 1
+            # the rough part of the foil: a lobe as wide as the hemisphere
+            qr, qg, qb = rr * (1.0 - g) * or_, rg * (1.0 - g) * og, rb * (1.0 - g) * ob
+        else:
+            r0, _ = fresnel_dielectric(1.0, COAT_IOR)
+            rf, _ = fresnel_dielectric(cos_i, COAT_IOR)
+            rc = min(1.0, lf[k, _L_SPECULAR] * rf / r0)
+            if kind == VARNISH:
+                rc += lab[LB_FINISH][frow, _F_GLOSS] * rf * (1.0 - rc)
+            if rc > 0.0:
+                _mirror_kid(kids, 0, dx, dy, dz, sx, sy, sz, nx, ny, nz, alpha * rc, alpha * rc, alpha * rc)
+                nk = 1
+            base = 1.0 - rc
+            pr = base * (diff * or_ + trans * ir)
+            pg = base * (diff * og + trans * ig)
+            pb = base * (diff * ob + trans * ib)
+            if kind == CLEAR_VINYL_WHITE:  # the ink over the white underprint
+                f = lab[LB_FINISH][frow]
+                pr, pg, pb = pr * f[_F_UNDER], pg * f[_F_UNDER + 1], pb * f[_F_UNDER + 2]
+    else:  # the back face, seen through the glass: the ray ends on the paper
+        pr, pg, pb = diff * ir + trans * or_, diff * ig + trans * og, diff * ib + trans * ob
+    er, eg, eb = _emit(alpha, pr, cr, qr), _emit(alpha, pg, cg, qg), _emit(alpha, pb, cb, qb)
+    if lab[LB_HIT_F].shape[0] > 0:
+        _record_hit(lab, wr, wg, wb, alpha, pr, pg, pb, qr, qg, qb, s_face, t, k, face)
+    if alpha < 1.0:  # the uncovered part of the texel: the glass beneath, as without a label
+        fx, fy, fz = (nx, ny, nz) if outside else (-nx, -ny, -nz)
+        cos_g = abs(dx * nx + dy * ny + dz * nz)
+        nk += smooth_dielectric(dx, dy, dz, fx, fy, fz, cos_g, media[trn, 0] / media[inc, 0], 1.0 - alpha,
+                                kids, nk)
+    return nk, er, eg, eb, bits

@@ -1,0 +1,152 @@
+"""The label tables of one render: compiled labels, the environment's irradiance, the lights.
+
+Design rule: :func:`label_arrays` is the one place a design's labels become the tuple the
+kernels take (layout ``LB_*`` of :mod:`engine.tracer.kernels.labels`): the flat arrays of
+:func:`engine.appearance.compiled.compile_labels`, each label's size in mm (for emboss slopes),
+the environment's diffuse irradiance table (:func:`irradiance_table`, computed once per
+environment and cached) and the directional lights. A design without labels gets
+:func:`empty_label_arrays`: zero-row tables of the same types, so the kernels compile once and
+pay one length test per outer-wall hit. Nothing here depends on the geometry, so a label edit
+rebuilds only this tuple.
+"""
+from __future__ import annotations
+
+import math
+import threading
+
+import numpy as np
+
+from ..appearance.compiled import F_COLS, L_COLS, compile_labels
+from ..appearance.decal import D_COLS
+from .kernels.labels import H_COLS
+
+#: Rows x columns of the irradiance table (lat-long, the environment's convention): a cosine
+#: lobe is smooth, so 32 x 64 holds it to well under 1 %.
+IRR_ROWS, IRR_COLS = 32, 64
+#: Bins the environment is reduced to before the convolution (energy-preserving box sums).
+_BIN_ROWS, _BIN_COLS = 48, 96
+
+_IRR_CACHE: dict = {}
+_IRR_LOCK = threading.Lock()
+_IRR_SIZE = 4
+
+
+def _directions(theta, phi):
+    st = np.sin(theta)
+    return np.stack([st * np.cos(phi), st * np.sin(phi), np.cos(theta) * np.ones_like(phi)], -1)
+
+
+def _irradiance(texels: np.ndarray) -> np.ndarray:
+    h, w = texels.shape[:2]
+    tex = np.nan_to_num(np.asarray(texels, np.float64), nan=0.0, posinf=0.0, neginf=0.0)
+    # texel (j, i) looks along theta = pi j / (h - 1), phi = 2 pi (i + 0.5) / w (SPEC 3); its
+    # solid angle is the band between the midpoints of its row and the next
+    theta = math.pi * np.arange(h) / (h - 1)
+    edges = np.clip(np.concatenate([[0.0], 0.5 * (theta[1:] + theta[:-1]), [math.pi]]), 0.0, math.pi)
+    band = (np.cos(edges[:-1]) - np.cos(edges[1:])) * (2.0 * math.pi / w)  # (h,)
+    phi = 2.0 * math.pi * (np.arange(w) + 0.5) / w
+    rb = np.linspace(0, h, min(_BIN_ROWS, h) + 1).astype(int)[:-1]
+    cb = np.linspace(0, w, min(_BIN_COLS, w) + 1).astype(int)[:-1]
+    dirs = _directions(theta[:, None], phi[None, :])  # (h, w, 3)
+    om = np.broadcast_to(band[:, None], (h, w))
+
+    def reduce(a):
+        return np.add.reduceat(np.add.reduceat(a, rb, axis=0), cb, axis=1)
+
+    power = reduce(tex * om[..., None]).reshape(-1, 3)  # radiance x solid angle per bin
+    omega = reduce(om).reshape(-1)
+    mean_dir = reduce(dirs * om[..., None]).reshape(-1, 3)
+    mean_dir /= np.maximum(np.linalg.norm(mean_dir, axis=1, keepdims=True), 1e-300)
+    t_out = math.pi * np.arange(IRR_ROWS) / (IRR_ROWS - 1)
+    p_out = 2.0 * math.pi * (np.arange(IRR_COLS) + 0.5) / IRR_COLS
+    normals = _directions(t_out[:, None], p_out[None, :]).reshape(-1, 3)
+    cos = np.maximum(normals @ mean_dir.T, 0.0)  # (out, bins)
+    # divide by the discrete integral of the cosine itself (pi in the limit): a uniform
+    # environment gives exactly its radiance, the furnace stays exact
+    out = (cos @ power) / np.maximum(cos @ omega, 1e-300)[:, None]
+    return np.ascontiguousarray(out.reshape(IRR_ROWS, IRR_COLS, 3), dtype=np.float32)
+
+
+def irradiance_table(texels: np.ndarray) -> np.ndarray:
+    """The environment's cosine-convolved irradiance over pi, ``(IRR_ROWS, IRR_COLS, 3)``
+    float32, a lat-long table in the environment's own convention (look it up like the map,
+    with its scale and rotation): radiance a white Lambertian sheet with that normal sends back.
+    Cached by the texel array's identity (environment maps are cached, so one per map)."""
+    key = id(texels)
+    with _IRR_LOCK:
+        hit = _IRR_CACHE.get(key)
+        if hit is not None and hit[0] is texels:
+            return hit[1]
+    table = _irradiance(texels)
+    table.setflags(write=False)
+    with _IRR_LOCK:
+        if len(_IRR_CACHE) >= _IRR_SIZE:
+            _IRR_CACHE.pop(next(iter(_IRR_CACHE)))
+        _IRR_CACHE[key] = (texels, table)
+    return table
+
+
+def light_table(lights) -> np.ndarray:
+    """``Design.lights`` as rows ``(unit direction towards the light, colour x intensity)``."""
+    rows = []
+    for light in lights:
+        d = np.asarray(light.direction, float)
+        n = float(np.linalg.norm(d))
+        if not (n > 0.0 and math.isfinite(n)) or light.intensity <= 0.0:
+            continue
+        rows.append(np.concatenate([d / n, np.asarray(light.color, float) * float(light.intensity)]))
+    return np.ascontiguousarray(np.array(rows, float).reshape(-1, 6))
+
+
+def _tuple(cl, size, irr, lights):
+    return (cl.decal_rows, cl.decal_nodes, cl.label_f, cl.texels, cl.tex_i, cl.codes, cl.region_i,
+            cl.finishes, size, irr, lights)
+
+
+class _Empty:
+    decal_rows = np.zeros((0, D_COLS))
+    decal_nodes = np.zeros((0, 2), np.float32)
+    label_f = np.zeros((0, L_COLS))
+    texels = np.zeros((0, 4), np.float32)
+    tex_i = np.zeros((0, 3), np.int64)
+    codes = np.zeros(0, np.uint8)
+    region_i = np.zeros((0, 3), np.int64)
+    finishes = np.zeros((0, F_COLS))
+
+
+def empty_label_arrays() -> tuple:
+    """The tables of a design without labels (same types, read-only flags included, as
+    :func:`label_arrays`, so the kernels are compiled once for both)."""
+    irr = np.zeros((2, 2, 3), np.float32)
+    for a in (irr,) + tuple(v for k, v in vars(_Empty).items() if isinstance(v, np.ndarray)):
+        a.setflags(write=False)
+    return _tuple(_Empty, np.zeros((0, 2)), irr, np.zeros((0, 6)))
+
+
+def label_arrays(design, assets, env_texels) -> tuple:
+    """The kernels' label tuple of ``design`` (module rule); ``env_texels`` the environment's
+    unscaled texels. Raises :class:`engine.appearance.images.ArtworkError` for a bad image."""
+    if not design.labels:
+        return empty_label_arrays()
+    cl = compile_labels(design, assets or {})
+    size = np.array([[lab.width_mm, lab.height_mm] for lab in design.labels], float)
+    return _tuple(cl, size, irradiance_table(env_texels), light_table(design.lights))
+
+
+#: The record buffers of a call that does not record (never written: the kernels test the
+#: hit table's length first), shared by every call.
+_NO_RECORD = (np.zeros((0, H_COLS)), np.zeros((0, 2), np.int64), np.zeros(2, np.int64), np.zeros(3),
+              np.zeros((0, 3)), np.zeros((0, 2), np.int64))
+#: Hits a recording call makes room for per sample at first (it retries with more on overflow).
+HITS_PER_SAMPLE = 2
+
+
+def with_buffers(labels: tuple, samples: int = 0, hits: int | None = None) -> tuple:
+    """``labels`` with the record buffers the kernels append hits to (layout ``LB_HIT_F ..
+    LB_SMP_I`` of :mod:`engine.tracer.kernels.labels`): for ``samples`` samples and ``hits``
+    hits (default :data:`HITS_PER_SAMPLE` a sample), or none (``samples = 0``: not recording)."""
+    if samples <= 0:
+        return labels + _NO_RECORD
+    cap = HITS_PER_SAMPLE * samples + 64 if hits is None else int(hits)
+    return labels + (np.zeros((cap, H_COLS)), np.zeros((cap, 2), np.int64), np.zeros(2, np.int64), np.zeros(3),
+                     np.zeros((samples, 3)), np.zeros((samples, 2), np.int64))

@@ -19,6 +19,7 @@ from .kernels.integrator import (C_BUDGET, C_CUT_DEPTH, C_CUT_WEIGHT, C_LEAKS, C
                                  C_QUERIES, N_COUNTERS)
 from .kernels.sampling import C_COLS
 from .kernels.tile import render_pixels
+from .finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays
 
 #: Boundaries one camera sample may visit before what it still holds is closed with the
@@ -55,6 +56,10 @@ class RenderContext:
     n_materials: int
     reference_level: float
     environment: EnvironmentMap = field(repr=False, default=None)
+    #: the finish tuple of :mod:`engine.tracer.kernels.finish` (relief rows, cap irradiance)
+    finish: tuple = field(repr=False, default=None)
+    #: the closure's render rows (:class:`engine.tracer.finishes.CapTables`) or ``None``
+    cap: object = field(repr=False, default=None)
 
     @classmethod
     def from_design(cls, design, assets=None, width=None, height=None, environment=None) -> "RenderContext":
@@ -66,12 +71,19 @@ class RenderContext:
         geom = render_geometry_for(design)
         env = environment if environment is not None else environment_from_design(design.environment, assets)
         cam = PinholeCamera.from_design(design.camera, w, h)
-        scene = scene_arrays(geom, design)
+        cap = cap_tables_for(design, geom)
+        scene = scene_with_cap(scene_arrays(geom, design), cap)
         tex = np.ascontiguousarray(env.texels, dtype=np.float32)
+        finish = finish_arrays(design, assets, geom, cap, scene, tex)
         params = np.array([float(env.scale), math.radians(float(env.rotation_deg))])
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
         return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
-                   float(design.render.min_weight), int(scene[7].shape[0]), level, env)
+                   float(design.render.min_weight), int(scene[7].shape[0]), level, env, finish, cap)
+
+    @property
+    def finish_tuple(self) -> tuple:
+        """The finish tuple (an empty one for a context built without)."""
+        return self.finish if self.finish is not None else empty_finish(self.scene[4].shape[0])
 
 
 @dataclass
@@ -137,7 +149,7 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
     rec_rays, rec_n = record if record is not None else (np.zeros((0, 6), np.float32), np.zeros(1, np.int64))
     done = render_pixels(ctx.scene, ctx.texels, ctx.env_params, ctx.cam, cols, rows, first, count,
                          ctx.max_depth, ctx.min_weight, float(roulette), 0, MAX_NODES, sums, sumsq, sig, mask, depth,
-                         counters, cancel, rec_rays, rec_n)
+                         counters, cancel, rec_rays, rec_n, ctx.finish_tuple)
     return PixelResult(sums, sumsq, sig, mask, depth, counters, int(done))
 
 
@@ -183,5 +195,6 @@ def trace_rays(ctx: RenderContext, origins, directions):
     d = np.ascontiguousarray(np.asarray(directions, float).reshape(-1, 3))
     out = np.zeros((len(o), 3))
     counters = np.zeros(N_COUNTERS, np.int64)
-    radiance(ctx.scene, ctx.texels, ctx.env_params, o, d, ctx.max_depth, ctx.min_weight, MAX_NODES, out, counters)
+    radiance(ctx.scene, ctx.texels, ctx.env_params, o, d, ctx.max_depth, ctx.min_weight, MAX_NODES, out, counters,
+             ctx.finish_tuple)
     return out, counters

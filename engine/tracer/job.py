@@ -33,7 +33,8 @@ from .film import Film
 
 NOISE_TARGET = adaptive.NOISE_TARGET
 #: Design fields the image depends on (an edit of any other field keeps the film).
-VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets"})
+VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets",
+                           "bumps", "cap", "lights"})
 
 
 @dataclass(frozen=True)

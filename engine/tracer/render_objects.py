@@ -18,7 +18,12 @@ inner wall     revolved / swept       into the cavity                    liquid 
 inner base     plane / revolved       into the cavity (up)               liquid or air | glass
 rim            plane z=z_top, annulus up                                 air | glass
 free surface   plane z=fill, region   up                                 air | liquid
+closure part   revolved (closed       away from the part's material      air | air (opaque:
+               meridian chain)                                           reflects only)
 =============  =====================  ================================  ================
+
+Closure parts come after the bottle's objects, from their own cached tables
+(:mod:`engine.tracer.finishes`).
 
 The geometry tables depend only on ``(shape, fill height)`` and are cached by value, so camera,
 colour or IOR edits never rebuild them; media and materials are rebuilt from the design (a few

@@ -9,9 +9,11 @@ Usage::
   embossed logo, each closure kind), the same small frame (every pixel, the same samples),
   CPU time of the tracing thread, the minimum over repeats interleaved with the plain bottle's;
   reported as the ratio to the plain bottle, with the plain bottle's ratio to itself as the
-  noise floor, with the ratio of boundaries met (a relief that spreads rays
-  makes bigger trees: most of a finish's cost is the light it scatters, not the kernel). The plain design runs the kernels' plain path (no finish
-  rows), so its ratio to the code before finishes is 1 by construction (bit-identical image).
+  noise floor, with the ratio of boundaries met (a relief that spreads rays makes bigger trees:
+  much of a finish's cost is the light it scatters, not the kernel). The plain design runs the
+  kernels' plain path (no finish rows; bit-identical image): its cost against the code before
+  finishes is one test per hit, measured with ``scripts``-free ``--plain-vs REF`` (a checkout of
+  the older tree) as separate processes.
 * **bump vs geometry**: a 28 mm neck with thread *rings* (the thread's bell-shaped ridge
   profile, 0.6 mm deep on a 4.23 mm pitch = 6 per inch, without the helix's lead so that the
   true surface is a revolved profile the tracer solves exactly) rendered twice in the same

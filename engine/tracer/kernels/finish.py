@@ -1,10 +1,9 @@
 """Surface finishes at a hit, compiled: relief-bent shading normals, frosted (rough) glass, caps.
 
-Design rule: the integrator makes one call, :func:`finish_hit`, at every boundary; it returns
-``-1`` at once when the hit object carries no finish row and its material is not ``PLASTIC``,
-and the integrator then runs the plain materials exactly as before (a design without bumps or
-cap renders bit for bit as it did, at the cost of one test per hit). Otherwise it writes the
-branch's children itself:
+Design rule: the integrator calls :func:`finish_hit` at a boundary only when the hit object
+carries finish rows or its material is ``PLASTIC`` (one test per hit); otherwise it runs the
+plain materials exactly as before, so a design without bumps or cap renders bit for bit as it
+did. :func:`finish_hit` writes the branch's children itself:
 
 * **Relief** (bump tiles on the bottle's outer surface or a closure part) bends the *shading*
   normal only (:func:`~engine.tracer.kernels.bumps.perturb_normal` from the summed slopes of

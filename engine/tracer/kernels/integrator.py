@@ -165,9 +165,9 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
             counters[C_MISMATCH] += 1
         kind = mat_i[mat, M_KIND]
         cos_i = abs(dn)
-        nk, er, eg, eb = finish_hit(finish, seg, obj_i, mat_i, mat_f, media, k, part, mat, px, py, pz,
-                                    nx, ny, nz, dx, dy, dz, inc, trn, bseed, kids, tex, env_p)
-        if nk >= 0:  # a finish wrote the children (and what a diffuse base sends back)
+        if finish[0][k, 1] > 0 or kind == PLASTIC:  # a finish writes the children (and the base's light)
+            nk, er, eg, eb = finish_hit(finish, seg, obj_i, mat_i, mat_f, media, k, part, mat, px, py, pz,
+                                        nx, ny, nz, dx, dy, dz, inc, trn, bseed, kids, tex, env_p)
             lr += wr * er
             lg += wg * eg
             lb += wb * eb

@@ -12,8 +12,9 @@ Usage::
   noise floor, with the ratio of boundaries met (a relief that spreads rays makes bigger trees:
   much of a finish's cost is the light it scatters, not the kernel). The plain design runs the
   kernels' plain path (no finish rows; bit-identical image): its cost against the code before
-  finishes is one test per hit, measured with ``scripts``-free ``--plain-vs REF`` (a checkout of
-  the older tree) as separate processes.
+  finishes is one test per hit, measured by ``--plain-vs DIR`` (DIR a copy of the older tree,
+  e.g. ``git archive f019c7d | tar -x -C DIR``): the plain frame timed in alternating
+  processes of both trees, the minimum of each.
 * **bump vs geometry**: a 28 mm neck with thread *rings* (the thread's bell-shaped ridge
   profile, 0.6 mm deep on a 4.23 mm pitch = 6 per inch, without the helix's lead so that the
   true surface is a revolved profile the tracer solves exactly) rendered twice in the same
@@ -182,6 +183,35 @@ def bump_vs_geometry(w, h, spp):
             "bump_cpu_s": round(t_bump, 4)}, (a, b, c, mask)
 
 
+_PLAIN_CHILD = """
+import sys, time, numpy as np
+from engine.files.project import load_project
+from engine.tracer.context import RenderContext, trace_pixels
+d, a = load_project(sys.argv[1])
+ctx = RenderContext.from_design(d, a, 96, 128)
+ys, xs = np.mgrid[0:128, 0:96]
+trace_pixels(ctx, xs.ravel()[:8], ys.ravel()[:8], 0, 1)
+best = 1e9
+for _ in range(5):
+    t = time.thread_time(); trace_pixels(ctx, xs.ravel(), ys.ravel(), 0, 4); best = min(best, time.thread_time() - t)
+print(best)
+"""
+
+
+def plain_vs(ref_dir, rounds=6):
+    """``(before s, after s)``: the plain Bordeaux frame (96 x 128, 4 samples) in the tree at
+    ``ref_dir`` and in this one, alternating processes, the minimum of each."""
+    import subprocess
+    project = os.path.join(ROOT, "resources", "bordeaux.glassbench")
+    best = {ref_dir: math.inf, ROOT: math.inf}
+    for _ in range(rounds):
+        for tree in (ref_dir, ROOT):
+            out = subprocess.run([sys.executable, "-c", _PLAIN_CHILD, project], cwd=tree, capture_output=True,
+                                 text=True, env={**os.environ, "PYTHONPATH": tree}, check=True)
+            best[tree] = min(best[tree], float(out.stdout.strip().splitlines()[-1]))
+    return best[ref_dir], best[ROOT]
+
+
 def main(argv=None) -> int:
     import matplotlib
     matplotlib.use("Agg")
@@ -191,8 +221,12 @@ def main(argv=None) -> int:
     from engine.tracer.warmup import warm_up
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--quick", action="store_true", help="smaller frames, one repeat")
+    ap.add_argument("--plain-vs", metavar="DIR", help="also time the plain frame against the tree in DIR")
     args = ap.parse_args(argv)
     warm_up()
+    if args.plain_vs:
+        before, after = plain_vs(os.path.abspath(args.plain_vs))
+        print(f"plain frame: before {before * 1e3:.1f} ms, now {after * 1e3:.1f} ms, x{after / before:.3f}")
     w, h, spp, rep = (48, 64, 2, 1) if args.quick else (72, 96, 4, 3)
     os.makedirs(OUT, exist_ok=True)
     print(f"frame cost, Bordeaux {w} x {h}, {spp} samples per pixel, best of {rep} (thread CPU):")

@@ -16,7 +16,7 @@ import math
 
 from ..geometry.segments import Arc, Line
 from ..model.design import BumpTile, Cap
-from .closures import CORK, GAP_MM, GOLD_LACQUER, ClosurePart, PartRelief, cap_material
+from .closures import CORK, GAP_MM, GOLD_LACQUER, SKIRT_GAP_MM, ClosurePart, PartRelief, cap_material
 
 #: The closure each kind gets when it is first chosen (material and colour of the trade).
 DEFAULT_CAPS = {"screw": Cap("screw", "plastic", (0.9, 0.9, 0.88)),
@@ -141,14 +141,14 @@ def _crown(cap, f, mat):
 
 
 def _cork(cap, f, mat):
-    rc = f.r_bore - GAP_MM
+    rc = f.r_bore - SKIRT_GAP_MM
     zc1 = f.z_top - 0.5
     zc0 = max(zc1 - (cap.height or 44.0), f.z_bore + 0.5)
     parts = [ClosurePart("cork", filleted_chain([(0.0, zc0), (rc, zc0), (rc, zc1), (0.0, zc1)],
                                                 [0.0, 1.0, 1.0, 0.0]), CORK)]
     if cap.capsule:
         t = 0.25
-        ri = f.r_neck + f.thread_depth + GAP_MM
+        ri = f.r_neck + f.thread_depth + SKIRT_GAP_MM
         zu = f.z_top + GAP_MM
         zb = max(zu + t - 50.0, f.z_start + GAP_MM)
         pts, radii = _shell(ri, t, zu, zu + t, zb, 0.8)
@@ -158,7 +158,7 @@ def _cork(cap, f, mat):
 
 def _ropp(cap, f, mat):
     t = 0.25
-    ri = f.r_neck + f.thread_depth + GAP_MM
+    ri = f.r_neck + f.thread_depth + SKIRT_GAP_MM
     ro = ri + t
     zu = f.z_top + GAP_MM
     ztop = zu + t

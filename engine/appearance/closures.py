@@ -27,6 +27,11 @@ from ..model.design import BumpTile, Design
 RGB = tuple[float, float, float]
 #: Air left between a closure and the glass it rests on (mm).
 GAP_MM = 0.05
+#: Air between a skirt or a cork and the cylinder of glass it surrounds or fills (mm): in a
+#: film of air much thinner than this between parallel glass and metal, rays caught at grazing
+#: incidence bounce until rounding puts one on the wrong side (measured: 7 medium mismatches
+#: in 150 000 rays at 0.05 mm, none at 0.3 mm); invisible at the scale of a cap.
+SKIRT_GAP_MM = 0.3
 #: Aluminium's complex refractive index n + ik at 652, 564 and 443 nm (R, G, B).
 ALUMINIUM_N: RGB = (1.57, 1.07, 0.61)
 ALUMINIUM_K: RGB = (7.74, 6.78, 5.37)

@@ -22,6 +22,7 @@ from .kernels.sampling import C_COLS
 from .kernels.tile import render_pixels
 from .kernels.labels import LB_HIT_F, LB_HIT_I, LB_HIT_N, LB_SMP_F, LB_SMP_I
 from .labels import empty_label_arrays, label_arrays, with_buffers
+from .finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays
 
 #: Boundaries one camera sample may visit before what it still holds is closed with the
@@ -61,6 +62,10 @@ class RenderContext:
     #: the label tables (:func:`engine.tracer.labels.label_arrays`); a label edit replaces only
     #: this field (:meth:`with_labels`)
     labels: tuple = field(repr=False, default_factory=empty_label_arrays)
+    #: the finish tuple of :mod:`engine.tracer.kernels.finish` (relief rows, cap irradiance)
+    finish: tuple = field(repr=False, default=None)
+    #: the closure's render rows (:class:`engine.tracer.finishes.CapTables`) or ``None``
+    cap: object = field(repr=False, default=None)
 
     @classmethod
     def from_design(cls, design, assets=None, width=None, height=None, environment=None) -> "RenderContext":
@@ -72,19 +77,26 @@ class RenderContext:
         geom = render_geometry_for(design)
         env = environment if environment is not None else environment_from_design(design.environment, assets)
         cam = PinholeCamera.from_design(design.camera, w, h)
-        scene = scene_arrays(geom, design)
+        cap = cap_tables_for(design, geom)
+        scene = scene_with_cap(scene_arrays(geom, design), cap)
         tex = np.ascontiguousarray(env.texels, dtype=np.float32)
+        finish = finish_arrays(design, assets, geom, cap, scene, tex)
         params = np.array([float(env.scale), math.radians(float(env.rotation_deg))])
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
         return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
                    float(design.render.min_weight), int(scene[7].shape[0]), level, env,
-                   label_arrays(design, assets, tex))
+                   label_arrays(design, assets, tex), finish, cap)
 
     def with_labels(self, design, assets=None) -> "RenderContext":
         """This context with the labels (and lights) of ``design``: geometry, media, camera and
         environment are kept as they are (the caller vouches that only labels, lights or label
         assets differ)."""
         return dataclasses.replace(self, labels=label_arrays(design, assets, self.texels))
+
+    @property
+    def finish_tuple(self) -> tuple:
+        """The finish tuple (an empty one for a context built without)."""
+        return self.finish if self.finish is not None else empty_finish(self.scene[4].shape[0])
 
 
 @dataclass
@@ -155,11 +167,12 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
     rec_rays, rec_n = record if record is not None else (np.zeros((0, 6), np.float32), np.zeros(1, np.int64))
     samples = int(count.sum()) if record_labels and ctx.labels[0].shape[0] > 0 else 0
     hits = None
+    finish = ctx.finish_tuple
     while True:
         labels = with_buffers(ctx.labels, samples, hits)
         done = render_pixels(ctx.scene, ctx.texels, ctx.env_params, ctx.cam, cols, rows, first, count,
                              ctx.max_depth, ctx.min_weight, float(roulette), 0, MAX_NODES, sums, sumsq, sig, mask,
-                             depth, counters, cancel, rec_rays, rec_n, labels)
+                             depth, counters, cancel, rec_rays, rec_n, labels, finish)
         if not samples or not labels[LB_HIT_N][1] or done < p:
             break
         # more hits than room: trace the call again with room for all (same seeds, same result)
@@ -215,5 +228,5 @@ def trace_rays(ctx: RenderContext, origins, directions):
     out = np.zeros((len(o), 3))
     counters = np.zeros(N_COUNTERS, np.int64)
     radiance(ctx.scene, ctx.texels, ctx.env_params, o, d, ctx.max_depth, ctx.min_weight, MAX_NODES, out, counters,
-              with_buffers(ctx.labels))
+              with_buffers(ctx.labels), ctx.finish_tuple)
     return out, counters

@@ -60,7 +60,7 @@ from .labels import with_buffers
 NOISE_TARGET = adaptive.NOISE_TARGET
 #: Design fields the image depends on (an edit of any other field keeps the film).
 VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets",
-                           "labels", "lights"})
+                           "labels", "lights", "bumps", "cap"})
 #: Object-mask bits of the outer wall and of all labels (engine.tracer.kernels.labels).
 _OUTER_WALL_BIT = np.int64(1)
 _ALL_LABEL_BITS = np.int64(sum(1 << b for b in range(LABEL_BIT0, MAX_LABEL_BIT + 1)))

@@ -18,7 +18,12 @@ inner wall     revolved / swept       into the cavity                    liquid 
 inner base     plane / revolved       into the cavity (up)               liquid or air | glass
 rim            plane z=z_top, annulus up                                 air | glass
 free surface   plane z=fill, region   up                                 air | liquid
+closure part   revolved (closed       away from the part's material      air | air (opaque:
+               meridian chain)                                           reflects only)
 =============  =====================  ================================  ================
+
+Closure parts come after the bottle's objects, from their own cached tables
+(:mod:`engine.tracer.finishes`).
 
 The geometry tables depend only on ``(shape, fill height)`` and are cached by value, so camera,
 colour or IOR edits never rebuild them; media and materials are rebuilt from the design (a few
@@ -40,7 +45,7 @@ from ..geometry.segments import Arc, EllipseArc, Line, OffsetEllipseArc
 from ..intersect.revolved import segment_bounds
 from .kernels import intersect as K
 from .kernels import profile as R
-from .kernels.materials import SMOOTH_DIELECTRIC
+from .kernels.materials import MAT_COLS, SMOOTH_DIELECTRIC
 from .kernels.outlines import CIRCLE, OVAL, RRECT, RSQUARE
 
 AIR, GLASS, LIQUID = 0, 1, 2
@@ -356,19 +361,24 @@ _CACHE_LOCK = threading.Lock()
 _CACHE_SIZE = 8
 
 
-def render_geometry_for(design) -> RenderGeometry:
-    """The cached :class:`RenderGeometry` of a design's ``(shape, fill height)`` (thread-safe)."""
-    key = (design.shape, fill_height_of(design))
-    with _CACHE_LOCK:
-        hit = _CACHE.get(key)
+def cached(cache: dict, lock, size: int, key, build):
+    """``cache[key]``, built by ``build(*key)`` on a miss (outside the lock: builds of different
+    keys run at once), keeping the ``size`` newest keys; thread-safe."""
+    with lock:
+        hit = cache.get(key)
     if hit is not None:
         return hit
-    geom = build_render_geometry(*key)
-    with _CACHE_LOCK:
-        _CACHE[key] = geom
-        while len(_CACHE) > _CACHE_SIZE:
-            _CACHE.pop(next(iter(_CACHE)))
-    return geom
+    value = build(*key)
+    with lock:
+        cache[key] = value
+        while len(cache) > size:
+            cache.pop(next(iter(cache)))
+    return value
+
+
+def render_geometry_for(design) -> RenderGeometry:
+    """The cached :class:`RenderGeometry` of a design's ``(shape, fill height)`` (thread-safe)."""
+    return cached(_CACHE, _CACHE_LOCK, _CACHE_SIZE, (design.shape, fill_height_of(design)), build_render_geometry)
 
 
 def media_table(design) -> np.ndarray:
@@ -380,10 +390,11 @@ def media_table(design) -> np.ndarray:
 
 
 def material_tables(design):
-    """``(mat_i, mat_f)``: today one material, the smooth dielectric interface."""
+    """``(mat_i, mat_f)`` of the bottle: one material, the smooth dielectric interface (a
+    closure's materials follow it, :mod:`engine.tracer.finishes`)."""
     mat_i = np.zeros((1, 4), np.int64)
     mat_i[0, 0] = SMOOTH_DIELECTRIC
-    return mat_i, np.zeros((1, 8))
+    return mat_i, np.zeros((1, MAT_COLS))
 
 
 def scene_arrays(geom: RenderGeometry, design) -> tuple:

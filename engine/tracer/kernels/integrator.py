@@ -34,6 +34,7 @@ from numba import njit
 
 from .intersect import O_MAT, fill_interaction, I_NGX, nearest_hit, object_media
 from .labels import LB_HIT_F, LB_REST, finish_radiance, label_hit
+from .finish import finish_hit
 from .materials import (CONDUCTOR, K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND, PLASTIC,
                         SMOOTH_DIELECTRIC, conductor, smooth_dielectric)
 from .roots import INLINE, JIT
@@ -66,7 +67,7 @@ def _lit(tex, scale, rot, wr, wg, wb, dx, dy, dz):
 
 @njit(**JIT)
 def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min_weight,
-                 rr_weight, max_nodes, work, depth_rec, counters, rec_rays, rec_n, labels):
+                 rr_weight, max_nodes, work, depth_rec, counters, rec_rays, rec_n, labels, finish):
     """Radiance ``(r, g, b)`` of one camera ray and its record.
 
     Parameters
@@ -85,6 +86,10 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
         The label tables (:func:`engine.tracer.labels.label_arrays`; empty without labels): a
         hit on the outer wall (object 0) under a label is the label's (:mod:`.labels`), and the
         labels consulted set their bits (from ``labels.LABEL_BIT0``) in the object mask.
+    finish : tuple
+        The finish arrays of :mod:`engine.tracer.kernels.finish` (relief, frosting, caps):
+        at each hit :func:`~engine.tracer.kernels.finish.finish_hit` writes the children when
+        a finish applies there, else the plain materials below run unchanged.
 
     Returns ``(r, g, b, signature, object mask)``: radiance (finite, >= 0), a hash of the
     dominant path's objects, and a bit per object the tree met.
@@ -165,7 +170,6 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
         if inc != medium:
             counters[C_MISMATCH] += 1
         kind = mat_i[mat, M_KIND]
-        nk = 0
         cos_i = abs(dn)
         if k == 0 and labels[0].shape[0] > 0:
             nk, er, eg, eb, lbits = label_hit(labels, scene, env_p, part, px, py, pz, nx, ny, nz, dx, dy, dz,
@@ -180,10 +184,20 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
                 kind = -1  # answered by the label
             else:
                 nk = 0
-        if kind == SMOOTH_DIELECTRIC:
+        if kind == -1:
+            pass
+        elif finish[0][k, 1] > 0 or kind == PLASTIC:  # a finish writes the children (and the base's light)
+            nk, er, eg, eb = finish_hit(finish, seg, obj_i, mat_i, mat_f, media, k, part, mat, px, py, pz,
+                                        nx, ny, nz, dx, dy, dz, inc, trn, bseed, kids, tex, env_p)
+            lr += wr * er
+            lg += wg * eg
+            lb += wb * eb
+        elif kind == SMOOTH_DIELECTRIC:
             nk = smooth_dielectric(dx, dy, dz, fx, fy, fz, cos_i, media[trn, 0] / media[inc, 0], 1.0, kids, 0)
         elif kind == CONDUCTOR:
             nk = conductor(mat_f, mat, dx, dy, dz, fx, fy, fz, cos_i, 1.0, kids, 0)
+        else:
+            nk = 0
         # push children lightest first, so the heaviest is followed next (insertion by weight)
         for a_ in range(nk):
             order[a_] = a_

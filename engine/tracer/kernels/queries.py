@@ -37,7 +37,7 @@ def normals(seg, slab_i, obj_i, obj_f, k, part, p, out):
 
 
 @njit(**JIT)
-def radiance(scene, tex, env_p, o, d, max_depth, min_weight, max_nodes, out, counters, labels):
+def radiance(scene, tex, env_p, o, d, max_depth, min_weight, max_nodes, out, counters, labels, finish):
     """Radiance of each ray starting in air (the tree of :func:`trace_sample`), into ``out``."""
     work = make_work(max_depth)
     depth = np.full(scene[7].shape[0], 255, np.int64)
@@ -46,5 +46,5 @@ def radiance(scene, tex, env_p, o, d, max_depth, min_weight, max_nodes, out, cou
     for i in range(o.shape[0]):
         r, g, b, _, _ = trace_sample(scene, tex, env_p, o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2],
                                      np.uint64(i), max_depth, min_weight, 0.0, max_nodes, work, depth, counters,
-                                     rec, rec_n, labels)
+                                     rec, rec_n, labels, finish)
         out[i, 0], out[i, 1], out[i, 2] = r, g, b

@@ -31,7 +31,7 @@ def make_work(max_depth):
 @njit(**JIT)
 def render_pixels(scene, tex, env_p, cam, cols, rows, first, count, max_depth, min_weight,
                   rr_weight, rr_from, max_nodes, out_sum, out_sumsq, out_sig, out_mask, out_depth, counters, cancel,
-                  rec_rays, rec_n, labels):
+                  rec_rays, rec_n, labels, finish):
     """Trace the listed samples of each pixel ``(cols[p], rows[p])``.
 
     Writes ``out_sum[p]`` (RGB radiance sum over the samples), ``out_sumsq[p]`` (sum of the
@@ -41,6 +41,7 @@ def render_pixels(scene, tex, env_p, cam, cols, rows, first, count, max_depth, m
     and up play Russian roulette below ``rr_weight`` (see :func:`trace_sample`); ``labels`` is
     the tuple of label tables :func:`trace_sample` takes. Stops early, leaving the
     rest untouched, once ``cancel[0]`` is non-zero; returns the number of pixels finished.
+    ``finish`` is the finish tuple handed on to :func:`trace_sample`.
     """
     work = make_work(max_depth)
     width = int(cam[C_W])
@@ -60,7 +61,7 @@ def render_pixels(scene, tex, env_p, cam, cols, rows, first, count, max_depth, m
             r, g, b, sig, m = trace_sample(scene, tex, env_p, ex, ey, ez, dx, dy, dz, seed,
                                            max_depth, min_weight, rr_weight if k >= rr_from else 0.0,
                                            max_nodes, work, out_depth[p],
-                                           counters, rec_rays, rec_n, labels)
+                                           counters, rec_rays, rec_n, labels, finish)
             record_sample(labels, smp, h0)
             smp += 1
             if k == first[p]:

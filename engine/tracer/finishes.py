@@ -1,0 +1,226 @@
+"""Finishes and closures compiled for the kernels: cap render objects and the finish tuple.
+
+Design rule: a closure is one revolved render object per part (its closed meridian chain from
+:mod:`engine.appearance.closures`, lines and arcs), appended after the bottle's objects with a
+material of its own (aluminium as a conductor under a lacquer tint, plastic as a coat over a
+diffuse base). A part is opaque: air on both sides of its surface, its materials reflect only,
+so its inside is never entered. The cap's tables (:class:`CapTables`) are built and cached by
+``(cap, finish, edge)``, the only values they depend on, apart from the bottle's: a cap edit never
+rebuilds or re-tessellates the bottle, a bottle edit that leaves the finish alone keeps the cap's
+tables, and :func:`scene_with_cap` only concatenates rows (offsetting the cap's segment rows).
+
+:func:`finish_arrays` builds the tuple :func:`engine.tracer.kernels.finish.finish_hit` reads:
+every bump row of the design (the bottle's tiles on the outer wall, and on a punted bottom, the
+closure's reliefs on their parts) sorted by object, and, with a plastic part, the environment's
+cosine-prefiltered irradiance (:func:`irradiance_map`, once per environment) and the design's
+distant lights. A design without bumps or cap gets empty rows: the kernels then never leave the
+plain path. Units mm.
+"""
+from __future__ import annotations
+
+import math
+import threading
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..appearance.closures import cap_material, finish_of
+from .kernels import intersect as K
+from .kernels import profile as R
+from .kernels.bumps import P_COLS
+from .kernels.labels import LABEL_BIT0
+from .kernels.materials import CONDUCTOR, MAT_COLS, MF_ALBEDO, MF_COAT_IOR, MF_K, MF_N, MF_TINT, PLASTIC
+from .render_objects import AIR, BOTTOM, OUTER_WALL, _chain_bbox, _Tables, cached
+
+#: Objects the kernels' int64 object masks can tell apart (the bits above are the labels').
+MAX_OBJECTS = LABEL_BIT0
+#: A closure material at least this rough (GGX alpha) is drawn without its coat (cork).
+MATTE_ROUGHNESS = 0.3
+
+
+@dataclass(frozen=True, eq=False)
+class CapTables:
+    """Render rows of one closure: ``seg`` (n, S_COLS) segment rows numbered from 0,
+    ``obj_i``/``obj_f`` one object per part (``O_FIRST`` counted in ``seg``, ``O_MAT`` from 0
+    among the cap's own materials), ``mat_i``/``mat_f`` one material per part, ``names`` the
+    parts' names, ``z_min``/``z_max`` (mm) the closure's extent."""
+
+    seg: np.ndarray
+    obj_i: np.ndarray
+    obj_f: np.ndarray
+    mat_i: np.ndarray
+    mat_f: np.ndarray
+    names: tuple
+    z_min: float
+    z_max: float
+
+
+def material_row(material):
+    """``(kind, mat_f row)`` of a :class:`~engine.appearance.closures.ClosureMaterial`."""
+    row = np.zeros(MAT_COLS)
+    if material.kind == "conductor":
+        row[MF_N:MF_N + 3], row[MF_K:MF_K + 3], row[MF_TINT:MF_TINT + 3] = material.eta, material.k, material.tint
+        return CONDUCTOR, row
+    row[MF_ALBEDO:MF_ALBEDO + 3] = np.clip(material.tint, 0.0, 1.0)
+    row[MF_COAT_IOR] = 1.0 if material.roughness >= MATTE_ROUGHNESS else material.eta[0]
+    return PLASTIC, row
+
+
+def build_cap_tables(cap, finish, edge: float) -> CapTables:
+    """Compile ``cap`` sized from ``finish`` (:class:`~engine.appearance.closures.Finish`) into
+    render rows; ``edge`` is the bottle's edge distance (mm, ``F_EDGE``)."""
+    from ..appearance.closure_shapes import closure_parts
+    parts = closure_parts(cap, finish, cap_material(cap))
+    tab = _Tables()
+    mats_i, mats_f = [], []
+    for m, part in enumerate(parts):
+        first, n, _ = tab.chain(part.chain, 0.0, False)
+        pad = 1e-9 * max(finish.z_top, 1.0)
+        tab.add(part.name, K.REVOLVED, first, n, 1.0, _chain_bbox(tab.seg[first:first + n], pad),
+                O_FRONT_LO=AIR, O_BACK_LO=AIR, O_FRONT_HI=AIR, O_BACK_HI=AIR, O_MAT=m, F_EDGE=edge)
+        kind, row = material_row(part.material)
+        mi = np.zeros(4, np.int64)
+        mi[0] = kind
+        mats_i.append(mi)
+        mats_f.append(row)
+    seg = np.array(tab.seg, float).reshape(-1, R.S_COLS)
+    zs = seg[:, [R.S_ZMIN, R.S_ZMAX]]
+    return CapTables(np.ascontiguousarray(seg), np.array(tab.obj_i).reshape(-1, K.O_COLS),
+                     np.array(tab.obj_f).reshape(-1, K.F_COLS), np.array(mats_i).reshape(-1, 4),
+                     np.array(mats_f).reshape(-1, MAT_COLS), tuple(tab.names), float(zs.min()), float(zs.max()))
+
+
+_CACHE: dict = {}
+_LOCK = threading.Lock()
+_CACHE_SIZE = 8
+#: How many times :func:`build_cap_tables` ran (tests check that a bottle edit keeps them).
+BUILDS = [0]
+
+
+def cap_tables_for(design, geom) -> CapTables | None:
+    """The cached :class:`CapTables` of ``design``'s cap on its finish (``None`` without a
+    cap); ``geom`` is the bottle's :class:`~engine.tracer.render_objects.RenderGeometry`."""
+    if design.cap is None:
+        return None
+    key = (design.cap, finish_of(design), float(geom.obj_f[0, K.F_EDGE]))
+    return cached(_CACHE, _LOCK, _CACHE_SIZE, key, _build_counted)
+
+
+def _build_counted(cap, finish, edge):
+    BUILDS[0] += 1
+    return build_cap_tables(cap, finish, edge)
+
+
+def scene_with_cap(scene: tuple, cap: CapTables | None) -> tuple:
+    """The kernels' scene tuple with the cap's objects and materials appended after the
+    bottle's (segment rows and material ids offset); ``scene`` itself without a cap."""
+    if cap is None:
+        return scene
+    seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
+    oi = cap.obj_i.copy()
+    oi[:, K.O_FIRST] += seg.shape[0]
+    oi[:, K.O_MAT] += mat_i.shape[0]
+    if obj_i.shape[0] + oi.shape[0] > MAX_OBJECTS:
+        raise ValueError(f"too many render objects for the object masks ({MAX_OBJECTS} at most)")
+    mf = np.zeros((mat_f.shape[0], MAT_COLS))
+    mf[:, :mat_f.shape[1]] = mat_f
+    c = np.ascontiguousarray
+    return (c(np.concatenate([seg, cap.seg])), tab, slab_f, slab_i, c(np.concatenate([obj_i, oi])),
+            c(np.concatenate([obj_f, cap.obj_f])), media, c(np.concatenate([mat_i, cap.mat_i])),
+            c(np.concatenate([mf, cap.mat_f])))
+
+
+# ------------------------------------------------------------------------------ irradiance
+_IRR: dict = {}
+#: Size of the prefiltered irradiance map (rows x columns): irradiance varies slowly.
+IRR_SHAPE = (17, 32)
+
+
+def irradiance_map(texels: np.ndarray) -> np.ndarray:
+    """Cosine-weighted irradiance over pi, ``(17, 32, 3)`` float32, in the environment's own
+    equirectangular layout (row ``j`` at polar angle ``pi j / (h - 1)``, column centres at
+    ``(i + 0.5) / w``) so that the kernels look it up like the environment (same scale and
+    turn): a uniform radiance ``L`` gives ``L`` everywhere. Computed once per texel array."""
+    key = id(texels)
+    hit = _IRR.get(key)
+    if hit is not None and hit[0] is texels:
+        return hit[1]
+    from .environment import EnvironmentMap
+    env = EnvironmentMap(np.asarray(texels, np.float32))
+    # sources: a 64 x 128 grid of cells in (theta, phi), each weighted by its solid angle
+    ns, ms = 64, 128
+    th = (np.arange(ns) + 0.5) * math.pi / ns
+    ph = (np.arange(ms) + 0.5) * 2.0 * math.pi / ms
+    T, P = np.meshgrid(th, ph, indexing="ij")
+    dirs = np.stack([np.sin(T) * np.cos(P), np.sin(T) * np.sin(P), np.cos(T)], -1).reshape(-1, 3)
+    rad = env.lookup(dirs)
+    domega = (np.sin(T) * (math.pi / ns) * (2.0 * math.pi / ms)).reshape(-1)
+    h, w = IRR_SHAPE
+    tho = np.arange(h) * math.pi / (h - 1)
+    pho = (np.arange(w) + 0.5) * 2.0 * math.pi / w
+    To, Po = np.meshgrid(tho, pho, indexing="ij")
+    nrm = np.stack([np.sin(To) * np.cos(Po), np.sin(To) * np.sin(Po), np.cos(To)], -1).reshape(-1, 3)
+    cos = np.maximum(nrm @ dirs.T, 0.0) * domega[None, :]
+    irr = (cos @ rad) / cos.sum(axis=1, keepdims=True)   # exact normalisation: white -> 1
+    out = np.ascontiguousarray(irr.reshape(h, w, 3), np.float32)
+    _IRR.clear()
+    _IRR[key] = (texels, out)
+    return out
+
+
+def light_rows(design) -> np.ndarray:
+    """``(L, 6)`` rows of the design's distant lights: unit direction towards the light and
+    RGB irradiance (colour x intensity)."""
+    rows = []
+    for lt in design.lights:
+        d = np.asarray(lt.direction, float)
+        n = float(np.linalg.norm(d))
+        if not n > 0.0 or not math.isfinite(n):
+            continue
+        rows.append([*(d / n), *(np.asarray(lt.color, float) * float(lt.intensity))])
+    return np.array(rows, float).reshape(-1, 6)
+
+
+# ----------------------------------------------------------------------------- finish tuple
+_EMPTY_IRR = np.zeros((2, 2, 3), np.float32)
+
+
+def empty_finish(n_objects: int) -> tuple:
+    """The finish tuple of a plain design: no rows on any object."""
+    return (np.zeros((n_objects, 2), np.int64), np.zeros(0, np.int64), np.zeros((0, P_COLS)),
+            np.zeros((1, 3), np.float32), _EMPTY_IRR, np.zeros((0, 6)))
+
+
+def finish_arrays(design, assets, geom, cap: CapTables | None, scene: tuple, texels) -> tuple:
+    """The finish tuple of ``design`` for the kernels (module doc); ``scene`` is the combined
+    scene (bottle and cap objects), ``texels`` the environment's."""
+    n_obj = scene[4].shape[0]
+    if not design.bumps and cap is None:
+        return empty_finish(n_obj)
+    from ..appearance.bump_tables import BOTTLE, bump_tables
+    bt = bump_tables(design, assets)
+    n_bottle = geom.obj_i.shape[0]
+    bottle_objs = [OUTER_WALL]
+    if geom.kind == "round" and geom.obj_i[BOTTOM, K.O_KIND] == K.REVOLVED:
+        bottle_objs.append(BOTTOM)   # a punt: its outer base continues the wall's v
+    per_obj = [[] for _ in range(n_obj)]
+    for i, surface in enumerate(bt.surfaces):
+        if surface == BOTTLE:
+            for o in bottle_objs:
+                per_obj[o].append(i)
+        elif cap is not None:
+            name = surface.split(":", 1)[1]
+            if name in cap.names:
+                per_obj[n_bottle + cap.names.index(name)].append(i)
+    order = [i for rows in per_obj for i in rows]
+    obj_rows = np.zeros((n_obj, 2), np.int64)
+    at = 0
+    for o, rows in enumerate(per_obj):
+        obj_rows[o] = at, len(rows)
+        at += len(rows)
+    kinds = np.ascontiguousarray(bt.kinds[order] if order else np.zeros(0, np.int64), np.int64)
+    params = np.ascontiguousarray(bt.params[order] if order else np.zeros((0, P_COLS)))
+    plastic = bool(np.any(scene[7][:, 0] == PLASTIC))
+    irr = irradiance_map(texels) if plastic else _EMPTY_IRR
+    lights = light_rows(design) if plastic else np.zeros((0, 6))
+    return (obj_rows, kinds, params, np.ascontiguousarray(bt.atlas, np.float32), irr, lights)

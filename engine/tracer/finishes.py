@@ -12,13 +12,12 @@ tables, and :func:`scene_with_cap` only concatenates rows (offsetting the cap's 
 :func:`finish_arrays` builds the tuple :func:`engine.tracer.kernels.finish.finish_hit` reads:
 every bump row of the design (the bottle's tiles on the outer wall, and on a punted bottom, the
 closure's reliefs on their parts) sorted by object, and, with a plastic part, the environment's
-cosine-prefiltered irradiance (:func:`irradiance_map`, once per environment) and the design's
+cosine-prefiltered irradiance (:func:`engine.tracer.lighting.irradiance_table`, once per environment) and the design's
 distant lights. A design without bumps or cap gets empty rows: the kernels then never leave the
 plain path. Units mm.
 """
 from __future__ import annotations
 
-import math
 import threading
 from dataclasses import dataclass
 
@@ -29,6 +28,7 @@ from .kernels import intersect as K
 from .kernels import profile as R
 from .kernels.bumps import P_COLS
 from .kernels.labels import LABEL_BIT0
+from .lighting import irradiance_table, light_table
 from .kernels.materials import CONDUCTOR, MAT_COLS, MF_ALBEDO, MF_COAT_IOR, MF_K, MF_N, MF_TINT, PLASTIC
 from .render_objects import AIR, BOTTOM, OUTER_WALL, _chain_bbox, _Tables, cached
 
@@ -130,57 +130,6 @@ def scene_with_cap(scene: tuple, cap: CapTables | None) -> tuple:
             c(np.concatenate([mf, cap.mat_f])))
 
 
-# ------------------------------------------------------------------------------ irradiance
-_IRR: dict = {}
-#: Size of the prefiltered irradiance map (rows x columns): irradiance varies slowly.
-IRR_SHAPE = (17, 32)
-
-
-def irradiance_map(texels: np.ndarray) -> np.ndarray:
-    """Cosine-weighted irradiance over pi, ``(17, 32, 3)`` float32, in the environment's own
-    equirectangular layout (row ``j`` at polar angle ``pi j / (h - 1)``, column centres at
-    ``(i + 0.5) / w``) so that the kernels look it up like the environment (same scale and
-    turn): a uniform radiance ``L`` gives ``L`` everywhere. Computed once per texel array."""
-    key = id(texels)
-    hit = _IRR.get(key)
-    if hit is not None and hit[0] is texels:
-        return hit[1]
-    from .environment import EnvironmentMap
-    env = EnvironmentMap(np.asarray(texels, np.float32))
-    # sources: a 64 x 128 grid of cells in (theta, phi), each weighted by its solid angle
-    ns, ms = 64, 128
-    th = (np.arange(ns) + 0.5) * math.pi / ns
-    ph = (np.arange(ms) + 0.5) * 2.0 * math.pi / ms
-    T, P = np.meshgrid(th, ph, indexing="ij")
-    dirs = np.stack([np.sin(T) * np.cos(P), np.sin(T) * np.sin(P), np.cos(T)], -1).reshape(-1, 3)
-    rad = env.lookup(dirs)
-    domega = (np.sin(T) * (math.pi / ns) * (2.0 * math.pi / ms)).reshape(-1)
-    h, w = IRR_SHAPE
-    tho = np.arange(h) * math.pi / (h - 1)
-    pho = (np.arange(w) + 0.5) * 2.0 * math.pi / w
-    To, Po = np.meshgrid(tho, pho, indexing="ij")
-    nrm = np.stack([np.sin(To) * np.cos(Po), np.sin(To) * np.sin(Po), np.cos(To)], -1).reshape(-1, 3)
-    cos = np.maximum(nrm @ dirs.T, 0.0) * domega[None, :]
-    irr = (cos @ rad) / cos.sum(axis=1, keepdims=True)   # exact normalisation: white -> 1
-    out = np.ascontiguousarray(irr.reshape(h, w, 3), np.float32)
-    _IRR.clear()
-    _IRR[key] = (texels, out)
-    return out
-
-
-def light_rows(design) -> np.ndarray:
-    """``(L, 6)`` rows of the design's distant lights: unit direction towards the light and
-    RGB irradiance (colour x intensity)."""
-    rows = []
-    for lt in design.lights:
-        d = np.asarray(lt.direction, float)
-        n = float(np.linalg.norm(d))
-        if not n > 0.0 or not math.isfinite(n):
-            continue
-        rows.append([*(d / n), *(np.asarray(lt.color, float) * float(lt.intensity))])
-    return np.array(rows, float).reshape(-1, 6)
-
-
 # ----------------------------------------------------------------------------- finish tuple
 _EMPTY_IRR = np.zeros((2, 2, 3), np.float32)
 
@@ -221,6 +170,6 @@ def finish_arrays(design, assets, geom, cap: CapTables | None, scene: tuple, tex
     kinds = np.ascontiguousarray(bt.kinds[order] if order else np.zeros(0, np.int64), np.int64)
     params = np.ascontiguousarray(bt.params[order] if order else np.zeros((0, P_COLS)))
     plastic = bool(np.any(scene[7][:, 0] == PLASTIC))
-    irr = irradiance_map(texels) if plastic else _EMPTY_IRR
-    lights = light_rows(design) if plastic else np.zeros((0, 6))
+    irr = irradiance_table(texels) if plastic else _EMPTY_IRR
+    lights = light_table(design.lights) if plastic else np.zeros((0, 6))
     return (obj_rows, kinds, params, np.ascontiguousarray(bt.atlas, np.float32), irr, lights)

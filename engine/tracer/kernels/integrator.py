@@ -32,7 +32,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .intersect import O_MAT, fill_interaction, I_NGX, nearest_hit, object_media
+from .intersect import O_MAT, nearest_hit, object_media
 from .labels import LB_HIT_F, LB_REST, finish_radiance, label_hit
 from .finish import finish_hit
 from .materials import (CONDUCTOR, K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND, PLASTIC,
@@ -79,7 +79,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
     tex, env_p : environment texels ``(H, W, 3)`` float32 and ``(scale, rotation rad)``.
     o, d : the ray (mm, unit direction), starting in air.
     seed : uint64 seed of the sample (branches derive theirs from it).
-    work : tuple of scratch arrays ``(stk_f, stk_i, stk_u, roots, crit, ivals, si, kids)``.
+    work : tuple of scratch arrays ``(stk_f, stk_i, stk_u, roots, crit, ivals, kids, order)``.
     depth_rec : int64 array ``(n_materials,)``: the shallowest depth at which the tree met each
         material is min-ed into it.
     labels : tuple
@@ -95,7 +95,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
     dominant path's objects, and a bit per object the tree met.
     """
     seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
-    stk_f, stk_i, stk_u, roots, crit, ivals, si, kids, order = work
+    stk_f, stk_i, stk_u, roots, crit, ivals, kids, order = work
     scale, rot = env_p[0], env_p[1]
     cap = stk_f.shape[0]
     lr = lg = lb = 0.0

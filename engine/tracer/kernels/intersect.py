@@ -1,4 +1,4 @@
-"""Nearest hit over the render objects, and the surface-interaction record of a hit.
+"""Nearest hit over the render objects: the surface interaction of a ray.
 
 Design rule: a render object (one row of ``obj_i`` / ``obj_f``, :mod:`engine.tracer.
 render_objects`) is a surface with an exact intersector (revolved chain, swept wall or plane
@@ -10,21 +10,19 @@ one side of a surface can only cross it towards the other), and a hit at a round
 distance on a *neighbouring* object counts only when its media agree with the ray's medium
 (a ray leaving an edge). No origin offsets, no epsilon along the normal.
 
-The interaction record ``si`` (float64 scratch, columns ``I_*``) carries point, geometric
-normal (decides media), shading normal (what a bump perturbs; equal to it today), surface
-coordinates ``(u, v)`` = (angle about the axis in rad, arc length along the section in mm) and
-their tangents ``dp/du`` (mm/rad) and ``dp/dv`` (unit).
+A hit is ``(t, object, part, geometric normal)``: the geometric normal decides the media;
+what lies on the surface there (a label's decal, a finish's shading normal from its surface
+coordinates, :func:`engine.tracer.kernels.finish.shading_frame`) is looked up from it by the
+appearance kernels.
 """
 from __future__ import annotations
-
-import math
 
 import numpy as np
 from numba import njit
 
 from .outlines import outline_sd
 from .profile import LINE, S_KIND, S_R0, S_R1, S_RMAX, S_RMIN, S_Z0, S_Z1, S_ZMAX, S_ZMIN
-from .revolved import ray_box, segment_hits, segment_normal, segment_v
+from .revolved import ray_box, segment_hits, segment_normal
 from .roots import INLINE, JIT, cone_roots
 from .swept import ruled_roots, swept_normal, swept_roots
 
@@ -41,11 +39,6 @@ F_COLS = 17
 #: The object a ray leaves is searched from this fraction of the edge distance on (1e-9 of the
 #: bottle's size): below the noise of any root, far below any legitimate re-hit.
 START_FRACTION = 1e-2
-# interaction record columns
-(I_T, I_PX, I_PY, I_PZ, I_NGX, I_NGY, I_NGZ, I_NSX, I_NSY, I_NSZ, I_U, I_V,
- I_DUX, I_DUY, I_DUZ, I_DVX, I_DVY, I_DVZ) = range(18)
-I_COLS = 18
-
 
 @njit(**JIT)
 def object_media(obj_i, obj_f, k, z):
@@ -192,28 +185,3 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
                     bnx, bny, bnz = nx, ny, nz
                     break
     return best, best_k, best_part, bnx, bny, bnz
-
-
-@njit(**JIT)
-def fill_interaction(seg, obj_i, obj_f, k, part, ox, oy, oz, dx, dy, dz, t, nx, ny, nz, si):
-    """Write the interaction record of a hit (module doc) into ``si``."""
-    px, py, pz = ox + t * dx, oy + t * dy, oz + t * dz
-    si[I_T] = t
-    si[I_PX], si[I_PY], si[I_PZ] = px, py, pz
-    si[I_NGX], si[I_NGY], si[I_NGZ] = nx, ny, nz
-    si[I_NSX], si[I_NSY], si[I_NSZ] = nx, ny, nz
-    si[I_U] = math.atan2(py, px)
-    rho = hypot2(px, py)
-    si[I_DUX], si[I_DUY], si[I_DUZ] = -py, px, 0.0  # d p / d theta
-    if obj_i[k, O_KIND] == REVOLVED:
-        si[I_V] = segment_v(seg, part, px, py, pz)
-    else:
-        si[I_V] = pz
-    # d p / d v: unit, along the meridian, perpendicular to the normal and to d p / d theta
-    ex, ey = (px / rho, py / rho) if rho > 0.0 else (1.0, 0.0)
-    vx, vy, vz = -nz * ex, -nz * ey, nx * ex + ny * ey
-    h = math.sqrt(vx * vx + vy * vy + vz * vz)
-    if h > 0.0:
-        si[I_DVX], si[I_DVY], si[I_DVZ] = vx / h, vy / h, vz / h
-    else:
-        si[I_DVX], si[I_DVY], si[I_DVZ] = 0.0, 0.0, 1.0

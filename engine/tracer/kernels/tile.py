@@ -12,7 +12,6 @@ from numba import njit
 
 from .integrator import trace_sample
 from .labels import LB_HIT_N, record_sample
-from .intersect import I_COLS
 from .materials import KID_COLS, MAX_CHILDREN
 from .roots import JIT
 from .sampling import C_EYE, C_W, camera_ray, mix64, pixel_offset
@@ -24,7 +23,7 @@ def make_work(max_depth):
     ``MAX_CHILDREN - 1`` waiting siblings per level) and solver space."""
     cap = (MAX_CHILDREN - 1) * max_depth + 2
     return (np.zeros((cap, 9)), np.zeros((cap, 4), np.int64), np.zeros(cap, np.uint64),
-            np.zeros(16), np.zeros(5), np.zeros((64, 2)), np.zeros(I_COLS), np.zeros((MAX_CHILDREN, KID_COLS)),
+            np.zeros(16), np.zeros(5), np.zeros((64, 2)), np.zeros((MAX_CHILDREN, KID_COLS)),
             np.zeros(MAX_CHILDREN, np.int64))
 
 

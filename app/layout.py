@@ -55,7 +55,11 @@ def build_docks(window) -> dict:
     docks["materials"] = add_dock(window, "Materials", window.materials_panel, Qt.RightDockWidgetArea)
     docks["camera"] = add_dock(window, "Camera and environment", window.camera_panel,
                                Qt.RightDockWidgetArea)
-    window.tabifyDockWidget(docks["materials"], docks["camera"])
+    docks["labels"] = add_dock(window, "Labels", window.labels_panel, Qt.RightDockWidgetArea)
+    docks["bumps"] = add_dock(window, "Bump tiles", window.bumps_panel, Qt.RightDockWidgetArea)
+    docks["cap"] = add_dock(window, "Cap", window.cap_panel, Qt.RightDockWidgetArea)
+    for name in ("camera", "labels", "bumps", "cap"):  # one tab row: the side stays uncrowded
+        window.tabifyDockWidget(docks["materials"], docks[name])
     docks["materials"].raise_()
     return docks
 

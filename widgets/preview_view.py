@@ -6,7 +6,8 @@ image starts as the old picture scaled to the new size (never a blank flash), an
 note (``set_note``: "stale", "refining") is drawn over it. Renders are sized in device pixels
 (:meth:`pane_pixels`), so at 1:1 one image pixel is one screen pixel. Dragging in the view asks
 for a camera orbit (``orbitRequested``); the window turns that into an undoable camera edit,
-which restarts the render. At 1:1 the middle button pans.
+which restarts the render. At 1:1 the middle button pans. An image file dropped on the view is
+announced (``imageDropped``) with the render pixel under the drop; the window makes it a label.
 """
 from __future__ import annotations
 
@@ -25,10 +26,16 @@ class PreviewView(QWidget):
         ``(degrees of azimuth, degrees of elevation, drag finished)`` from a mouse drag.
     orbiting(bool)
         An orbit drag started (True) or ended (False): the render holds meanwhile.
+    imageDropped(str, object)
+        An image file (its path) was dropped at ``(x, y)`` render pixels (``None``: off the
+        picture).
     """
 
     orbitRequested = Signal(float, float, bool)
     orbiting = Signal(bool)
+    imageDropped = Signal(str, object)
+    #: File endings accepted as a drop (the label artwork formats).
+    DROP_EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr")
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -41,8 +48,9 @@ class PreviewView(QWidget):
         self._pan_from = None
         self.pan = QPointF(0.0, 0.0)  # offset (px) of the 1:1 image from centred
         self.note = ""
+        self.setAcceptDrops(True)
         self.setToolTip("The glass as the tracer sees it: drag to orbit the camera; Ctrl+1 for 1:1, "
-                        "Ctrl+0 to fit")
+                        "Ctrl+0 to fit; drop an image file on the bottle to add a label there")
 
     # ----------------------------------------------------------------------- image
     def image_size(self) -> tuple[int, int]:
@@ -148,3 +156,33 @@ class PreviewView(QWidget):
             self._press = None
             self.orbitRequested.emit(0.0, 0.0, True)
             self.orbiting.emit(False)
+
+    # ------------------------------------------------------------------------ drops
+    def _dropped_image(self, mime) -> str | None:
+        for url in mime.urls() if mime.hasUrls() else ():
+            path = url.toLocalFile()
+            if path and path.lower().endswith(self.DROP_EXTENSIONS):
+                return path
+        return None
+
+    def image_point(self, pos: QPointF):
+        """``(x, y)`` render pixels under widget point ``pos`` (``None``: off the picture)."""
+        r = self._target_rect()
+        if r.isEmpty() or not r.contains(pos):
+            return None
+        return ((pos.x() - r.x()) / r.width() * self._image.width(),
+                (pos.y() - r.y()) / r.height() * self._image.height())
+
+    def dragEnterEvent(self, event):  # noqa: N802 - Qt's name
+        if self._dropped_image(event.mimeData()):
+            event.acceptProposedAction()
+
+    def dragMoveEvent(self, event):  # noqa: N802
+        if self._dropped_image(event.mimeData()):
+            event.acceptProposedAction()
+
+    def dropEvent(self, event):  # noqa: N802
+        path = self._dropped_image(event.mimeData())
+        if path:
+            event.acceptProposedAction()
+            self.imageDropped.emit(path, self.image_point(event.position()))

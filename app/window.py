@@ -357,6 +357,7 @@ class MainWindow(QMainWindow):
             self.wireframe_controller.shutdown()
             self.wireframe.shutdown()
         self.undo_keys.shutdown()
+        self.labels_panel.shutdown()
         if self._unsubscribe is not None:
             self._unsubscribe()
             self._unsubscribe = None

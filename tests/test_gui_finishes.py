@@ -77,11 +77,11 @@ def test_a_cap_set_and_unset_shows_in_the_trade_numbers(make_window, qtbot):
     overall = w.trade_numbers["overall_height_mm"]
     assert overall > top
     assert w.trade_panel.text("overall_height_mm") == f"{overall:.1f} mm"
-    panel.height.setValue(20.0)
+    panel.cap_height.setValue(20.0)
     assert w.scene.design.cap.height == 20.0
     # a taller skirt reaches further down the neck: the closure is taller, its top stays put
     qtbot.waitUntil(lambda: w.derived_idle() and w.trade_numbers["closure"]["height_mm"] == 20.0)
-    assert "20.0 mm high" in w.trade_panel.text("closure") and "20.0 mm high" in panel.size_text.text()
+    assert w.trade_panel.text("closure").endswith("\u00d7 20.0 mm") and "20.0 mm high" in panel.size_text.text()
     panel.choose_color = lambda rgb, title: (0.5, 0.1, 0.1)
     panel.color.click()
     assert w.scene.design.cap.color == (0.5, 0.1, 0.1)

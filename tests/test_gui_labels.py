@@ -161,7 +161,7 @@ def test_a_corrupt_image_is_refused_with_a_message_and_nothing_changes(make_wind
     assert w.scene.design == before and "not a PNG" in panel.problem.text()
 
 
-def test_the_die_line_of_a_label_on_a_cone_is_a_sector(make_window, tiny_design, tmp_path):
+def test_the_die_line_of_a_label_on_a_cone_is_a_sector(make_window, tiny_design, tmp_path, qtbot):
     design = dataclasses.replace(tiny_design, shape=cone_shape(), liquid=None)
     w = make_window(design)
     panel = w.labels_panel
@@ -172,6 +172,7 @@ def test_the_die_line_of_a_label_on_a_cone_is_a_sector(make_window, tiny_design,
     panel.width_mm.setValue(40.0)
     label = w.scene.design.labels[0]
     assert (label.z_mm, label.height_mm, label.width_mm) == (110.0, 40.0, 40.0)
+    qtbot.waitUntil(lambda: not panel.dieline_pending())
     fig = panel.dieline.figures
     assert panel.dieline.kind == "sector"
     # the cone runs r 40 at z 60 to r 20 at z 160: slant L and the apex distance in closed form
@@ -182,6 +183,8 @@ def test_the_die_line_of_a_label_on_a_cone_is_a_sector(make_window, tiny_design,
     assert fig["angle_deg"] == pytest.approx(math.degrees(40.0 / apex_to_centre), rel=1e-6)
     assert panel.dieline.outline is not None and len(panel.dieline.outline) > 8
     panel.z_mm.setValue(60.0)  # now it crosses the joint cylinder -> cone: a shoulder
+    assert panel.dieline_pending()
+    qtbot.waitUntil(lambda: not panel.dieline_pending())
     assert panel.dieline.kind == "outline"
     assert "shoulder" in panel.warnings.text() or "corner" in panel.warnings.text()
     assert panel.dieline.marks, "the warning is marked on the die-line"
@@ -227,3 +230,28 @@ def test_save_and_reopen_keeps_labels_regions_and_images(make_window, tmp_path):
     assert w2.scene.assets[lab.back.asset] == back
     assert w2.scene.assets[lab.front.asset] == w.scene.assets[lab.front.asset]
     assert w2.labels_panel.list.count() == 1 and w2.labels_panel.width_mm.value() == pytest.approx(70.0)
+
+
+def test_ctrl_z_in_a_label_field_undoes_the_label_edit(make_window, tmp_path, qtbot):
+    w = make_window()
+    w.show()
+    w.activateWindow()
+    qtbot.waitUntil(w.isActiveWindow, timeout=5000)
+    w.docks["labels"].raise_()
+    panel = w.labels_panel
+    artwork(tmp_path, "a.png")
+    _add(panel, tmp_path / "a.png")
+    spin = panel.width_mm
+    qtbot.waitUntil(spin.isVisible)
+    before = w.scene.design.labels[0].width_mm
+    spin.setFocus()
+    qtbot.waitUntil(spin.lineEdit().hasFocus, timeout=5000)
+    spin.lineEdit().selectAll()
+    qtbot.keyClicks(spin.lineEdit(), "55")
+    qtbot.keyClick(spin.lineEdit(), Qt.Key_Return)
+    assert w.scene.design.labels[0].width_mm == pytest.approx(55.0)
+    qtbot.keyClick(spin.lineEdit(), Qt.Key_Z, Qt.ControlModifier)
+    assert w.scene.design.labels[0].width_mm == pytest.approx(before)
+    assert spin.value() == pytest.approx(before)
+    qtbot.keyClick(spin.lineEdit(), Qt.Key_Z, Qt.ControlModifier | Qt.ShiftModifier)
+    assert w.scene.design.labels[0].width_mm == pytest.approx(55.0)

@@ -60,7 +60,7 @@ class BumpsPanel(QWidget):
         self.swatch_pixels: np.ndarray | None = None
         self._select = None
         self.list = QListWidget()
-        self.list.setMaximumHeight(110)
+        self.list.setMaximumHeight(SWATCH_PX)
         self.list.setToolTip("Relief bands on the glass")
         self.add_kind = QComboBox()
         for kind in BUMP_KINDS:
@@ -84,11 +84,11 @@ class BumpsPanel(QWidget):
         self.z0 = ef.spin(-5000, 5000, 1, 1.0, " mm", "Bottom of the band (height above the standing plane)")
         self.z1 = ef.spin(-5000, 5000, 1, 1.0, " mm", "Top of the band")
         self.repeat = ef.int_spin(1, 4096, "Repeats of the pattern around the girth")
-        self.depth = ef.spin(0, 10, 2, 0.05, " mm", "Size of the relief (cut kinds go in, raised ones out)")
+        self.depth_mm = ef.spin(0, 10, 2, 0.05, " mm", "Size of the relief (cut kinds go in, raised ones out)")
         self.angle = ef.spin(-360, 360, 1, 5.0, " \u00b0", "Turn of the pattern about the axis")
         self.pitch = ef.spin(0, 100, 2, 0.1, " mm", "Vertical period: rows of knurl/dots, thread pitch "
                              "(0: square cells / the finish standard's)")
-        self.width = ef.spin(0, 1, 2, 0.05, tip="Flute, dot or groove width as a fraction of a period; "
+        self.ridge_width = ef.spin(0, 1, 2, 0.05, tip="Flute, dot or groove width as a fraction of a period; "
                              "knurl: 0 diamond .. 1 straight; emboss: bevel")
         self.sharpness = ef.spin(0, 1, 2, 0.05, tip="How crisp ridges and edges are")
         self.alpha = ef.spin(0.02, 0.5, 3, 0.01, tip="Frosting roughness (GGX): 0.02 satin .. 0.5 deep etch")
@@ -101,6 +101,7 @@ class BumpsPanel(QWidget):
         self.inverted = QCheckBox("Inverted")
         self.inverted.setToolTip("Press in instead of raise (or raise instead of cut)")
 
+        ef.compact(self.add_kind, self.kind)
         add_row = QHBoxLayout()
         add_row.addWidget(self.add_kind, 1)
         add_row.addWidget(self.add_button)
@@ -111,8 +112,8 @@ class BumpsPanel(QWidget):
         form.addRow("Name", self.name)
         self.rows = {}
         for text, w in (("From height", self.z0), ("To height", self.z1), ("Repeat", self.repeat),
-                        ("Depth", self.depth), ("Turn", self.angle), ("Pitch", self.pitch),
-                        ("Width", self.width), ("Sharpness", self.sharpness), ("Roughness", self.alpha),
+                        ("Depth", self.depth_mm), ("Turn", self.angle), ("Pitch", self.pitch),
+                        ("Width", self.ridge_width), ("Sharpness", self.sharpness), ("Roughness", self.alpha),
                         ("Finish", self.finish), ("Image", self.image_button), ("", self.image_text),
                         ("Image span", self.width_deg)):
             form.addRow(text, w)
@@ -134,9 +135,9 @@ class BumpsPanel(QWidget):
         self.kind.currentIndexChanged.connect(lambda _: self.set_kind(self.kind.currentData()))
         self.name.editingFinished.connect(lambda: self._edit("Rename tile", "name", name=self.name.text()))
         for w, key, text in ((self.z0, "z0", "Tile bottom"), (self.z1, "z1", "Tile top"),
-                             (self.repeat, "repeat", "Tile repeat"), (self.depth, "depth", "Tile depth"),
+                             (self.repeat, "repeat", "Tile repeat"), (self.depth_mm, "depth", "Tile depth"),
                              (self.angle, "angle_deg", "Tile turn"), (self.pitch, "pitch", "Tile pitch"),
-                             (self.width, "width", "Tile width"), (self.sharpness, "sharpness", "Tile sharpness"),
+                             (self.ridge_width, "width", "Tile width"), (self.sharpness, "sharpness", "Tile sharpness"),
                              (self.alpha, "alpha", "Frosting roughness"), (self.width_deg, "width_deg", "Image span")):
             w.valueChanged.connect(lambda v, key=key, text=text: self._edit(text, key, **{key: v}))
         self.finish.editingFinished.connect(lambda: self._edit("Thread finish", "finish",
@@ -260,7 +261,7 @@ class BumpsPanel(QWidget):
     # ------------------------------------------------------------------ model → view
     def refresh(self, design, assets=None):
         assets = self.editor.scene.assets if assets is None else assets
-        fields = (self.z0, self.z1, self.repeat, self.depth, self.angle, self.pitch, self.width,
+        fields = (self.z0, self.z1, self.repeat, self.depth_mm, self.angle, self.pitch, self.ridge_width,
                   self.sharpness, self.alpha, self.width_deg)
         blockers = [QSignalBlocker(w) for w in (self.list, self.kind, self.name, self.finish, self.inverted) + fields]
         ef.show_rows(self.list, [f"{t.name} ({BUMP_WORDS.get(t.kind, t.kind)}) {t.z0:g}..{t.z1:g} mm"

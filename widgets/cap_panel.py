@@ -41,17 +41,20 @@ class CapPanel(QWidget):
             self.material.addItem(MATERIAL_WORDS[m], m)
         self.color = ef.LinearColorButton()
         self.color.setToolTip("Metal: the lacquer's tint over aluminium; plastic: its colour")
-        self.height = ef.spin(0, 300, 1, 0.5, " mm", "Height from the top to the skirt's edge "
+        self.cap_height = ef.spin(0, 300, 1, 0.5, " mm", "Height from the top to the skirt's edge "
                               "(cork: its length); 0 takes the kind's standard")
         self.count = ef.int_spin(0, 720, "Knurl ridges, crown flutes or lugs; 0 takes the kind's standard")
+        for field in (self.cap_height, self.count):
+            field.setSpecialValueText("standard")  # 0: the kind's standard
         self.capsule = QCheckBox("Capsule over the cork")
         self.size_text = QLabel("")
         self.size_text.setWordWrap(True)
+        ef.compact(self.kind, self.material)
         form = QFormLayout()
         form.addRow("Closure", self.kind)
         form.addRow("Material", self.material)
         form.addRow("Colour", self.color)
-        form.addRow("Height", self.height)
+        form.addRow("Height", self.cap_height)
         form.addRow("Count / lugs", self.count)
         form.addRow(self.capsule)
         form.addRow(self.size_text)
@@ -62,7 +65,7 @@ class CapPanel(QWidget):
         self.material.currentIndexChanged.connect(lambda _: self._edit("Cap material", None,
                                                                        material=self.material.currentData()))
         self.color.clicked.connect(self._pick_color)
-        self.height.valueChanged.connect(lambda v: self._edit("Cap height", "cap-height", height=v))
+        self.cap_height.valueChanged.connect(lambda v: self._edit("Cap height", "cap-height", height=v))
         self.count.valueChanged.connect(lambda v: self._edit("Cap count", "cap-count", count=v))
         self.capsule.toggled.connect(lambda on: self._edit("Cork capsule", None, capsule=on))
         self.refresh(editor.design)
@@ -100,16 +103,16 @@ class CapPanel(QWidget):
                 self._edit("Cap colour", None, color=tuple(rgb))
 
     def refresh(self, design):
-        widgets = (self.kind, self.material, self.height, self.count, self.capsule)
+        widgets = (self.kind, self.material, self.cap_height, self.count, self.capsule)
         blockers = [QSignalBlocker(w) for w in widgets]
         cap = design.cap
         self.kind.setCurrentIndex(self.kind.findData(cap.kind if cap is not None else "none"))
-        for w in (self.material, self.color, self.height, self.count, self.capsule):
+        for w in (self.material, self.color, self.cap_height, self.count, self.capsule):
             w.setEnabled(cap is not None)
         if cap is not None:
             self.material.setCurrentIndex(self.material.findData(cap.material))
             self.color.set_linear(cap.color)
-            self.height.setValue(cap.height)
+            self.cap_height.setValue(cap.height)
             self.count.setValue(cap.count)
             self.capsule.setChecked(cap.capsule)
             self.capsule.setEnabled(cap.kind == "cork")

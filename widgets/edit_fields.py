@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 from PySide6.QtGui import QColor, QImage
-from PySide6.QtWidgets import QColorDialog, QDoubleSpinBox, QPushButton, QSpinBox
+from PySide6.QtWidgets import QColorDialog, QComboBox, QDoubleSpinBox, QPushButton, QSpinBox
 
 from engine.appearance.images import linear_to_srgb, srgb_to_linear
 
@@ -33,6 +33,13 @@ def int_spin(lo, hi, tip="") -> QSpinBox:
     s.setKeyboardTracking(False)
     s.setToolTip(tip)
     return s
+
+
+def compact(*combos) -> None:
+    """Let ``combos`` be narrower than their longest item (long names must not widen a dock)."""
+    for combo in combos:
+        combo.setSizeAdjustPolicy(QComboBox.AdjustToMinimumContentsLengthWithIcon)
+        combo.setMinimumContentsLength(10)
 
 
 def srgb_of(linear) -> tuple[float, float, float]:

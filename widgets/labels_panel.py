@@ -9,7 +9,8 @@ Images are read with :func:`engine.appearance.images.read_image_file` and decode
 :func:`~engine.appearance.images.decode_image` *before* anything changes, so a corrupt, truncated
 or huge file is refused with the engine's one-line message and the design stays as it was.
 The die-line and its warnings are :func:`engine.appearance.dieline.label_report`'s, the same
-the ``glassbench labels`` command prints. A new label (button or an image dropped onto the
+the ``glassbench labels`` command prints, drawn once the label has held still for
+:data:`DIELINE_SETTLE_MS` (a drag does not flatten at every step). A new label (button or an image dropped onto the
 preview) is sized from its artwork's aspect and placed where the drop point meets the bottle
 (:func:`app.engine_bridge.surface_point`); without a point, or when the point misses the glass,
 it faces the camera at the body's mid-height.
@@ -20,7 +21,7 @@ import dataclasses
 import os
 
 import numpy as np
-from PySide6.QtCore import QPointF, QRectF, QSignalBlocker, Qt, Signal
+from PySide6.QtCore import QPointF, QRectF, QSignalBlocker, Qt, QTimer, Signal
 from PySide6.QtGui import QColor, QPainter, QPainterPath, QPen, QPolygonF
 from PySide6.QtWidgets import (QCheckBox, QComboBox, QFileDialog, QFormLayout, QGroupBox,
                                QHBoxLayout, QLabel, QLineEdit, QListWidget, QPushButton,
@@ -38,6 +39,9 @@ FINISH_WORDS = {"gold_foil": "Gold foil", "silver_foil": "Silver foil", "clear_v
 IMAGE_FILTER = "Images (" + " ".join("*" + e for e in images.EXTENSIONS) + ")"
 #: Side (px) of the artwork picture drawn in the panel.
 THUMB_PX = 220
+#: How long (ms) a label must hold still before its die-line is drawn again (flattening a
+#: doubly curved band takes about half a second).
+DIELINE_SETTLE_MS = 150
 
 
 def is_image_path(path: str) -> bool:
@@ -160,11 +164,11 @@ class DielineView(QWidget):
         lo, hi = self.outline.min(axis=0), self.outline.max(axis=0)
         span = np.maximum(hi - lo, 1e-6)
         margin = 10.0
-        scale = min((self.width() - 2 * margin) / span[0], (self.height() - 2 * margin - 14) / span[1])
+        scale = min((self.width() - 2 * margin) / span[0], (self.height() - 2 * margin) / span[1])
         cx, cy = (lo + hi) / 2
 
         def to_px(x, y):
-            return QPointF(self.width() / 2 + (x - cx) * scale, (self.height() - 14) / 2 - (y - cy) * scale)
+            return QPointF(self.width() / 2 + (x - cx) * scale, self.height() / 2 - (y - cy) * scale)
 
         path = QPainterPath()
         path.addPolygon(QPolygonF([to_px(x, y) for x, y in self.outline]))
@@ -176,8 +180,6 @@ class DielineView(QWidget):
         p.setBrush(QColor(220, 30, 30))
         for x, y in self.marks:
             p.drawEllipse(to_px(x, y), 4, 4)
-        p.setPen(QColor(60, 60, 60))
-        p.drawText(QRectF(0, self.height() - 14, self.width(), 14), Qt.AlignCenter, describe(self.figures))
 
 
 class LabelsPanel(QWidget):
@@ -196,10 +198,14 @@ class LabelsPanel(QWidget):
         self.editor = editor
         self._thumbs: dict = {}
         self._select = self._select_region = None  # rows to show after an add, move or remove
+        self.dieline_timer = QTimer(self)
+        self.dieline_timer.setSingleShot(True)
+        self.dieline_timer.setInterval(DIELINE_SETTLE_MS)
+        self.dieline_timer.timeout.connect(self._show_dieline)
         self.report = None
         self.list = QListWidget()
         self.list.setToolTip("The labels on the bottle; later ones lie on top where they overlap")
-        self.list.setMaximumHeight(110)
+        self.list.setMaximumHeight(72)
         self.add_button = QPushButton("Add\u2026")
         self.add_button.setToolTip("Add a label with an artwork image (PNG, JPEG, TIFF, EXR), "
                                    "embedded in the project; you can also drop an image on the preview")
@@ -211,6 +217,8 @@ class LabelsPanel(QWidget):
         self.problem = QLabel("")
         self.problem.setWordWrap(True)
         self.problem.setStyleSheet("color: #b00020")
+        for b in (self.up_button, self.down_button):
+            b.setMaximumWidth(40)
         buttons = QHBoxLayout()
         for b in (self.add_button, self.remove_button, self.up_button, self.down_button):
             buttons.addWidget(b)
@@ -245,12 +253,14 @@ class LabelsPanel(QWidget):
         self.artwork.setToolTip("The front artwork; with the eyedropper on, click a colour to key a "
                                 "finish region to it (Shift+click adds a key)")
         self.dieline = DielineView()
+        self.figures = QLabel("")
+        self.figures.setWordWrap(True)
         self.warnings = QLabel("")
         self.warnings.setWordWrap(True)
         self.warnings.setStyleSheet("color: #b00020")
 
         self.regions = QListWidget()
-        self.regions.setMaximumHeight(80)
+        self.regions.setMaximumHeight(60)
         self.regions.setToolTip("Finish regions of the front; later ones win where they overlap")
         self.region_preset = QComboBox()
         for name in presets.FINISH_PRESETS:
@@ -274,9 +284,10 @@ class LabelsPanel(QWidget):
                                  "key and still belong to the region")
         self.mask_button = QPushButton("Mask image\u2026")
         self.mask_button.setToolTip("A separation image: where it is dark, the region applies")
-        self.depth = ef.spin(-2, 2, 2, 0.05, " mm", "Relief of an emboss (negative: debossed)")
+        self.depth_mm = ef.spin(-2, 2, 2, 0.05, " mm", "Relief of an emboss (negative: debossed)")
         self.gloss = ef.spin(0, 1, 2, 0.05, tip="Smoothness: 0 matte .. 1 mirror")
 
+        ef.compact(self.sheet, self.region_preset, self.finish, self.source)
         top = QVBoxLayout()
         top.addWidget(self.list)
         top.addLayout(buttons)
@@ -307,6 +318,7 @@ class LabelsPanel(QWidget):
         view_box = QGroupBox("Artwork and die-line")
         vb = QVBoxLayout(view_box)
         vb.addLayout(views)
+        vb.addWidget(self.figures)
         vb.addWidget(self.warnings)
         region_box = QGroupBox("Finish regions")
         rf = QFormLayout(region_box)
@@ -324,7 +336,7 @@ class LabelsPanel(QWidget):
         rf.addRow(self.eyedropper, self.keys_text)
         rf.addRow("Tolerance", self.tolerance)
         rf.addRow(self.mask_button)
-        rf.addRow("Emboss depth", self.depth)
+        rf.addRow("Emboss depth", self.depth_mm)
         rf.addRow("Gloss", self.gloss)
         dl = QVBoxLayout(self.details)
         dl.setContentsMargins(0, 0, 0, 0)
@@ -360,7 +372,7 @@ class LabelsPanel(QWidget):
                                                                              finish=self.finish.currentData()))
         self.source.currentIndexChanged.connect(lambda _: self._source_chosen(self.source.currentData()))
         self.tolerance.valueChanged.connect(lambda v: self._edit_region("Key tolerance", "tolerance", tolerance=v))
-        self.depth.valueChanged.connect(lambda v: self._edit_region("Emboss depth", "depth", depth_mm=v))
+        self.depth_mm.valueChanged.connect(lambda v: self._edit_region("Emboss depth", "depth", depth_mm=v))
         self.gloss.valueChanged.connect(lambda v: self._edit_region("Region gloss", "gloss", gloss=v))
         self.mask_button.clicked.connect(self.choose_mask)
         self.refresh(editor.design, editor.scene.assets)
@@ -609,11 +621,11 @@ class LabelsPanel(QWidget):
 
     # ------------------------------------------------------------------ model → view
     def _thumbnail(self, assets, asset: str | None):
-        """sRGB uint8 RGBA of an asset (cached by the bytes' identity), or ``None``."""
+        """sRGB uint8 RGBA of an asset (cached by content), or ``None``."""
         if asset is None or asset not in assets:
             return None
         data = assets[asset]
-        key = (asset, id(data), len(data))
+        key = (asset, hash(data))  # bytes cache their hash: cheap after the first time
         if key not in self._thumbs:
             try:
                 rgba = images.decode_image(data, asset)
@@ -637,8 +649,11 @@ class LabelsPanel(QWidget):
         for b in (self.remove_button, self.up_button, self.down_button):
             b.setEnabled(lab is not None)
         if lab is None:
+            self.dieline_timer.stop()
+            self.report = None
             self.artwork.set_pixels(None, "no label: Add\u2026 or drop an image on the preview")
             self.dieline.set_report(None)
+            self.figures.setText("")
             self.warnings.setText("")
             self.regions.clear()
             del blockers
@@ -657,26 +672,40 @@ class LabelsPanel(QWidget):
             colour.set_linear(face.color)
             text.setText(f"image {face.asset}" if face.asset else "plain colour")
         self.artwork.set_pixels(self._thumbnail(assets, lab.front.asset), "front: plain colour")
-        self._show_dieline(design)
+        self.dieline_timer.start()  # after a pause: a free band's flattening takes a moment
         region_names = [f"{r.name} ({FINISH_WORDS.get(r.finish, r.finish)})" for r in lab.regions]
         ef.show_rows(self.regions, region_names,
                      self.regions.currentRow() if self._select_region is None else self._select_region)
         del blockers
         self._show_region()
 
-    def _show_dieline(self, design):
+    def dieline_pending(self) -> bool:
+        """Whether the die-line shown is not yet that of the selected label as it is now."""
+        return self.dieline_timer.isActive()
+
+    def shutdown(self):
+        self.dieline_timer.stop()
+
+    def _show_dieline(self):
+        design = self.editor.design
+        if self.index < 0:
+            return
         try:
             self.report = dieline.label_report(design, self.index)
         except (GlassbenchError, ValueError, ArithmeticError) as exc:
             self.report = None
             self.dieline.set_report(None)
+            self.figures.setText("")
             self.warnings.setText(f"No die-line: {exc}")
             return
         self.dieline.set_report(self.report)
-        self.warnings.setText("\n".join(w.message for w in self.report.warnings))
+        r = self.report
+        self.figures.setText(f"Die-line: {describe(r.flat.figures)}; {r.area_mm2:.0f} mm\u00b2 on the glass, "
+                             f"largest strain {100 * r.max_strain:.2f} %")
+        self.warnings.setText("\n".join(w.message for w in r.warnings))
 
     def _show_region(self):
-        widgets = (self.finish, self.source, self.tolerance, self.depth, self.gloss)
+        widgets = (self.finish, self.source, self.tolerance, self.depth_mm, self.gloss)
         blockers = [QSignalBlocker(w) for w in widgets]
         k = self.region_index
         for w in widgets + (self.keys_text, self.mask_button, self.remove_region, self.apply_preset,
@@ -687,8 +716,8 @@ class LabelsPanel(QWidget):
             self.finish.setCurrentIndex(self.finish.findData(r.finish))
             self.source.setCurrentIndex(self.source.findData(r.source))
             self.tolerance.setValue(r.tolerance)
-            self.depth.setValue(r.depth_mm)
-            self.depth.setEnabled(r.finish == "emboss")
+            self.depth_mm.setValue(r.depth_mm)
+            self.depth_mm.setEnabled(r.finish == "emboss")
             self.gloss.setValue(r.gloss)
             if r.source == "chroma":
                 self.keys_text.setText("keys: " + ", ".join(

@@ -114,6 +114,8 @@ def test_the_eyedropper_keys_a_region_to_the_clicked_colour(make_window, tmp_pat
     qtbot.mouseClick(panel.artwork, Qt.LeftButton, pos=right)
     keys = w.scene.design.labels[0].regions[0].keys
     assert keys == (pytest.approx((20 / 255, 180 / 255, 90 / 255), abs=1e-6),)
+    claimed = panel.artwork.claimed
+    assert claimed[:, 40:].all() and not claimed[:, :40].any(), "the keyed half is shown tinted"
     left = QPoint(int(rect.x() + 0.2 * rect.width()), int(rect.y() + 0.5 * rect.height()))
     qtbot.mouseClick(panel.artwork, Qt.LeftButton, Qt.ShiftModifier, pos=left)
     keys = w.scene.design.labels[0].regions[0].keys
@@ -145,7 +147,7 @@ def test_a_finish_preset_and_a_mask_region(make_window, tmp_path):
     assert region.source == "mask" and region.mask_asset in w.scene.assets
 
 
-def test_a_corrupt_image_is_refused_with_a_message_and_nothing_changes(make_window, tmp_path):
+def test_a_corrupt_or_huge_image_is_refused_with_a_message_and_nothing_changes(make_window, tmp_path):
     w = make_window()
     panel = w.labels_panel
     good = artwork(tmp_path, "good.png")
@@ -159,6 +161,22 @@ def test_a_corrupt_image_is_refused_with_a_message_and_nothing_changes(make_wind
     (tmp_path / "not.png").write_bytes(b"hello, not an image at all")
     _add(panel, tmp_path / "not.png")
     assert w.scene.design == before and "not a PNG" in panel.problem.text()
+    (tmp_path / "huge.png").write_bytes(_png_header_only(40000, 30000))
+    _add(panel, tmp_path / "huge.png")
+    assert w.scene.design == before and dict(w.scene.assets) == assets
+    assert "huge.png is 40000 x 30000 pixels" in panel.problem.text()
+    assert w.undo_stack.count() == 0
+
+
+def _png_header_only(width: int, height: int) -> bytes:
+    """A PNG whose header claims ``width`` x ``height`` (8-bit RGB) and holds no pixels."""
+    import struct
+    import zlib
+
+    def chunk(kind: bytes, body: bytes) -> bytes:
+        return struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body))
+    ihdr = struct.pack(">IIBBBBB", width, height, 8, 2, 0, 0, 0)
+    return b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", ihdr) + chunk(b"IEND", b"")
 
 
 def test_the_die_line_of_a_label_on_a_cone_is_a_sector(make_window, tiny_design, tmp_path, qtbot):

@@ -28,6 +28,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QFileDialog, QFormLayout, Q
                                QSizePolicy, QVBoxLayout, QWidget)
 
 from engine.appearance import dieline, images, presets
+from engine.appearance.regions import region_map
 from engine.appearance.label_cli import asset_name, camera_azimuth_deg, describe
 from engine.errors import GlassbenchError
 from engine.model.design import FINISH_KINDS, Label, LabelSide
@@ -73,16 +74,25 @@ class ArtworkView(QWidget):
         self.setSizePolicy(QSizePolicy.Expanding, QSizePolicy.Preferred)
         self.pixels: np.ndarray | None = None  # sRGB uint8 (H, W, 4)
         self._image = None
-        self.regions: np.ndarray | None = None
+        self.claimed: np.ndarray | None = None
         self.text = "no artwork"
 
     def sizeHint(self):  # noqa: N802 - Qt's name
         from PySide6.QtCore import QSize
         return QSize(THUMB_PX, THUMB_PX)
 
-    def set_pixels(self, pixels: np.ndarray | None, text: str = ""):
+    def set_pixels(self, pixels: np.ndarray | None, text: str = "", claimed: np.ndarray | None = None):
+        """Show ``pixels`` (sRGB uint8 RGBA; what the eyedropper reads) with the texels where
+        ``claimed`` (bool, same rows and columns) is true tinted magenta: the selected region."""
         self.pixels = pixels
-        self._image = ef.qimage_of(pixels) if pixels is not None else None
+        self.claimed = claimed
+        shown = pixels
+        if pixels is not None and claimed is not None and claimed.shape == pixels.shape[:2]:
+            shown = pixels.copy()
+            tint = np.array([255, 0, 200], np.float32)
+            shown[claimed, :3] = np.round(0.45 * shown[claimed, :3] + 0.55 * tint).astype(np.uint8)
+            shown[claimed, 3] = 255
+        self._image = ef.qimage_of(shown) if shown is not None else None
         self.text = text
         self.update()
 
@@ -197,6 +207,7 @@ class LabelsPanel(QWidget):
         super().__init__(parent)
         self.editor = editor
         self._thumbs: dict = {}
+        self._art: np.ndarray | None = None  # the front artwork shown, sRGB uint8 RGBA
         self._select = self._select_region = None  # rows to show after an add, move or remove
         self.dieline_timer = QTimer(self)
         self.dieline_timer.setSingleShot(True)
@@ -650,7 +661,7 @@ class LabelsPanel(QWidget):
             b.setEnabled(lab is not None)
         if lab is None:
             self.dieline_timer.stop()
-            self.report = None
+            self.report = self._art = None
             self.artwork.set_pixels(None, "no label: Add\u2026 or drop an image on the preview")
             self.dieline.set_report(None)
             self.figures.setText("")
@@ -671,7 +682,7 @@ class LabelsPanel(QWidget):
             face = getattr(lab, side)
             colour.set_linear(face.color)
             text.setText(f"image {face.asset}" if face.asset else "plain colour")
-        self.artwork.set_pixels(self._thumbnail(assets, lab.front.asset), "front: plain colour")
+        self._art = self._thumbnail(assets, lab.front.asset)
         self.dieline_timer.start()  # after a pause: a free band's flattening takes a moment
         region_names = [f"{r.name} ({FINISH_WORDS.get(r.finish, r.finish)})" for r in lab.regions]
         ef.show_rows(self.regions, region_names,
@@ -728,6 +739,22 @@ class LabelsPanel(QWidget):
         else:
             self.keys_text.setText("")
         del blockers
+        lab = self.label
+        if lab is not None:
+            self.artwork.set_pixels(self._art, "front: plain colour", self._claimed(lab, k))
+
+    def _claimed(self, lab, k: int):
+        """Where region ``k`` of ``lab`` applies, at the thumbnail's size (``None``: nothing)."""
+        if k < 0 or self._art is None:
+            return None
+        try:
+            rmap = region_map(lab, self.editor.scene.assets)
+        except (GlassbenchError, ValueError, KeyError):
+            return None
+        h, w = self._art.shape[:2]
+        rows = np.arange(h) * rmap.shape[0] // h
+        cols = np.arange(w) * rmap.shape[1] // w
+        return rmap[rows[:, None], cols[None, :]] == k + 1
 
 
 __all__ = ["LabelsPanel", "ArtworkView", "DielineView"]

@@ -120,6 +120,8 @@ class MainWindow(QMainWindow):
         self.preview.orbitRequested.connect(self._orbit_from_preview)
         self.preview.orbiting.connect(self.render_controller.hold)
         self.preview.imageDropped.connect(self.add_label_at)
+        self.preview.placeRequested.connect(self._place_from_preview)
+        self._place_key = None
         self.labels_panel.message.connect(self._show_status)
         self.bumps_panel.message.connect(self._show_status)
         self._orbit_start = None
@@ -318,16 +320,31 @@ class MainWindow(QMainWindow):
         start, key = self._orbit_start
         self.editor.apply("Orbit camera", key, camera=engine_bridge.orbited(start, d_azimuth, d_elevation))
 
+    def _surface_at(self, image_xy):
+        """``(z_mm, angle_deg)`` on the bottle under render pixel ``image_xy``, or ``None``."""
+        size = self.preview.image_size()
+        if image_xy is None or size[0] <= 0 or size[1] <= 0:
+            return None
+        return engine_bridge.surface_point(self.scene.design, image_xy[0] / size[0], image_xy[1] / size[1])
+
     def add_label_at(self, path: str, image_xy):
         """An image file dropped on the preview at ``image_xy`` (render pixels, or ``None``):
         a label with it as artwork where that point meets the bottle (facing the camera at
         mid-height when it misses the glass); one undo step."""
-        at = None
-        size = self.preview.image_size()
-        if image_xy is not None and size[0] > 0 and size[1] > 0:
-            at = engine_bridge.surface_point(self.scene.design, image_xy[0] / size[0], image_xy[1] / size[1])
         self.docks["labels"].raise_()
-        return self.labels_panel.add_label(path, at)
+        return self.labels_panel.add_label(path, self._surface_at(image_xy))
+
+    def _place_from_preview(self, image_xy, finished: bool):
+        """A Shift+drag in the preview moves the selected label's centre to the point under the
+        pointer (one undo step per drag; points off the glass are skipped)."""
+        if finished:
+            self._place_key = None
+            return
+        if self._place_key is None:
+            self._place_key = self.editor.new_merge_key("place-label")
+        at = self._surface_at(image_xy)
+        if at is not None:
+            self.labels_panel.place_selected(at, self._place_key)
 
     def camera_from_wireframe(self):
         """Copy the 3D view's camera into the design (one undo step)."""

@@ -208,11 +208,17 @@ def test_the_die_line_of_a_label_on_a_cone_is_a_sector(make_window, tiny_design,
     assert panel.dieline.marks, "the warning is marked on the die-line"
 
 
-def test_an_image_dropped_on_the_preview_becomes_a_label_there(make_window, tmp_path, qtbot):
+def _with_picture(make_window, qtbot):
+    """A shown window whose preview holds a picture (drop and drag points map onto it)."""
     w = make_window()
     w.show()
     qtbot.waitExposed(w)
     qtbot.waitUntil(lambda: w.preview.image_size()[0] > 0)
+    return w
+
+
+def test_an_image_dropped_on_the_preview_becomes_a_label_there(make_window, tmp_path, qtbot):
+    w = _with_picture(make_window, qtbot)
     artwork(tmp_path, "drop.png")
     mime = QMimeData()
     mime.setUrls([QUrl.fromLocalFile(str(tmp_path / "drop.png"))])
@@ -273,3 +279,27 @@ def test_ctrl_z_in_a_label_field_undoes_the_label_edit(make_window, tmp_path, qt
     assert spin.value() == pytest.approx(before)
     qtbot.keyClick(spin.lineEdit(), Qt.Key_Z, Qt.ControlModifier | Qt.ShiftModifier)
     assert w.scene.design.labels[0].width_mm == pytest.approx(55.0)
+
+
+def test_shift_drag_on_the_preview_moves_the_selected_label_in_one_step(make_window, tmp_path, qtbot):
+    w = _with_picture(make_window, qtbot)
+    artwork(tmp_path, "a.png")
+    _add(w.labels_panel, tmp_path / "a.png")
+    steps = w.undo_stack.count()
+    rect = w.preview._target_rect()
+    start = QPoint(int(rect.center().x()), int(rect.center().y()))
+    end = QPoint(int(rect.center().x() - 0.1 * rect.width()), int(rect.center().y() + 0.08 * rect.height()))
+    camera = w.scene.design.camera
+    qtbot.mousePress(w.preview, Qt.LeftButton, Qt.ShiftModifier, start)
+    qtbot.mouseMove(w.preview, QPoint((start.x() + end.x()) // 2, (start.y() + end.y()) // 2))
+    qtbot.mouseMove(w.preview, end)
+    qtbot.mouseRelease(w.preview, Qt.LeftButton, Qt.ShiftModifier, end)
+    want = w._surface_at(w.preview.image_point(QPointF(end)))
+    assert want is not None, "the end point lies on the glass"
+    label = w.scene.design.labels[0]
+    assert (label.z_mm, label.angle_deg) == (pytest.approx(want[0], abs=0.06), pytest.approx(want[1], abs=0.06))
+    assert label.z_mm < camera.target[2], "dragged down the bottle"
+    assert w.scene.design.camera == camera, "a Shift+drag does not orbit"
+    assert w.undo_stack.count() == steps + 1, "one drag, one step"
+    w.undo_stack.undo()
+    assert w.scene.design.labels[0].z_mm != label.z_mm

@@ -13,7 +13,8 @@ the ``glassbench labels`` command prints, drawn once the label has held still fo
 :data:`DIELINE_SETTLE_MS` (a drag does not flatten at every step). A new label (button or an image dropped onto the
 preview) is sized from its artwork's aspect and placed where the drop point meets the bottle
 (:func:`app.engine_bridge.surface_point`); without a point, or when the point misses the glass,
-it faces the camera at the body's mid-height.
+it faces the camera at the body's mid-height. Shift+drag on the preview moves the selected
+label (:meth:`LabelsPanel.place_selected`); its size is set by the numbers.
 """
 from __future__ import annotations
 
@@ -516,6 +517,15 @@ class LabelsPanel(QWidget):
         if labels is None:
             return False
         return self._apply_labels(f"Reorder label {labels[i + step].name}", None, labels, select=i + step)
+
+    def place_selected(self, at, merge_key=None) -> bool:
+        """Move the selected label's centre to ``at`` (``(z_mm, angle_deg)``); ``merge_key``
+        makes a drag's moves one undo step."""
+        lab = self.label
+        if lab is None:
+            return False
+        z, angle = (round(float(v), 1) for v in at)
+        return self._put("Move label", merge_key, dataclasses.replace(lab, z_mm=z, angle_deg=angle))
 
     def _rename(self):
         lab = self.label

@@ -6,7 +6,8 @@ image starts as the old picture scaled to the new size (never a blank flash), an
 note (``set_note``: "stale", "refining") is drawn over it. Renders are sized in device pixels
 (:meth:`pane_pixels`), so at 1:1 one image pixel is one screen pixel. Dragging in the view asks
 for a camera orbit (``orbitRequested``); the window turns that into an undoable camera edit,
-which restarts the render. At 1:1 the middle button pans. An image file dropped on the view is
+which restarts the render; Shift+drag asks to place the selected label instead
+(``placeRequested``). At 1:1 the middle button pans. An image file dropped on the view is
 announced (``imageDropped``) with the render pixel under the drop; the window makes it a label.
 """
 from __future__ import annotations
@@ -29,11 +30,15 @@ class PreviewView(QWidget):
     imageDropped(str, object)
         An image file (its path) was dropped at ``(x, y)`` render pixels (``None``: off the
         picture).
+    placeRequested(object, bool)
+        A Shift+drag asks to put the selected label at ``(x, y)`` render pixels (``None``: off
+        the picture); ``True`` when the drag ends.
     """
 
     orbitRequested = Signal(float, float, bool)
     orbiting = Signal(bool)
     imageDropped = Signal(str, object)
+    placeRequested = Signal(object, bool)
     #: File endings accepted as a drop (the label artwork formats).
     DROP_EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr")
 
@@ -46,11 +51,13 @@ class PreviewView(QWidget):
         self.tiles_painted = 0
         self._press = None
         self._pan_from = None
+        self._placing = False  # a Shift+drag placing the selected label
         self.pan = QPointF(0.0, 0.0)  # offset (px) of the 1:1 image from centred
         self.note = ""
         self.setAcceptDrops(True)
         self.setToolTip("The glass as the tracer sees it: drag to orbit the camera; Ctrl+1 for 1:1, "
-                        "Ctrl+0 to fit; drop an image file on the bottle to add a label there")
+                        "Ctrl+0 to fit; drop an image file on the bottle to add a label there, Shift+drag "
+                        "to move the selected label")
 
     # ----------------------------------------------------------------------- image
     def image_size(self) -> tuple[int, int]:
@@ -135,14 +142,19 @@ class PreviewView(QWidget):
 
     # ----------------------------------------------------------------------- orbit
     def mousePressEvent(self, event):
-        if event.button() == Qt.LeftButton:
+        if event.button() == Qt.LeftButton and event.modifiers() & Qt.ShiftModifier:
+            self._placing = True
+            self.placeRequested.emit(self.image_point(event.position()), False)
+        elif event.button() == Qt.LeftButton:
             self._press = event.position()
             self.orbiting.emit(True)
         elif event.button() == Qt.MiddleButton and not self.fit:
             self._pan_from = event.position()
 
     def mouseMoveEvent(self, event):
-        if self._pan_from is not None:
+        if self._placing:
+            self.placeRequested.emit(self.image_point(event.position()), False)
+        elif self._pan_from is not None:
             self.pan = self.pan + (event.position() - self._pan_from)
             self._pan_from = event.position()
             self.update()
@@ -152,6 +164,9 @@ class PreviewView(QWidget):
 
     def mouseReleaseEvent(self, event):
         self._pan_from = None
+        if self._placing:
+            self._placing = False
+            self.placeRequested.emit(None, True)
         if self._press is not None:
             self._press = None
             self.orbitRequested.emit(0.0, 0.0, True)

@@ -210,8 +210,12 @@ def surface_point(design: Design, u: float, v: float):
         2.0 * float(design.shape.z_top)
     t = np.linspace(0.0, reach, SURFACE_MARCH_STEPS)
     p = origin[None, :] + t[:, None] * direction[None, :]
+    try:
+        with np.errstate(invalid="ignore"):
+            radius = radius_at(design.shape.primary.segments, p[:, 2])
+    except (GlassbenchError, ValueError, ArithmeticError, IndexError):
+        return None  # a section the march cannot read (the caller places the label itself)
     with np.errstate(invalid="ignore"):
-        radius = radius_at(design.shape.primary.segments, p[:, 2])
         inside = (np.hypot(p[:, 0], p[:, 1]) <= radius) & (p[:, 2] > 0.0) & \
             (p[:, 2] < design.shape.z_top)
     hits = np.flatnonzero(inside)

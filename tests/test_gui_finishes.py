@@ -113,3 +113,21 @@ def test_save_and_reopen_keeps_tiles_cap_and_images(make_window, tmp_path):
     assert w2.scene.design.bumps == design.bumps and w2.scene.design.cap == design.cap
     assert w2.scene.assets[design.bumps[0].asset] == data
     assert w2.bumps_panel.list.count() == 2 and w2.cap_panel.count.value() == 6
+
+
+def test_the_new_tabs_fit_the_side_dock_without_squeezing(make_window, qtbot):
+    w = make_window(wireframe=True)
+    w.show()
+    qtbot.waitExposed(w)
+    for name, panel, spin in (("labels", w.labels_panel, w.labels_panel.z_mm),
+                              ("bumps", w.bumps_panel, w.bumps_panel.z0),
+                              ("cap", w.cap_panel, w.cap_panel.cap_height)):
+        w.docks[name].raise_()
+        qtbot.waitUntil(spin.isVisible)
+        assert w.tabifiedDockWidgets(w.docks["materials"]).count(w.docks[name]) == 1, "a tab, not a new pane"
+        area = w.docks[name].widget()
+        assert panel.minimumSizeHint().width() <= area.viewport().width(), f"{name} needs a side scroll bar"
+        hint = spin.minimumSizeHint()
+        assert spin.width() >= hint.width() and spin.height() >= hint.height()
+    preview = w.preview.width() * w.preview.height()
+    assert all(preview > d.width() * d.height() for d in w.docks.values() if d.isVisible())

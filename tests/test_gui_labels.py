@@ -303,3 +303,16 @@ def test_shift_drag_on_the_preview_moves_the_selected_label_in_one_step(make_win
     assert w.undo_stack.count() == steps + 1, "one drag, one step"
     w.undo_stack.undo()
     assert w.scene.design.labels[0].z_mm != label.z_mm
+
+
+def test_removing_a_label_drops_only_its_own_images(make_window, tiny_design, tmp_path):
+    w = make_window(assets={"notes.png": b"kept: not the labels' to drop"})
+    panel = w.labels_panel
+    artwork(tmp_path, "a.png")
+    _add(panel, tmp_path / "a.png")
+    asset = w.scene.design.labels[0].front.asset
+    panel.remove_button.click()
+    assert w.scene.design.labels == ()
+    assert asset not in w.scene.assets and "notes.png" in w.scene.assets
+    w.undo_stack.undo()
+    assert asset in w.scene.assets

@@ -168,9 +168,9 @@ class BumpsPanel(QWidget):
     def _apply(self, text, key, bumps, assets=None, select=None) -> bool:
         self.problem.setText("")
         self._select = select  # the refresh that follows shows this row
-        design = dataclasses.replace(self.editor.design, bumps=bumps)
-        used = assets_in_use(design)
-        gone = {n: None for n in self.editor.scene.assets if n not in used and n not in (assets or {})}
+        current = self.editor.design
+        used = assets_in_use(dataclasses.replace(current, bumps=bumps)) | set(assets or {})
+        gone = {t.asset: None for t in current.bumps if t.asset is not None and t.asset not in used}
         ok = self.editor.apply(text, key, assets={**gone, **(assets or {})}, bumps=bumps)
         self._select = None
         if not ok:

@@ -454,10 +454,12 @@ class LabelsPanel(QWidget):
         return self._put(text, f"label-{self.index}-{field}", dataclasses.replace(lab, **fields))
 
     def _dropped_assets(self, new_design_labels: tuple, extra: dict | None = None) -> dict:
-        """Assets no longer referred to once the labels are ``new_design_labels`` (-> None)."""
-        design = dataclasses.replace(self.editor.design, labels=new_design_labels)
-        used = assets_in_use(design)
-        out = {n: None for n in self.editor.scene.assets if n not in used}
+        """The labels' images no longer referred to once the labels are ``new_design_labels``
+        (-> None: they leave the project; assets the labels never named stay)."""
+        current = self.editor.design
+        used = assets_in_use(dataclasses.replace(current, labels=new_design_labels))
+        had = {n for lab in current.labels for n in lab.asset_names()}
+        out = {n: None for n in had - used}
         out.update(extra or {})
         return out
 

@@ -377,6 +377,8 @@ class LabelsPanel(QWidget):
         self.front_color.clicked.connect(lambda: self.choose_side_color("front"))
         self.back_color.clicked.connect(lambda: self.choose_side_color("back"))
         self.artwork.picked.connect(self.pick_key)
+        self.eyedropper.toggled.connect(
+            lambda on: self.artwork.setCursor(Qt.CrossCursor if on else Qt.ArrowCursor))
         self.add_region.clicked.connect(lambda: self.add_finish_region(self.region_preset.currentData()))
         self.remove_region.clicked.connect(self.remove_finish_region)
         self.apply_preset.clicked.connect(lambda: self.apply_finish_preset(self.region_preset.currentData()))

@@ -119,8 +119,9 @@ class DesignEditor(QObject):
             engine_bridge.check_values(design)  # every range, cheap: for every edit
             if "shape" in changed:
                 engine_bridge.validate_shape(design.shape)
-            if changed & {"glass", "liquid", "render", "environment", "labels"} or (
-                    "shape" in changed and design.labels):  # a label must stay on the new wall
+            if changed & {"glass", "liquid", "render", "environment", "labels", "bumps", "cap"} or (
+                    "shape" in changed and (design.labels or design.cap is not None)):
+                # a label must stay on the new wall, a closure fit the new finish
                 engine_bridge.check_design(design, self.scene.assets if assets is None else assets)
             if changed & {"liquid", "shape"} and design.liquid is not None:
                 engine_bridge.check_fill_level(design)

@@ -188,3 +188,38 @@ def tracer_job_class():
 def tonemap_srgb8(image: np.ndarray) -> np.ndarray:
     """Linear RGB float image -> sRGB uint8, the tracer's own tone map."""
     return np.asarray(tracer_job.tonemap_srgb8(image))
+
+
+# ---------------------------------------------------------------------------- labels
+#: Steps of the march along a ray from the eye (about 0.3 mm apart for a 600 mm camera).
+SURFACE_MARCH_STEPS = 4000
+
+
+def surface_point(design: Design, u: float, v: float):
+    """``(z_mm, angle_deg)`` where the camera ray through image point ``(u, v)`` (0..1 of the
+    image's width and height, y down) first meets the bottle's outer wall, or ``None`` when it
+    misses. The wall is taken as the first section turned about the axis (exact for a round
+    bottle; for a non-round one the first section's radius stands for all), and found by
+    marching along the ray (:data:`SURFACE_MARCH_STEPS` steps): a drop point, not a render."""
+    from engine.geometry.chain import radius_at
+    from engine.tracer.camera import PinholeCamera
+    w, h = design.render.width, design.render.height
+    cam = PinholeCamera.from_design(design.camera, w, h)
+    origin, direction = (a[0] for a in cam.rays(np.array([u * w]), np.array([v * h])))
+    reach = float(np.linalg.norm(np.subtract(design.camera.eye, design.camera.target))) + \
+        2.0 * float(design.shape.z_top)
+    t = np.linspace(0.0, reach, SURFACE_MARCH_STEPS)
+    p = origin[None, :] + t[:, None] * direction[None, :]
+    try:
+        with np.errstate(invalid="ignore"):
+            radius = radius_at(design.shape.primary.segments, p[:, 2])
+    except (GlassbenchError, ValueError, ArithmeticError, IndexError):
+        return None  # a section the march cannot read (the caller places the label itself)
+    with np.errstate(invalid="ignore"):
+        inside = (np.hypot(p[:, 0], p[:, 1]) <= radius) & (p[:, 2] > 0.0) & \
+            (p[:, 2] < design.shape.z_top)
+    hits = np.flatnonzero(inside)
+    if hits.size == 0:
+        return None
+    x, y, z = p[hits[0]]
+    return float(z), float(np.degrees(np.arctan2(y, x)))

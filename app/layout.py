@@ -36,9 +36,11 @@ def scrolled(widget) -> QScrollArea:
     return area
 
 
-def add_dock(window, title: str, widget, area, scroll: bool = True) -> QDockWidget:
+def add_dock(window, title: str, widget, area, scroll: bool = True, name: str | None = None) -> QDockWidget:
+    """A dock titled ``title`` (its tab's text) named ``name`` (default: the title; the name is
+    what a saved layout remembers it by)."""
     dock = QDockWidget(title, window)
-    dock.setObjectName(title)
+    dock.setObjectName(name or title)
     dock.setWidget(scrolled(widget) if scroll else widget)
     window.addDockWidget(area, dock)
     return dock
@@ -53,9 +55,15 @@ def build_docks(window) -> dict:
                                       scroll=False)
     docks["design"] = add_dock(window, "Design", window.trade_panel, Qt.RightDockWidgetArea)
     docks["materials"] = add_dock(window, "Materials", window.materials_panel, Qt.RightDockWidgetArea)
-    docks["camera"] = add_dock(window, "Camera and environment", window.camera_panel,
-                               Qt.RightDockWidgetArea)
-    window.tabifyDockWidget(docks["materials"], docks["camera"])
+    # why the short title: five tabs share the side's width; the name keeps saved layouts
+    docks["camera"] = add_dock(window, "Camera", window.camera_panel, Qt.RightDockWidgetArea,
+                               name="Camera and environment")
+    docks["camera"].setToolTip("Camera, environment and image size")
+    docks["labels"] = add_dock(window, "Labels", window.labels_panel, Qt.RightDockWidgetArea)
+    docks["bumps"] = add_dock(window, "Bump tiles", window.bumps_panel, Qt.RightDockWidgetArea)
+    docks["cap"] = add_dock(window, "Cap", window.cap_panel, Qt.RightDockWidgetArea)
+    for name in ("camera", "labels", "bumps", "cap"):  # one tab row: the side stays uncrowded
+        window.tabifyDockWidget(docks["materials"], docks[name])
     docks["materials"].raise_()
     return docks
 

@@ -22,7 +22,10 @@ from app.edit_keys import UndoKeys
 from app.file_actions import FileActions
 from app.render_controller import RenderController
 from app.wireframe_controller import DerivedController
+from widgets.bumps_panel import BumpsPanel
 from widgets.camera_panel import CameraPanel
+from widgets.cap_panel import CapPanel
+from widgets.labels_panel import LabelsPanel
 from widgets.materials_panel import MaterialsPanel
 from widgets.preview_view import PreviewView
 from widgets.section_panel import SectionPanel
@@ -86,6 +89,9 @@ class MainWindow(QMainWindow):
         self.materials_panel = MaterialsPanel(self.editor)
         self.trade_panel = TradeNumbersPanel(self.editor)
         self.camera_panel = CameraPanel(self.editor)
+        self.labels_panel = LabelsPanel(self.editor)
+        self.bumps_panel = BumpsPanel(self.editor)
+        self.cap_panel = CapPanel(self.editor)
         self.preview = PreviewView()
         self.derived_controller = DerivedController(self)
         self.derived_controller.resultReady.connect(self._on_derived)
@@ -113,6 +119,11 @@ class MainWindow(QMainWindow):
             layout.fit_to_screen(self)
         self.preview.orbitRequested.connect(self._orbit_from_preview)
         self.preview.orbiting.connect(self.render_controller.hold)
+        self.preview.imageDropped.connect(self.add_label_at)
+        self.preview.placeRequested.connect(self._place_from_preview)
+        self._place_key = None
+        self.labels_panel.message.connect(self._show_status)
+        self.bumps_panel.message.connect(self._show_status)
         self._orbit_start = None
         self.resize_timer = QTimer(self)
         self.resize_timer.setSingleShot(True)
@@ -183,7 +194,7 @@ class MainWindow(QMainWindow):
         self.section_panel.clear_problem()  # a refusal was about the design before this change
         if self.statusBar().currentMessage().startswith("Refused"):
             self.statusBar().clearMessage()
-        if changed & {"shape", "liquid", "glass"}:
+        if changed & {"shape", "liquid", "glass", "cap"}:
             self.derived_controller.request(design)  # trade numbers, inner walls: off-thread
         if changed & {"shape", "liquid"}:
             self.section_panel.refresh(design)
@@ -191,6 +202,12 @@ class MainWindow(QMainWindow):
             self.materials_panel.refresh(design)
         if changed & {"camera", "environment", "render"}:
             self.camera_panel.refresh(design)
+        if changed & {"labels", "shape", "assets"}:
+            self.labels_panel.refresh(design, self.scene.assets)
+        if changed & {"bumps", "shape", "assets"}:
+            self.bumps_panel.refresh(design, self.scene.assets)
+        if changed & {"cap", "shape"}:
+            self.cap_panel.refresh(design)
         if "name" in changed:
             self.trade_panel.show_name(design.name)
             self._offer_name(self._shown_fill_ml, only_if_shown=True)
@@ -222,6 +239,9 @@ class MainWindow(QMainWindow):
         design = self.scene.design
         self.materials_panel.refresh(design)
         self.camera_panel.refresh(design)
+        self.labels_panel.refresh(design, self.scene.assets)
+        self.bumps_panel.refresh(design, self.scene.assets)
+        self.cap_panel.refresh(design)
         self.trade_panel.show_name(design.name)
 
     def _on_derived(self, result):
@@ -300,6 +320,32 @@ class MainWindow(QMainWindow):
         start, key = self._orbit_start
         self.editor.apply("Orbit camera", key, camera=engine_bridge.orbited(start, d_azimuth, d_elevation))
 
+    def _surface_at(self, image_xy):
+        """``(z_mm, angle_deg)`` on the bottle under render pixel ``image_xy``, or ``None``."""
+        size = self.preview.image_size()
+        if image_xy is None or size[0] <= 0 or size[1] <= 0:
+            return None
+        return engine_bridge.surface_point(self.scene.design, image_xy[0] / size[0], image_xy[1] / size[1])
+
+    def add_label_at(self, path: str, image_xy):
+        """An image file dropped on the preview at ``image_xy`` (render pixels, or ``None``):
+        a label with it as artwork where that point meets the bottle (facing the camera at
+        mid-height when it misses the glass); one undo step."""
+        self.docks["labels"].raise_()
+        return self.labels_panel.add_label(path, self._surface_at(image_xy))
+
+    def _place_from_preview(self, image_xy, finished: bool):
+        """A Shift+drag in the preview moves the selected label's centre to the point under the
+        pointer (one undo step per drag; points off the glass are skipped)."""
+        if finished:
+            self._place_key = None
+            return
+        if self._place_key is None:
+            self._place_key = self.editor.new_merge_key("place-label")
+        at = self._surface_at(image_xy)
+        if at is not None:
+            self.labels_panel.place_selected(at, self._place_key)
+
     def camera_from_wireframe(self):
         """Copy the 3D view's camera into the design (one undo step)."""
         if self.wireframe is None:
@@ -328,6 +374,7 @@ class MainWindow(QMainWindow):
             self.wireframe_controller.shutdown()
             self.wireframe.shutdown()
         self.undo_keys.shutdown()
+        self.labels_panel.shutdown()
         if self._unsubscribe is not None:
             self._unsubscribe()
             self._unsubscribe = None

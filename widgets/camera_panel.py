@@ -11,23 +11,16 @@ import dataclasses
 from pathlib import Path
 
 from PySide6.QtCore import QSignalBlocker, Signal
-from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFileDialog, QFormLayout, QGroupBox,
+from PySide6.QtWidgets import (QComboBox, QFileDialog, QFormLayout, QGroupBox,
                                QPushButton, QSpinBox, QVBoxLayout, QWidget)
 
 from engine.files.project import DEFAULT_LIMITS
 from engine.model.orbit import camera_to_orbit, orbit_to_camera
-from widgets import words
+from widgets import edit_fields, words
 
 
 def _spin(lo, hi, step, suffix, decimals=1, tip=""):
-    s = QDoubleSpinBox()
-    s.setRange(lo, hi)
-    s.setSingleStep(step)
-    s.setDecimals(decimals)
-    s.setSuffix(suffix)
-    s.setKeyboardTracking(False)
-    s.setToolTip(tip)
-    return s
+    return edit_fields.spin(lo, hi, decimals, step, suffix, tip)
 
 
 class CameraPanel(QWidget):

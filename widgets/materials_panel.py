@@ -20,17 +20,7 @@ from PySide6.QtWidgets import (QCheckBox, QColorDialog, QComboBox, QDoubleSpinBo
 from engine.model import tint
 from engine.model.design import Liquid
 from widgets import words
-
-
-def _spin(lo, hi, decimals, step, suffix="", tip="") -> QDoubleSpinBox:
-    s = QDoubleSpinBox()
-    s.setRange(lo, hi)
-    s.setDecimals(decimals)
-    s.setSingleStep(step)
-    s.setSuffix(suffix)
-    s.setKeyboardTracking(False)
-    s.setToolTip(tip)
-    return s
+from widgets.edit_fields import spin as _spin
 
 
 class ColorButton(QPushButton):

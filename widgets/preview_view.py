@@ -6,7 +6,9 @@ image starts as the old picture scaled to the new size (never a blank flash), an
 note (``set_note``: "stale", "refining") is drawn over it. Renders are sized in device pixels
 (:meth:`pane_pixels`), so at 1:1 one image pixel is one screen pixel. Dragging in the view asks
 for a camera orbit (``orbitRequested``); the window turns that into an undoable camera edit,
-which restarts the render. At 1:1 the middle button pans.
+which restarts the render; Shift+drag asks to place the selected label instead
+(``placeRequested``). At 1:1 the middle button pans. An image file dropped on the view is
+announced (``imageDropped``) with the render pixel under the drop; the window makes it a label.
 """
 from __future__ import annotations
 
@@ -25,10 +27,20 @@ class PreviewView(QWidget):
         ``(degrees of azimuth, degrees of elevation, drag finished)`` from a mouse drag.
     orbiting(bool)
         An orbit drag started (True) or ended (False): the render holds meanwhile.
+    imageDropped(str, object)
+        An image file (its path) was dropped at ``(x, y)`` render pixels (``None``: off the
+        picture).
+    placeRequested(object, bool)
+        A Shift+drag asks to put the selected label at ``(x, y)`` render pixels (``None``: off
+        the picture); ``True`` when the drag ends.
     """
 
     orbitRequested = Signal(float, float, bool)
     orbiting = Signal(bool)
+    imageDropped = Signal(str, object)
+    placeRequested = Signal(object, bool)
+    #: File endings accepted as a drop (the label artwork formats).
+    DROP_EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr")
 
     def __init__(self, parent=None):
         super().__init__(parent)
@@ -39,10 +51,13 @@ class PreviewView(QWidget):
         self.tiles_painted = 0
         self._press = None
         self._pan_from = None
+        self._placing = False  # a Shift+drag placing the selected label
         self.pan = QPointF(0.0, 0.0)  # offset (px) of the 1:1 image from centred
         self.note = ""
+        self.setAcceptDrops(True)
         self.setToolTip("The glass as the tracer sees it: drag to orbit the camera; Ctrl+1 for 1:1, "
-                        "Ctrl+0 to fit")
+                        "Ctrl+0 to fit; drop an image file on the bottle to add a label there, Shift+drag "
+                        "to move the selected label")
 
     # ----------------------------------------------------------------------- image
     def image_size(self) -> tuple[int, int]:
@@ -127,14 +142,19 @@ class PreviewView(QWidget):
 
     # ----------------------------------------------------------------------- orbit
     def mousePressEvent(self, event):
-        if event.button() == Qt.LeftButton:
+        if event.button() == Qt.LeftButton and event.modifiers() & Qt.ShiftModifier:
+            self._placing = True
+            self.placeRequested.emit(self.image_point(event.position()), False)
+        elif event.button() == Qt.LeftButton:
             self._press = event.position()
             self.orbiting.emit(True)
         elif event.button() == Qt.MiddleButton and not self.fit:
             self._pan_from = event.position()
 
     def mouseMoveEvent(self, event):
-        if self._pan_from is not None:
+        if self._placing:
+            self.placeRequested.emit(self.image_point(event.position()), False)
+        elif self._pan_from is not None:
             self.pan = self.pan + (event.position() - self._pan_from)
             self._pan_from = event.position()
             self.update()
@@ -144,7 +164,40 @@ class PreviewView(QWidget):
 
     def mouseReleaseEvent(self, event):
         self._pan_from = None
+        if self._placing:
+            self._placing = False
+            self.placeRequested.emit(None, True)
         if self._press is not None:
             self._press = None
             self.orbitRequested.emit(0.0, 0.0, True)
             self.orbiting.emit(False)
+
+    # ------------------------------------------------------------------------ drops
+    def _dropped_image(self, mime) -> str | None:
+        for url in mime.urls() if mime.hasUrls() else ():
+            path = url.toLocalFile()
+            if path and path.lower().endswith(self.DROP_EXTENSIONS):
+                return path
+        return None
+
+    def image_point(self, pos: QPointF):
+        """``(x, y)`` render pixels under widget point ``pos`` (``None``: off the picture)."""
+        r = self._target_rect()
+        if r.isEmpty() or not r.contains(pos):
+            return None
+        return ((pos.x() - r.x()) / r.width() * self._image.width(),
+                (pos.y() - r.y()) / r.height() * self._image.height())
+
+    def dragEnterEvent(self, event):  # noqa: N802 - Qt's name
+        if self._dropped_image(event.mimeData()):
+            event.acceptProposedAction()
+
+    def dragMoveEvent(self, event):  # noqa: N802
+        if self._dropped_image(event.mimeData()):
+            event.acceptProposedAction()
+
+    def dropEvent(self, event):  # noqa: N802
+        path = self._dropped_image(event.mimeData())
+        if path:
+            event.acceptProposedAction()
+            self.imageDropped.emit(path, self.image_point(event.position()))

@@ -20,6 +20,9 @@ ROWS = (
     ("fill_point_below_top_mm", "Fill point (below top)", "{:.2f} mm", "Distance from the brim down to the fill line"),
     ("glass_volume_cm3", "Glass volume", "{:.2f} cm\u00b3", "Volume of the glass"),
     ("glass_mass_g", "Glass weight", "{:.1f} g", "Weight of the glass at its density"),
+    ("closure", "Closure", "{kind} \u2300 {diameter_mm:.1f} \u00d7 {height_mm:.1f} mm",
+     "The closure on the finish (Cap panel): its kind, largest diameter \u00d7 its height"),
+    ("overall_height_mm", "Overall height", "{:.1f} mm", "Height of the bottle with its closure on"),
 )
 
 
@@ -66,7 +69,9 @@ class TradeNumbersPanel(QWidget):
     def refresh(self, numbers: dict):
         for key, _, fmt, _ in ROWS:
             value = numbers.get(key)
-            self.labels[key].setText("\u2014" if value is None else fmt.format(value))
+            text = "\u2014" if value is None else fmt.format(**value) if isinstance(value, dict) \
+                else fmt.format(value)
+            self.labels[key].setText(text)
 
     def show_name(self, name: str):
         with QSignalBlocker(self.name):

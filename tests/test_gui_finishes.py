@@ -1,0 +1,133 @@
+"""The bump-tiles and cap panels in a real window: a tile added and its kind changed redraws
+its swatch, a relief image is embedded (a bad one refused), a cap is set and unset, the trade
+numbers show the closure and the overall height, and save / reopen keeps tiles, cap and images."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from tests.label_helpers import write_image
+from widgets import words
+
+pytestmark = pytest.mark.usefixtures("no_leaks")
+
+
+def _logo(tmp_path, name="logo.png"):
+    px = np.full((32, 64), 255, np.uint8)
+    px[8:24, 16:48] = 0
+    return write_image(tmp_path / name, px[..., None].repeat(3, axis=2))
+
+
+def test_adding_a_tile_and_changing_its_kind_redraws_the_swatch(make_window):
+    w = make_window()
+    panel = w.bumps_panel
+    assert panel.swatch_pixels is None
+    words.select_key(panel.add_kind, "knurl")
+    panel.add_button.click()
+    tiles = w.scene.design.bumps
+    assert len(tiles) == 1 and tiles[0].kind == "knurl"
+    knurl = panel.swatch_pixels.copy()
+    assert knurl.shape == (128, 128, 3) and knurl.std() > 1.0, "a pattern, not a flat colour"
+    words.select_key(panel.kind, "flutes")
+    tile = w.scene.design.bumps[0]
+    assert tile.kind == "flutes" and (tile.z0, tile.z1) == (tiles[0].z0, tiles[0].z1)
+    assert tile.repeat == 16, "a new kind starts from its usual numbers"
+    flutes = panel.swatch_pixels.copy()
+    assert np.abs(flutes.astype(int) - knurl.astype(int)).mean() > 2.0
+    panel.repeat.setValue(8)
+    assert w.scene.design.bumps[0].repeat == 8
+    assert np.abs(panel.swatch_pixels.astype(int) - flutes.astype(int)).mean() > 0.5, "edits redraw it"
+    w.undo_stack.undo()
+    w.undo_stack.undo()
+    assert w.scene.design.bumps[0].kind == "knurl"
+    assert np.array_equal(panel.swatch_pixels, knurl)
+    panel.remove_button.click()
+    assert w.scene.design.bumps == () and panel.swatch_pixels is None
+
+
+def test_a_relief_image_tile_embeds_its_image_and_a_bad_one_is_refused(make_window, tmp_path):
+    w = make_window()
+    panel = w.bumps_panel
+    data = _logo(tmp_path)
+    panel.choose_image_file = lambda title: str(tmp_path / "logo.png")
+    words.select_key(panel.add_kind, "emboss")
+    panel.add_button.click()
+    tile = w.scene.design.bumps[0]
+    assert tile.kind == "emboss" and w.scene.assets[tile.asset] == data
+    assert panel.swatch_pixels is not None
+    (tmp_path / "bad.png").write_bytes(data[:40])
+    panel.choose_image_file = lambda title: str(tmp_path / "bad.png")
+    before = w.scene.design
+    panel.add_button.click()
+    assert w.scene.design == before and "bad.png" in panel.problem.text()
+    panel.remove_button.click()
+    assert tile.asset not in w.scene.assets, "an image no tile uses leaves the project"
+
+
+def test_a_cap_set_and_unset_shows_in_the_trade_numbers(make_window, qtbot):
+    w = make_window()
+    panel = w.cap_panel
+    qtbot.waitUntil(w.derived_idle)
+    assert w.trade_panel.text("closure") == "\u2014"
+    top = w.scene.design.shape.z_top
+    words.select_key(panel.kind, "screw")
+    assert w.scene.design.cap is not None and w.scene.design.cap.kind == "screw"
+    qtbot.waitUntil(lambda: w.derived_idle() and w.trade_numbers.get("closure") is not None)
+    assert w.trade_panel.text("closure").startswith("screw")
+    overall = w.trade_numbers["overall_height_mm"]
+    assert overall > top
+    assert w.trade_panel.text("overall_height_mm") == f"{overall:.1f} mm"
+    panel.cap_height.setValue(20.0)
+    assert w.scene.design.cap.height == 20.0
+    # a taller skirt reaches further down the neck: the closure is taller, its top stays put
+    qtbot.waitUntil(lambda: w.derived_idle() and w.trade_numbers["closure"]["height_mm"] == 20.0)
+    assert w.trade_panel.text("closure").endswith("\u00d7 20.0 mm") and "20.0 mm high" in panel.size_text.text()
+    panel.choose_color = lambda rgb, title: (0.5, 0.1, 0.1)
+    panel.color.click()
+    assert w.scene.design.cap.color == (0.5, 0.1, 0.1)
+    words.select_key(panel.kind, "none")
+    assert w.scene.design.cap is None and not panel.material.isEnabled()
+    qtbot.waitUntil(lambda: w.derived_idle() and w.trade_numbers.get("closure") is None)
+    assert w.trade_panel.text("closure") == "\u2014"
+    w.undo_stack.undo()
+    assert w.scene.design.cap.color == (0.5, 0.1, 0.1)
+    assert words.keys_of(panel.kind)[panel.kind.currentIndex()] == "screw"
+
+
+def test_save_and_reopen_keeps_tiles_cap_and_images(make_window, tmp_path):
+    w = make_window()
+    data = _logo(tmp_path)
+    w.bumps_panel.choose_image_file = lambda title: str(tmp_path / "logo.png")
+    words.select_key(w.bumps_panel.add_kind, "emboss")
+    w.bumps_panel.add_button.click()
+    words.select_key(w.bumps_panel.add_kind, "thread")
+    w.bumps_panel.add_button.click()
+    words.select_key(w.cap_panel.kind, "lug")
+    w.cap_panel.count.setValue(6)
+    design = w.scene.design
+    assert len(design.bumps) == 2 and design.cap.count == 6
+    path = str(tmp_path / "finished.glassbench")
+    assert w.files.save_to(path)
+    w2 = make_window()
+    assert w2.files.open_path(path, ask=False)
+    assert w2.scene.design.bumps == design.bumps and w2.scene.design.cap == design.cap
+    assert w2.scene.assets[design.bumps[0].asset] == data
+    assert w2.bumps_panel.list.count() == 2 and w2.cap_panel.count.value() == 6
+
+
+def test_the_new_tabs_fit_the_side_dock_without_squeezing(make_window, qtbot):
+    w = make_window(wireframe=True)
+    w.show()
+    qtbot.waitExposed(w)
+    for name, panel, spin in (("labels", w.labels_panel, w.labels_panel.z_mm),
+                              ("bumps", w.bumps_panel, w.bumps_panel.z0),
+                              ("cap", w.cap_panel, w.cap_panel.cap_height)):
+        w.docks[name].raise_()
+        qtbot.waitUntil(spin.isVisible)
+        assert w.tabifiedDockWidgets(w.docks["materials"]).count(w.docks[name]) == 1, "a tab, not a new pane"
+        area = w.docks[name].widget()
+        assert panel.minimumSizeHint().width() <= area.viewport().width(), f"{name} needs a side scroll bar"
+        hint = spin.minimumSizeHint()
+        assert spin.width() >= hint.width() and spin.height() >= hint.height()
+    preview = w.preview.width() * w.preview.height()
+    assert all(preview > d.width() * d.height() for d in w.docks.values() if d.isVisible())

@@ -17,17 +17,13 @@ from pathlib import Path
 
 from .model.design import Camera, Design, RenderSettings
 from . import limits
-from .errors import GlassbenchError, ProjectError, bounded, shown
+from .errors import CliError, GlassbenchError, ProjectError, bounded, shown
 from .geometry.shape import BottleShape
 from .model.trade import format_table, trade_numbers  # noqa: F401 - also for callers of the CLI
 
 SUBCOMMANDS = ("info", "export-mesh", "new", "render", "batch", "turntable", "labels", "dieline",
                "label", "cap", "bump")
 EXIT_ERROR = 2
-
-
-class CliError(GlassbenchError):
-    """A command-line problem to report as one line (exit status 2)."""
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -253,6 +249,9 @@ def cmd_dieline(args) -> int:
 def cmd_label(args) -> int:
     """``label PROJECT add IMAGE --z --height --width ...`` / ``remove LABEL``: saves."""
     from .appearance.label_cli import cmd_label as run
+    return run(args)
+
+
 # ------------------------------------------------------------------------- cap, bump
 # Closures and bump tiles live in engine.appearance; these three functions hand over to it.
 

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 
 from engine.appearance import dieline_files
-from engine.appearance.dieline import flat_shape, label_report
+from engine.appearance.dieline import flat_shape
+from engine.appearance.report import label_report
 from engine.appearance.dieline_files import DielineError, write_dieline
 from engine.appearance.flatten import flatten
 from engine.appearance.frame import Placement, label_frame

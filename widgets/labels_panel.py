@@ -8,7 +8,7 @@ validated by the engine (a label that leaves the wall is refused with its messag
 Images are read with :func:`engine.appearance.images.read_image_file` and decoded with
 :func:`~engine.appearance.images.decode_image` *before* anything changes, so a corrupt, truncated
 or huge file is refused with the engine's one-line message and the design stays as it was.
-The die-line and its warnings are :func:`engine.appearance.dieline.label_report`'s, the same
+The die-line and its warnings are :func:`engine.appearance.report.label_report`'s, the same
 the ``glassbench labels`` command prints, drawn once the label has held still for
 :data:`DIELINE_SETTLE_MS` (a drag does not flatten at every step). A new label (button or an image dropped onto the
 preview) is sized from its artwork's aspect and placed where the drop point meets the bottle
@@ -28,7 +28,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QFileDialog, QFormLayout, Q
                                QHBoxLayout, QLabel, QLineEdit, QListWidget, QPushButton,
                                QSizePolicy, QVBoxLayout, QWidget)
 
-from engine.appearance import dieline, images, presets
+from engine.appearance import images, presets, report
 from engine.appearance.regions import region_map
 from engine.appearance.label_cli import asset_name, camera_azimuth_deg, describe
 from engine.errors import GlassbenchError
@@ -153,7 +153,7 @@ class DielineView(QWidget):
         return QSize(THUMB_PX, THUMB_PX)
 
     def set_report(self, report):
-        """Show ``report`` (a :class:`engine.appearance.dieline.LabelReport`, ``None``: nothing)."""
+        """Show ``report`` (a :class:`engine.appearance.report.LabelReport`, ``None``: nothing)."""
         if report is None:
             self.outline, self.figures, self.marks = None, {}, []
         else:
@@ -716,7 +716,7 @@ class LabelsPanel(QWidget):
         if self.index < 0:
             return
         try:
-            self.report = dieline.label_report(design, self.index)
+            self.report = report.label_report(design, self.index)
         except (GlassbenchError, ValueError, ArithmeticError) as exc:
             self.report = None
             self.dieline.set_report(None)

@@ -19,6 +19,7 @@ module                      holds
 ``flatten``                 least-distortion (as-rigid-as-possible) flattening of a grid, strain
 ``decal``                   the tracer's table per label: footprint, (s, t) grid, strain
 ``dieline``                 the flat shape a printer cuts, area, largest strain, warnings
+``report``                  one label's area, die-line, largest strain and warnings (CLI, panel)
 ``dieline_files``           the die-line as SVG, PDF or DXF, to scale with dimensions
 ``compiled``                every label of a design packed into flat arrays for the kernels
 ``presets``                 finish optics (foil n, k) and presets of coefficients and finishes
@@ -27,6 +28,7 @@ module                      holds
 ``relief_image``            relief images (height, colour code, normal maps) -> slope textures
 ``threads``                 the SPI/GPI finish table and thread sizes
 ``closures``                a closure as meridian chains of section segments with a material
+``closure_parts``           what closures are made of: materials, parts, reliefs, gaps (values)
 ``closure_shapes``          the profile of each closure kind, sized from the finish
 ``finish_check``            relief images and the closure's fit, for ``check_design``
 ``commands``                ``glassbench cap / bump``

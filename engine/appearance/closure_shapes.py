@@ -16,7 +16,7 @@ import math
 
 from ..geometry.segments import Arc, Line
 from ..model.design import BumpTile, Cap
-from .closures import CORK, GAP_MM, GOLD_LACQUER, SKIRT_GAP_MM, ClosurePart, PartRelief, cap_material
+from .closure_parts import CORK, GAP_MM, GOLD_LACQUER, SKIRT_GAP_MM, ClosurePart, PartRelief, cap_material
 
 #: The closure each kind gets when it is first chosen (material and colour of the trade).
 DEFAULT_CAPS = {"screw": Cap("screw", "plastic", (0.9, 0.9, 0.88)),

@@ -25,7 +25,7 @@ tangent, or a cross-section corner tighter than :data:`MIN_CORNER_MM`), each wit
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -173,33 +173,4 @@ class LabelWarning:
         return {k: (round(v, 4) if isinstance(v, float) else v) for k, v in self.__dict__.items()}
 
 
-@dataclass(frozen=True)
-class LabelReport:
-    """What the printer needs of one label (see :func:`label_report`)."""
-
-    index: int
-    name: str
-    area_mm2: float
-    flat: FlatShape
-    max_strain: float
-    warnings: tuple = field(default=())
-
-    def to_json(self) -> dict:
-        return {"index": self.index, "name": self.name, "area_mm2": round(self.area_mm2, 3),
-                "dieline": self.flat.figures, "max_strain": round(self.max_strain, 6),
-                "warnings": [w.to_json() for w in self.warnings]}
-
-
-def label_report(design, index: int) -> LabelReport:
-    """Area (mm^2 on the glass), flat die-line, largest strain and warnings of
-    ``design.labels[index]`` (which must lie on the wall)."""
-    from .warnings import area_mm2, label_warnings
-    label = design.labels[index]
-    p = Placement.of(label)
-    flat = flat_shape(design.shape, p)
-    return LabelReport(index, label.name, area_mm2(design.shape, p, flat), flat,
-                       float(flat.strain.max()), label_warnings(design.shape, p, flat))
-
-
-__all__ = ["FlatShape", "LabelReport", "LabelWarning", "band_kind", "flat_shape", "grid_shape",
-           "label_report"]
+__all__ = ["FlatShape", "LabelWarning", "band_kind", "flat_shape", "grid_shape"]

@@ -45,7 +45,7 @@ class Drawing:
 
 
 def drawing(report, project_name: str = "") -> Drawing:
-    """The page of ``report`` (an :class:`engine.appearance.dieline.LabelReport`)."""
+    """The page of ``report`` (an :class:`engine.appearance.report.LabelReport`)."""
     fig = report.flat.figures
     pts = report.flat.outline()
     lo, hi = pts.min(axis=0), pts.max(axis=0)

@@ -64,7 +64,7 @@ def _warn(command: str, report) -> None:
 def cmd_labels(args) -> int:
     """``labels PROJECT [--json]``: area (mm^2), die-line, largest strain and warnings."""
     from ..files.project import load_project
-    from .dieline import label_report
+    from .report import label_report
     design, _ = load_project(args.project)
     reports = [label_report(design, i) for i in range(len(design.labels))]
     for r in reports:
@@ -105,7 +105,7 @@ def find_label(design, key: str) -> int:
 def cmd_dieline(args) -> int:
     """``dieline PROJECT LABEL -o OUT``: the flat shape with dimensions, 1:1."""
     from ..files.project import load_project
-    from .dieline import label_report
+    from .report import label_report
     from .dieline_files import FORMATS, write_dieline
     if os.path.splitext(args.output)[1].lower() not in FORMATS:
         raise LabelCliError(f"the die-line must end in .svg, .pdf or .dxf, got {shown(args.output, 200)}")
@@ -195,7 +195,7 @@ def cmd_label(args) -> int:
                   args.diffuse, args.specular, args.transmission)
     new = dataclasses.replace(design, labels=design.labels + (label,))
     check_design(new, assets)
-    from .dieline import label_report
+    from .report import label_report
     report = label_report(new, len(new.labels) - 1)
     _warn("label", report)
     save_project(args.project, new, assets)

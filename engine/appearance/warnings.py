@@ -2,7 +2,7 @@
 
 Design rule: pure functions of a shape, a label's :class:`~engine.appearance.frame.Placement`
 and its :class:`~engine.appearance.dieline.FlatShape`, used by
-:func:`engine.appearance.dieline.label_report` (the CLI and the panel show the same words).
+:func:`engine.appearance.report.label_report` (the CLI and the panel show the same words).
 Each warning carries its place three ways: on the bottle (``z_mm`` above the standing plane,
 ``angle_deg`` azimuth in the world frame), on the artwork (``s``, ``t``) and on the die-line
 (``x_mm``, ``y_mm``). The area is exact quadrature on round walls (the label's angle times the

@@ -23,7 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..appearance.closures import cap_material, finish_of
+from ..appearance.closure_parts import cap_material
+from ..appearance.closures import finish_of
 from .kernels import intersect as K
 from .kernels import profile as R
 from .kernels.bumps import P_COLS
@@ -56,7 +57,7 @@ class CapTables:
 
 
 def material_row(material):
-    """``(kind, mat_f row)`` of a :class:`~engine.appearance.closures.ClosureMaterial`."""
+    """``(kind, mat_f row)`` of a :class:`~engine.appearance.closure_parts.ClosureMaterial`."""
     row = np.zeros(MAT_COLS)
     if material.kind == "conductor":
         row[MF_N:MF_N + 3], row[MF_K:MF_K + 3], row[MF_TINT:MF_TINT + 3] = material.eta, material.k, material.tint

@@ -8,6 +8,8 @@ so its inside is never entered. The cap's tables (:class:`CapTables`) are built 
 ``(cap, finish, edge)``, the only values they depend on, apart from the bottle's: a cap edit never
 rebuilds or re-tessellates the bottle, a bottle edit that leaves the finish alone keeps the cap's
 tables, and :func:`scene_with_cap` only concatenates rows (offsetting the cap's segment rows).
+Closure surfaces are drawn polished: a material's GGX ``roughness`` is not used yet, except that
+a material at least :data:`MATTE_ROUGHNESS` rough (cork) loses its coat and is purely diffuse.
 
 :func:`finish_arrays` builds the tuple :func:`engine.tracer.kernels.finish.finish_hit` reads:
 every bump row of the design (the bottle's tiles on the outer wall, and on a punted bottom, the

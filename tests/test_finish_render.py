@@ -223,3 +223,16 @@ def test_every_closure_renders_without_leaks_or_mismatches(bordeaux, kind):
     _, res, ctx = _image(dataclasses.replace(design, cap=default_cap(kind)), assets, 60, 80, 0, 2)
     assert res.counters[1] == 0 and res.counters[2] == 0
     assert ((res.objects >> ctx.geometry.obj_i.shape[0]) != 0).sum() > 20
+
+
+@pytest.mark.parametrize("name, cap, bumps", [("knurled_jar", "lug", 1), ("threaded_bottle", "screw", 1),
+                                               ("cut_decanter", None, 3), ("frosted_logo", None, 2)])
+def test_the_finish_samples_load_and_render_without_leaks(name, cap, bumps):
+    from engine.appearance.closures import closure_trade
+    design, assets = load_project(ROOT / "resources" / f"{name}.glassbench")
+    assert len(design.bumps) == bumps and (design.cap.kind if design.cap else None) == cap
+    img, res, ctx = _image(design, assets, 24, 32)
+    assert res.counters[1] == 0 and res.counters[2] == 0 and np.all(np.isfinite(img))
+    assert ctx.finish[0][:, 1].sum() >= 1
+    closure, overall = closure_trade(design)
+    assert (closure is None) == (cap is None) and overall >= design.shape.z_top

@@ -236,3 +236,15 @@ def test_the_finish_samples_load_and_render_without_leaks(name, cap, bumps):
     assert ctx.finish[0][:, 1].sum() >= 1
     closure, overall = closure_trade(design)
     assert (closure is None) == (cap is None) and overall >= design.shape.z_top
+
+
+def test_a_cork_the_wine_reaches_is_wet_below_the_fill_line(bordeaux):
+    """Brimful, the wine stands around and under the cork: below the fill line the cork is
+    surrounded by liquid (its capsule outside the neck stays in air), so no ray mismatches."""
+    design, assets = bordeaux
+    full = dataclasses.replace(design, cap=default_cap("cork"),
+                               liquid=dataclasses.replace(design.liquid, fill_value=775.0))
+    _, res, ctx = _image(full, assets, 60, 80, 0, 2)
+    assert ctx.geometry.fill_height > ctx.cap.z_min
+    assert ctx.cap.inside == (True, False)
+    assert res.counters[1] == 0 and res.counters[2] == 0

@@ -31,7 +31,7 @@ from .kernels import intersect as K
 from .kernels import profile as R
 from .kernels.bumps import P_COLS
 from .kernels.materials import CONDUCTOR, MAT_COLS, MF_ALBEDO, MF_COAT_IOR, MF_K, MF_N, MF_TINT, PLASTIC
-from .render_objects import AIR, BOTTOM, OUTER_WALL, _chain_bbox, _Tables, cached
+from .render_objects import AIR, BOTTOM, LIQUID, OUTER_WALL, _chain_bbox, _Tables, cached
 
 #: Objects the kernels' int64 object masks can tell apart.
 MAX_OBJECTS = 63
@@ -44,7 +44,8 @@ class CapTables:
     """Render rows of one closure: ``seg`` (n, S_COLS) segment rows numbered from 0,
     ``obj_i``/``obj_f`` one object per part (``O_FIRST`` counted in ``seg``, ``O_MAT`` from 0
     among the cap's own materials), ``mat_i``/``mat_f`` one material per part, ``names`` the
-    parts' names, ``z_min``/``z_max`` (mm) the closure's extent."""
+    parts' names, ``z_min``/``z_max`` (mm) the closure's extent, ``inside[i]`` whether part
+    ``i`` lies within the bore (a cork: what the liquid may reach)."""
 
     seg: np.ndarray
     obj_i: np.ndarray
@@ -54,6 +55,7 @@ class CapTables:
     names: tuple
     z_min: float
     z_max: float
+    inside: tuple = ()
 
 
 def material_row(material):
@@ -88,7 +90,8 @@ def build_cap_tables(cap, finish, edge: float) -> CapTables:
     zs = seg[:, [R.S_ZMIN, R.S_ZMAX]]
     return CapTables(np.ascontiguousarray(seg), np.array(tab.obj_i).reshape(-1, K.O_COLS),
                      np.array(tab.obj_f).reshape(-1, K.F_COLS), np.array(mats_i).reshape(-1, 4),
-                     np.array(mats_f).reshape(-1, MAT_COLS), tuple(tab.names), float(zs.min()), float(zs.max()))
+                     np.array(mats_f).reshape(-1, MAT_COLS), tuple(tab.names), float(zs.min()), float(zs.max()),
+                     tuple(bool(of[K.F_RMAX] < finish.r_bore) for of in tab.obj_f))
 
 
 _CACHE: dict = {}
@@ -112,22 +115,31 @@ def _build_counted(cap, finish, edge):
     return build_cap_tables(cap, finish, edge)
 
 
-def scene_with_cap(scene: tuple, cap: CapTables | None) -> tuple:
+def scene_with_cap(scene: tuple, cap: CapTables | None, fill_height: float | None = None) -> tuple:
     """The kernels' scene tuple with the cap's objects and materials appended after the
-    bottle's (segment rows and material ids offset); ``scene`` itself without a cap."""
+    bottle's (segment rows and material ids offset); ``scene`` itself without a cap. Below a
+    fill height (mm) a part inside the bore is surrounded by liquid (a cork the wine reaches),
+    like the inner wall."""
     if cap is None:
         return scene
     seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
     oi = cap.obj_i.copy()
     oi[:, K.O_FIRST] += seg.shape[0]
     oi[:, K.O_MAT] += mat_i.shape[0]
+    of = cap.obj_f
+    wet = np.array(cap.inside, bool)
+    if fill_height is not None and wet.any():
+        of = of.copy()
+        of[wet, K.F_ZSPLIT] = fill_height
+        oi[wet, K.O_FRONT_LO] = LIQUID
+        oi[wet, K.O_BACK_LO] = LIQUID
     if obj_i.shape[0] + oi.shape[0] > MAX_OBJECTS:
         raise ValueError(f"too many render objects for the object masks ({MAX_OBJECTS} at most)")
     mf = np.zeros((mat_f.shape[0], MAT_COLS))
     mf[:, :mat_f.shape[1]] = mat_f
     c = np.ascontiguousarray
     return (c(np.concatenate([seg, cap.seg])), tab, slab_f, slab_i, c(np.concatenate([obj_i, oi])),
-            c(np.concatenate([obj_f, cap.obj_f])), media, c(np.concatenate([mat_i, cap.mat_i])),
+            c(np.concatenate([obj_f, of])), media, c(np.concatenate([mat_i, cap.mat_i])),
             c(np.concatenate([mf, cap.mat_f])))
 
 

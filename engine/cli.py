@@ -17,17 +17,13 @@ from pathlib import Path
 
 from .model.design import Camera, Design, RenderSettings
 from . import limits
-from .errors import GlassbenchError, ProjectError, bounded, shown
+from .errors import CliError, GlassbenchError, ProjectError, bounded, shown  # noqa: F401 - CliError for callers
 from .geometry.shape import BottleShape
 from .model.trade import format_table, trade_numbers  # noqa: F401 - also for callers of the CLI
 
 SUBCOMMANDS = ("info", "export-mesh", "new", "render", "batch", "turntable", "labels", "dieline",
                "label", "cap", "bump")
 EXIT_ERROR = 2
-
-
-class CliError(GlassbenchError):
-    """A command-line problem to report as one line (exit status 2)."""
 
 
 class OneLineParser(argparse.ArgumentParser):

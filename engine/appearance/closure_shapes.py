@@ -5,7 +5,7 @@ and the :class:`~engine.model.design.Cap` into :class:`~engine.appearance.closur
 s; each part is a closed polyline from the axis back to the axis, material on the left, whose
 corners are rounded by circular arcs (:func:`filleted_chain`). Sizes scale with the neck: the
 skirt's inside clears the thread (or the neck) by a small gap (at least 0.3 mm of air around a
-glass cylinder, :data:`~engine.appearance.closures.SKIRT_GAP_MM`), the shell is as thick as the
+glass cylinder, :data:`~engine.appearance.closure_parts.SKIRT_GAP_MM`), the shell is as thick as the
 material makes it (plastic 1.4 mm, aluminium 0.25-0.3 mm), and a skirt never reaches below the
 foot of the straight finish. Standard heights when ``cap.height`` is 0: screw cap ``0.8 r + 2``,
 crown 6 mm for a 26 mm finish (21 flutes), cork 44 mm under a 50 mm capsule, roll-on (ROPP)
@@ -17,7 +17,7 @@ import math
 
 from ..geometry.segments import Arc, Line
 from ..model.design import BumpTile, Cap
-from .closures import CORK, GAP_MM, GOLD_LACQUER, SKIRT_GAP_MM, ClosurePart, PartRelief, cap_material
+from .closure_parts import CORK, GAP_MM, GOLD_LACQUER, SKIRT_GAP_MM, ClosurePart, PartRelief, cap_material
 
 #: The closure each kind gets when it is first chosen (material and colour of the trade).
 DEFAULT_CAPS = {"screw": Cap("screw", "plastic", (0.9, 0.9, 0.88)),

@@ -101,7 +101,7 @@ def cmd_cap(args) -> int:
 def cmd_bump(args) -> int:
     """``bump PROJECT add KIND --z0 MM --z1 MM [...]``, ``bump PROJECT list``,
     ``bump PROJECT remove INDEX``."""
-    from ..cli import CliError
+    from ..errors import CliError
     from ..files.project import load_project
     design, assets = load_project(args.project)
     if args.action == "list":

@@ -127,7 +127,7 @@ def closure_trade(design: Design) -> tuple[dict | None, float]:
         return None, top
     info = {"kind": geom.kind, "diameter_mm": round(geom.diameter_mm, 3),
             "height_mm": round(geom.height_mm, 3)}
-    return info, max(top, geom.z_max)
+    return info, round(max(top, geom.z_max), 3)
 
 
 def closure_outline(design: Design, meridians: int = 16, ring_steps: int = 96):

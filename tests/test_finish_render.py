@@ -96,7 +96,10 @@ def test_no_leaks_or_mismatches_with_relief_on_a_half_millimetre_wall():
 
 
 def test_a_plain_design_renders_bit_for_bit_as_before_finishes(bordeaux):
-    """The reference was rendered by the tracer before finishes existed (commit f019c7d)."""
+    """The reference was rendered by the tracer before finishes existed (commit f019c7d: the
+    40 x 56 Bordeaux, samples 0-2 of every pixel) on this machine's toolchain (numba without
+    fastmath, glibc's libm); a machine whose libm rounds differently must re-render it from
+    that commit, as a plain render's bits then differ before and after alike."""
     design, assets = bordeaux
     ref = np.load(ROOT / "tests" / "data" / "plain_bordeaux_40x56.npz")
     img, res, ctx = _image(design, assets, 40, 56, 0, 3)

@@ -117,14 +117,15 @@ def test_a_cap_is_drawn_and_a_metal_cap_reflects_like_aluminium(bordeaux):
     assert on_cap.sum() > 5
     assert np.all(np.abs(capped - plain).sum(-1)[on_cap] > 1e-6)
     assert np.array_equal(capped[~on_cap], plain[~on_cap])   # trees that never met the cap
-    # straight down onto the flat top: the exact conductor Fresnel at normal incidence x tint
+    # straight down onto the flat top: the conductor Fresnel at normal incidence x tint (its
+    # GGX gloss of alpha 0.05 moves the microfacet's Fresnel and masking by ~1e-6 only)
     white = dataclasses.replace(design, cap=Cap("ropp", "metal", (1.0, 0.8, 0.5)))
     wctx = RenderContext.from_design(white, assets, 8, 8, environment=WHITE)
     top = wctx.cap.z_max
     out, counters = trace_rays(wctx, [[0.3, 0.2, top + 50.0]], [[0.0, 0.0, -1.0]])
     want = [fresnel_conductor(1.0, n, k) * t for n, k, t in zip((1.57, 1.07, 0.61), (7.74, 6.78, 5.37),
                                                                 (1.0, 0.8, 0.5))]
-    assert np.allclose(out[0], want, atol=1e-9)
+    assert np.allclose(out[0], want, atol=1e-4)
 
 
 def test_a_plastic_cap_is_lit_by_the_environment_and_bounded_in_a_white_furnace(bordeaux):

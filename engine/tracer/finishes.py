@@ -8,8 +8,9 @@ so its inside is never entered. The cap's tables (:class:`CapTables`) are built 
 ``(cap, finish, edge)``, the only values they depend on, apart from the bottle's: a cap edit never
 rebuilds or re-tessellates the bottle, a bottle edit that leaves the finish alone keeps the cap's
 tables, and :func:`scene_with_cap` only concatenates rows (offsetting the cap's segment rows).
-Closure surfaces are drawn polished: a material's GGX ``roughness`` is not used yet, except that
-a material at least :data:`MATTE_ROUGHNESS` rough (cork) loses its coat and is purely diffuse.
+A closure material's GGX ``roughness`` becomes a frosted row over its whole part (a glossy,
+not mirror-sharp, metal or coat), except that a material at least :data:`MATTE_ROUGHNESS` rough
+(cork) loses its coat and is purely diffuse.
 
 :func:`finish_arrays` builds the tuple :func:`engine.tracer.kernels.finish.finish_hit` reads:
 every bump row of the design (the bottle's tiles on the outer wall, and on a punted bottom, the
@@ -29,7 +30,7 @@ import numpy as np
 from ..appearance.closures import cap_material, finish_of
 from .kernels import intersect as K
 from .kernels import profile as R
-from .kernels.bumps import P_COLS
+from .kernels.bumps import FROSTED, P_ALPHA, P_COLS, P_V0, P_V1
 from .kernels.materials import CONDUCTOR, MAT_COLS, MF_ALBEDO, MF_COAT_IOR, MF_K, MF_N, MF_TINT, PLASTIC
 from .render_objects import AIR, BOTTOM, LIQUID, OUTER_WALL, _chain_bbox, _Tables, cached
 
@@ -45,7 +46,8 @@ class CapTables:
     ``obj_i``/``obj_f`` one object per part (``O_FIRST`` counted in ``seg``, ``O_MAT`` from 0
     among the cap's own materials), ``mat_i``/``mat_f`` one material per part, ``names`` the
     parts' names, ``z_min``/``z_max`` (mm) the closure's extent, ``inside[i]`` whether part
-    ``i`` lies within the bore (a cork: what the liquid may reach)."""
+    ``i`` lies within the bore (a cork: what the liquid may reach), ``roughness[i]`` the GGX
+    alpha its surface is drawn with (0: polished)."""
 
     seg: np.ndarray
     obj_i: np.ndarray
@@ -56,6 +58,7 @@ class CapTables:
     z_min: float
     z_max: float
     inside: tuple = ()
+    roughness: tuple = ()
 
 
 def material_row(material):
@@ -91,7 +94,9 @@ def build_cap_tables(cap, finish, edge: float) -> CapTables:
     return CapTables(np.ascontiguousarray(seg), np.array(tab.obj_i).reshape(-1, K.O_COLS),
                      np.array(tab.obj_f).reshape(-1, K.F_COLS), np.array(mats_i).reshape(-1, 4),
                      np.array(mats_f).reshape(-1, MAT_COLS), tuple(tab.names), float(zs.min()), float(zs.max()),
-                     tuple(bool(of[K.F_RMAX] < finish.r_bore) for of in tab.obj_f))
+                     tuple(bool(of[K.F_RMAX] < finish.r_bore) for of in tab.obj_f),
+                     tuple(0.0 if p.material.roughness >= MATTE_ROUGHNESS else float(p.material.roughness)
+                           for p in parts))
 
 
 _CACHE: dict = {}
@@ -225,14 +230,23 @@ def finish_arrays(design, assets, geom, cap: CapTables | None, scene: tuple, tex
             name = surface.split(":", 1)[1]
             if name in cap.names:
                 per_obj[n_bottle + cap.names.index(name)].append(i)
+    kinds_all, params_all = list(bt.kinds), list(bt.params)
+    for j, alpha in enumerate(cap.roughness if cap is not None else ()):
+        if alpha > 0.0:   # the part's own gloss: a frosted row over all of it
+            row = np.zeros(P_COLS)
+            row[P_V0], row[P_V1], row[P_ALPHA] = -np.inf, np.inf, alpha
+            per_obj[n_bottle + j].append(len(kinds_all))
+            kinds_all.append(FROSTED)
+            params_all.append(row)
     order = [i for rows in per_obj for i in rows]
     obj_rows = np.zeros((n_obj, 2), np.int64)
     at = 0
     for o, rows in enumerate(per_obj):
         obj_rows[o] = at, len(rows)
         at += len(rows)
-    kinds = np.ascontiguousarray(bt.kinds[order] if order else np.zeros(0, np.int64), np.int64)
-    params = np.ascontiguousarray(bt.params[order] if order else np.zeros((0, P_COLS)))
+    kinds = np.ascontiguousarray(np.array(kinds_all, np.int64)[order] if order else np.zeros(0, np.int64))
+    params = np.ascontiguousarray(np.array(params_all, float).reshape(-1, P_COLS)[order] if order
+                                  else np.zeros((0, P_COLS)))
     plastic = bool(np.any(scene[7][:, 0] == PLASTIC))
     irr = irradiance_map(texels) if plastic else _EMPTY_IRR
     lights = light_rows(design) if plastic else np.zeros((0, 6))

@@ -17,7 +17,7 @@ from pathlib import Path
 
 from .model.design import Camera, Design, RenderSettings
 from . import limits
-from .errors import CliError, GlassbenchError, ProjectError, bounded, shown
+from .errors import CliError, GlassbenchError, ProjectError, bounded, shown  # noqa: F401 - CliError for callers
 from .geometry.shape import BottleShape
 from .model.trade import format_table, trade_numbers  # noqa: F401 - also for callers of the CLI
 

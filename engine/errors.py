@@ -40,6 +40,10 @@ class GlassbenchError(Exception):
         super().__init__(bounded(message))
 
 
+class CliError(GlassbenchError):
+    """A command-line problem to report as one line (exit status 2)."""
+
+
 class SectionError(GlassbenchError, ValueError):
     """An invalid vertical section; ``index`` is the offending segment (or ``None``)."""
 

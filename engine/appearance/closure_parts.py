@@ -1,8 +1,9 @@
-"""What closures are made of: materials, parts and reliefs, and the gaps they keep (values).
+"""What closure parts are made of and how they are described: materials, parts, gaps.
 
-Design rule: plain frozen values shared by :mod:`.closures` (which sizes a closure from the
-finish) and :mod:`.closure_shapes` (the profile of each kind); no geometry is computed here.
-Units mm; metals as complex indices at 652, 564 and 443 nm (the R, G, B rows).
+Design rule: the values shared by :mod:`engine.appearance.closures` (closures sized from the
+finish) and :mod:`engine.appearance.closure_shapes` (the chains of each kind) live here, so that
+neither imports the other back. Units mm; metals as complex indices at 652, 564 and 443 nm (the
+R, G, B rows).
 """
 from __future__ import annotations
 

@@ -4,7 +4,8 @@ Design rule: one function per kind turns a :class:`~engine.appearance.closures.F
 and the :class:`~engine.model.design.Cap` into :class:`~engine.appearance.closures.ClosurePart`
 s; each part is a closed polyline from the axis back to the axis, material on the left, whose
 corners are rounded by circular arcs (:func:`filleted_chain`). Sizes scale with the neck: the
-skirt's inside clears the thread (or the neck) by a small gap, the shell is as thick as the
+skirt's inside clears the thread (or the neck) by a small gap (at least 0.3 mm of air around a
+glass cylinder, :data:`~engine.appearance.closure_parts.SKIRT_GAP_MM`), the shell is as thick as the
 material makes it (plastic 1.4 mm, aluminium 0.25-0.3 mm), and a skirt never reaches below the
 foot of the straight finish. Standard heights when ``cap.height`` is 0: screw cap ``0.8 r + 2``,
 crown 6 mm for a 26 mm finish (21 flutes), cork 44 mm under a 50 mm capsule, roll-on (ROPP)

@@ -23,8 +23,9 @@ from functools import lru_cache
 from ..geometry.chain import radius_at
 from ..geometry.validate import body_profile
 from ..model.design import BumpTile, Design
-
-from .closure_parts import ClosurePart, cap_material
+from .closure_parts import (ALUMINIUM_K, ALUMINIUM_N, BARE_METAL, CORK, CORK_COLOUR, GAP_MM,  # noqa: F401
+                            GOLD_LACQUER, PLASTIC_IOR, RGB, SKIRT_GAP_MM, ClosureMaterial, ClosurePart,
+                            PartRelief, cap_material)
 from .closure_shapes import closure_parts
 
 
@@ -68,23 +69,31 @@ class Finish:
 
 def finish_of(design: Design) -> Finish:
     """The :class:`Finish` of ``design``'s shape (validated: raises like
-    :func:`engine.geometry.validate.body_profile` for an invalid shape)."""
-    prof = body_profile(design.shape)
+    :func:`engine.geometry.validate.body_profile` for an invalid shape). Cached by (shape,
+    bumps), the values it depends on: every render context asks for it."""
+    return _finish(design.shape, design.bumps)
+
+
+@lru_cache(maxsize=64)
+def _finish(shape, bumps) -> Finish:
+    import numpy as np
+    prof = body_profile(shape)
     sp = prof.sections[0]
     last = sp.outer_wall[-1]
     z_top, z_start = float(prof.z_top), float(last.p0[1])
     r_bore = float(sp.r_in_top)
     inner = sp.inner_wall
-    zs = [z_top - 0.5 * k for k in range(int(max(z_top - inner[0].p0[1], 0.0) / 0.5))]
+    zs = np.array([z_top - 0.5 * k for k in range(int(max(z_top - inner[0].p0[1], 0.0) / 0.5))])
     z_bore = z_top
-    for z in zs:
-        if float(radius_at(inner, z)) > r_bore + 0.5:
-            break
-        z_bore = z
-    threads = [t for t in design.bumps if t.kind == "thread" and t.z1 > z_start and t.z0 < z_top]
+    if len(zs):  # the bore: down from the mouth while the inner radius stays within 0.5 mm
+        wide = np.asarray(radius_at(inner, zs), float) > r_bore + 0.5
+        stop = int(np.argmax(wide)) if wide.any() else len(zs)
+        z_bore = float(zs[stop - 1]) if stop > 0 else z_top
+    threads = [t for t in bumps if t.kind == "thread" and t.z1 > z_start and t.z0 < z_top]
     deepest = max(threads, key=lambda t: t.depth, default=None)
     return Finish(float(sp.r_top), z_top, z_start, r_bore, z_bore, deepest,
                   deepest.depth if deepest is not None else 0.0)
+
 
 
 def closure_geometry(design: Design) -> ClosureGeometry | None:
@@ -118,7 +127,7 @@ def closure_trade(design: Design) -> tuple[dict | None, float]:
         return None, top
     info = {"kind": geom.kind, "diameter_mm": round(geom.diameter_mm, 3),
             "height_mm": round(geom.height_mm, 3)}
-    return info, max(top, geom.z_max)
+    return info, round(max(top, geom.z_max), 3)
 
 
 def closure_outline(design: Design, meridians: int = 16, ring_steps: int = 96):

@@ -11,7 +11,7 @@ from __future__ import annotations
 import dataclasses
 import os
 
-from ..errors import CliError, shown
+from ..errors import shown
 from ..limits import BUMP_REPEAT_RANGE, GGX_ALPHA_RANGE, MAX_BUMP_DEPTH_MM, MAX_EXTENT_MM, check_range
 from ..model.design import BUMP_KINDS, CAP_KINDS, CAP_MATERIALS
 
@@ -101,6 +101,7 @@ def cmd_cap(args) -> int:
 def cmd_bump(args) -> int:
     """``bump PROJECT add KIND --z0 MM --z1 MM [...]``, ``bump PROJECT list``,
     ``bump PROJECT remove INDEX``."""
+    from ..errors import CliError
     from ..files.project import load_project
     design, assets = load_project(args.project)
     if args.action == "list":

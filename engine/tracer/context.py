@@ -78,7 +78,7 @@ class RenderContext:
         env = environment if environment is not None else environment_from_design(design.environment, assets)
         cam = PinholeCamera.from_design(design.camera, w, h)
         cap = cap_tables_for(design, geom)
-        scene = scene_with_cap(scene_arrays(geom, design), cap)
+        scene = scene_with_cap(scene_arrays(geom, design), cap, geom.fill_height)
         tex = np.ascontiguousarray(env.texels, dtype=np.float32)
         finish = finish_arrays(design, assets, geom, cap, scene, tex)
         params = np.array([float(env.scale), math.radians(float(env.rotation_deg))])

@@ -8,6 +8,9 @@ so its inside is never entered. The cap's tables (:class:`CapTables`) are built 
 ``(cap, finish, edge)``, the only values they depend on, apart from the bottle's: a cap edit never
 rebuilds or re-tessellates the bottle, a bottle edit that leaves the finish alone keeps the cap's
 tables, and :func:`scene_with_cap` only concatenates rows (offsetting the cap's segment rows).
+A closure material's GGX ``roughness`` becomes a frosted row over its whole part (a glossy,
+not mirror-sharp, metal or coat), except that a material at least :data:`MATTE_ROUGHNESS` rough
+(cork) loses its coat and is purely diffuse.
 
 :func:`finish_arrays` builds the tuple :func:`engine.tracer.kernels.finish.finish_hit` reads:
 every bump row of the design (the bottle's tiles on the outer wall, and on a punted bottom, the
@@ -27,11 +30,11 @@ from ..appearance.closure_parts import cap_material
 from ..appearance.closures import finish_of
 from .kernels import intersect as K
 from .kernels import profile as R
-from .kernels.bumps import P_COLS
+from .kernels.bumps import FROSTED, P_ALPHA, P_COLS, P_V0, P_V1
 from .kernels.labels import LABEL_BIT0
 from .lighting import irradiance_table, light_table
 from .kernels.materials import CONDUCTOR, MAT_COLS, MF_ALBEDO, MF_COAT_IOR, MF_K, MF_N, MF_TINT, PLASTIC
-from .render_objects import AIR, BOTTOM, OUTER_WALL, _chain_bbox, _Tables, cached
+from .render_objects import AIR, BOTTOM, LIQUID, OUTER_WALL, _chain_bbox, _Tables, cached
 
 #: Objects the kernels' int64 object masks can tell apart (the bits above are the labels').
 MAX_OBJECTS = LABEL_BIT0
@@ -44,7 +47,9 @@ class CapTables:
     """Render rows of one closure: ``seg`` (n, S_COLS) segment rows numbered from 0,
     ``obj_i``/``obj_f`` one object per part (``O_FIRST`` counted in ``seg``, ``O_MAT`` from 0
     among the cap's own materials), ``mat_i``/``mat_f`` one material per part, ``names`` the
-    parts' names, ``z_min``/``z_max`` (mm) the closure's extent."""
+    parts' names, ``z_min``/``z_max`` (mm) the closure's extent, ``inside[i]`` whether part
+    ``i`` lies within the bore (a cork: what the liquid may reach), ``roughness[i]`` the GGX
+    alpha its surface is drawn with (0: polished)."""
 
     seg: np.ndarray
     obj_i: np.ndarray
@@ -54,6 +59,8 @@ class CapTables:
     names: tuple
     z_min: float
     z_max: float
+    inside: tuple = ()
+    roughness: tuple = ()
 
 
 def material_row(material):
@@ -88,7 +95,10 @@ def build_cap_tables(cap, finish, edge: float) -> CapTables:
     zs = seg[:, [R.S_ZMIN, R.S_ZMAX]]
     return CapTables(np.ascontiguousarray(seg), np.array(tab.obj_i).reshape(-1, K.O_COLS),
                      np.array(tab.obj_f).reshape(-1, K.F_COLS), np.array(mats_i).reshape(-1, 4),
-                     np.array(mats_f).reshape(-1, MAT_COLS), tuple(tab.names), float(zs.min()), float(zs.max()))
+                     np.array(mats_f).reshape(-1, MAT_COLS), tuple(tab.names), float(zs.min()), float(zs.max()),
+                     tuple(bool(of[K.F_RMAX] < finish.r_bore) for of in tab.obj_f),
+                     tuple(0.0 if p.material.roughness >= MATTE_ROUGHNESS else float(p.material.roughness)
+                           for p in parts))
 
 
 _CACHE: dict = {}
@@ -112,22 +122,31 @@ def _build_counted(cap, finish, edge):
     return build_cap_tables(cap, finish, edge)
 
 
-def scene_with_cap(scene: tuple, cap: CapTables | None) -> tuple:
+def scene_with_cap(scene: tuple, cap: CapTables | None, fill_height: float | None = None) -> tuple:
     """The kernels' scene tuple with the cap's objects and materials appended after the
-    bottle's (segment rows and material ids offset); ``scene`` itself without a cap."""
+    bottle's (segment rows and material ids offset); ``scene`` itself without a cap. Below a
+    fill height (mm) a part inside the bore is surrounded by liquid (a cork the wine reaches),
+    like the inner wall."""
     if cap is None:
         return scene
     seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
     oi = cap.obj_i.copy()
     oi[:, K.O_FIRST] += seg.shape[0]
     oi[:, K.O_MAT] += mat_i.shape[0]
+    of = cap.obj_f
+    wet = np.array(cap.inside, bool)
+    if fill_height is not None and wet.any():
+        of = of.copy()
+        of[wet, K.F_ZSPLIT] = fill_height
+        oi[wet, K.O_FRONT_LO] = LIQUID
+        oi[wet, K.O_BACK_LO] = LIQUID
     if obj_i.shape[0] + oi.shape[0] > MAX_OBJECTS:
         raise ValueError(f"too many render objects for the object masks ({MAX_OBJECTS} at most)")
     mf = np.zeros((mat_f.shape[0], MAT_COLS))
     mf[:, :mat_f.shape[1]] = mat_f
     c = np.ascontiguousarray
     return (c(np.concatenate([seg, cap.seg])), tab, slab_f, slab_i, c(np.concatenate([obj_i, oi])),
-            c(np.concatenate([obj_f, cap.obj_f])), media, c(np.concatenate([mat_i, cap.mat_i])),
+            c(np.concatenate([obj_f, of])), media, c(np.concatenate([mat_i, cap.mat_i])),
             c(np.concatenate([mf, cap.mat_f])))
 
 
@@ -162,14 +181,23 @@ def finish_arrays(design, assets, geom, cap: CapTables | None, scene: tuple, tex
             name = surface.split(":", 1)[1]
             if name in cap.names:
                 per_obj[n_bottle + cap.names.index(name)].append(i)
+    kinds_all, params_all = list(bt.kinds), list(bt.params)
+    for j, alpha in enumerate(cap.roughness if cap is not None else ()):
+        if alpha > 0.0:   # the part's own gloss: a frosted row over all of it
+            row = np.zeros(P_COLS)
+            row[P_V0], row[P_V1], row[P_ALPHA] = -np.inf, np.inf, alpha
+            per_obj[n_bottle + j].append(len(kinds_all))
+            kinds_all.append(FROSTED)
+            params_all.append(row)
     order = [i for rows in per_obj for i in rows]
     obj_rows = np.zeros((n_obj, 2), np.int64)
     at = 0
     for o, rows in enumerate(per_obj):
         obj_rows[o] = at, len(rows)
         at += len(rows)
-    kinds = np.ascontiguousarray(bt.kinds[order] if order else np.zeros(0, np.int64), np.int64)
-    params = np.ascontiguousarray(bt.params[order] if order else np.zeros((0, P_COLS)))
+    kinds = np.ascontiguousarray(np.array(kinds_all, np.int64)[order] if order else np.zeros(0, np.int64))
+    params = np.ascontiguousarray(np.array(params_all, float).reshape(-1, P_COLS)[order] if order
+                                  else np.zeros((0, P_COLS)))
     plastic = bool(np.any(scene[7][:, 0] == PLASTIC))
     irr = irradiance_table(texels) if plastic else _EMPTY_IRR
     lights = light_table(design.lights) if plastic else np.zeros((0, 6))

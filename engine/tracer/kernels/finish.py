@@ -23,6 +23,9 @@ did. :func:`finish_hit` writes the branch's children itself:
   Smith ``G2 = G1(i) G1(o)``), so each branch is an unbiased one-sample estimate of its lobe of
   the single-scattering BSDF and their sum never exceeds 1 (what multiple scattering between
   microfacets would return is lost: an etched bottle is a few per cent dark, never bright).
+* A frosted row on a closure part (its material's roughness) makes a metal or a plastic coat
+  glossy the same way: its mirror branch goes through one visible microfacet with weight
+  ``F(m) G1(o)`` (:func:`rough_mirror`).
 * ``PLASTIC`` (a closure): the coat's mirror branch (Fresnel of the coat IOR) plus the diffuse
   base returned as radiance at once: ``(1 - R) albedo (E_env(n) + sum_l E_l max(0, n.l) / pi)``
   with ``E_env`` the environment's cosine-weighted irradiance over pi (a prefiltered map in the
@@ -46,8 +49,8 @@ from .bumps import (FROSTED, P_ALPHA, P_V0, P_V1, consistent_normal, ggx_g1, onb
                     surface_slope)
 from .intersect import O_KIND, PLANE, REVOLVED
 from .materials import (CONDUCTOR, K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND, MF_ALBEDO,
-                        MF_COAT_IOR, PLASTIC, SMOOTH_DIELECTRIC, coat, conductor, fresnel_dielectric,
-                        smooth_dielectric)
+                        MF_COAT_IOR, MF_K, MF_N, MF_TINT, PLASTIC, SMOOTH_DIELECTRIC, coat, conductor,
+                        fresnel_conductor, fresnel_dielectric, smooth_dielectric)
 from .revolved import segment_v
 from .roots import JIT, hypot2
 from .sampling import env_lookup, uniform01
@@ -123,11 +126,9 @@ def vndf_sample(alpha, wx, wy, wz, u1, u2):
 
 
 @njit(**JIT)
-def rough_dielectric(alpha, dx, dy, dz, sx, sy, sz, eta, u1, u2, kids):
-    """Both branches through one visible microfacet of a GGX interface (module doc) into
-    ``kids``; ``s`` the shading normal facing the incident side (``d . s < 0``), ``eta`` the
-    index ratio transmitted / incident. Returns the number of children (1 under total internal
-    reflection at the microfacet, else 2)."""
+def visible_microfacet(alpha, dx, dy, dz, sx, sy, sz, u1, u2):
+    """``(m, cos_im)``: a visible GGX microfacet normal (world) for the ray direction ``d``
+    meeting shading normal ``s`` (facing the incident side), and ``-d . m`` (>= 0)."""
     (b1x, b1y, b1z), (b2x, b2y, b2z) = onb(sx, sy, sz)
     wx = -(dx * b1x + dy * b1y + dz * b1z)
     wy = -(dx * b2x + dy * b2y + dz * b2z)
@@ -137,6 +138,16 @@ def rough_dielectric(alpha, dx, dy, dz, sx, sy, sz, eta, u1, u2, kids):
     my = lx * b1y + ly * b2y + lz * sy
     mz = lx * b1z + ly * b2z + lz * sz
     cos_im = max(-(dx * mx + dy * my + dz * mz), 0.0)
+    return mx, my, mz, cos_im
+
+
+@njit(**JIT)
+def rough_dielectric(alpha, dx, dy, dz, sx, sy, sz, eta, u1, u2, kids):
+    """Both branches through one visible microfacet of a GGX interface (module doc) into
+    ``kids``; ``s`` the shading normal facing the incident side (``d . s < 0``), ``eta`` the
+    index ratio transmitted / incident. Returns the number of children (1 under total internal
+    reflection at the microfacet, else 2)."""
+    mx, my, mz, cos_im = visible_microfacet(alpha, dx, dy, dz, sx, sy, sz, u1, u2)
     refl, cos_t = fresnel_dielectric(cos_im, eta)
     rx, ry, rz = dx + 2.0 * cos_im * mx, dy + 2.0 * cos_im * my, dz + 2.0 * cos_im * mz
     g = ggx_g1(alpha, rx * sx + ry * sy + rz * sz, rx * mx + ry * my + rz * mz)
@@ -154,6 +165,24 @@ def rough_dielectric(alpha, dx, dy, dz, sx, sy, sz, eta, u1, u2, kids):
     kids[1, KW_R] = kids[1, KW_G] = kids[1, KW_B] = (1.0 - refl) * g
     kids[1, K_SIDE] = 1.0
     return 2
+
+
+@njit(**JIT)
+def rough_mirror(alpha, dx, dy, dz, sx, sy, sz, u1, u2, kids, mat_f, mat, coat_ior):
+    """Replace the mirror child ``kids[0]`` of a conductor (``coat_ior < 0``) or of a plastic
+    coat of index ``coat_ior`` by its GGX counterpart: reflection about one visible microfacet
+    ``m`` (module doc), weight ``F(m) G1(o)`` (per RGB channel for the metal, times its tint)."""
+    mx, my, mz, cos_im = visible_microfacet(alpha, dx, dy, dz, sx, sy, sz, u1, u2)
+    rx, ry, rz = dx + 2.0 * cos_im * mx, dy + 2.0 * cos_im * my, dz + 2.0 * cos_im * mz
+    g = ggx_g1(alpha, rx * sx + ry * sy + rz * sz, rx * mx + ry * my + rz * mz)
+    kids[0, KD_X], kids[0, KD_Y], kids[0, KD_Z] = rx, ry, rz
+    if coat_ior < 0.0:
+        for c in range(3):
+            kids[0, KW_R + c] = g * mat_f[mat, MF_TINT + c] * fresnel_conductor(cos_im, mat_f[mat, MF_N + c],
+                                                                                 mat_f[mat, MF_K + c])
+    else:
+        refl, _ = fresnel_dielectric(cos_im, coat_ior)
+        kids[0, KW_R] = kids[0, KW_G] = kids[0, KW_B] = g * refl
 
 
 @njit(**JIT)
@@ -215,9 +244,15 @@ def finish_hit(fin, seg, obj_i, mat_i, mat_f, media, k, part, mat, px, py, pz, n
             nk = smooth_dielectric(dx, dy, dz, sx, sy, sz, cos_i, eta, 1.0, kids, 0)
     elif kind == CONDUCTOR:
         nk = conductor(mat_f, mat, dx, dy, dz, sx, sy, sz, cos_i, 1.0, kids, 0)
+        if alpha > 0.0:
+            rough_mirror(alpha, dx, dy, dz, sx, sy, sz, uniform01(bseed, FROST_STREAM),
+                         uniform01(bseed, FROST_STREAM + 1), kids, mat_f, mat, -1.0)
     elif kind == PLASTIC:
         base = coat(mat_f[mat, MF_COAT_IOR], dx, dy, dz, sx, sy, sz, cos_i, 1.0, kids, 0)
         nk = 1
+        if alpha > 0.0:
+            rough_mirror(alpha, dx, dy, dz, sx, sy, sz, uniform01(bseed, FROST_STREAM),
+                         uniform01(bseed, FROST_STREAM + 1), kids, mat_f, mat, mat_f[mat, MF_COAT_IOR])
         ir, ig, ib = env_lookup(fin[4], env_p[0], env_p[1], sx, sy, sz)
         lights = fin[5]
         for q in range(lights.shape[0]):

@@ -19,7 +19,7 @@ Mitsuba's errors, and last ``peer_speedup_min=X``: over the four scenes, the sma
 Mitsuba's time at its most converged point to the time glassbench needs for the same error
 (on glassbench's Pareto front of time against error, interpolated in log-log between settings).
 
-The scene ``labelled`` (:mod:`benchmarks.peer_label`) is public_1 with a plain paper label: the
+The scene ``labelled`` (:mod:`benchmarks.labelled_scene`) is public_1 with a plain paper label: the
 tracer's diffuse lighting against a path tracer. It has no independent reference, so both are
 measured against Mitsuba at many samples; it is reported but not in ``peer_speedup_min``.
 
@@ -38,13 +38,13 @@ import time
 
 import numpy as np
 
-from benchmarks import peer_label
+from benchmarks import labelled_scene
 from benchmarks.paths import ORACLE_SPECS
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "out")
 LLVM_CANDIDATES = ("/usr/lib/x86_64-linux-gnu/libLLVM-19.so", "/usr/lib/llvm-19/lib/libLLVM-19.so",
                    "/usr/lib/aarch64-linux-gnu/libLLVM-19.so")
-#: The scene name of :mod:`benchmarks.peer_label`'s labelled bottle.
+#: The scene name of :mod:`benchmarks.labelled_scene`'s labelled bottle.
 LABELLED = "labelled"
 #: Chordal tolerance (mm) of Mitsuba's meshes: its geometric error stays far below its noise.
 PEER_TOL_MM = 0.005
@@ -84,7 +84,7 @@ def _write_ply(path, mesh):
 def mitsuba_scene(spec_path, folder, tol_mm=PEER_TOL_MM, design=None):
     """A loaded Mitsuba scene of a SPEC file (meshes written into ``folder``), or of ``design``
     (the SPEC's environment) with its plain paper labels as sheets
-    (:mod:`benchmarks.peer_label`); returns ``(scene, load seconds, triangles)``."""
+    (:mod:`benchmarks.labelled_scene`); returns ``(scene, load seconds, triangles)``."""
     import json
 
     import mitsuba as mi
@@ -138,7 +138,7 @@ def mitsuba_scene(spec_path, folder, tol_mm=PEER_TOL_MM, design=None):
     for i, label in enumerate(design.labels):
         from types import SimpleNamespace
 
-        from benchmarks.peer_label import label_sheet, sheet_bsdf
+        from benchmarks.labelled_scene import label_sheet, sheet_bsdf
 
         v, f = label_sheet(design, label)
         path = os.path.join(folder, f"label_{i}.ply")
@@ -254,11 +254,11 @@ def main(argv=None) -> int:
     fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 4), squeeze=False)
     for ax, name in zip(axes[0], names):
         labelled = name == LABELLED
-        spec = str(ORACLE_SPECS / f"{peer_label.SCENE if labelled else name}.json")
+        spec = str(ORACLE_SPECS / f"{labelled_scene.SCENE if labelled else name}.json")
         print(f"{name}:")
         if labelled:  # no independent reference: Mitsuba's own at many samples
-            scene = peer_label.labelled_design(spec)
-            ref_spp = 1024 if a.quick else peer_label.REFERENCE_SPP
+            scene = labelled_scene.labelled_design(spec)
+            ref_spp = 1024 if a.quick else labelled_scene.REFERENCE_SPP
             mt, load_s, tris, ref = mitsuba_points(spec, None, [s for s in spps if s < ref_spp // 4],
                                                    design=scene[0], reference_spp=ref_spp)
             gb = glassbench_points(spec, ref, settings, a.threads, scene=scene)

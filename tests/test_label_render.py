@@ -296,3 +296,20 @@ def test_labelled_sample_renders_from_the_command_line(tmp_path):
     out = tmp_path / "out.png"
     assert main(["render", sample, "-o", str(out), "--width", "30", "--height", "40", "--spp", "1"]) == 0
     assert out.stat().st_size > 0
+
+
+def test_label_record_overflow_traces_again_with_room(monkeypatch, relabel_case):
+    """A recording call with too little room for hits traces again with more: same results,
+    every hit kept (the record's ranges cover all of them)."""
+    import engine.tracer.labels as TL
+    from engine.tracer.context import trace_pixels
+    d, assets, _ = relabel_case
+    ctx = RenderContext.from_design(d, assets, KW["width"], KW["height"])
+    cols, rows = np.meshgrid(np.arange(KW["width"]), np.arange(KW["height"]))
+    cols, rows = cols.ravel(), rows.ravel()
+    plain = trace_pixels(ctx, cols, rows, 0, 2)
+    monkeypatch.setattr(TL, "HITS_PER_SAMPLE", 0)  # room for 64 hits only
+    rec = trace_pixels(ctx, cols, rows, 0, 2, record_labels=True)
+    np.testing.assert_array_equal(rec.sums, plain.sums)
+    smp_f, smp_i, hit_f, hit_i = rec.label_record
+    assert len(hit_f) > 64 and smp_i[-1, 1] == len(hit_f) and len(smp_f) == 2 * len(cols)

@@ -154,8 +154,9 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
     cols = np.ascontiguousarray(cols, dtype=np.int64)
     rows = np.ascontiguousarray(rows, dtype=np.int64)
     p = len(cols)
-    first = np.ascontiguousarray(np.broadcast_to(np.asarray(first, np.int64), (p,)))
-    count = np.ascontiguousarray(np.broadcast_to(np.asarray(count, np.int64), (p,)))
+    # copies: a read-only view would make the kernel compile a second time for its type
+    first = np.array(np.broadcast_to(np.asarray(first, np.int64), (p,)))
+    count = np.array(np.broadcast_to(np.asarray(count, np.int64), (p,)))
     sums = np.zeros((p, 3))
     sumsq = np.zeros(p)
     sig = np.zeros(p, np.uint64)

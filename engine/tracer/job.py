@@ -74,7 +74,8 @@ def _label_bit(k: int) -> np.int64:
 class _WaveRecord:
     """The traced results of one wave, by pixel index ``row * width + col`` (sorted), and the
     label terms of their samples: pixel ``i``'s samples are ``smp_*[s0[i] : s0[i] + count[i]]``
-    (``s0 = -1``: not recorded, the pixel can only be traced again)."""
+    (``s0 = -1``: not recorded, the pixel can only be traced again; ``-2``: its samples had no
+    label hits, its result does not depend on label colours)."""
 
     pix: np.ndarray
     first: np.ndarray
@@ -99,7 +100,7 @@ class _WaveRecord:
         s_off = h_off = 0
         s0, smp_f, smp_i, hit_f, hit_i = [], [], [], [], []
         for c in chunks:
-            s0.append(np.where(c.s0 >= 0, c.s0 + s_off, -1))
+            s0.append(np.where(c.s0 >= 0, c.s0 + s_off, c.s0))
             smp_f.append(c.smp_f)
             smp_i.append(c.smp_i + h_off)
             hit_f.append(c.hit_f)
@@ -158,6 +159,12 @@ def _colour_only(a, b, k, prev, job, old_t, new_t) -> bool:
         if x is not None and (x[0] != y[0] or not np.array_equal(x[1], y[1])):
             return False
     return True
+
+
+#: Samples whose label hits one job keeps for relabels (~40 bytes each, plus their hits); the
+#: pixels beyond are traced again by a relabel instead of recomputed.
+MAX_RECORDED_SAMPLES = 1 << 21
+_NO_SAMPLES = (np.zeros((0, 3)), np.zeros((0, 2), np.int64), np.zeros((0, H_COLS)), np.zeros((0, 2), np.int64))
 
 
 def _without_labels(design):
@@ -251,6 +258,7 @@ class RenderJob:
         #: per wave, the traced results (designs with labels only; relabel reads them)
         self._records = {} if design.labels else None
         self._chunks = None
+        self._recorded = 0
         self._ctx = None
         #: for a relabel: the previous job and the (H, W) mask of pixels to trace again
         self._reuse = None
@@ -468,10 +476,13 @@ class RenderJob:
                 if res.finished < len(cols):
                     return
                 film.add_aa(cols, rows, count, res)
+            chunk = None
+            if self._chunks is not None:  # (takes the lock itself)
+                first = np.zeros(len(cols), np.int64) if want is None else have + 1
+                chunk = self._record(rows, cols, first, 1 if want is None else count, res)
             with self._lock:
-                if self._chunks is not None:
-                    first = np.zeros(len(cols), np.int64) if want is None else have + 1
-                    self._chunks.append(self._record(rows, cols, first, 1 if want is None else count, res))
+                if chunk is not None:
+                    self._chunks.append(chunk)
                 self.stats.add_counters(res.counters)
                 if self.first_tile_seconds is None:
                     self.first_tile_seconds = time.perf_counter() - self._t0
@@ -496,17 +507,32 @@ class RenderJob:
         self.wave_log.append((wave, pixels, samples, time.perf_counter() - t_wave))
 
     def _record(self, rows, cols, first, count, res) -> _WaveRecord:
+        """A wave chunk's record. Only samples of pixels with label hits are kept (``s0 = -2``:
+        none, the pixel's result does not depend on label colours; ``-1``: not recorded), and at
+        most :data:`MAX_RECORDED_SAMPLES` a job, so memory follows the labels' pixels."""
         n = len(cols)
         count = np.broadcast_to(np.asarray(count, np.int64), (n,)).copy()
-        if res.label_record is None:
-            s0 = np.full(n, -1, np.int64)
-            smp_f, smp_i, hit_f, hit_i = (np.zeros((0, 3)), np.zeros((0, 2), np.int64),
-                                          np.zeros((0, H_COLS)), np.zeros((0, 2), np.int64))
-        else:
-            s0 = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(np.int64)
+        s0 = np.full(n, -1, np.int64)
+        smp_f, smp_i, hit_f, hit_i = _NO_SAMPLES
+        if res.label_record is not None and n:
             smp_f, smp_i, hit_f, hit_i = res.label_record
+            starts = np.concatenate([[0], np.cumsum(count)[:-1]]).astype(np.int64)
+            hits = np.add.reduceat(smp_i[:, 1] - smp_i[:, 0], starts)
+            keep = hits > 0
+            kept = int(count[keep].sum())
+            with self._lock:
+                room = self._recorded + kept <= MAX_RECORDED_SAMPLES
+                if room:
+                    self._recorded += kept
+            if room:
+                take = np.repeat(keep, count)
+                smp_f, smp_i = smp_f[take], smp_i[take]
+                s0 = np.where(keep, np.concatenate([[0], np.cumsum(np.where(keep, count, 0))[:-1]]), -2)
+            else:
+                s0 = np.where(keep, -1, -2)
+                smp_f, smp_i, hit_f, hit_i = _NO_SAMPLES
         return _WaveRecord(rows * self.width + cols, np.asarray(first, np.int64), count, res.sums, res.sumsq,
-                           res.signature, res.objects, res.depth, s0, smp_f, smp_i, hit_f, hit_i)
+                           res.signature, res.objects, res.depth, s0.astype(np.int64), smp_f, smp_i, hit_f, hit_i)
 
     def _paint_preview(self, cols, rows, values, b) -> None:
         """What the tiles' preview painting does (each centre over its ``b x b`` block, clipped
@@ -527,6 +553,10 @@ class RenderJob:
         grid[rows // b, cols // b] = values
         have[rows // b, cols // b] = True
         full = np.repeat(np.repeat(grid, b, 0), b, 1)[:h, :w]
+        if have.all():  # the usual case: every block's centre
+            with film.lock:
+                film.preview[...] = full
+            return
         on = np.repeat(np.repeat(have, b, 0), b, 1)[:h, :w]
         with film.lock:
             film.preview[on] = full[on]
@@ -549,13 +579,13 @@ class RenderJob:
             have = film.aa_count[ys, xs]
             first, count = have + 1, want[ys, xs] - have
         same = (rec.pix[idx] == pix) & (rec.first[idx] == first) & (rec.count[idx] == count)
-        same &= ~recolour[ys, xs] | (rec.s0[idx] >= 0)
+        same &= ~recolour[ys, xs] | (rec.s0[idx] != -1)  # -2: no label terms to recompute
         idx, rows, cols = idx[same], ys[same], xs[same]
         # every row of the record kept (idx is then 0, 1, ...: both are in pixel order): share
         # its arrays instead of copying them
         whole = len(idx) == len(rec.pix)
         part = rec if whole else rec.subset(idx)
-        again = np.nonzero(recolour[rows, cols])[0]
+        again = np.nonzero(recolour[rows, cols] & (part.s0 >= 0))[0]
         if len(again):
             sums, sumsq = part.sums.copy(), part.sumsq.copy()
             out_s, out_q = np.zeros((len(again), 3)), np.zeros(len(again))

@@ -40,6 +40,13 @@ def warm_up() -> None:
         trace_pixels(ctx, np.arange(4), np.arange(4), 1, 2, record=(np.zeros((64, 6), np.float32), np.zeros(1, np.int64)))
         nearest_hits(ctx.geometry, [[0.0, -100.0, 20.0]], [[0.0, 1.0, 0.0]])
         trace_rays(ctx, [[0.0, -100.0, 20.0]], [[0.0, 1.0, 0.0]])
+        # the relabel's recomputation of label terms (the types a job passes it)
+        from .kernels.labels import H_COLS, replay_samples
+        from .labels import with_buffers
+
+        none = np.zeros(0, np.int64)
+        replay_samples(with_buffers(ctx.labels), none, none, np.zeros((0, 3)), np.zeros((0, 2), np.int64),
+                       np.zeros((0, H_COLS)), np.zeros((0, 2), np.int64), np.zeros((0, 3)), np.zeros(0))
         _DONE.set()
 
 

@@ -25,7 +25,7 @@ SCENE = "public_1"
 #: Air between Mitsuba's label sheet and the glass (mm): far below a pixel (~0.2 mm here).
 SHEET_GAP_MM = 0.02
 #: Mitsuba's samples per pixel for the reference image.
-REFERENCE_SPP = 4096
+REFERENCE_SPP = 2048
 #: Linear RGB of the front (cream paper) and back (white paper), and the diffuse K.
 FRONT, BACK, DIFFUSE = (0.80, 0.62, 0.36), (0.90, 0.90, 0.90), 0.85
 

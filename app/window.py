@@ -121,6 +121,7 @@ class MainWindow(QMainWindow):
         self.preview.orbiting.connect(self.render_controller.hold)
         self.preview.imageDropped.connect(self.add_label_at)
         self.preview.placeRequested.connect(self._place_from_preview)
+        self.preview.sizeRequested.connect(self._size_from_preview)
         self._place_key = None
         self.labels_panel.message.connect(self._show_status)
         self.bumps_panel.message.connect(self._show_status)
@@ -345,6 +346,18 @@ class MainWindow(QMainWindow):
         at = self._surface_at(image_xy)
         if at is not None:
             self.labels_panel.place_selected(at, self._place_key)
+
+    def _size_from_preview(self, image_xy, finished: bool):
+        """A Ctrl+Shift+drag in the preview sizes the selected label, kept centred, so that a
+        corner is at the point under the pointer (one undo step per drag)."""
+        if finished:
+            self._place_key = None
+            return
+        if self._place_key is None:
+            self._place_key = self.editor.new_merge_key("size-label")
+        at = self._surface_at(image_xy)
+        if at is not None:
+            self.labels_panel.size_selected(at, self._place_key)
 
     def camera_from_wireframe(self):
         """Copy the 3D view's camera into the design (one undo step)."""

@@ -305,6 +305,33 @@ def test_shift_drag_on_the_preview_moves_the_selected_label_in_one_step(make_win
     assert w.scene.design.labels[0].z_mm != label.z_mm
 
 
+def test_ctrl_shift_drag_sizes_the_selected_label_by_a_corner_in_one_step(make_window, tmp_path, qtbot):
+    from engine.appearance.frame import Placement, label_frame
+
+    w = _with_picture(make_window, qtbot)
+    artwork(tmp_path, "a.png")
+    _add(w.labels_panel, tmp_path / "a.png")
+    before = w.scene.design.labels[0]
+    steps = w.undo_stack.count()
+    rect = w.preview._target_rect()
+    start = QPoint(int(rect.center().x()), int(rect.center().y()))
+    end = QPoint(int(rect.center().x() + 0.04 * rect.width()), int(rect.center().y() - 0.05 * rect.height()))
+    mods = Qt.ShiftModifier | Qt.ControlModifier
+    qtbot.mousePress(w.preview, Qt.LeftButton, mods, start)
+    qtbot.mouseMove(w.preview, end)
+    qtbot.mouseRelease(w.preview, Qt.LeftButton, mods, end)
+    corner = w._surface_at(w.preview.image_point(QPointF(end)))
+    assert corner is not None, "the corner lies on the glass"
+    label = w.scene.design.labels[0]
+    want = label_frame(w.scene.design.shape, Placement.of(before)).size_to(*corner)
+    assert (label.height_mm, label.width_mm) == (pytest.approx(want[0], abs=0.06), pytest.approx(want[1], abs=0.06))
+    assert (label.height_mm, label.width_mm) != (before.height_mm, before.width_mm)
+    assert (label.z_mm, label.angle_deg) == (before.z_mm, before.angle_deg), "sizing keeps the centre"
+    assert w.undo_stack.count() == steps + 1, "one drag, one step"
+    w.undo_stack.undo()
+    assert w.scene.design.labels[0] == before
+
+
 def test_removing_a_label_drops_only_its_own_images(make_window, tiny_design, tmp_path):
     w = make_window(assets={"notes.png": b"kept: not the labels' to drop"})
     panel = w.labels_panel

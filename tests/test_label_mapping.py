@@ -163,3 +163,32 @@ def test_a_label_centred_behind_the_bottle_wraps_across_180_degrees():
     decal = label_decal(cylinder_shape(), Label(z_mm=100.0, angle_deg=180.0, height_mm=40.0, width_mm=100.0))
     s, t = decal.lookup(np.array([math.pi - 0.01, -math.pi + 0.01]), np.full(2, 140.0))
     assert s == pytest.approx([0.5 - 0.01 * 40.0 / 100.0, 0.5 + 0.01 * 40.0 / 100.0])
+
+
+def test_a_corner_gives_the_size_of_the_label_it_bounds():
+    """``size_to`` inverts the footprint: the corner of a placed label gives back its size."""
+    import math
+
+    from engine.appearance.frame import Placement, label_frame
+
+    shape = cylinder_shape(r=30.0, top=150.0)
+    frame = label_frame(shape, Placement(70.0, 20.0, 40.0, 50.0))
+    theta, h = frame.surface(1.0, 0.0)  # the top right corner
+    z = float(frame.wall.at(h)[1])
+    height, width = frame.size_to(z, math.degrees(theta))
+    assert (height, width) == (pytest.approx(40.0, abs=1e-9), pytest.approx(50.0, abs=1e-9))
+    assert frame.size_to(70.0, 20.0 - 360.0) == (pytest.approx(0.0, abs=1e-9), pytest.approx(0.0, abs=1e-9))
+
+
+def test_a_corner_gives_the_size_on_a_non_round_wall_too():
+    import math
+
+    from engine.appearance.frame import Placement, label_frame
+
+    shape = prism_shape()
+    frame = label_frame(shape, Placement(70.0, 45.0, 60.0, 60.0))
+    _, z_top_edge = frame.surface(0.5, 0.0)
+    theta_side, _ = frame.surface(1.0, 0.5)
+    angle = math.degrees(float(theta_side)) + shape.rotation_deg
+    height, width = frame.size_to(float(z_top_edge), angle)
+    assert (height, width) == (pytest.approx(60.0, rel=1e-3), pytest.approx(60.0, rel=1e-3))

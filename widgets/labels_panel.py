@@ -31,6 +31,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QFileDialog, QFormLayout, Q
 from engine.appearance import images, presets, report
 from engine.appearance.regions import region_map
 from engine.appearance.label_cli import asset_name, camera_azimuth_deg, describe
+from engine.appearance.frame import Placement, label_frame
 from engine.errors import GlassbenchError
 from engine.model.design import FINISH_KINDS, Label, LabelSide
 from widgets import edit_fields as ef
@@ -530,6 +531,21 @@ class LabelsPanel(QWidget):
             return False
         z, angle = (round(float(v), 1) for v in at)
         return self._put("Move label", merge_key, dataclasses.replace(lab, z_mm=z, angle_deg=angle))
+
+    def size_selected(self, at, merge_key=None) -> bool:
+        """Size the selected label, kept centred, so that a corner lies at ``at`` (``(z_mm,
+        angle_deg)`` on the surface: :meth:`engine.appearance.frame.LabelFrame.size_to`);
+        ``merge_key`` makes a drag's sizes one undo step. At least 1 mm a side."""
+        lab = self.label
+        if lab is None:
+            return False
+        try:
+            frame = label_frame(self.editor.design.shape, Placement.of(lab))
+            height, width = frame.size_to(*at)
+        except (GlassbenchError, ValueError, ArithmeticError):
+            return False
+        height, width = (round(max(1.0, v), 1) for v in (height, width))
+        return self._put("Size label", merge_key, dataclasses.replace(lab, height_mm=height, width_mm=width))
 
     def _rename(self):
         lab = self.label

@@ -33,12 +33,16 @@ class PreviewView(QWidget):
     placeRequested(object, bool)
         A Shift+drag asks to put the selected label at ``(x, y)`` render pixels (``None``: off
         the picture); ``True`` when the drag ends.
+    sizeRequested(object, bool)
+        A Ctrl+Shift+drag asks to size the selected label so that a corner is at ``(x, y)``
+        render pixels (``None``: off the picture); ``True`` when the drag ends.
     """
 
     orbitRequested = Signal(float, float, bool)
     orbiting = Signal(bool)
     imageDropped = Signal(str, object)
     placeRequested = Signal(object, bool)
+    sizeRequested = Signal(object, bool)
     #: File endings accepted as a drop (the label artwork formats).
     DROP_EXTENSIONS = (".png", ".jpg", ".jpeg", ".tif", ".tiff", ".exr")
 
@@ -51,13 +55,13 @@ class PreviewView(QWidget):
         self.tiles_painted = 0
         self._press = None
         self._pan_from = None
-        self._placing = False  # a Shift+drag placing the selected label
+        self._placing = None  # a Shift+drag placing the selected label: its signal
         self.pan = QPointF(0.0, 0.0)  # offset (px) of the 1:1 image from centred
         self.note = ""
         self.setAcceptDrops(True)
         self.setToolTip("The glass as the tracer sees it: drag to orbit the camera; Ctrl+1 for 1:1, "
                         "Ctrl+0 to fit; drop an image file on the bottle to add a label there, Shift+drag "
-                        "to move the selected label")
+                        "to move the selected label, Ctrl+Shift+drag to size it by a corner")
 
     # ----------------------------------------------------------------------- image
     def image_size(self) -> tuple[int, int]:
@@ -143,8 +147,9 @@ class PreviewView(QWidget):
     # ----------------------------------------------------------------------- orbit
     def mousePressEvent(self, event):
         if event.button() == Qt.LeftButton and event.modifiers() & Qt.ShiftModifier:
-            self._placing = True
-            self.placeRequested.emit(self.image_point(event.position()), False)
+            sizing = bool(event.modifiers() & Qt.ControlModifier)
+            self._placing = self.sizeRequested if sizing else self.placeRequested
+            self._placing.emit(self.image_point(event.position()), False)
         elif event.button() == Qt.LeftButton:
             self._press = event.position()
             self.orbiting.emit(True)
@@ -152,8 +157,8 @@ class PreviewView(QWidget):
             self._pan_from = event.position()
 
     def mouseMoveEvent(self, event):
-        if self._placing:
-            self.placeRequested.emit(self.image_point(event.position()), False)
+        if self._placing is not None:
+            self._placing.emit(self.image_point(event.position()), False)
         elif self._pan_from is not None:
             self.pan = self.pan + (event.position() - self._pan_from)
             self._pan_from = event.position()
@@ -164,9 +169,9 @@ class PreviewView(QWidget):
 
     def mouseReleaseEvent(self, event):
         self._pan_from = None
-        if self._placing:
-            self._placing = False
-            self.placeRequested.emit(None, True)
+        if self._placing is not None:
+            signal, self._placing = self._placing, None
+            signal.emit(None, True)
         if self._press is not None:
             self._press = None
             self.orbitRequested.emit(0.0, 0.0, True)

@@ -100,6 +100,20 @@ class LabelFrame:
         """Whether ``(s, t)`` is exactly linear in ``(theta, h)`` (so 2 x 2 nodes interpolate it)."""
         return True
 
+    def size_to(self, z_mm: float, angle_deg: float) -> tuple[float, float]:
+        """``(height_mm, width_mm)`` of the label, kept centred, whose corner is the surface point
+        at height ``z_mm`` and azimuth ``angle_deg`` (world frame): twice the slant from the
+        centre's height and twice the girth arc from the centre's azimuth at the centre height
+        (the shorter way round). What a drag on a label's corner asks for."""
+        return 2.0 * abs(self._slant(z_mm)), 2.0 * self._arc(math.radians(angle_deg))
+
+    def _slant(self, z_mm: float) -> float:
+        return float(self.wall.h_at_z(z_mm)) - self.h_c
+
+    def _arc(self, theta: float) -> float:
+        d = math.remainder(theta - self.theta_c, TWO_PI)
+        return abs(d) * self.r_c
+
 
 class NonRoundFrame(LabelFrame):
     """The map on a non-round wall: ``h`` is z, ``s`` follows the girth fraction."""
@@ -158,6 +172,17 @@ class NonRoundFrame(LabelFrame):
 
     def linear(self) -> bool:
         return False
+
+    def _slant(self, z_mm: float) -> float:
+        return float(np.interp(z_mm, self._z, self._sigma)) - self.sigma_c
+
+    def _arc(self, theta: float) -> float:
+        theta = theta - math.radians(self.shape.rotation_deg)  # world -> bottle frame
+        d = math.remainder(theta - self.theta_c, TWO_PI)
+        z = np.array([self.h_c])
+        arc = abs(float(self.wall.girth(np.array([self.theta_c + d]), z)[0]
+                        - self.wall.girth(np.array([self.theta_c]), z)[0]))
+        return min(arc, self.p_c - arc) if arc > 0.5 * self.p_c else arc
 
 
 @lru_cache(maxsize=256)

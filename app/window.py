@@ -337,27 +337,26 @@ class MainWindow(QMainWindow):
 
     def _place_from_preview(self, image_xy, finished: bool):
         """A Shift+drag in the preview moves the selected label's centre to the point under the
-        pointer (one undo step per drag; points off the glass are skipped)."""
-        if finished:
-            self._place_key = None
-            return
-        if self._place_key is None:
-            self._place_key = self.editor.new_merge_key("place-label")
-        at = self._surface_at(image_xy)
-        if at is not None:
-            self.labels_panel.place_selected(at, self._place_key)
+        pointer."""
+        self._label_drag("place-label", self.labels_panel.place_selected, image_xy, finished)
 
     def _size_from_preview(self, image_xy, finished: bool):
         """A Ctrl+Shift+drag in the preview sizes the selected label, kept centred, so that a
-        corner is at the point under the pointer (one undo step per drag)."""
+        corner is at the point under the pointer."""
+        self._label_drag("size-label", self.labels_panel.size_selected, image_xy, finished)
+
+    def _label_drag(self, name, apply, image_xy, finished: bool):
+        """One step of a label drag on the preview: ``apply((z_mm, angle_deg), merge key)`` at
+        the surface point under ``image_xy`` (points off the glass are skipped); a whole drag
+        is one undo step."""
         if finished:
             self._place_key = None
             return
         if self._place_key is None:
-            self._place_key = self.editor.new_merge_key("size-label")
+            self._place_key = self.editor.new_merge_key(name)
         at = self._surface_at(image_xy)
         if at is not None:
-            self.labels_panel.size_selected(at, self._place_key)
+            apply(at, self._place_key)
 
     def camera_from_wireframe(self):
         """Copy the 3D view's camera into the design (one undo step)."""

@@ -15,7 +15,6 @@ from __future__ import annotations
 import hashlib
 import os
 import struct
-import tempfile
 import threading
 import zlib
 from collections import OrderedDict
@@ -25,6 +24,7 @@ import numpy as np
 
 from .. import limits as L
 from ..errors import GlassbenchError, bounded, shown
+from ..files.bytes_file import bytes_as_file
 
 #: Leading bytes of the formats artwork may have, and the extension OpenImageIO is told.
 MAGIC = ((b"\x89PNG\r\n\x1a\n", ".png"), (b"\xff\xd8\xff", ".jpg"), (b"II*\x00", ".tif"),
@@ -148,10 +148,7 @@ class _Decoded:
 
 def _with_file(data, ext: str, fn):
     # OpenImageIO's Python binding reads files only: one private temporary file per decode.
-    with tempfile.TemporaryDirectory() as tmp:
-        path = os.path.join(tmp, "image" + ext)
-        with open(path, "wb") as fh:
-            fh.write(data)
+    with bytes_as_file(data, ext, "image") as path:
         try:
             return fn(path)
         except ArtworkError as exc:  # the temporary's path means nothing to the user

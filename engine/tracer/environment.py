@@ -13,7 +13,6 @@ from __future__ import annotations
 import hashlib
 import math
 import os
-import tempfile
 import threading
 from collections import OrderedDict
 from dataclasses import dataclass
@@ -22,6 +21,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..errors import bounded, shown
+from ..files.bytes_file import bytes_as_file
 from ..limits import (ENV_SCALE_RANGE, MAX_ENV_TEXELS, MAX_TEXEL, MAX_TURN_DEG, check_range)
 
 
@@ -189,10 +189,7 @@ class _DecodedCache:
 def _decode_bytes(name: str, data) -> np.ndarray:
     # OpenImageIO's Python binding reads files only: one temporary file, once per image.
     suffix = os.path.splitext(str(name))[1] or ".exr"
-    with tempfile.TemporaryDirectory() as tmp:
-        p = os.path.join(tmp, "env" + suffix)
-        with open(p, "wb") as fh:
-            fh.write(data)
+    with bytes_as_file(data, suffix, "env") as p:
         try:
             return read_radiance_image(p)
         except ValueError as exc:

@@ -57,13 +57,16 @@ def noise_targets(film, cap: int, noise_target: float, level: float) -> np.ndarr
     """Samples each anti-aliased pixel should reach so that its standard error falls below
     ``noise_target x level``: ``n = var / (target level)^2``, at least what it has, at most
     ``cap``; 0 for pixels without anti-aliasing samples."""
+    out = np.zeros(film.aa_count.shape, np.int64)
     with film.lock:
-        n = film.aa_count.astype(float)
-        have = film.aa_count.copy()
-        mean = film.aa_sum.mean(axis=2) / np.maximum(n, 1)
-        var = np.maximum(film.aa_sumsq / np.maximum(n, 1) - mean ** 2, 0.0) * n / np.maximum(n - 1, 1)
+        at = np.nonzero(film.aa_count)  # only anti-aliased pixels: a few per cent of the image
+        have = film.aa_count[at]
+        n = have.astype(float)
+        mean = film.aa_sum[at].mean(axis=1) / n
+        var = np.maximum(film.aa_sumsq[at] / n - mean ** 2, 0.0) * n / np.maximum(n - 1, 1)
     want = np.ceil(var / (noise_target * level) ** 2)
-    return np.where(have > 0, np.clip(want, have, cap), 0).astype(np.int64)
+    out[at] = np.clip(want, have, cap).astype(np.int64)
+    return out
 
 
 def plan(spp: int, adaptive: bool):

@@ -1,5 +1,6 @@
-"""The ``glassbench`` subcommands that need no window: info, export-mesh, new, render, labels,
-dieline, label, cap, bump.
+"""The ``glassbench`` subcommands that need no window: info, export-mesh, new, render here, and
+those of :data:`DELEGATED` (batch, turntable, labels, dieline, label, cap, bump) in the modules
+that own them.
 
 Design rule: each subcommand is a small function over the engine's public API; ``main``
 turns every expected failure (a bad project, a bad DXF, a missing file, a tracer that
@@ -9,6 +10,7 @@ refuses) into one line on stderr and exit status 2, never a traceback. No Qt her
 from __future__ import annotations
 
 import argparse
+import importlib
 import json
 import math
 import os
@@ -21,8 +23,12 @@ from .errors import CliError, GlassbenchError, ProjectError, bounded, shown  # n
 from .geometry.shape import BottleShape
 from .model.trade import format_table, trade_numbers  # noqa: F401 - also for callers of the CLI
 
-SUBCOMMANDS = ("info", "export-mesh", "new", "render", "batch", "turntable", "labels", "dieline",
-               "label", "cap", "bump")
+#: Subcommands whose parsers and handlers live with what they do: module (relative to
+#: ``engine``) -> its subcommands. Each module offers ``add_parsers(sub)`` and ``cmd_NAME(args)``.
+DELEGATED = {".batch.commands": ("batch", "turntable"),
+             ".appearance.label_cli": ("labels", "dieline", "label"),
+             ".appearance.commands": ("cap", "bump")}
+SUBCOMMANDS = ("info", "export-mesh", "new", "render") + sum(DELEGATED.values(), ())
 EXIT_ERROR = 2
 
 
@@ -57,19 +63,24 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument("--width", type=int, default=None)
     render.add_argument("--height", type=int, default=None)
     render.add_argument("--spp", type=int, default=None)
-    add_batch_parsers(sub)
-    add_label_parsers(sub)
-    add_finish_parsers(sub)
+    for module in DELEGATED:
+        _delegate(module).add_parsers(sub)
     return p
+
+
+def _delegate(module: str):
+    """The module of :data:`DELEGATED` that owns some subcommands (imported on first use)."""
+    return importlib.import_module(module, __package__)
 
 
 def main(argv: list[str] | None = None) -> int:
     """Run one subcommand; returns the exit status (0 ok, 2 error; argparse exits 2 itself)."""
     args = build_parser().parse_args(argv)
     handler = {"info": cmd_info, "export-mesh": cmd_export_mesh, "new": cmd_new,
-               "render": cmd_render, "batch": cmd_batch, "turntable": cmd_turntable,
-               "labels": cmd_labels, "dieline": cmd_dieline, "label": cmd_label,
-               "cap": cmd_cap, "bump": cmd_bump}[args.command]
+               "render": cmd_render}.get(args.command)
+    if handler is None:
+        owner = next(m for m, names in DELEGATED.items() if args.command in names)
+        handler = getattr(_delegate(owner), f"cmd_{args.command}")
     try:
         return handler(args)
     except KeyboardInterrupt:
@@ -201,73 +212,3 @@ def render_via_tracer(cli_render, project, output, width, height, spp) -> int:
         print(f"wrote {output}")
         return 0
     return int(status)
-
-
-# ------------------------------------------------------------------- batch, turntable
-# The batch machinery lives in engine.batch (job files, Dask, manifest, contact sheet);
-# these three functions only hand over to it.
-
-def add_batch_parsers(sub) -> None:
-    """Add ``batch`` and ``turntable`` (see :mod:`engine.batch.commands`)."""
-    from .batch.commands import add_parsers
-    add_parsers(sub)
-
-
-def cmd_batch(args) -> int:
-    """``batch JOB.toml|JOB.json``: variants x views on a LocalCluster or ``--scheduler``."""
-    from .batch.commands import cmd_batch as run
-    return run(args)
-
-
-def cmd_turntable(args) -> int:
-    """``turntable PROJECT --frames N -o DIR``: DIR/frame_0000.EXT ... about the bottle's axis."""
-    from .batch.commands import cmd_turntable as run
-    return run(args)
-
-
-# ------------------------------------------------------------- labels, dieline, label
-# What the printer needs and scripted label variants live in engine.appearance.label_cli.
-
-def add_label_parsers(sub) -> None:
-    """Add ``labels``, ``dieline`` and ``label`` (see :mod:`engine.appearance.label_cli`)."""
-    from .appearance.label_cli import add_parsers
-    add_parsers(sub)
-
-
-def cmd_labels(args) -> int:
-    """``labels PROJECT [--json]``: area, flat die-line, largest strain, warnings per label."""
-    from .appearance.label_cli import cmd_labels as run
-    return run(args)
-
-
-def cmd_dieline(args) -> int:
-    """``dieline PROJECT LABEL -o OUT.svg|pdf|dxf``: the label's flat shape, 1:1."""
-    from .appearance.label_cli import cmd_dieline as run
-    return run(args)
-
-
-def cmd_label(args) -> int:
-    """``label PROJECT add IMAGE --z --height --width ...`` / ``remove LABEL``: saves."""
-    from .appearance.label_cli import cmd_label as run
-    return run(args)
-
-
-# ------------------------------------------------------------------------- cap, bump
-# Closures and bump tiles live in engine.appearance; these three functions hand over to it.
-
-def add_finish_parsers(sub) -> None:
-    """Add ``cap`` and ``bump`` (see :mod:`engine.appearance.commands`)."""
-    from .appearance.commands import add_parsers
-    add_parsers(sub)
-
-
-def cmd_cap(args) -> int:
-    """``cap PROJECT set KIND [--colour HEX]``: put a closure on the finish (``none``: off)."""
-    from .appearance.commands import cmd_cap as run
-    return run(args)
-
-
-def cmd_bump(args) -> int:
-    """``bump PROJECT add KIND --z0 MM --z1 MM [--repeat N] [--depth MM]``, ``list``, ``remove``."""
-    from .appearance.commands import cmd_bump as run
-    return run(args)

@@ -59,10 +59,11 @@ def _record(rec_rays, rec_n, ox, oy, oz, dx, dy, dz):
 
 
 @njit(**INLINE)
-def _lit(tex, scale, rot, wr, wg, wb, dx, dy, dz):
-    """What a branch of weight ``w`` brings back from the environment along ``d``."""
+def _close(tex, scale, rot, lr, lg, lb, wr, wg, wb, dx, dy, dz):
+    """Radiance ``l`` plus what a branch of weight ``w`` brings back from the environment
+    along ``d`` (how every branch that stops ends)."""
     er, eg, eb = env_lookup(tex, scale, rot, dx, dy, dz)
-    return wr * er, wg * eg, wb * eb
+    return lr + wr * er, lg + wg * eg, lb + wb * eb
 
 
 @njit(**JIT)
@@ -119,10 +120,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
         last, side = stk_i[top, KI_LAST], stk_i[top, KI_SIDE]
         bseed = stk_u[top]
         if nodes >= max_nodes:
-            er, eg, eb = _lit(tex, scale, rot, wr, wg, wb, dx, dy, dz)
-            lr += er
-            lg += eg
-            lb += eb
+            lr, lg, lb = _close(tex, scale, rot, lr, lg, lb, wr, wg, wb, dx, dy, dz)
             counters[C_BUDGET] += 1
             dominant = False
             continue
@@ -135,10 +133,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
         if k < 0:
             if medium != AIR:
                 counters[C_LEAKS] += 1
-            er, eg, eb = _lit(tex, scale, rot, wr, wg, wb, dx, dy, dz)
-            lr += er
-            lg += eg
-            lb += eb
+            lr, lg, lb = _close(tex, scale, rot, lr, lg, lb, wr, wg, wb, dx, dy, dz)
             dominant = False
             continue
         counters[C_NODES] += 1
@@ -153,10 +148,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
         if dominant:
             sig = mix64(sig ^ np.uint64(k + 1))
         if depth >= max_depth:
-            er, eg, eb = _lit(tex, scale, rot, wr, wg, wb, dx, dy, dz)
-            lr += er
-            lg += eg
-            lb += eb
+            lr, lg, lb = _close(tex, scale, rot, lr, lg, lb, wr, wg, wb, dx, dy, dz)
             counters[C_CUT_DEPTH] += 1
             dominant = False
             continue
@@ -224,10 +216,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
                 cr, cg, cb = cr / q_s, cg / q_s, cb / q_s
                 wmax = rr_weight
             if wmax < min_weight or top >= cap:
-                er, eg, eb = _lit(tex, scale, rot, cr, cg, cb, cdx, cdy, cdz)
-                lr += er
-                lg += eg
-                lb += eb
+                lr, lg, lb = _close(tex, scale, rot, lr, lg, lb, cr, cg, cb, cdx, cdy, cdz)
                 counters[C_CUT_WEIGHT] += 1
                 if q == nk - 1:
                     dominant = False

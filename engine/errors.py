@@ -64,7 +64,3 @@ class ProjectError(GlassbenchError):
 class DesignError(ProjectError, ValueError):
     """A design value outside its physics or its limits (:mod:`engine.limits`); the message
     names the field. A ``ProjectError``, since a project may not hold it either."""
-
-
-class CliError(GlassbenchError):
-    """A command-line problem to report as one line (exit status 2, :func:`engine.cli.main`)."""

@@ -1,7 +1,7 @@
 """The meridian chains of each closure kind, built from the finish they sit on.
 
 Design rule: one function per kind turns a :class:`~engine.appearance.closures.Finish` (mm)
-and the :class:`~engine.model.design.Cap` into :class:`~engine.appearance.closures.ClosurePart`
+and the :class:`~engine.model.design.Cap` into :class:`~engine.appearance.closure_parts.ClosurePart`
 s; each part is a closed polyline from the axis back to the axis, material on the left, whose
 corners are rounded by circular arcs (:func:`filleted_chain`). Sizes scale with the neck: the
 skirt's inside clears the thread (or the neck) by a small gap (at least 0.3 mm of air around a

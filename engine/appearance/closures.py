@@ -23,9 +23,7 @@ from functools import lru_cache
 from ..geometry.chain import radius_at
 from ..geometry.validate import body_profile
 from ..model.design import BumpTile, Design
-from .closure_parts import (ALUMINIUM_K, ALUMINIUM_N, BARE_METAL, CORK, CORK_COLOUR, GAP_MM,  # noqa: F401
-                            GOLD_LACQUER, PLASTIC_IOR, RGB, SKIRT_GAP_MM, ClosureMaterial, ClosurePart,
-                            PartRelief, cap_material)
+from .closure_parts import ClosurePart, cap_material
 from .closure_shapes import closure_parts
 
 

@@ -131,3 +131,24 @@ def test_the_new_tabs_fit_the_side_dock_without_squeezing(make_window, qtbot):
         assert spin.width() >= hint.width() and spin.height() >= hint.height()
     preview = w.preview.width() * w.preview.height()
     assert all(preview > d.width() * d.height() for d in w.docks.values() if d.isVisible())
+
+
+def test_a_tile_moved_onto_the_cap_follows_its_skirt_and_is_refused_without_a_cap(make_window):
+    from engine.appearance.bump_tables import cap_bands
+    from engine.appearance.closures import closure_geometry
+    w = make_window()
+    panel = w.bumps_panel
+    words.select_key(panel.add_kind, "knurl")
+    panel.add_button.click()
+    before = w.scene.design
+    words.select_key(panel.on, "cap")  # the sample has no cap: refused, nothing changes
+    assert w.scene.design == before and "no cap" in panel.problem.text()
+    assert panel.on.currentData() == "bottle"
+    words.select_key(w.cap_panel.kind, "screw")
+    words.select_key(panel.on, "cap")
+    tile = w.scene.design.bumps[0]
+    assert tile.on == "cap" and "on the cap" in panel.list.item(0).text()
+    assert cap_bands(closure_geometry(w.scene.design), tile.z0, tile.z1), "the band lies on the skirt"
+    assert "cap's lower edge" in panel.z0.toolTip()
+    w.undo_stack.undo()
+    assert w.scene.design.bumps[0].on == "bottle" and panel.on.currentData() == "bottle"

@@ -6,8 +6,10 @@ where every number the kernels need to stay smooth is made safe: rounding widths
 so that grooves, facets and seams meet with continuous normals, bands fade in and out, a
 thread is laid out from its standard (:func:`engine.appearance.threads.thread_layout`).
 :func:`bump_tables` does this for a whole design: the tiles on the bottle's outer surface
-(bands placed by height, converted to the section's arc length ``v``) and the reliefs on the
-closure's parts, with one float32 atlas holding every relief image. Units mm.
+(bands placed by height, converted to the section's arc length ``v``), the closure's own
+reliefs, and the designer's tiles on the cap (bands placed by height above the closure's
+lower edge on its outer skirt faces, :func:`cap_bands`), with one float32 atlas holding every
+relief image. Units mm.
 """
 from __future__ import annotations
 
@@ -66,6 +68,36 @@ def band_coordinates(design, z0: float, z1: float):
     idx, t = locate(wall, np.array([lo, hi]))
     v = base + starts[idx] + t * np.array([wall[i].length for i in idx])
     return float(v[0]), float(v[1]), radius
+
+
+def cap_faces(closure):
+    """``[(part name, h0, h1, v0, radius)]``: the closure's outer skirt faces, each a vertical
+    straight piece of a part's meridian chain walked upwards (material on the left: the
+    outside of a shell), from height ``h0`` to ``h1`` (mm above the closure's lower edge),
+    starting at arc length ``v0`` along its part's chain (as the tracer measures ``v`` on a
+    closure part), at ``radius`` (mm)."""
+    from ..geometry.segments import Line
+    out = []
+    for part in closure.parts:
+        v = 0.0
+        for sg in part.chain:
+            (r0, za), (r1, zb) = sg.p0, sg.p1
+            if isinstance(sg, Line) and abs(r1 - r0) <= 1e-9 * (r0 + 1.0) and zb > za:
+                out.append((part.name, za - closure.z_min, zb - closure.z_min, v, float(r0)))
+            v += sg.length
+    return out
+
+
+def cap_bands(closure, z0: float, z1: float):
+    """``[(part name, v0, v1, radius)]``: where the band of heights ``z0..z1`` (mm above the
+    closure's lower edge) lies on the closure's outer skirt faces (:func:`cap_faces`); empty
+    where it misses them all (above a short skirt, say)."""
+    out = []
+    for name, h0, h1, v0, radius in cap_faces(closure):
+        a, b = max(z0, h0), min(z1, h1)
+        if b - a > 1e-6:
+            out.append((name, v0 + (a - h0), v0 + (b - h0), radius))
+    return out
 
 
 def tile_params(tile, v0: float, v1: float, radius: float, neck_diameter: float = 0.0,
@@ -129,9 +161,15 @@ def bump_tables(design, assets) -> BumpTables:
     kinds, rows, surfaces, names, atlas = [], [], [], [], []
     count = 0
     neck = 2.0 * finish_of(design).r_neck
+    closure = closure_geometry(design)
     for tile in design.bumps:
-        band = band_coordinates(design, tile.z0, tile.z1)
-        if band is None:
+        if tile.on == "cap":
+            bands = cap_bands(closure, tile.z0, tile.z1) if closure is not None else []
+            places = [(f"closure:{name}", (v0, v1, r)) for name, v0, v1, r in bands]
+        else:
+            band = band_coordinates(design, tile.z0, tile.z1)
+            places = [] if band is None else [(BOTTLE, band)]
+        if not places:
             continue
         texture = None
         if tile.kind in IMAGE_BUMPS:
@@ -140,12 +178,12 @@ def bump_tables(design, assets) -> BumpTables:
             texture = (count, tex.shape[1], tex.shape[0], mode)
             atlas.append(tex.reshape(-1, 3))
             count += tex.shape[0] * tex.shape[1]
-        kind, row = tile_params(tile, *band, neck_diameter=neck, texture=texture)
-        kinds.append(kind)
-        rows.append(row)
-        surfaces.append(BOTTLE)
-        names.append(tile.name)
-    closure = closure_geometry(design)
+        for surface, band in places:
+            kind, row = tile_params(tile, *band, neck_diameter=neck, texture=texture)
+            kinds.append(kind)
+            rows.append(row)
+            surfaces.append(surface)
+            names.append(tile.name)
     for part in closure.parts if closure is not None else ():
         for relief in part.reliefs:
             kind, row = tile_params(relief.tile, relief.v0, relief.v1, relief.radius, neck)

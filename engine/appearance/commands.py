@@ -13,7 +13,7 @@ import os
 
 from ..errors import shown
 from ..limits import BUMP_REPEAT_RANGE, GGX_ALPHA_RANGE, MAX_BUMP_DEPTH_MM, MAX_EXTENT_MM, check_range
-from ..model.design import BUMP_KINDS, CAP_KINDS, CAP_MATERIALS
+from ..model.design import BUMP_KINDS, BUMP_SURFACES, CAP_KINDS, CAP_MATERIALS
 
 CAP_CHOICES = CAP_KINDS + ("none",)
 #: Relief maps by their command-line name (``--map``).
@@ -47,6 +47,9 @@ def add_parsers(sub) -> None:
     bump.add_argument("--map", choices=tuple(MAP_MODES), default="height",
                       help="how an image's texels are read (default: height)")
     bump.add_argument("--inverted", action="store_true", help="press in instead of raise")
+    bump.add_argument("--on", choices=BUMP_SURFACES, default="bottle",
+                      help="the glass (heights above the standing plane) or the cap's skirt "
+                           "(heights above the cap's lower edge)")
     bump.add_argument("--name", default=None)
 
 
@@ -106,7 +109,10 @@ def cmd_bump(args) -> int:
     design, assets = load_project(args.project)
     if args.action == "list":
         for i, t in enumerate(design.bumps):
-            print(f"{i}: {t.name} ({t.kind}) z {t.z0:g}..{t.z1:g} mm, x{t.repeat}, depth {t.depth:g} mm")
+            where = "" if t.on == "bottle" else (" on the cap" if design.cap is not None else
+                                                 " on the cap (no cap: not drawn)")
+            print(f"{i}: {t.name} ({t.kind}) z {t.z0:g}..{t.z1:g} mm{where}, x{t.repeat}, "
+                  f"depth {t.depth:g} mm")
         return 0
     if args.action == "remove":
         try:
@@ -121,8 +127,23 @@ def cmd_bump(args) -> int:
         return 0
     tile, assets = _new_tile(args, design, dict(assets), CliError)
     _save(args.project, dataclasses.replace(design, bumps=design.bumps + (tile,)), assets)
-    print(f"wrote {args.project}: added {tile.name} ({tile.kind}) on z {tile.z0:g}..{tile.z1:g} mm")
+    where = " above the cap's lower edge" if tile.on == "cap" else ""
+    print(f"wrote {args.project}: added {tile.name} ({tile.kind}) on z {tile.z0:g}..{tile.z1:g} mm{where}")
     return 0
+
+
+def _check_cap_band(design, kind: str, z0: float, z1: float, CliError) -> None:
+    """Refuse a tile on the cap that could not be drawn: no cap, a thread, a band off the skirt."""
+    from .bump_tables import cap_bands
+    from .closures import closure_geometry
+    if kind == "thread":
+        raise CliError("a thread belongs to the glass finish, not to the cap (drop --on cap)")
+    closure = closure_geometry(design)
+    if closure is None:
+        raise CliError("the design has no cap: put one on first (glassbench cap PROJECT set KIND)")
+    if not cap_bands(closure, z0, z1):
+        raise CliError(f"heights {z0:g}..{z1:g} mm above the cap's lower edge miss its skirt "
+                       f"(the {closure.kind} is {closure.height_mm:.1f} mm tall)")
 
 
 def _new_tile(args, design, assets, CliError):
@@ -141,7 +162,9 @@ def _new_tile(args, design, assets, CliError):
         check_range("--repeat", args.repeat, BUMP_REPEAT_RANGE, integer=True)
     given = dict(repeat=args.repeat, depth=args.depth, alpha=args.alpha, angle_deg=args.angle,
                  width_deg=args.width_deg, pitch=args.pitch, name=args.name,
-                 inverted=True if args.inverted else None)
+                 inverted=True if args.inverted else None, on=args.on)
+    if args.on == "cap":
+        _check_cap_band(design, what, args.z0, args.z1, CliError)
     if what.startswith("image:"):
         path = what[len("image:"):]
         from ..files.project import DEFAULT_LIMITS

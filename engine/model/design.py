@@ -173,6 +173,8 @@ PROCEDURAL_BUMPS = ("knurl", "stipple", "flutes", "facets", "diamond", "thread",
 #: embossed logo or text (the image's ink raised with a rounded bevel).
 IMAGE_BUMPS = ("height_map", "colour_code", "normal_gl", "normal_dx", "emboss")
 BUMP_KINDS = PROCEDURAL_BUMPS + IMAGE_BUMPS
+#: Where a bump tile lies: the glass's outer surface, or the closure's outer skirt.
+BUMP_SURFACES = ("bottle", "cap")
 
 
 @dataclass(frozen=True)
@@ -203,6 +205,11 @@ class BumpTile:
     ``asset``, ``width_deg``
         image kinds: the embedded image, and the angle one copy spans around the axis
         (360 / repeat or more: the copies tile seamlessly).
+    ``on``
+        ``"bottle"``: the glass's outer surface, ``z0..z1`` above the standing plane;
+        ``"cap"``: the closure's outer skirt, ``z0..z1`` above the closure's lower edge, so
+        the band follows the cap when the finish moves (no cap: the tile is kept, not drawn;
+        a thread belongs to the glass finish, never to the cap).
     """
 
     name: str = "bump"
@@ -220,6 +227,7 @@ class BumpTile:
     asset: str | None = None
     width_deg: float = 360.0
     inverted: bool = False
+    on: str = "bottle"
 
 
 #: Closure kinds: screw cap with a knurled skirt, crown cork, cork with a capsule, aluminium

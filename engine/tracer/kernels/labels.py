@@ -1,19 +1,32 @@
-"""Labels at an outer-wall hit, compiled: where the hit falls on which label, and what the sheet
-does to the branch there.
+"""Labels at a hit on the outer wall or a closure part, compiled: where the hit falls on which
+label, and what the sheet does to the branch there.
 
-Design rule: a label is a decal over the outer wall, not an object: :func:`label_hit` is called
-by the integrator at every hit on render object 0 (the outer wall) when the design has labels,
-and either hands the hit back (``nk = -1``: no label there, or a clear part of one; the glass's
-own material follows) or answers for it: children written into ``kids`` (coat or foil mirror
-branches, and the glass's two branches scaled by the uncovered fraction ``1 - alpha``) and the
+Design rule: a label is a decal over a render object, not an object: :func:`label_hit` is
+called by the integrator at every hit on an object labels lie on (the outer wall, object 0, and
+for prints on the cap a closure part; their bits are ``lab[LB_OBJECTS]``), and either hands the
+hit back (``nk = -1``: no label there, or a clear part of one; the object's own material
+follows) or answers for it: children written into ``kids`` (coat or foil mirror branches, and on
+the wall the glass's two branches scaled by the uncovered fraction ``1 - alpha``) and the
 radiance the lit diffuse sheet sends back at once. The label tables are the tuple ``lab`` of
-:func:`engine.tracer.labels.label_arrays` (columns of :mod:`engine.appearance.compiled` and
-:mod:`engine.appearance.decal`); a design without labels passes empty tables and costs one
-length test per outer-wall hit.
+:func:`engine.tracer.labels.label_arrays` (columns of :mod:`engine.appearance.compiled`,
+:mod:`engine.appearance.decal` and :mod:`engine.appearance.cap_surfaces`); a design without
+labels passes empty tables and costs one length test per hit.
 
-Lookup. The hit's surface coordinates are the labels' ``(theta, h)``
-(:mod:`engine.appearance.surface`): ``theta`` the polar angle in the bottle frame, ``h`` the
-arc length along the section (round walls, the segment's own ``v``) or the height z (swept).
+Relief. The caller passes the shading normal the object's relief bends the geometric one to
+(bump tiles under the label, :func:`engine.tracer.kernels.finish.shading_frame`): the coat's
+mirror child, the irradiance lookups, the lights and an embossed region's bend start from it;
+the geometric normal still decides media (a mirror child a bent normal would send into the wall
+reflects about the geometric normal; the glass beneath takes :func:`_glass_beneath`). A frosted
+band under a label's uncovered texels is drawn smooth.
+
+Lookup. Each label's place row (``LB_PLACE``) names its surface, its object and the band of
+the object's arc length ``v`` it may cover. On the wall the hit's surface coordinates are the
+labels' ``(theta, h)`` (:mod:`engine.appearance.surface`): ``theta`` the polar angle in the
+bottle frame, ``h`` the arc length along the section (round walls, the segment's own ``v``) or
+the height z (swept). On the cap's skirt ``(theta, h)`` is the world polar angle and z, looked
+up in the print's decal; on the cap's top ``(s, t)`` is affine in the hit's ``(x, y)``
+(:func:`_top_st`). A closure is opaque: a print on it is seen from outside only, gets no light
+from behind, and its uncovered fraction is handed back (``rest``) for the closure's material.
 Labels are tried from the last (on top) down; the first whose artwork covers the point
 (alpha > 0 and not a clear-vinyl region) is the one hit, every label consulted on the way sets
 its bit in the returned mask (bit :data:`LABEL_BIT0` + k, labels from 30 on share bit 62), so a
@@ -279,7 +292,7 @@ def shadow(scene, lab, ox, oy, oz, lx, ly, lz, medium, last, side, roots, crit, 
             tg *= math.exp(-media[medium, 2] * t)
             tb *= math.exp(-media[medium, 3] * t)
         ox, oy, oz = ox + t * lx, oy + t * ly, oz + t * lz
-        if k == 0:  # prints on a closure do not shade it: a closure passes light (finish module)
+        if k == 0:  # only wall labels block: a closure passes shadow rays, and so do its prints
             theta, h = surface_point(seg, obj_i, obj_f, part, ox, oy, oz)
             kl, s, tt, alpha, code, b = find_label(lab, 0, theta, h, h, ox, oy)
             bits |= b

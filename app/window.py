@@ -203,7 +203,7 @@ class MainWindow(QMainWindow):
             self.materials_panel.refresh(design)
         if changed & {"camera", "environment", "render"}:
             self.camera_panel.refresh(design)
-        if changed & {"labels", "shape", "assets"}:
+        if changed & {"labels", "shape", "assets", "cap"}:  # a print on the cap follows it
             self.labels_panel.refresh(design, self.scene.assets)
         if changed & {"bumps", "shape", "assets"}:
             self.bumps_panel.refresh(design, self.scene.assets)

@@ -289,11 +289,17 @@ def _decode_tuple(value, args, path: str) -> tuple:
     return tuple(_decode(v, a, f"{path}[{i}]") for i, (v, a) in enumerate(zip(items, args)))
 
 
+#: Fields added within the current format: a file written before them lacks them, and the
+#: dataclass's default applies (so those projects load unchanged).
+_ADDED_FIELDS = {"Label": ("surface", "cap_x_mm", "cap_y_mm")}
+
+
 def _decode_dataclass(value, cls, path: str):
+    added = _ADDED_FIELDS.get(cls.__name__, ())
     names = [f.name for f in dataclasses.fields(cls)]
-    obj = _object(value, path, names)
+    obj = _object(value, path, [n for n in names if n not in added], added)
     hints = _hints(cls)
-    kwargs = {n: _decode(obj[n], hints[n], f"{path}.{n}") for n in names}
+    kwargs = {n: _decode(obj[n], hints[n], f"{path}.{n}") for n in names if n in obj}
     try:
         return cls(**kwargs)
     except (ValueError, TypeError) as exc:

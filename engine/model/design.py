@@ -129,17 +129,35 @@ class FinishRegion:
     gloss: float = 0.9
 
 
+#: Where a label lies: the bottle's outer wall, or printed on the closure's flat top or on
+#: its straight skirt (:mod:`engine.appearance.cap_surfaces`).
+LABEL_SURFACES = ("wall", "cap-top", "cap-skirt")
+
+
 @dataclass(frozen=True)
 class Label:
-    """A thin two-sided sheet of paper or film on the outer wall.
+    """A thin two-sided sheet of paper or film on the outer wall, or a print on the closure.
 
-    Placement is measured on the surface (mm): ``z_mm`` is the height of the label's centre
-    above the standing plane, ``angle_deg`` the azimuth of its centre about +z (world frame,
-    from +x towards +y), ``height_mm`` its length along the wall (slant) and ``width_mm`` its
-    arc length around the girth at mid-height (on a non-round body the cross-section's
-    perimeter). Seen from outside, the front artwork's top is up and it reads left to right
-    with increasing azimuth; the back is seen from inside the bottle, the right way round for
-    a viewer there (:func:`engine.appearance.decal.back_coordinates`).
+    Placement is measured on the surface (mm) named by ``surface``:
+
+    ``"wall"`` (the default)
+        ``z_mm`` is the height of the label's centre above the standing plane, ``angle_deg``
+        the azimuth of its centre about +z (world frame, from +x towards +y), ``height_mm``
+        its length along the wall (slant) and ``width_mm`` its arc length around the girth at
+        mid-height (on a non-round body the cross-section's perimeter).
+    ``"cap-skirt"``
+        the same on the closure's straight skirt, except that ``z_mm`` is the height of the
+        centre above the skirt's lower edge (so the print follows the cap when the neck
+        changes).
+    ``"cap-top"``
+        a flat rectangle ``width_mm x height_mm`` on the closure's top disk, centred at
+        ``(cap_x_mm, cap_y_mm)`` from the axis (world x, y), read from azimuth ``angle_deg``:
+        its bottom edge faces that way (the default -90 reads upright from the front).
+
+    Seen from outside, the front artwork's top is up and it reads left to right with
+    increasing azimuth; the back is seen from inside the bottle, the right way round for
+    a viewer there (:func:`engine.appearance.decal.back_coordinates`); a print on the closure
+    is seen from outside only (the closure is opaque).
 
     ``diffuse`` (K) multiplies the face colour (artwork decoded from sRGB to linear),
     ``specular`` weights a clear coat, ``transmission`` is the diffuse transmission of the
@@ -158,6 +176,9 @@ class Label:
     specular: float = 0.05
     transmission: float = 0.1
     regions: tuple[FinishRegion, ...] = ()
+    surface: str = "wall"
+    cap_x_mm: float = 0.0
+    cap_y_mm: float = 0.0
 
     def asset_names(self) -> tuple[str, ...]:
         """The assets the label refers to (front, back, masks), in that order, each once."""

@@ -17,7 +17,7 @@ from engine.appearance.closure_shapes import default_cap
 from engine.appearance.report import label_report
 from engine.appearance.sample import png_bytes
 from engine.cli import main
-from engine.errors import DesignError
+from engine.errors import DesignError, ProjectError
 from engine.files.project import check_design, load_project, save_project
 from engine.model.design import Camera, Cap, Label, LabelSide
 from engine.tracer.context import RenderContext, trace_pixels, trace_rays
@@ -209,9 +209,13 @@ def test_project_round_trip_and_old_labels_load_on_the_wall(bordeaux, tmp_path):
     assert back == d
     from engine.files.serialize import design_from_document, document_from_design
     doc = json.loads(json.dumps(document_from_design(dataclasses.replace(d, labels=(Label("old"),)))))
-    for key in ("surface", "cap_x_mm", "cap_y_mm"):   # a file written before the fields
+    doc["format_version"] = 2   # a file written before the fields: format 3 added them
+    for key in ("surface", "cap_x_mm", "cap_y_mm"):
         del doc["design"]["labels"][0][key]
     assert design_from_document(doc).labels == (Label("old"),)
+    doc["format_version"] = 3   # the current format lacking them is a broken file
+    with pytest.raises(ProjectError, match=r"labels\[0\] lacks 'surface'"):
+        design_from_document(doc)
 
 
 def test_the_command_line_adds_cap_prints_and_lists_their_die_lines(bordeaux, tmp_path, capsys):

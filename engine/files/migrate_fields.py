@@ -11,6 +11,7 @@ from __future__ import annotations
 #: Per list of the design: the fields format 3 added to its items, with their values for a
 #: format-2 item (the defaults of :mod:`engine.model.design`).
 ADDED = {
+    "labels": {"surface": "wall", "cap_x_mm": 0.0, "cap_y_mm": 0.0},
     "bumps": {"on": "bottle"},
 }
 

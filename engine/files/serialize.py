@@ -12,7 +12,7 @@ float64 exactly.
 
 A *document* is what ``project.json`` holds: ``{"format_version": N, "generator": str,
 "design": {...}}``. Format 3 is current: format 2 with fields added to labels and bump tiles
-(a tile's ``on``, the bottle or the cap), filled in by :mod:`engine.files.migrate_fields`.
+(a label's ``surface`` and cap-top centre ``cap_x_mm, cap_y_mm``; a tile's ``on``), filled in by :mod:`engine.files.migrate_fields`.
 Format 2: labels with placement, faces, coefficients and finish regions; bump tiles and the
 closure as real values. Format 1 had placeholder labels,
 ``{"name", "asset"}`` (:mod:`engine.files.migrate_labels`), and placeholder bump tiles and cap
@@ -289,17 +289,11 @@ def _decode_tuple(value, args, path: str) -> tuple:
     return tuple(_decode(v, a, f"{path}[{i}]") for i, (v, a) in enumerate(zip(items, args)))
 
 
-#: Fields added within the current format: a file written before them lacks them, and the
-#: dataclass's default applies (so those projects load unchanged).
-_ADDED_FIELDS = {"Label": ("surface", "cap_x_mm", "cap_y_mm")}
-
-
 def _decode_dataclass(value, cls, path: str):
-    added = _ADDED_FIELDS.get(cls.__name__, ())
     names = [f.name for f in dataclasses.fields(cls)]
-    obj = _object(value, path, [n for n in names if n not in added], added)
+    obj = _object(value, path, names)
     hints = _hints(cls)
-    kwargs = {n: _decode(obj[n], hints[n], f"{path}.{n}") for n in names if n in obj}
+    kwargs = {n: _decode(obj[n], hints[n], f"{path}.{n}") for n in names}
     try:
         return cls(**kwargs)
     except (ValueError, TypeError) as exc:

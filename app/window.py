@@ -213,8 +213,8 @@ class MainWindow(QMainWindow):
             self.trade_panel.show_name(design.name)
             self._offer_name(self._shown_fill_ml, only_if_shown=True)
         if self.wireframe is not None:
-            if "shape" in changed:
-                self.wireframe_controller.request(design.shape)
+            if changed & {"shape", "cap", "bumps"}:  # a closure follows the finish and its thread
+                self.wireframe_controller.request(design)
             if "camera" in changed:
                 self.wireframe.set_camera(design.camera)  # the 3D view looks through the design's camera
         if "render" in changed:

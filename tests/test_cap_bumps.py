@@ -1,5 +1,6 @@
-"""Bump tiles on the cap: placed on its skirt by height above its lower edge, drawn on the cap
-only, following the cap when the finish moves, refused where they cannot be drawn, saved."""
+"""Bump tiles on the cap: placed on its straight skirt by height above the skirt's lower edge
+(as a skirt print is), drawn on the cap only, following the cap when the finish moves, refused
+where they cannot be drawn, saved."""
 from __future__ import annotations
 
 import copy
@@ -10,7 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from engine.appearance.bump_tables import bump_tables, cap_bands, cap_faces
+from engine.appearance.bump_tables import bump_tables, cap_band
+from engine.appearance.cap_surfaces import cap_surface
 from engine.appearance.closure_shapes import default_cap
 from engine.appearance.closures import closure_geometry
 from engine.appearance.tile_defaults import new_tile
@@ -34,23 +36,25 @@ def capped():
     return dataclasses.replace(design, cap=default_cap("screw")), assets
 
 
-def test_a_band_on_the_cap_lies_on_its_skirt_by_height_above_its_lower_edge(capped):
+def test_a_band_on_the_cap_lies_on_its_skirt_by_height_above_the_skirts_lower_edge(capped):
     design, _ = capped
     closure = closure_geometry(design)
-    faces = cap_faces(closure)
-    assert faces, "a screw cap has a straight outer skirt"
-    name, h0, h1, v0, radius = max(faces, key=lambda f: f[2] - f[1])
-    assert radius == pytest.approx(closure.r_max, rel=1e-9)  # the outside of the shell
-    (part, a, b, r), = cap_bands(closure, h0 + 1.0, h0 + 3.0)
-    assert (part, r) == (name, radius) and (a, b) == pytest.approx((v0 + 1.0, v0 + 3.0))
-    assert cap_bands(closure, closure.height_mm + 1.0, closure.height_mm + 5.0) == []
+    skirt = cap_surface(design, "cap-skirt")
+    assert skirt.radius == pytest.approx(closure.r_max, rel=1e-9)  # the outside of the shell
+    part, a, b, r = cap_band(design, 1.0, 3.0)
+    assert (part, r) == (closure.parts[skirt.part].name, skirt.radius)
+    assert (a, b) == pytest.approx((skirt.v0 + 1.0, skirt.v0 + 3.0))
+    assert cap_band(design, -5.0, 3.0)[1] == pytest.approx(skirt.v0)  # clipped to the skirt
+    assert cap_band(design, skirt.height_mm + 1.0, skirt.height_mm + 5.0) is None
+    crowned = dataclasses.replace(design, cap=default_cap("crown"))
+    assert cap_band(crowned, 1.0, 3.0) is None  # a crown's flared skirt is not straight
 
 
 def test_a_tile_on_the_cap_changes_the_cap_only(capped):
     design, assets = capped
     closure = closure_geometry(design)
-    _, h0, h1, _, _ = max(cap_faces(closure), key=lambda f: f[2] - f[1])
-    tile = new_tile(design, "flutes", h0 + 1.0, h1 - 1.0, on="cap", depth=0.5)
+    skirt = cap_surface(design, "cap-skirt")
+    tile = new_tile(design, "flutes", 1.0, skirt.height_mm - 1.0, on="cap", depth=0.5)
     fluted = dataclasses.replace(design, bumps=(tile,))
     tables = bump_tables(fluted, assets)
     assert tables.surfaces == ("closure:shell",) + tables.surfaces[1:] and len(tables.surfaces) >= 2
@@ -74,9 +78,8 @@ def test_a_tile_on_the_cap_follows_the_cap_when_the_neck_moves(capped):
     rows = []
     for top in (280.0, 300.0):
         d = dataclasses.replace(design, shape=round_shape(bordeaux_section(190.0, top=top)), bumps=(tile,))
-        closure = closure_geometry(d)
-        (part, v0, v1, _), = cap_bands(closure, tile.z0, tile.z1)
-        rows.append((closure.z_min, v0, v1))
+        _, v0, v1, _ = cap_band(d, tile.z0, tile.z1)
+        rows.append((closure_geometry(d).z_min, v0, v1))
     assert rows[1][0] - rows[0][0] == pytest.approx(20.0, abs=1e-6)
     assert rows[1][1:] == pytest.approx(rows[0][1:])  # the same place on the cap
 
@@ -120,11 +123,11 @@ def test_the_command_line_puts_tiles_on_the_cap_and_refuses_what_cannot_be_drawn
     path = tmp_path / "p.glassbench"
     save_project(path, dataclasses.replace(design, bumps=()), assets)
     assert cli(["bump", str(path), "add", "knurl", "--z0", "2", "--z1", "6", "--on", "cap"]) == 0
-    assert "above the cap's lower edge" in capsys.readouterr().out
+    assert "above the lower edge of the cap's skirt" in capsys.readouterr().out
     tile, = load_project(path)[0].bumps
     assert tile.on == "cap" and (tile.z0, tile.z1) == (2.0, 6.0)
     for args, why in ((["thread"], "belongs to the glass finish"),
-                      (["knurl", "--z0", "80", "--z1", "90"], "miss its skirt")):
+                      (["knurl", "--z0", "80", "--z1", "90"], "skirt miss it")):
         argv = ["bump", str(path), "add", args[0], "--z0", "2", "--z1", "6"] + args[1:] + ["--on", "cap"]
         assert cli(argv) == 2
         assert why in capsys.readouterr().err

@@ -134,8 +134,7 @@ def test_the_new_tabs_fit_the_side_dock_without_squeezing(make_window, qtbot):
 
 
 def test_a_tile_moved_onto_the_cap_follows_its_skirt_and_is_refused_without_a_cap(make_window):
-    from engine.appearance.bump_tables import cap_bands
-    from engine.appearance.closures import closure_geometry
+    from engine.appearance.bump_tables import cap_band
     w = make_window()
     panel = w.bumps_panel
     words.select_key(panel.add_kind, "knurl")
@@ -148,7 +147,7 @@ def test_a_tile_moved_onto_the_cap_follows_its_skirt_and_is_refused_without_a_ca
     words.select_key(panel.on, "cap")
     tile = w.scene.design.bumps[0]
     assert tile.on == "cap" and "on the cap" in panel.list.item(0).text()
-    assert cap_bands(closure_geometry(w.scene.design), tile.z0, tile.z1), "the band lies on the skirt"
-    assert "cap's lower edge" in panel.z0.toolTip()
+    assert cap_band(w.scene.design, tile.z0, tile.z1) is not None, "the band lies on the skirt"
+    assert "lower edge of the cap's skirt" in panel.z0.toolTip()
     w.undo_stack.undo()
     assert w.scene.design.bumps[0].on == "bottle" and panel.on.currentData() == "bottle"

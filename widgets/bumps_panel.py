@@ -51,18 +51,15 @@ def default_band(design, kind: str) -> tuple[float, float]:
 
 
 def default_cap_band(design) -> tuple[float, float] | None:
-    """Where a tile moved onto the cap goes (mm above the closure's lower edge): its tallest
-    skirt face, less a sixth at each end (clear of the rounded edges); ``None`` without a cap
-    or without a straight skirt."""
-    from engine.appearance.bump_tables import cap_faces
-    from engine.appearance.closures import closure_geometry
-    closure = closure_geometry(design)
-    faces = cap_faces(closure) if closure is not None else []
-    if not faces:
+    """Where a tile moved onto the cap goes (mm above the lower edge of its straight skirt):
+    the skirt less a sixth at each end (clear of the rounded edges); ``None`` without a cap
+    or a straight skirt."""
+    from engine.appearance.bump_tables import cap_band
+    band = cap_band(design, 0.0, 1e9) if design.cap is not None else None
+    if band is None:
         return None
-    _, h0, h1, _, _ = max(faces, key=lambda f: f[2] - f[1])
-    margin = (h1 - h0) / 6.0
-    return round(h0 + margin, 1), round(h1 - margin, 1)
+    height = band[2] - band[1]
+    return round(height / 6.0, 1), round(5.0 * height / 6.0, 1)
 
 
 class BumpsPanel(QWidget):
@@ -100,8 +97,8 @@ class BumpsPanel(QWidget):
         self.on = QComboBox()
         for on in BUMP_SURFACES:
             self.on.addItem(ON_WORDS[on], on)
-        self.on.setToolTip("The glass, or the cap's skirt (heights then measured from the cap's lower edge, "
-                           "so the band follows the cap)")
+        self.on.setToolTip("The glass, or the cap's straight skirt (heights then measured from its lower "
+                           "edge, so the band follows the cap)")
         self.z0 = ef.spin(-5000, 5000, 1, 1.0, " mm", "Bottom of the band (height above the standing plane)")
         self.z1 = ef.spin(-5000, 5000, 1, 1.0, " mm", "Top of the band")
         self.repeat = ef.int_spin(1, 4096, "Repeats of the pattern around the girth")
@@ -329,7 +326,7 @@ class BumpsPanel(QWidget):
         self.kind.setCurrentIndex(self.kind.findData(tile.kind))
         self.name.setText(tile.name)
         self.on.setCurrentIndex(self.on.findData(tile.on))
-        above = "the cap's lower edge" if tile.on == "cap" else "the standing plane"
+        above = "the lower edge of the cap's skirt" if tile.on == "cap" else "the standing plane"
         self.z0.setToolTip(f"Bottom of the band (height above {above})")
         for w, key in zip(fields, ("z0", "z1", "repeat", "depth", "angle_deg", "pitch", "width",
                                    "sharpness", "alpha", "width_deg")):

@@ -7,9 +7,9 @@ so that grooves, facets and seams meet with continuous normals, bands fade in an
 thread is laid out from its standard (:func:`engine.appearance.threads.thread_layout`).
 :func:`bump_tables` does this for a whole design: the tiles on the bottle's outer surface
 (bands placed by height, converted to the section's arc length ``v``), the closure's own
-reliefs, and the designer's tiles on the cap (bands placed by height above the closure's
-lower edge on its outer skirt faces, :func:`cap_bands`), with one float32 atlas holding every
-relief image. Units mm.
+reliefs, and the designer's tiles on the cap (bands placed by height above the lower edge of
+its straight skirt, :func:`cap_band`), with one float32 atlas holding every relief image.
+Units mm.
 """
 from __future__ import annotations
 
@@ -70,34 +70,24 @@ def band_coordinates(design, z0: float, z1: float):
     return float(v[0]), float(v[1]), radius
 
 
-def cap_faces(closure):
-    """``[(part name, h0, h1, v0, radius)]``: the closure's outer skirt faces, each a vertical
-    straight piece of a part's meridian chain walked upwards (material on the left: the
-    outside of a shell), from height ``h0`` to ``h1`` (mm above the closure's lower edge),
-    starting at arc length ``v0`` along its part's chain (as the tracer measures ``v`` on a
-    closure part), at ``radius`` (mm)."""
-    from ..geometry.segments import Line
-    out = []
-    for part in closure.parts:
-        v = 0.0
-        for sg in part.chain:
-            (r0, za), (r1, zb) = sg.p0, sg.p1
-            if isinstance(sg, Line) and abs(r1 - r0) <= 1e-9 * (r0 + 1.0) and zb > za:
-                out.append((part.name, za - closure.z_min, zb - closure.z_min, v, float(r0)))
-            v += sg.length
-    return out
-
-
-def cap_bands(closure, z0: float, z1: float):
-    """``[(part name, v0, v1, radius)]``: where the band of heights ``z0..z1`` (mm above the
-    closure's lower edge) lies on the closure's outer skirt faces (:func:`cap_faces`); empty
-    where it misses them all (above a short skirt, say)."""
-    out = []
-    for name, h0, h1, v0, radius in cap_faces(closure):
-        a, b = max(z0, h0), min(z1, h1)
-        if b - a > 1e-6:
-            out.append((name, v0 + (a - h0), v0 + (b - h0), radius))
-    return out
+def cap_band(design, z0: float, z1: float):
+    """``(part name, v0, v1, radius)``: where the band of heights ``z0..z1`` (mm above the
+    lower edge of the closure's straight skirt, as a skirt print is placed:
+    :func:`engine.appearance.cap_surfaces.cap_surface`) lies on the skirt, as the tracer
+    measures ``v`` on that part (arc length along its chain); ``None`` without a cap, for a
+    closure without a straight skirt (a crown), or where the band misses the skirt."""
+    from ..errors import DesignError
+    from .cap_surfaces import cap_surface
+    from .closures import closure_geometry
+    try:
+        skirt = cap_surface(design, "cap-skirt")
+    except DesignError:
+        return None
+    a, b = max(z0, 0.0), min(z1, skirt.height_mm)
+    if not b - a > 1e-6:
+        return None
+    part = closure_geometry(design).parts[skirt.part]
+    return part.name, skirt.v0 + a, skirt.v0 + b, skirt.radius
 
 
 def tile_params(tile, v0: float, v1: float, radius: float, neck_diameter: float = 0.0,
@@ -164,8 +154,8 @@ def bump_tables(design, assets) -> BumpTables:
     closure = closure_geometry(design)
     for tile in design.bumps:
         if tile.on == "cap":
-            bands = cap_bands(closure, tile.z0, tile.z1) if closure is not None else []
-            places = [(f"closure:{name}", (v0, v1, r)) for name, v0, v1, r in bands]
+            band = cap_band(design, tile.z0, tile.z1)
+            places = [] if band is None else [(f"closure:{band[0]}", band[1:])]
         else:
             band = band_coordinates(design, tile.z0, tile.z1)
             places = [] if band is None else [(BOTTLE, band)]

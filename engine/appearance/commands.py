@@ -48,8 +48,8 @@ def add_parsers(sub) -> None:
                       help="how an image's texels are read (default: height)")
     bump.add_argument("--inverted", action="store_true", help="press in instead of raise")
     bump.add_argument("--on", choices=BUMP_SURFACES, default="bottle",
-                      help="the glass (heights above the standing plane) or the cap's skirt "
-                           "(heights above the cap's lower edge)")
+                      help="the glass (heights above the standing plane) or the cap's straight "
+                           "skirt (heights above its lower edge)")
     bump.add_argument("--name", default=None)
 
 
@@ -127,23 +127,22 @@ def cmd_bump(args) -> int:
         return 0
     tile, assets = _new_tile(args, design, dict(assets), CliError)
     _save(args.project, dataclasses.replace(design, bumps=design.bumps + (tile,)), assets)
-    where = " above the cap's lower edge" if tile.on == "cap" else ""
+    where = " above the lower edge of the cap's skirt" if tile.on == "cap" else ""
     print(f"wrote {args.project}: added {tile.name} ({tile.kind}) on z {tile.z0:g}..{tile.z1:g} mm{where}")
     return 0
 
 
 def _check_cap_band(design, kind: str, z0: float, z1: float, CliError) -> None:
     """Refuse a tile on the cap that could not be drawn: no cap, a thread, a band off the skirt."""
-    from .bump_tables import cap_bands
-    from .closures import closure_geometry
+    from .cap_surfaces import cap_surface
     if kind == "thread":
         raise CliError("a thread belongs to the glass finish, not to the cap (drop --on cap)")
-    closure = closure_geometry(design)
-    if closure is None:
+    if design.cap is None:
         raise CliError("the design has no cap: put one on first (glassbench cap PROJECT set KIND)")
-    if not cap_bands(closure, z0, z1):
-        raise CliError(f"heights {z0:g}..{z1:g} mm above the cap's lower edge miss its skirt "
-                       f"(the {closure.kind} is {closure.height_mm:.1f} mm tall)")
+    skirt = cap_surface(design, "cap-skirt", "the tile")
+    if not (z1 > 0.0 and z0 < skirt.height_mm):
+        raise CliError(f"heights {z0:g}..{z1:g} mm above the lower edge of the cap's skirt miss it "
+                       f"(its straight skirt is {skirt.height_mm:.1f} mm tall)")
 
 
 def _new_tile(args, design, assets, CliError):

@@ -30,15 +30,13 @@ WIDTH = {"flutes": 0.8, "stipple": 0.6, "diamond": 0.6, "knurl": 0.0, "emboss": 
 
 def band_radius(design, z0: float, z1: float, on: str = "bottle") -> float:
     """Outer radius (mm) of the bottle at the middle of the band (its mouth radius if the band
-    is outside the wall); with ``on="cap"`` the radius of the cap's skirt under the band
-    (heights above the closure's lower edge), else the cap's largest radius."""
-    from .bump_tables import band_coordinates, cap_bands
+    is outside the wall); with ``on="cap"`` the radius of the cap's straight skirt, else of
+    the whole closure."""
+    from .bump_tables import band_coordinates, cap_band
     from .closures import closure_geometry
-    if on == "cap":
-        closure = closure_geometry(design)
-        if closure is not None:
-            bands = cap_bands(closure, z0, z1)
-            return bands[0][3] if bands else closure.r_max
+    if on == "cap" and design.cap is not None:
+        band = cap_band(design, 0.0, 1e9)
+        return band[3] if band is not None else closure_geometry(design).r_max
     band = band_coordinates(design, z0, z1)
     return band[2] if band is not None else float(design.shape.primary.r_top)
 

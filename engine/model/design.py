@@ -228,9 +228,10 @@ class BumpTile:
         (360 / repeat or more: the copies tile seamlessly).
     ``on``
         ``"bottle"``: the glass's outer surface, ``z0..z1`` above the standing plane;
-        ``"cap"``: the closure's outer skirt, ``z0..z1`` above the closure's lower edge, so
-        the band follows the cap when the finish moves (no cap: the tile is kept, not drawn;
-        a thread belongs to the glass finish, never to the cap).
+        ``"cap"``: the closure's straight skirt, ``z0..z1`` above its lower edge (as a skirt
+        print is placed), so the band follows the cap when the finish moves (no cap, or a
+        crown, which has no straight skirt: the tile is kept, not drawn; a thread belongs to
+        the glass finish, never to the cap).
     """
 
     name: str = "bump"

@@ -10,11 +10,11 @@ from numba import njit
 
 from .integrator import trace_sample
 from .intersect import nearest_hit, object_normal
-from .roots import JIT
+from .roots import JIT, JIT_NRT
 from .tile import make_work
 
 
-@njit(**JIT)
+@njit(**JIT_NRT)
 def hits(seg, tab, slab_f, slab_i, obj_i, obj_f, o, d, medium, last, side, out_t, out_k, out_part, out_n):
     """Nearest true hit of each ray ``o[i] + t d[i]`` (see :func:`nearest_hit`)."""
     roots = np.zeros(16)
@@ -28,7 +28,7 @@ def hits(seg, tab, slab_f, slab_i, obj_i, obj_f, o, d, medium, last, side, out_t
         out_n[i, 0], out_n[i, 1], out_n[i, 2] = nx, ny, nz
 
 
-@njit(**JIT)
+@njit(**JIT_NRT)
 def normals(seg, slab_i, obj_i, obj_f, k, part, p, out):
     """Oriented normals of object ``k[i]`` at points ``p[i]`` on its part ``part[i]``."""
     for i in range(p.shape[0]):
@@ -36,7 +36,7 @@ def normals(seg, slab_i, obj_i, obj_f, k, part, p, out):
         out[i, 0], out[i, 1], out[i, 2] = nx, ny, nz
 
 
-@njit(**JIT)
+@njit(**JIT_NRT)
 def radiance(scene, tex, env_p, o, d, max_depth, min_weight, max_nodes, out, counters, labels, finish):
     """Radiance of each ray starting in air (the tree of :func:`trace_sample`), into ``out``."""
     work = make_work(max_depth)

@@ -13,11 +13,11 @@ from numba import njit
 from .integrator import trace_sample
 from .labels import LB_HIT_N, record_sample
 from .materials import KID_COLS, MAX_CHILDREN
-from .roots import JIT
+from .roots import JIT, JIT_NRT
 from .sampling import C_EYE, C_W, camera_ray, mix64, pixel_offset
 
 
-@njit(**JIT)
+@njit(**JIT_NRT)
 def make_work(max_depth):
     """Scratch arrays for one worker: the stack (a depth-first tree holds at most
     ``MAX_CHILDREN - 1`` waiting siblings per level) and solver space."""
@@ -27,7 +27,7 @@ def make_work(max_depth):
             np.zeros(MAX_CHILDREN, np.int64))
 
 
-@njit(**JIT)
+@njit(**JIT_NRT)
 def render_pixels(scene, tex, env_p, cam, cols, rows, first, count, max_depth, min_weight,
                   rr_weight, rr_from, max_nodes, out_sum, out_sumsq, out_sig, out_mask, out_depth, counters, cancel,
                   rec_rays, rec_n, labels, finish):

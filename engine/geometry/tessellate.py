@@ -34,6 +34,10 @@ SAG_SHARE = 0.45
 MAX_DTHETA = math.radians(15.0)
 #: Heights whose boundaries are sampled at once when choosing the polar angles (bounds memory).
 _HEIGHTS_PER_BLOCK = 64
+#: Angles of the fine grid on which the chord sag around a ring is measured (0.125 degree steps).
+_FINE_ANGLES = 2880
+#: Rounds of halving sagging angle intervals: log2(MAX_DTHETA / two fine steps) < 6.
+_MAX_SPLIT_ROUNDS = 8
 
 
 @dataclass(frozen=True, eq=False)
@@ -85,26 +89,73 @@ def _sag_density(points, normals):
 
 
 def theta_samples(body: BottleBody, tol_mm: float) -> np.ndarray:
-    """Polar angles (rad) shared by every ring: chord sag <= ``SAG_SHARE * tol_mm`` around."""
-    fine = np.linspace(0.0, 2 * math.pi, 2881)
-    chains = [sp.outer_wall for sp in body.profile.sections]
-    z = np.unique(np.concatenate([s.point(np.linspace(0, 1, 9))[:, 1] for c in chains for s in c]))
-    if body.kind == "round":  # every ring is a circle: the widest one decides
-        widest = max(float(np.max(s.point(np.linspace(0, 1, 9))[:, 0])) for s in chains[0])
-        z, radii = z[:1], [np.array([[widest]])]
-    dens = np.zeros(len(fine) - 1)
-    for lo in range(0, len(z), _HEIGHTS_PER_BLOCK):  # blocks of heights: memory stays bounded
-        zb = z[lo:lo + _HEIGHTS_PER_BLOCK]
-        if body.kind != "round":
-            radii = [body.wall_radii("outer", zb)[k][0][:, None] for k in range(len(chains))]
-        x, y, nx, ny = crosssection.boundary(body.kind, radii, fine[None, :])
+    """Polar angles (rad) shared by every ring: chord sag <= ``SAG_SHARE * tol_mm`` around.
+
+    Both walls count: the inner wall's corners are the outer's minus the wall thickness, so a
+    rounded square's inner corner can be far sharper than its outer one. The angles first follow
+    the sag rule (:func:`_sag_density`, equidistributed), then every interval whose measured sag
+    on a fine grid of angles still exceeds the share is halved (:func:`_split_sagging`): the rule
+    assumes the turning is spread over a chord, and underestimates a corner much smaller than
+    the chord. The halving adds at most ``_FINE_ANGLES`` angles, whatever the shape.
+    """
+    fine = np.linspace(0.0, 2 * math.pi, _FINE_ANGLES + 1)
+    step = math.sqrt(8.0 * SAG_SHARE * tol_mm)
+    dens = step * np.diff(fine) / MAX_DTHETA  # the floor: no band wider than MAX_DTHETA
+    for x, y, nx, ny in _boundary_blocks(body, fine):
         pts, nrm = np.stack(np.broadcast_arrays(x, y), -1), np.stack(np.broadcast_arrays(nx, ny), -1)
         dens = np.maximum(dens, np.max([_sag_density(p, n) for p, n in zip(pts, nrm)], axis=0))
-    step = math.sqrt(8.0 * SAG_SHARE * tol_mm)
-    dens = np.maximum(dens, step * np.diff(fine) / MAX_DTHETA)
     n = max(int(math.ceil(dens.sum() / step)), 8)
     n += (-n) % 4  # keep the four-fold symmetry of square bottles
-    return _equidistribute(dens, n)[:-1] * 2 * math.pi
+    theta = _equidistribute(dens, n)[:-1] * 2 * math.pi
+    return _split_sagging(body, theta, fine, SAG_SHARE * tol_mm)
+
+
+def _boundary_blocks(body: BottleBody, angles):
+    """Boundary ``(x, y, nx, ny)`` (mm, unit; each ``(heights, len(angles))``) of both walls at
+    the heights that decide the angles, in blocks of ``_HEIGHTS_PER_BLOCK`` (bounded memory).
+
+    Heights: 9 per segment of every wall section (where radii and corners change); a round
+    bottle's rings are circles, so only its widest one counts.
+    """
+    sections = body.profile.sections
+    if body.kind == "round":
+        widest = max(float(np.max(s.point(np.linspace(0, 1, 9))[:, 0])) for s in sections[0].outer_wall)
+        yield crosssection.boundary("round", [np.array([[widest]])], angles[None, :])
+        return
+    for part in ("outer", "inner"):
+        chains = [sp.outer_wall if part == "outer" else sp.inner_wall for sp in sections]
+        z = np.unique(np.concatenate([s.point(np.linspace(0, 1, 9))[:, 1] for c in chains for s in c]))
+        for lo in range(0, len(z), _HEIGHTS_PER_BLOCK):
+            radii = [st[0][:, None] for st in body.wall_radii(part, z[lo:lo + _HEIGHTS_PER_BLOCK])]
+            yield crosssection.boundary(body.kind, radii, angles[None, :])
+
+
+def _split_sagging(body: BottleBody, theta, fine, limit_mm: float) -> np.ndarray:
+    """``theta`` with every interval halved while its chord sags more than ``limit_mm`` (mm)
+    from the boundary at some ``fine`` angle inside it, at any height of :func:`_boundary_blocks`.
+
+    Bounded: an interval narrower than two fine steps is never split (the fine grid cannot see
+    inside it), so at most ``len(fine)`` angles are added in at most ``log2(MAX_DTHETA / fine
+    step)`` rounds.
+    """
+    min_width = 2.0 * (fine[1] - fine[0])
+    for _ in range(_MAX_SPLIT_ROUNDS):
+        ends = np.append(theta, 2 * math.pi)
+        k = np.clip(np.searchsorted(ends, fine, side="right") - 1, 0, len(theta) - 1)
+        sag = np.zeros(len(theta))
+        for x, y, _, _ in _boundary_blocks(body, np.concatenate([theta, fine])):
+            x, y = np.broadcast_arrays(x, y)
+            ax, ay = x[:, :len(theta)], y[:, :len(theta)]  # chord ends, then the probes
+            bx, by = np.roll(ax, -1, axis=1), np.roll(ay, -1, axis=1)
+            px, py = x[:, len(theta):], y[:, len(theta):]
+            cx, cy = (bx - ax)[:, k], (by - ay)[:, k]
+            off = np.abs(cx * (py - ay[:, k]) - cy * (px - ax[:, k])) / np.hypot(cx, cy)
+            np.maximum.at(sag, k, off.max(axis=0))
+        split = (sag > limit_mm) & (np.diff(ends) >= min_width)
+        if not split.any():
+            break
+        theta = np.sort(np.concatenate([theta, 0.5 * (ends[:-1] + ends[1:])[split]]))
+    return theta
 
 
 def segment_samples(seg, tol_mm: float) -> np.ndarray:

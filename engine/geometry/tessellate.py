@@ -12,6 +12,19 @@ Spacing follows the chord-sag rule ``sag ~ L * turn / 8`` (chord length times ta
 samples are placed so that every chord's sag is about ``SAG_SHARE * tol_mm`` in each direction
 (around and along the section), denser where curvature is high, none on straight stretches beyond
 a floor that keeps bands from spanning more than ``MAX_DTHETA``. Flat parts are exact.
+
+Size (bounded resources): around, the rule gives ``n_theta ~ (integral of sqrt(curvature) ds) /
+sqrt(8 SAG_SHARE tol)``, at most ``sqrt(2 pi P / (8 SAG_SHARE tol))`` for a convex ring of
+perimeter ``P`` (mm), plus ``2 pi / MAX_DTHETA = 24`` from the floor, plus the intervals halved
+at corners sharper than the rule sees (never more than ``_FINE_ANGLES`` in all). Along, a
+segment of length ``L`` (mm) turning ``T`` (rad) gets at most ``sqrt(L T / (8 SAG_SHARE tol)) + 1``
+rings, plus the bands :func:`refine_heights` halves where a corner sweeps round with height.
+A wall has about ``2 n_theta n_rings`` triangles, growing as ``1 / tol``: some 10^4 for a
+60 mm wide, 200 mm tall bottle at 0.1 mm. A wall needing more than ``MAX_WALL_TRIANGLES`` is
+refused with a ``ValueError`` naming the least tolerance that could fit, before its memory is
+spent (only tolerances near ``MIN_TOL_MM`` on large bottles get there). It is refused rather
+than quietly meshed coarser: an exported mesh is a promise about its tolerance, and the
+designer can choose the coarser figure knowingly.
 """
 from __future__ import annotations
 
@@ -38,6 +51,10 @@ _HEIGHTS_PER_BLOCK = 64
 _FINE_ANGLES = 2880
 #: Rounds of halving sagging angle intervals: log2(MAX_DTHETA / two fine steps) < 6.
 _MAX_SPLIT_ROUNDS = 8
+#: Rounds of halving bands of a non-round wall (a band 2^16 times thinner is well below a micron).
+_MAX_REFINE_ROUNDS = 16
+#: Most triangles one wall may have (about 50 MB of vertices and faces); finer is refused.
+MAX_WALL_TRIANGLES = 2_000_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -225,32 +242,59 @@ def chain_stations(chain, tol_mm: float) -> np.ndarray:
 
 
 def refine_heights(body: BottleBody, part: str, z, theta, tol_mm: float) -> np.ndarray:
-    """Split bands (non-round walls) until the surface half-way up each band is within
-    ``SAG_SHARE * tol_mm`` of the band's straight interpolation at every ``theta``.
+    """Split bands (non-round walls) until, half-way up each band and at every ``theta``, the
+    surface is within ``SAG_SHARE * tol_mm`` of the band's straight interpolation, and the band's
+    diagonal strays at most that much further from it than the ring's own chord does.
 
     Needed because on a non-round wall the boundary point at a fixed angle can move between a
     side and a corner as the radii change with height, which the sections' curvature alone
     does not see.
+
+    Only what halving a band cures is asked of it: the sag of the ring's chords around (set by
+    ``theta``, :func:`theta_samples`) is left out of the diagonal's test, as it stays the same
+    however thin the band. (Counting it once made every band of a wall split 16 times over
+    where the angles were too coarse: 65536 times the rings, gigabytes.) What remains shrinks
+    with the band's height, so the splitting ends; it stops anyway after ``_MAX_REFINE_ROUNDS``
+    rounds, and :func:`_check_size` refuses a wall growing past ``MAX_WALL_TRIANGLES``.
     """
     if body.kind == "round":
         return z
+    limit = SAG_SHARE * tol_mm
     # the band's triangles meet along the diagonal (k, j) - (k + 1, j + 1): check its middle too
     theta_mid = theta + 0.5 * np.diff(np.append(theta, theta[0] + 2 * math.pi))
     p, _ = body.wall(part, theta[None, :], z[:, None])
-    for _ in range(16):
+    for _ in range(_MAX_REFINE_ROUNDS):
         zm = 0.5 * (z[:-1] + z[1:])
         pm, nm = body.wall(part, theta[None, :], zm[:, None])
         dev = np.abs(np.sum((pm - 0.5 * (p[:-1] + p[1:])) * nm, axis=-1)).max(axis=1)
-        pd, nd = body.wall(part, theta_mid[None, :], zm[:, None])
+        _, nd = body.wall(part, theta_mid[None, :], zm[:, None])
+        # diagonal middle minus chord middle at the same height: the surface's part (pd) cancels,
+        # leaving the twist between neighbouring angles, which halves with the band
+        chord = 0.5 * (pm + np.roll(pm, -1, axis=1))
         diag = 0.5 * (p[:-1] + np.roll(p[1:], -1, axis=1))
-        # the diagonal's middle also carries the angular sag: it gets the whole budget
-        dev_diag = np.abs(np.sum((pd - diag) * nd, axis=-1)).max(axis=1)
-        split = (dev > SAG_SHARE * tol_mm) | (dev_diag > 2 * SAG_SHARE * tol_mm)
+        twist = np.abs(np.sum((chord - diag) * nd, axis=-1)).max(axis=1)
+        split = (dev > limit) | (twist > limit)
         if not split.any():
             break
         z = np.sort(np.concatenate([z, zm[split]]))
+        _check_size(2 * (len(z) - 1) * len(theta), tol_mm)
         p, _ = body.wall(part, theta[None, :], z[:, None])
     return z
+
+
+def _check_size(n_triangles: int, tol_mm: float) -> None:
+    """Refuse (``ValueError``) a wall of more than ``MAX_WALL_TRIANGLES`` triangles.
+
+    The message names the least tolerance (mm) that could fit: counts grow at most as ``1 / tol``
+    (angles and rings each as ``1 / sqrt(tol)``), slower where a floor or the section's own
+    joints set the spacing, so the figure is a lower bound, not a promise.
+    """
+    if n_triangles > MAX_WALL_TRIANGLES:
+        least = tol_mm * n_triangles / MAX_WALL_TRIANGLES
+        unit = 10.0 ** (math.floor(math.log10(least)) - 1)  # two significant digits, rounded up
+        raise ValueError(f"a chordal tolerance of {tol_mm:g} mm needs at least {n_triangles:,} triangles "
+                         f"on one wall of this bottle, more than the {MAX_WALL_TRIANGLES:,} a wall may "
+                         f"have; choose a coarser tolerance (at least {math.ceil(least / unit) * unit:.2g} mm)")
 
 
 # --------------------------------------------------------------------------- assembly
@@ -311,13 +355,16 @@ def _wall(b, body, part, label, theta, tol, z_lo, z_hi, flip=1.0):
     chains = [sp.outer_wall if part == "outer" else sp.inner_wall for sp in body.profile.sections]
     if body.kind == "round":
         r, z, tr, tz = section_stations(chains[0], tol, z_hi, z_lo)
+        _check_size(2 * (len(z) - 1) * len(theta), tol)
         sign = flip * (1.0 if part == "outer" else -1.0)  # the inner wall faces the cavity
         c, s = np.cos(theta)[None, :], np.sin(theta)[None, :]
         pts = np.stack(np.broadcast_arrays(r[:, None] * c, r[:, None] * s, z[:, None]), axis=-1)
         nrm = np.stack(np.broadcast_arrays(sign * tz[:, None] * c, sign * tz[:, None] * s,
                                            -sign * tr[:, None] + 0 * c), axis=-1)
         return b.grid(label, pts, nrm, faces_in)
-    z = refine_heights(body, part, wall_heights(chains, tol, z_lo, z_hi), theta, tol)
+    z = wall_heights(chains, tol, z_lo, z_hi)
+    _check_size(2 * (len(z) - 1) * len(theta), tol)
+    z = refine_heights(body, part, z, theta, tol)
     pts, nrm = body.wall(part, theta[None, :], z[:, None])
     corners = np.nonzero(np.isin(z, _corner_heights(chains)))[0]
     if len(corners):  # a second ring at each corner: same positions, the upper side's normals
@@ -364,6 +411,7 @@ def _base(b, body, part, label, theta, edge_ring, tol_mm, s_stop=None):
     s = chain_stations(chain, tol_mm)
     start = 0.0 if s_stop is None else s_stop
     mid = s[(s > start + 1e-9) & (s < 1.0 - 1e-9)]
+    _check_size(2 * len(mid) * len(theta), tol_mm)
     rings = []
     if len(mid):
         pts, nrm = body.point_normal(part, theta[None, :], mid[:, None])

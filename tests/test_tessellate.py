@@ -192,6 +192,18 @@ def test_sharp_inner_corner_is_meshed_small_closed_and_within_tolerance(args):
         assert _non_round_wall_deviation(shape, mesh, part) <= 0.1, part
 
 
+def test_corner_turning_round_with_height_stays_within_tolerance():
+    """A rounded rectangle whose 1.5 mm inner corner grows and moves round up the shoulder: the
+    angles must also fit the heights between those that first decide them."""
+    names = ("half_width", "half_depth", "corner")
+    shape = BottleShape("rounded_rect", {nm: stepped_section(r, 46.74, 15.28, 82.01, 97.01)
+                                         for nm, r in zip(names, (19.14, 11.49, 2.68))}, 1.19, 1.62)
+    mesh = tessellate_body(shape, 0.02)
+    assert mesh.is_watertight()
+    for part in ("outer", "inner"):
+        assert _non_round_wall_deviation(shape, mesh, part) <= 0.02, part
+
+
 def test_nasty_bottles_tessellate_under_a_memory_limit():
     """The sharp-corner bottles mesh, and a 2 m bottle at the finest tolerance is refused, in a
     process limited to 1 GiB of address space: a regression fails instead of eating the machine."""

@@ -51,6 +51,8 @@ _HEIGHTS_PER_BLOCK = 64
 _FINE_ANGLES = 2880
 #: Rounds of halving sagging angle intervals: log2(MAX_DTHETA / two fine steps) < 6.
 _MAX_SPLIT_ROUNDS = 8
+#: Rounds of looking between checked heights: down to 1/64 of their spacing where needed.
+_MAX_BETWEEN_ROUNDS = 6
 #: Rounds of halving bands of a non-round wall (a band 2^16 times thinner is well below a micron).
 _MAX_REFINE_ROUNDS = 16
 #: Most triangles one wall may have (about 50 MB of vertices and faces); finer is refused.
@@ -113,66 +115,124 @@ def theta_samples(body: BottleBody, tol_mm: float) -> np.ndarray:
     the sag rule (:func:`_sag_density`, equidistributed), then every interval whose measured sag
     on a fine grid of angles still exceeds the share is halved (:func:`_split_sagging`): the rule
     assumes the turning is spread over a chord, and underestimates a corner much smaller than
-    the chord. The halving adds at most ``_FINE_ANGLES`` angles, whatever the shape.
+    the chord. The halving adds at most ``_FINE_ANGLES`` angles, whatever the shape; the sag is
+    measured at the heights of :func:`_deciding_heights` and between them
+    (:func:`_split_between_heights`).
     """
     fine = np.linspace(0.0, 2 * math.pi, _FINE_ANGLES + 1)
+    heights = _deciding_heights(body)
     step = math.sqrt(8.0 * SAG_SHARE * tol_mm)
     dens = step * np.diff(fine) / MAX_DTHETA  # the floor: no band wider than MAX_DTHETA
-    for x, y, nx, ny in _boundary_blocks(body, fine):
+    for x, y, nx, ny in _boundary_blocks(body, fine, heights):
         pts, nrm = np.stack(np.broadcast_arrays(x, y), -1), np.stack(np.broadcast_arrays(nx, ny), -1)
         dens = np.maximum(dens, np.max([_sag_density(p, n) for p, n in zip(pts, nrm)], axis=0))
     n = max(int(math.ceil(dens.sum() / step)), 8)
     n += (-n) % 4  # keep the four-fold symmetry of square bottles
     theta = _equidistribute(dens, n)[:-1] * 2 * math.pi
-    return _split_sagging(body, theta, fine, SAG_SHARE * tol_mm)
+    theta = _split_sagging(body, theta, fine, SAG_SHARE * tol_mm, heights)[0]
+    return _split_between_heights(body, theta, fine, SAG_SHARE * tol_mm, heights)
 
 
-def _boundary_blocks(body: BottleBody, angles):
-    """Boundary ``(x, y, nx, ny)`` (mm, unit; each ``(heights, len(angles))``) of both walls at
-    the heights that decide the angles, in blocks of ``_HEIGHTS_PER_BLOCK`` (bounded memory).
-
-    Heights: 9 per segment of every wall section (where radii and corners change); a round
-    bottle's rings are circles, so only its widest one counts.
-    """
-    sections = body.profile.sections
+def _deciding_heights(body: BottleBody):
+    """``{part: heights (mm)}`` at which the walls' boundaries decide the angles: 9 per segment
+    of every section (where radii and corners change); ``None`` for a round bottle, whose rings
+    are circles (its widest one decides)."""
     if body.kind == "round":
-        widest = max(float(np.max(s.point(np.linspace(0, 1, 9))[:, 0])) for s in sections[0].outer_wall)
+        return None
+    out = {}
+    for part in ("outer", "inner"):
+        chains = [sp.outer_wall if part == "outer" else sp.inner_wall for sp in body.profile.sections]
+        out[part] = np.unique(np.concatenate([s.point(np.linspace(0, 1, 9))[:, 1] for c in chains for s in c]))
+    return out
+
+
+def _boundary_blocks(body: BottleBody, angles, heights):
+    """Boundary ``(x, y, nx, ny)`` (mm, unit; each ``(heights, len(angles))``) of the walls at
+    ``heights`` (``{part: z}``, see :func:`_deciding_heights`), part by part and in blocks of
+    ``_HEIGHTS_PER_BLOCK`` heights (bounded memory)."""
+    if heights is None:
+        widest = max(float(np.max(s.point(np.linspace(0, 1, 9))[:, 0]))
+                     for s in body.profile.sections[0].outer_wall)
         yield crosssection.boundary("round", [np.array([[widest]])], angles[None, :])
         return
-    for part in ("outer", "inner"):
-        chains = [sp.outer_wall if part == "outer" else sp.inner_wall for sp in sections]
-        z = np.unique(np.concatenate([s.point(np.linspace(0, 1, 9))[:, 1] for c in chains for s in c]))
+    for part, z in heights.items():
         for lo in range(0, len(z), _HEIGHTS_PER_BLOCK):
             radii = [st[0][:, None] for st in body.wall_radii(part, z[lo:lo + _HEIGHTS_PER_BLOCK])]
             yield crosssection.boundary(body.kind, radii, angles[None, :])
 
 
-def _split_sagging(body: BottleBody, theta, fine, limit_mm: float) -> np.ndarray:
-    """``theta`` with every interval halved while its chord sags more than ``limit_mm`` (mm)
-    from the boundary at some ``fine`` angle inside it, at any height of :func:`_boundary_blocks`.
+def _split_sagging(body: BottleBody, theta, fine, limit_mm: float, heights):
+    """``(theta, sag_by_height)``: ``theta`` with every interval halved while its chord sags more
+    than ``limit_mm`` (mm) from the boundary at some ``fine`` angle inside it, at any of
+    ``heights``; and the largest sag (mm) at each height (in ``heights`` order) before halving.
 
     Bounded: an interval narrower than two fine steps is never split (the fine grid cannot see
     inside it), so at most ``len(fine)`` angles are added in at most ``log2(MAX_DTHETA / fine
-    step)`` rounds.
+    step)`` rounds. After the first round only the new halves are measured again.
     """
     min_width = 2.0 * (fine[1] - fine[0])
+    dirty = np.ones(len(theta), bool)
+    sag = np.zeros(len(theta))
+    by_height = None
     for _ in range(_MAX_SPLIT_ROUNDS):
+        sag[dirty], at_heights = _chord_sag(body, theta, fine, dirty, heights)
+        by_height = at_heights if by_height is None else by_height
         ends = np.append(theta, 2 * math.pi)
-        k = np.clip(np.searchsorted(ends, fine, side="right") - 1, 0, len(theta) - 1)
-        sag = np.zeros(len(theta))
-        for x, y, _, _ in _boundary_blocks(body, np.concatenate([theta, fine])):
-            x, y = np.broadcast_arrays(x, y)
-            ax, ay = x[:, :len(theta)], y[:, :len(theta)]  # chord ends, then the probes
-            bx, by = np.roll(ax, -1, axis=1), np.roll(ay, -1, axis=1)
-            px, py = x[:, len(theta):], y[:, len(theta):]
-            cx, cy = (bx - ax)[:, k], (by - ay)[:, k]
-            off = np.abs(cx * (py - ay[:, k]) - cy * (px - ax[:, k])) / np.hypot(cx, cy)
-            np.maximum.at(sag, k, off.max(axis=0))
         split = (sag > limit_mm) & (np.diff(ends) >= min_width)
         if not split.any():
             break
+        # a split interval's two halves follow it in the sorted angles: both to be measured
         theta = np.sort(np.concatenate([theta, 0.5 * (ends[:-1] + ends[1:])[split]]))
+        sag, dirty = np.repeat(sag, 1 + split), np.repeat(split, 1 + split)
+    return theta, by_height
+
+
+def _split_between_heights(body: BottleBody, theta, fine, limit_mm: float, heights) -> np.ndarray:
+    """``theta`` split (:func:`_split_sagging`) also half-way between the checked ``heights``,
+    and again half-way next to every height where that found too much sag.
+
+    A corner moves round as the radii change with height, so between two checked heights it can
+    sit between the angles it had at both. At most ``_MAX_BETWEEN_ROUNDS`` rounds, each looking
+    only next to the heights the previous one added.
+    """
+    if heights is None:  # circles: the widest one is the worst
+        return theta
+    heights = dict(heights)
+    between = {part: 0.5 * (z[:-1] + z[1:]) for part, z in heights.items()}
+    for _ in range(_MAX_BETWEEN_ROUNDS):
+        theta, sag = _split_sagging(body, theta, fine, limit_mm, between)
+        found, start = {}, 0
+        for part, zb in between.items():
+            found[part] = zb[sag[start:start + len(zb)] > limit_mm]
+            start += len(zb)
+        if not any(len(zf) for zf in found.values()):
+            break
+        for part, zf in found.items():
+            z = heights[part] = np.unique(np.concatenate([heights[part], zf]))
+            i = np.searchsorted(z, zf)  # each found height has checked neighbours on both sides
+            between[part] = np.unique(np.concatenate([0.5 * (z[i - 1] + z[i]), 0.5 * (z[i] + z[i + 1])]))
     return theta
+
+
+def _chord_sag(body: BottleBody, theta, fine, which, heights):
+    """``(sag, sag_by_height)``: largest sag (mm) of the chords ``theta[i] -> theta[i + 1]`` (the
+    last one closing the ring) selected by the mask ``which``, over the ``fine`` angles inside
+    them at every height; and the largest over those chords at each height."""
+    ends = np.append(theta, 2 * math.pi)
+    k = np.clip(np.searchsorted(ends, fine, side="right") - 1, 0, len(theta) - 1)
+    probe = which[k]
+    k = k[probe]
+    sag, by_height = np.zeros(len(theta)), []
+    for x, y, _, _ in _boundary_blocks(body, np.concatenate([theta, fine[probe]]), heights):
+        x, y = np.broadcast_arrays(x, y)
+        ax, ay = x[:, :len(theta)], y[:, :len(theta)]  # chord ends, then the probes
+        bx, by = np.roll(ax, -1, axis=1), np.roll(ay, -1, axis=1)
+        px, py = x[:, len(theta):], y[:, len(theta):]
+        cx, cy = (bx - ax)[:, k], (by - ay)[:, k]
+        off = np.abs(cx * (py - ay[:, k]) - cy * (px - ax[:, k])) / np.hypot(cx, cy)
+        np.maximum.at(sag, k, off.max(axis=0, initial=0.0))
+        by_height.append(off.max(axis=1, initial=0.0))
+    return sag[which], np.concatenate(by_height)
 
 
 def segment_samples(seg, tol_mm: float) -> np.ndarray:

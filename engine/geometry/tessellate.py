@@ -47,7 +47,8 @@ SAG_SHARE = 0.45
 MAX_DTHETA = math.radians(15.0)
 #: Heights whose boundaries are sampled at once when choosing the polar angles (bounds memory).
 _HEIGHTS_PER_BLOCK = 64
-#: Angles of the fine grid on which the chord sag around a ring is measured (0.125 degree steps).
+#: Angles of the fine grid (per turn, 0.125 degree steps) on which the chord sag around a ring is
+#: measured; only the first quarter is used, as every cross-section is symmetric about both axes.
 _FINE_ANGLES = 2880
 #: Rounds of halving sagging angle intervals: log2(MAX_DTHETA / two fine steps) < 6.
 _MAX_SPLIT_ROUNDS = 8
@@ -117,20 +118,27 @@ def theta_samples(body: BottleBody, tol_mm: float) -> np.ndarray:
     assumes the turning is spread over a chord, and underestimates a corner much smaller than
     the chord. The halving adds at most ``_FINE_ANGLES`` angles, whatever the shape; the sag is
     measured at the heights of :func:`_deciding_heights` and between them
-    (:func:`_split_between_heights`).
+    (:func:`_split_between_heights`). All this is done on the first quarter turn and mirrored
+    (:func:`_four_quarters`): a quarter of the work, and rings exactly four-fold symmetric.
     """
-    fine = np.linspace(0.0, 2 * math.pi, _FINE_ANGLES + 1)
+    fine = np.linspace(0.0, 0.5 * math.pi, _FINE_ANGLES // 4 + 1)
     heights = _deciding_heights(body)
     step = math.sqrt(8.0 * SAG_SHARE * tol_mm)
     dens = step * np.diff(fine) / MAX_DTHETA  # the floor: no band wider than MAX_DTHETA
     for x, y, nx, ny in _boundary_blocks(body, fine, heights):
         pts, nrm = np.stack(np.broadcast_arrays(x, y), -1), np.stack(np.broadcast_arrays(nx, ny), -1)
         dens = np.maximum(dens, np.max([_sag_density(p, n) for p, n in zip(pts, nrm)], axis=0))
-    n = max(int(math.ceil(dens.sum() / step)), 8)
-    n += (-n) % 4  # keep the four-fold symmetry of square bottles
-    theta = _equidistribute(dens, n)[:-1] * 2 * math.pi
-    theta = _split_sagging(body, theta, fine, SAG_SHARE * tol_mm, heights)[0]
-    return _split_between_heights(body, theta, fine, SAG_SHARE * tol_mm, heights)
+    n = max(int(math.ceil(dens.sum() / step)), 2)
+    quarter = _equidistribute(dens, n) * 0.5 * math.pi  # 0 and pi / 2 included
+    quarter = _split_sagging(body, quarter, fine, SAG_SHARE * tol_mm, heights)[0]
+    return _four_quarters(_split_between_heights(body, quarter, fine, SAG_SHARE * tol_mm, heights))
+
+
+def _four_quarters(quarter) -> np.ndarray:
+    """All angles in [0, 2 pi) from those of the first quarter (``0`` and ``pi / 2`` included),
+    mirrored about both axes, as every cross-section is symmetric about them."""
+    back = quarter[::-1][:-1]  # from pi / 2 down to the first angle after 0
+    return np.concatenate([quarter[:-1], math.pi - back, math.pi + quarter[:-1], 2 * math.pi - back])
 
 
 def _deciding_heights(body: BottleBody):
@@ -171,18 +179,17 @@ def _split_sagging(body: BottleBody, theta, fine, limit_mm: float, heights):
     step)`` rounds. After the first round only the new halves are measured again.
     """
     min_width = 2.0 * (fine[1] - fine[0])
-    dirty = np.ones(len(theta), bool)
-    sag = np.zeros(len(theta))
+    dirty = np.ones(len(theta) - 1, bool)
+    sag = np.zeros(len(theta) - 1)
     by_height = None
     for _ in range(_MAX_SPLIT_ROUNDS):
         sag[dirty], at_heights = _chord_sag(body, theta, fine, dirty, heights)
         by_height = at_heights if by_height is None else by_height
-        ends = np.append(theta, 2 * math.pi)
-        split = (sag > limit_mm) & (np.diff(ends) >= min_width)
+        split = (sag > limit_mm) & (np.diff(theta) >= min_width)
         if not split.any():
             break
         # a split interval's two halves follow it in the sorted angles: both to be measured
-        theta = np.sort(np.concatenate([theta, 0.5 * (ends[:-1] + ends[1:])[split]]))
+        theta = np.sort(np.concatenate([theta, 0.5 * (theta[:-1] + theta[1:])[split]]))
         sag, dirty = np.repeat(sag, 1 + split), np.repeat(split, 1 + split)
     return theta, by_height
 
@@ -215,18 +222,17 @@ def _split_between_heights(body: BottleBody, theta, fine, limit_mm: float, heigh
 
 
 def _chord_sag(body: BottleBody, theta, fine, which, heights):
-    """``(sag, sag_by_height)``: largest sag (mm) of the chords ``theta[i] -> theta[i + 1]`` (the
-    last one closing the ring) selected by the mask ``which``, over the ``fine`` angles inside
-    them at every height; and the largest over those chords at each height."""
-    ends = np.append(theta, 2 * math.pi)
-    k = np.clip(np.searchsorted(ends, fine, side="right") - 1, 0, len(theta) - 1)
+    """``(sag, sag_by_height)``: largest sag (mm) of the chords ``theta[i] -> theta[i + 1]``
+    selected by the mask ``which``, over the ``fine`` angles inside them at every height; and
+    the largest over those chords at each height."""
+    k = np.clip(np.searchsorted(theta, fine, side="right") - 1, 0, len(theta) - 2)
     probe = which[k]
     k = k[probe]
-    sag, by_height = np.zeros(len(theta)), []
+    sag, by_height = np.zeros(len(theta) - 1), []
     for x, y, _, _ in _boundary_blocks(body, np.concatenate([theta, fine[probe]]), heights):
         x, y = np.broadcast_arrays(x, y)
-        ax, ay = x[:, :len(theta)], y[:, :len(theta)]  # chord ends, then the probes
-        bx, by = np.roll(ax, -1, axis=1), np.roll(ay, -1, axis=1)
+        ax, ay = x[:, :len(theta) - 1], y[:, :len(theta) - 1]  # chord ends, then the probes
+        bx, by = x[:, 1:len(theta)], y[:, 1:len(theta)]
         px, py = x[:, len(theta):], y[:, len(theta):]
         cx, cy = (bx - ax)[:, k], (by - ay)[:, k]
         off = np.abs(cx * (py - ay[:, k]) - cy * (px - ax[:, k])) / np.hypot(cx, cy)

@@ -56,6 +56,8 @@ _MAX_SPLIT_ROUNDS = 8
 _MAX_BETWEEN_ROUNDS = 6
 #: Rounds of halving bands of a non-round wall (a band 2^16 times thinner is well below a micron).
 _MAX_REFINE_ROUNDS = 16
+#: Share of ``SAG_SHARE * tol`` below which a band's twist no longer splits it (see refine_heights).
+_TWIST_FLOOR = 0.25
 #: Most triangles one wall may have (about 50 MB of vertices and faces); finer is refused.
 MAX_WALL_TRIANGLES = 2_000_000
 
@@ -308,20 +310,21 @@ def chain_stations(chain, tol_mm: float) -> np.ndarray:
 
 
 def refine_heights(body: BottleBody, part: str, z, theta, tol_mm: float) -> np.ndarray:
-    """Split bands (non-round walls) until, half-way up each band and at every ``theta``, the
-    surface is within ``SAG_SHARE * tol_mm`` of the band's straight interpolation, and the band's
-    diagonal strays at most that much further from it than the ring's own chord does.
+    """Split bands (non-round walls) until the surface half-way up each band is within
+    ``SAG_SHARE * tol_mm`` of the band's straight interpolation at every ``theta``, and within
+    twice that of the middle of each band's diagonals.
 
     Needed because on a non-round wall the boundary point at a fixed angle can move between a
     side and a corner as the radii change with height, which the sections' curvature alone
     does not see.
 
-    Only what halving a band cures is asked of it: the sag of the ring's chords around (set by
-    ``theta``, :func:`theta_samples`) is left out of the diagonal's test, as it stays the same
-    however thin the band. (Counting it once made every band of a wall split 16 times over
-    where the angles were too coarse: 65536 times the rings, gigabytes.) What remains shrinks
-    with the band's height, so the splitting ends; it stops anyway after ``_MAX_REFINE_ROUNDS``
-    rounds, and :func:`_check_size` refuses a wall growing past ``MAX_WALL_TRIANGLES``.
+    The diagonal's error is the ring's own chord sag around (set by ``theta``, which no thinner
+    band changes) plus the twist between neighbouring angles (which halves with the band). A band
+    is split for it only while its twist exceeds ``_TWIST_FLOOR`` of the share: where the angles
+    are too coarse the splitting then still ends. (Without that floor every band of a wall once
+    split 16 times over: 65536 times the rings, gigabytes.) It stops anyway after
+    ``_MAX_REFINE_ROUNDS`` rounds, and :func:`_check_size` refuses a wall growing past
+    ``MAX_WALL_TRIANGLES``.
     """
     if body.kind == "round":
         return z
@@ -332,14 +335,14 @@ def refine_heights(body: BottleBody, part: str, z, theta, tol_mm: float) -> np.n
     for _ in range(_MAX_REFINE_ROUNDS):
         zm = 0.5 * (z[:-1] + z[1:])
         pm, nm = body.wall(part, theta[None, :], zm[:, None])
-        dev = np.abs(np.sum((pm - 0.5 * (p[:-1] + p[1:])) * nm, axis=-1)).max(axis=1)
-        _, nd = body.wall(part, theta_mid[None, :], zm[:, None])
-        # diagonal middle minus chord middle at the same height: the surface's part (pd) cancels,
-        # leaving the twist between neighbouring angles, which halves with the band
-        chord = 0.5 * (pm + np.roll(pm, -1, axis=1))
+        dev = np.abs(np.sum((pm - 0.5 * (p[:-1] + p[1:])) * nm, axis=-1))
+        pd, nd = body.wall(part, theta_mid[None, :], zm[:, None])
         diag = 0.5 * (p[:-1] + np.roll(p[1:], -1, axis=1))
-        twist = np.abs(np.sum((chord - diag) * nd, axis=-1)).max(axis=1)
-        split = (dev > limit) | (twist > limit)
+        dev_diag = np.abs(np.sum((pd - diag) * nd, axis=-1))
+        # the diagonal's middle minus the chord's middle at the same height: the twist alone
+        twist = np.abs(np.sum((0.5 * (pm + np.roll(pm, -1, axis=1)) - diag) * nd, axis=-1))
+        curable = (dev_diag > 2 * limit) & (twist > _TWIST_FLOOR * limit)
+        split = (dev.max(axis=1) > limit) | curable.any(axis=1)
         if not split.any():
             break
         z = np.sort(np.concatenate([z, zm[split]]))

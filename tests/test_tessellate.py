@@ -1,9 +1,13 @@
 """Tessellation (engine.geometry.tessellate): closed, outward, within tolerance, converging volumes."""
 import math
+import subprocess
+import sys
+from datetime import timedelta
+from pathlib import Path
 
 import numpy as np
 import pytest
-from hypothesis import assume, given, settings, strategies as st
+from hypothesis import assume, example, given, settings, strategies as st
 from scipy.spatial import cKDTree
 
 from engine.geometry import capacity as cap
@@ -12,7 +16,10 @@ from engine.geometry.body import BottleBody
 from engine.errors import SectionError, WallError
 from engine.geometry.validate import body_profile
 from engine.geometry.shape import BottleShape
-from engine.geometry.tessellate import BODY_PARTS, tessellate_body, tessellate_liquid
+from engine.geometry.tessellate import (BODY_PARTS, MAX_WALL_TRIANGLES, refine_heights, tessellate_body,
+                                       tessellate_liquid, wall_heights)
+from engine.limits import MIN_TOL_MM
+from tests.tessellate_worker import SHARP_INNER_CORNERS, huge_torus_bottle, stepped_bottle
 from tests.test_offset import (cornered_punt_section, heel_through_ring_section, punt_section, spec_shape,
                                stepped_section)
 
@@ -79,24 +86,29 @@ def test_round_chordal_deviation_within_tolerance(name):
     assert worst > 0.3 * tol  # and not needlessly finer than asked
 
 
+def _non_round_wall_deviation(shape, mesh, part: str) -> float:
+    """Largest distance (mm) of the ``outer`` / ``inner`` wall's triangles from the exact wall,
+    where the section is steep enough for the first-order distance to be reliable."""
+    body = BottleBody(shape)
+    rot = math.radians(shape.rotation_deg)
+    q = _samples(mesh, BODY_PARTS.index(part))
+    x = math.cos(rot) * q[:, 0] + math.sin(rot) * q[:, 1]
+    y = -math.sin(rot) * q[:, 0] + math.cos(rot) * q[:, 1]
+    states = body.wall_radii(part, q[:, 2])
+    radii = [s[0] for s in states]
+    sd, gx, gy, d = crosssection.signed_distance(shape.cross_section, radii, x, y)
+    steep = np.min([s[2] for s in states], axis=0) > 0.2  # first-order distance is reliable
+    gz = sum(d[j] * states[j][1] / np.maximum(states[j][2], 1e-9) for j in range(len(states)))
+    return float((np.abs(sd) / np.sqrt(gx ** 2 + gy ** 2 + gz ** 2))[steep].max())
+
+
 @pytest.mark.parametrize("name", ["square", "oval"])
 def test_non_round_wall_deviation_within_tolerance(name):
     tol = 0.1
     shape = SHAPES[name]()
     mesh = tessellate_body(shape, tol)
-    body = BottleBody(shape)
-    rot = math.radians(shape.rotation_deg)
-    for k, part in enumerate(("outer", "inner")):
-        q = _samples(mesh, k)
-        x = math.cos(rot) * q[:, 0] + math.sin(rot) * q[:, 1]
-        y = -math.sin(rot) * q[:, 0] + math.cos(rot) * q[:, 1]
-        states = body.wall_radii(part, q[:, 2])
-        radii = [s[0] for s in states]
-        sd, gx, gy, d = crosssection.signed_distance(shape.cross_section, radii, x, y)
-        steep = np.min([s[2] for s in states], axis=0) > 0.2  # first-order distance is reliable
-        gz = sum(d[j] * states[j][1] / np.maximum(states[j][2], 1e-9) for j in range(len(states)))
-        dist = np.abs(sd) / np.sqrt(gx ** 2 + gy ** 2 + gz ** 2)
-        assert dist[steep].max() <= tol, part
+    for part in ("outer", "inner"):
+        assert _non_round_wall_deviation(shape, mesh, part) <= tol, part
 
 
 def test_volume_converges_to_exact_as_tolerance_shrinks():
@@ -144,23 +156,85 @@ def test_per_segment_wall_step_is_meshed_as_a_ledge():
     assert radii.min() == pytest.approx(26.0) and radii.max() > 26.5  # both sides of the ledge
 
 
-@settings(max_examples=12, deadline=None)
-@given(u=st.floats(15.0, 40.0), ratio=st.floats(1.0, 1.35), neck=st.floats(6.0, 14.0),
-       w=st.floats(1.0, 3.5), kind=st.sampled_from(["rounded_square", "oval", "round"]))
-def test_random_bottles_are_watertight_and_close_in_volume(u, ratio, neck, w, kind):
-    secs = {"rounded_square": ("u", "v"), "oval": ("half_width", "half_depth"), "round": ("profile",)}[kind]
-    radii = (u, u * ratio)
-    shape = BottleShape(kind, {nm: stepped_section(r, 90.0, neck, 120.0, 150.0) for nm, r in zip(secs, radii)},
-                        w, w + 2.0)
-    try:
-        exact = cap.glass_volume_cm3(shape) * 1000
-    except (SectionError, WallError):
-        assume(False)  # e.g. a wall too thick for the neck: not this test's subject
-    mesh = tessellate_body(shape, 0.1)
+def _assert_closed_and_close_in_volume(shape, mesh, tol):
+    """Watertight, and the volume within ``tol`` x half the area of the capacity module's."""
     assert mesh.is_watertight()
+    exact = cap.glass_volume_cm3(shape) * 1000
     v = mesh.vertices[mesh.faces]
     area = 0.5 * np.linalg.norm(np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0]), axis=1).sum()
-    assert abs(mesh.signed_volume() - exact) <= 0.1 * area * 0.5
+    assert abs(mesh.signed_volume() - exact) <= tol * area * 0.5
+
+
+# Each example takes well under a second; the deadline (generous for a shared machine) turns a
+# regression into a failure, and tests/tessellate_worker.py bounds its memory.
+@settings(max_examples=12, deadline=timedelta(seconds=10))
+@given(u=st.floats(15.0, 40.0), ratio=st.floats(1.0, 1.35), neck=st.floats(6.0, 14.0),
+       w=st.floats(1.0, 3.5), kind=st.sampled_from(["rounded_square", "oval", "round"]))
+@example(*SHARP_INNER_CORNERS[0], "rounded_square")
+@example(*SHARP_INNER_CORNERS[1], "rounded_square")
+def test_random_bottles_are_watertight_and_close_in_volume(u, ratio, neck, w, kind):
+    shape = stepped_bottle(kind, u, ratio, neck, w)
+    try:
+        cap.glass_volume_cm3(shape)
+    except (SectionError, WallError):
+        assume(False)  # e.g. a wall too thick for the neck: not this test's subject
+    _assert_closed_and_close_in_volume(shape, tessellate_body(shape, 0.1), 0.1)
+
+
+@pytest.mark.parametrize("args", SHARP_INNER_CORNERS)
+def test_sharp_inner_corner_is_meshed_small_closed_and_within_tolerance(args):
+    """A rounded square whose inner corner radius (about 0.3 mm) is a tenth of the outer one:
+    the angles must follow the inner wall, and the rings stay few (they once grew 2^16-fold)."""
+    shape = stepped_bottle("rounded_square", *args)
+    mesh = tessellate_body(shape, 0.1)
+    assert len(mesh.faces) < 12_000  # 4,900 to 7,400 now; before, over 30,000 rings and out of memory
+    _assert_closed_and_close_in_volume(shape, mesh, 0.1)
+    for part in ("outer", "inner"):
+        assert _non_round_wall_deviation(shape, mesh, part) <= 0.1, part
+
+
+def test_corner_turning_round_with_height_stays_within_tolerance():
+    """A rounded rectangle whose 1.5 mm inner corner grows and moves round up the shoulder: the
+    angles must also fit the heights between those that first decide them."""
+    names = ("half_width", "half_depth", "corner")
+    shape = BottleShape("rounded_rect", {nm: stepped_section(r, 46.74, 15.28, 82.01, 97.01)
+                                         for nm, r in zip(names, (19.14, 11.49, 2.68))}, 1.19, 1.62)
+    mesh = tessellate_body(shape, 0.02)
+    assert mesh.is_watertight()
+    for part in ("outer", "inner"):
+        assert _non_round_wall_deviation(shape, mesh, part) <= 0.02, part
+
+
+def test_ring_refinement_ends_even_where_the_angles_are_too_coarse():
+    """Halving bands cannot cure a ring's own chord sag: 32 angles round a 0.28 mm inner corner
+    sag far more than 0.1 mm, and the refinement must still end with few rings."""
+    body = BottleBody(stepped_bottle("rounded_square", *SHARP_INNER_CORNERS[0]))
+    theta = np.linspace(0.0, 2 * math.pi, 32, endpoint=False)
+    chains = [sp.inner_wall for sp in body.profile.sections]
+    z0 = wall_heights(chains, 0.1, body.profile.z_ib, body.profile.z_top)
+    z = refine_heights(body, "inner", z0, theta, 0.1)
+    assert len(z) < 200  # 8 rings to start: 91 now, 51,371 before
+
+
+def test_nasty_bottles_tessellate_under_a_memory_limit():
+    """The sharp-corner bottles mesh, and a 2 m bottle at the finest tolerance is refused, in a
+    process limited to 1 GiB of address space: a regression fails instead of eating the machine."""
+    limit = 1024 ** 3
+    out = subprocess.run([sys.executable, "-m", "tests.tessellate_worker", str(limit)],
+                         cwd=Path(__file__).resolve().parents[1], capture_output=True, text=True, timeout=120)
+    assert out.returncode == 0, out.stdout[-2000:] + out.stderr[-4000:]
+    last = out.stdout.strip().splitlines()[-1]
+    assert last.startswith("OK"), last
+    assert float(last.split("=")[1]) < 1024
+
+
+def test_a_wall_past_the_triangle_budget_is_refused_naming_a_coarser_tolerance():
+    with pytest.raises(ValueError, match="coarser tolerance") as err:
+        tessellate_body(huge_torus_bottle(), MIN_TOL_MM)
+    message = str(err.value)
+    assert f"{MAX_WALL_TRIANGLES:,}" in message
+    least = float(message.rsplit("at least ", 1)[1].split(" mm")[0])
+    assert least > MIN_TOL_MM
 
 
 def test_corner_rings_carry_each_sides_exact_normal():

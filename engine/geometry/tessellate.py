@@ -12,6 +12,19 @@ Spacing follows the chord-sag rule ``sag ~ L * turn / 8`` (chord length times ta
 samples are placed so that every chord's sag is about ``SAG_SHARE * tol_mm`` in each direction
 (around and along the section), denser where curvature is high, none on straight stretches beyond
 a floor that keeps bands from spanning more than ``MAX_DTHETA``. Flat parts are exact.
+
+Size (bounded resources): around, the rule gives ``n_theta ~ (integral of sqrt(curvature) ds) /
+sqrt(8 SAG_SHARE tol)``, at most ``sqrt(2 pi P / (8 SAG_SHARE tol))`` for a convex ring of
+perimeter ``P`` (mm), plus ``2 pi / MAX_DTHETA = 24`` from the floor, plus the intervals halved
+at corners sharper than the rule sees (never more than ``_FINE_ANGLES`` in all). Along, a
+segment of length ``L`` (mm) turning ``T`` (rad) gets at most ``sqrt(L T / (8 SAG_SHARE tol)) + 1``
+rings, plus the bands :func:`refine_heights` halves where a corner sweeps round with height.
+A wall has about ``2 n_theta n_rings`` triangles, growing as ``1 / tol``: some 10^4 for a
+60 mm wide, 200 mm tall bottle at 0.1 mm. A wall needing more than ``MAX_WALL_TRIANGLES`` is
+refused with a ``ValueError`` naming the least tolerance that could fit, before its memory is
+spent (only tolerances near ``MIN_TOL_MM`` on large bottles get there). It is refused rather
+than quietly meshed coarser: an exported mesh is a promise about its tolerance, and the
+designer can choose the coarser figure knowingly.
 """
 from __future__ import annotations
 
@@ -34,6 +47,19 @@ SAG_SHARE = 0.45
 MAX_DTHETA = math.radians(15.0)
 #: Heights whose boundaries are sampled at once when choosing the polar angles (bounds memory).
 _HEIGHTS_PER_BLOCK = 64
+#: Angles of the fine grid (per turn, 0.125 degree steps) on which the chord sag around a ring is
+#: measured; only the first quarter is used, as every cross-section is symmetric about both axes.
+_FINE_ANGLES = 2880
+#: Rounds of halving sagging angle intervals: log2(MAX_DTHETA / two fine steps) < 6.
+_MAX_SPLIT_ROUNDS = 8
+#: Rounds of looking between checked heights: down to 1/64 of their spacing where needed.
+_MAX_BETWEEN_ROUNDS = 6
+#: Rounds of halving bands of a non-round wall (a band 2^16 times thinner is well below a micron).
+_MAX_REFINE_ROUNDS = 16
+#: Share of ``SAG_SHARE * tol`` below which a band's twist no longer splits it (see refine_heights).
+_TWIST_FLOOR = 0.25
+#: Most triangles one wall may have (about 50 MB of vertices and faces); finer is refused.
+MAX_WALL_TRIANGLES = 2_000_000
 
 
 @dataclass(frozen=True, eq=False)
@@ -85,26 +111,136 @@ def _sag_density(points, normals):
 
 
 def theta_samples(body: BottleBody, tol_mm: float) -> np.ndarray:
-    """Polar angles (rad) shared by every ring: chord sag <= ``SAG_SHARE * tol_mm`` around."""
-    fine = np.linspace(0.0, 2 * math.pi, 2881)
-    chains = [sp.outer_wall for sp in body.profile.sections]
-    z = np.unique(np.concatenate([s.point(np.linspace(0, 1, 9))[:, 1] for c in chains for s in c]))
-    if body.kind == "round":  # every ring is a circle: the widest one decides
-        widest = max(float(np.max(s.point(np.linspace(0, 1, 9))[:, 0])) for s in chains[0])
-        z, radii = z[:1], [np.array([[widest]])]
-    dens = np.zeros(len(fine) - 1)
-    for lo in range(0, len(z), _HEIGHTS_PER_BLOCK):  # blocks of heights: memory stays bounded
-        zb = z[lo:lo + _HEIGHTS_PER_BLOCK]
-        if body.kind != "round":
-            radii = [body.wall_radii("outer", zb)[k][0][:, None] for k in range(len(chains))]
-        x, y, nx, ny = crosssection.boundary(body.kind, radii, fine[None, :])
+    """Polar angles (rad) shared by every ring: chord sag <= ``SAG_SHARE * tol_mm`` around.
+
+    Both walls count: the inner wall's corners are the outer's minus the wall thickness, so a
+    rounded square's inner corner can be far sharper than its outer one. The angles first follow
+    the sag rule (:func:`_sag_density`, equidistributed), then every interval whose measured sag
+    on a fine grid of angles still exceeds the share is halved (:func:`_split_sagging`): the rule
+    assumes the turning is spread over a chord, and underestimates a corner much smaller than
+    the chord. The halving adds at most ``_FINE_ANGLES`` angles, whatever the shape; the sag is
+    measured at the heights of :func:`_deciding_heights` and between them
+    (:func:`_split_between_heights`). All this is done on the first quarter turn and mirrored
+    (:func:`_four_quarters`): a quarter of the work, and rings exactly four-fold symmetric.
+    """
+    fine = np.linspace(0.0, 0.5 * math.pi, _FINE_ANGLES // 4 + 1)
+    heights = _deciding_heights(body)
+    step = math.sqrt(8.0 * SAG_SHARE * tol_mm)
+    dens = step * np.diff(fine) / MAX_DTHETA  # the floor: no band wider than MAX_DTHETA
+    for x, y, nx, ny in _boundary_blocks(body, fine, heights):
         pts, nrm = np.stack(np.broadcast_arrays(x, y), -1), np.stack(np.broadcast_arrays(nx, ny), -1)
         dens = np.maximum(dens, np.max([_sag_density(p, n) for p, n in zip(pts, nrm)], axis=0))
-    step = math.sqrt(8.0 * SAG_SHARE * tol_mm)
-    dens = np.maximum(dens, step * np.diff(fine) / MAX_DTHETA)
-    n = max(int(math.ceil(dens.sum() / step)), 8)
-    n += (-n) % 4  # keep the four-fold symmetry of square bottles
-    return _equidistribute(dens, n)[:-1] * 2 * math.pi
+    n = max(int(math.ceil(dens.sum() / step)), 2)
+    quarter = _equidistribute(dens, n) * 0.5 * math.pi  # 0 and pi / 2 included
+    quarter = _split_sagging(body, quarter, fine, SAG_SHARE * tol_mm, heights)[0]
+    return _four_quarters(_split_between_heights(body, quarter, fine, SAG_SHARE * tol_mm, heights))
+
+
+def _four_quarters(quarter) -> np.ndarray:
+    """All angles in [0, 2 pi) from those of the first quarter (``0`` and ``pi / 2`` included),
+    mirrored about both axes, as every cross-section is symmetric about them."""
+    back = quarter[::-1][:-1]  # from pi / 2 down to the first angle after 0
+    return np.concatenate([quarter[:-1], math.pi - back, math.pi + quarter[:-1], 2 * math.pi - back])
+
+
+def _deciding_heights(body: BottleBody):
+    """``{part: heights (mm)}`` at which the walls' boundaries decide the angles: 9 per segment
+    of every section (where radii and corners change); ``None`` for a round bottle, whose rings
+    are circles (its widest one decides)."""
+    if body.kind == "round":
+        return None
+    out = {}
+    for part in ("outer", "inner"):
+        chains = [sp.outer_wall if part == "outer" else sp.inner_wall for sp in body.profile.sections]
+        out[part] = np.unique(np.concatenate([s.point(np.linspace(0, 1, 9))[:, 1] for c in chains for s in c]))
+    return out
+
+
+def _boundary_blocks(body: BottleBody, angles, heights):
+    """Boundary ``(x, y, nx, ny)`` (mm, unit; each ``(heights, len(angles))``) of the walls at
+    ``heights`` (``{part: z}``, see :func:`_deciding_heights`), part by part and in blocks of
+    ``_HEIGHTS_PER_BLOCK`` heights (bounded memory)."""
+    if heights is None:
+        widest = max(float(np.max(s.point(np.linspace(0, 1, 9))[:, 0]))
+                     for s in body.profile.sections[0].outer_wall)
+        yield crosssection.boundary("round", [np.array([[widest]])], angles[None, :])
+        return
+    for part, z in heights.items():
+        for lo in range(0, len(z), _HEIGHTS_PER_BLOCK):
+            radii = [st[0][:, None] for st in body.wall_radii(part, z[lo:lo + _HEIGHTS_PER_BLOCK])]
+            yield crosssection.boundary(body.kind, radii, angles[None, :])
+
+
+def _split_sagging(body: BottleBody, theta, fine, limit_mm: float, heights):
+    """``(theta, sag_by_height)``: ``theta`` with every interval halved while its chord sags more
+    than ``limit_mm`` (mm) from the boundary at some ``fine`` angle inside it, at any of
+    ``heights``; and the largest sag (mm) at each height (in ``heights`` order) before halving.
+
+    Bounded: an interval narrower than two fine steps is never split (the fine grid cannot see
+    inside it), so at most ``len(fine)`` angles are added in at most ``log2(MAX_DTHETA / fine
+    step)`` rounds. After the first round only the new halves are measured again.
+    """
+    min_width = 2.0 * (fine[1] - fine[0])
+    dirty = np.ones(len(theta) - 1, bool)
+    sag = np.zeros(len(theta) - 1)
+    by_height = None
+    for _ in range(_MAX_SPLIT_ROUNDS):
+        sag[dirty], at_heights = _chord_sag(body, theta, fine, dirty, heights)
+        by_height = at_heights if by_height is None else by_height
+        split = (sag > limit_mm) & (np.diff(theta) >= min_width)
+        if not split.any():
+            break
+        # a split interval's two halves follow it in the sorted angles: both to be measured
+        theta = np.sort(np.concatenate([theta, 0.5 * (theta[:-1] + theta[1:])[split]]))
+        sag, dirty = np.repeat(sag, 1 + split), np.repeat(split, 1 + split)
+    return theta, by_height
+
+
+def _split_between_heights(body: BottleBody, theta, fine, limit_mm: float, heights) -> np.ndarray:
+    """``theta`` split (:func:`_split_sagging`) also half-way between the checked ``heights``,
+    and again half-way next to every height where that found too much sag.
+
+    A corner moves round as the radii change with height, so between two checked heights it can
+    sit between the angles it had at both. At most ``_MAX_BETWEEN_ROUNDS`` rounds, each looking
+    only next to the heights the previous one added.
+    """
+    if heights is None:  # circles: the widest one is the worst
+        return theta
+    heights = dict(heights)
+    between = {part: 0.5 * (z[:-1] + z[1:]) for part, z in heights.items()}
+    for _ in range(_MAX_BETWEEN_ROUNDS):
+        theta, sag = _split_sagging(body, theta, fine, limit_mm, between)
+        found, start = {}, 0
+        for part, zb in between.items():
+            found[part] = zb[sag[start:start + len(zb)] > limit_mm]
+            start += len(zb)
+        if not any(len(zf) for zf in found.values()):
+            break
+        for part, zf in found.items():
+            z = heights[part] = np.unique(np.concatenate([heights[part], zf]))
+            i = np.searchsorted(z, zf)  # each found height has checked neighbours on both sides
+            between[part] = np.unique(np.concatenate([0.5 * (z[i - 1] + z[i]), 0.5 * (z[i] + z[i + 1])]))
+    return theta
+
+
+def _chord_sag(body: BottleBody, theta, fine, which, heights):
+    """``(sag, sag_by_height)``: largest sag (mm) of the chords ``theta[i] -> theta[i + 1]``
+    selected by the mask ``which``, over the ``fine`` angles inside them at every height; and
+    the largest over those chords at each height."""
+    k = np.clip(np.searchsorted(theta, fine, side="right") - 1, 0, len(theta) - 2)
+    probe = which[k]
+    k = k[probe]
+    sag, by_height = np.zeros(len(theta) - 1), []
+    for x, y, _, _ in _boundary_blocks(body, np.concatenate([theta, fine[probe]]), heights):
+        x, y = np.broadcast_arrays(x, y)
+        ax, ay = x[:, :len(theta) - 1], y[:, :len(theta) - 1]  # chord ends, then the probes
+        bx, by = x[:, 1:len(theta)], y[:, 1:len(theta)]
+        px, py = x[:, len(theta):], y[:, len(theta):]
+        cx, cy = (bx - ax)[:, k], (by - ay)[:, k]
+        off = np.abs(cx * (py - ay[:, k]) - cy * (px - ax[:, k])) / np.hypot(cx, cy)
+        np.maximum.at(sag, k, off.max(axis=0, initial=0.0))
+        by_height.append(off.max(axis=1, initial=0.0))
+    return sag[which], np.concatenate(by_height)
 
 
 def segment_samples(seg, tol_mm: float) -> np.ndarray:
@@ -175,31 +311,59 @@ def chain_stations(chain, tol_mm: float) -> np.ndarray:
 
 def refine_heights(body: BottleBody, part: str, z, theta, tol_mm: float) -> np.ndarray:
     """Split bands (non-round walls) until the surface half-way up each band is within
-    ``SAG_SHARE * tol_mm`` of the band's straight interpolation at every ``theta``.
+    ``SAG_SHARE * tol_mm`` of the band's straight interpolation at every ``theta``, and within
+    twice that of the middle of each band's diagonals.
 
     Needed because on a non-round wall the boundary point at a fixed angle can move between a
     side and a corner as the radii change with height, which the sections' curvature alone
     does not see.
+
+    The diagonal's error is the ring's own chord sag around (set by ``theta``, which no thinner
+    band changes) plus the twist between neighbouring angles (which halves with the band). A band
+    is split for it only while its twist exceeds ``_TWIST_FLOOR`` of the share: where the angles
+    are too coarse the splitting then still ends. (Without that floor every band of a wall once
+    split 16 times over: 65536 times the rings, gigabytes.) It stops anyway after
+    ``_MAX_REFINE_ROUNDS`` rounds, and :func:`_check_size` refuses a wall growing past
+    ``MAX_WALL_TRIANGLES``.
     """
     if body.kind == "round":
         return z
+    limit = SAG_SHARE * tol_mm
     # the band's triangles meet along the diagonal (k, j) - (k + 1, j + 1): check its middle too
     theta_mid = theta + 0.5 * np.diff(np.append(theta, theta[0] + 2 * math.pi))
     p, _ = body.wall(part, theta[None, :], z[:, None])
-    for _ in range(16):
+    for _ in range(_MAX_REFINE_ROUNDS):
         zm = 0.5 * (z[:-1] + z[1:])
         pm, nm = body.wall(part, theta[None, :], zm[:, None])
-        dev = np.abs(np.sum((pm - 0.5 * (p[:-1] + p[1:])) * nm, axis=-1)).max(axis=1)
+        dev = np.abs(np.sum((pm - 0.5 * (p[:-1] + p[1:])) * nm, axis=-1))
         pd, nd = body.wall(part, theta_mid[None, :], zm[:, None])
         diag = 0.5 * (p[:-1] + np.roll(p[1:], -1, axis=1))
-        # the diagonal's middle also carries the angular sag: it gets the whole budget
-        dev_diag = np.abs(np.sum((pd - diag) * nd, axis=-1)).max(axis=1)
-        split = (dev > SAG_SHARE * tol_mm) | (dev_diag > 2 * SAG_SHARE * tol_mm)
+        dev_diag = np.abs(np.sum((pd - diag) * nd, axis=-1))
+        # the diagonal's middle minus the chord's middle at the same height: the twist alone
+        twist = np.abs(np.sum((0.5 * (pm + np.roll(pm, -1, axis=1)) - diag) * nd, axis=-1))
+        curable = (dev_diag > 2 * limit) & (twist > _TWIST_FLOOR * limit)
+        split = (dev.max(axis=1) > limit) | curable.any(axis=1)
         if not split.any():
             break
         z = np.sort(np.concatenate([z, zm[split]]))
+        _check_size(2 * (len(z) - 1) * len(theta), tol_mm)
         p, _ = body.wall(part, theta[None, :], z[:, None])
     return z
+
+
+def _check_size(n_triangles: int, tol_mm: float) -> None:
+    """Refuse (``ValueError``) a wall of more than ``MAX_WALL_TRIANGLES`` triangles.
+
+    The message names the least tolerance (mm) that could fit: counts grow at most as ``1 / tol``
+    (angles and rings each as ``1 / sqrt(tol)``), slower where a floor or the section's own
+    joints set the spacing, so the figure is a lower bound, not a promise.
+    """
+    if n_triangles > MAX_WALL_TRIANGLES:
+        least = tol_mm * n_triangles / MAX_WALL_TRIANGLES
+        unit = 10.0 ** (math.floor(math.log10(least)) - 1)  # two significant digits, rounded up
+        raise ValueError(f"a chordal tolerance of {tol_mm:g} mm needs at least {n_triangles:,} triangles "
+                         f"on one wall of this bottle, more than the {MAX_WALL_TRIANGLES:,} a wall may "
+                         f"have; choose a coarser tolerance (at least {math.ceil(least / unit) * unit:.2g} mm)")
 
 
 # --------------------------------------------------------------------------- assembly
@@ -260,13 +424,16 @@ def _wall(b, body, part, label, theta, tol, z_lo, z_hi, flip=1.0):
     chains = [sp.outer_wall if part == "outer" else sp.inner_wall for sp in body.profile.sections]
     if body.kind == "round":
         r, z, tr, tz = section_stations(chains[0], tol, z_hi, z_lo)
+        _check_size(2 * (len(z) - 1) * len(theta), tol)
         sign = flip * (1.0 if part == "outer" else -1.0)  # the inner wall faces the cavity
         c, s = np.cos(theta)[None, :], np.sin(theta)[None, :]
         pts = np.stack(np.broadcast_arrays(r[:, None] * c, r[:, None] * s, z[:, None]), axis=-1)
         nrm = np.stack(np.broadcast_arrays(sign * tz[:, None] * c, sign * tz[:, None] * s,
                                            -sign * tr[:, None] + 0 * c), axis=-1)
         return b.grid(label, pts, nrm, faces_in)
-    z = refine_heights(body, part, wall_heights(chains, tol, z_lo, z_hi), theta, tol)
+    z = wall_heights(chains, tol, z_lo, z_hi)
+    _check_size(2 * (len(z) - 1) * len(theta), tol)
+    z = refine_heights(body, part, z, theta, tol)
     pts, nrm = body.wall(part, theta[None, :], z[:, None])
     corners = np.nonzero(np.isin(z, _corner_heights(chains)))[0]
     if len(corners):  # a second ring at each corner: same positions, the upper side's normals
@@ -313,6 +480,7 @@ def _base(b, body, part, label, theta, edge_ring, tol_mm, s_stop=None):
     s = chain_stations(chain, tol_mm)
     start = 0.0 if s_stop is None else s_stop
     mid = s[(s > start + 1e-9) & (s < 1.0 - 1e-9)]
+    _check_size(2 * len(mid) * len(theta), tol_mm)
     rings = []
     if len(mid):
         pts, nrm = body.point_normal(part, theta[None, :], mid[:, None])

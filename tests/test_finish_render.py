@@ -335,3 +335,23 @@ def test_the_inside_of_a_plastic_skirt_is_shadowed_by_the_skirt_across_the_neck(
     seen, _ = trace_rays(lit, [[-40.0, 0.0, 245.0]], [[1.0, 0.0, 0.0]])
     assert np.all(seen[0] > 0.5 * _unshadowed(ctx))
 
+
+def test_a_light_edit_relights_a_plastic_cap(bordeaux):
+    """Lights shade a closure's diffuse parts too: a job after a light edit of a capped design
+    without labels renders anew (it used to keep the previous film, lights shading labels only)
+    and equals a full render."""
+    from engine.tracer.job import RenderJob
+
+    def job(d, **kw):
+        j = RenderJob(d, assets, width=24, height=32, spp=1, threads=1, adaptive=False, **kw).start()
+        j.wait()
+        assert j.error is None
+        return j
+
+    design, assets = bordeaux
+    d = dataclasses.replace(design, cap=Cap("screw", "plastic", (0.8, 0.2, 0.1)), labels=())
+    first = job(d)
+    d2 = dataclasses.replace(d, lights=(Light((0.0, -1.0, 1.0), (1.0, 1.0, 1.0), 3.0),))
+    again, full = job(d2, previous=first, changed={"lights"}), job(d2)
+    np.testing.assert_array_equal(again.image(), full.image())
+    assert not np.array_equal(again.image(), first.image())

@@ -219,10 +219,11 @@ def _tail_node(i, q):
 
 
 @njit(**JIT)
-def glass_albedo(alpha, cos_i, eta, q):
-    """Mean total weight of :func:`rough_dielectric` (unscaled) met at ``cos_i``: its
-    single-scattering albedo, by a ``q x q`` midpoint rule over its two uniforms (the first
-    one substituted, :data:`TAIL_POWER`)."""
+def _mean_weight(alpha, cos_i, eta, q):
+    """Mean weight of one draw met at ``cos_i`` by a ``q x q`` midpoint rule over its two
+    uniforms (the first one substituted, :data:`TAIL_POWER`): both branches of
+    :func:`rough_dielectric` (unscaled) for ``eta > 0``, the masking ``G1(o)`` of
+    :func:`visible_reflection` (a mirror with ``F = 1``) for ``eta = 0``."""
     kids = np.zeros((2, 8))
     sin_i = math.sqrt(max(0.0, 1.0 - cos_i * cos_i))
     total = 0.0
@@ -230,7 +231,11 @@ def glass_albedo(alpha, cos_i, eta, q):
         u1, w = _tail_node(i, q)
         row = 0.0
         for j in range(q):
-            nk = rough_dielectric(alpha, sin_i, 0.0, -cos_i, 0.0, 0.0, 1.0, eta, u1, (j + 0.5) / q, 1.0, kids)
+            u2 = (j + 0.5) / q
+            if eta == 0.0:
+                row += visible_reflection(alpha, sin_i, 0.0, -cos_i, 0.0, 0.0, 1.0, u1, u2)[4]
+                continue
+            nk = rough_dielectric(alpha, sin_i, 0.0, -cos_i, 0.0, 0.0, 1.0, eta, u1, u2, 1.0, kids)
             row += kids[0, KW_R]
             if nk == 2:
                 row += kids[1, KW_R]
@@ -239,15 +244,14 @@ def glass_albedo(alpha, cos_i, eta, q):
 
 
 @njit(**JIT)
+def glass_albedo(alpha, cos_i, eta, q):
+    """Single-scattering albedo (reflection + transmission) of :func:`rough_dielectric` met
+    at ``cos_i``, ``eta`` transmitted / incident (quadrature of :func:`_mean_weight`)."""
+    return _mean_weight(alpha, cos_i, eta, q)
+
+
+@njit(**JIT)
 def mirror_albedo(alpha, cos_i, q):
-    """Mean ``G1(o)`` of :func:`visible_reflection` met at ``cos_i``: the albedo of a GGX
-    mirror with ``F = 1`` (the quadrature of :func:`glass_albedo`)."""
-    sin_i = math.sqrt(max(0.0, 1.0 - cos_i * cos_i))
-    total = 0.0
-    for i in range(q):
-        u1, w = _tail_node(i, q)
-        row = 0.0
-        for j in range(q):
-            row += visible_reflection(alpha, sin_i, 0.0, -cos_i, 0.0, 0.0, 1.0, u1, (j + 0.5) / q)[4]
-        total += w * row / q
-    return total
+    """Albedo of a GGX mirror with ``F = 1`` met at ``cos_i``: the mean ``G1(o)`` of
+    :func:`visible_reflection` (quadrature of :func:`_mean_weight`)."""
+    return _mean_weight(alpha, cos_i, 0.0, q)

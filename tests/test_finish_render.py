@@ -280,9 +280,9 @@ def test_a_cork_the_wine_reaches_is_wet_below_the_fill_line(bordeaux):
 
 
 # ------------------------------------------------------------------ plastic caps in shadow
-def _stepped(liquid=None, light=(0.0, 0.0, -1.0)):
+def _stepped_design(liquid=None, light=(0.0, 0.0, -1.0)):
     """A 250 mm bottle with a flat 3 mm shoulder (1 mm rise over 24) at 200 mm under a 28 mm neck, a
-    plastic screw cap and one light (intensity 2), in a black environment: a vertical shadow
+    plastic screw cap and one light (intensity 2): a vertical shadow
     ray from the skirt's rim meets the shoulder and the base at (nearly: 2.4 deg) normal incidence."""
     from engine.geometry.section import Section
     from engine.geometry.segments import Line
@@ -294,8 +294,13 @@ def _stepped(liquid=None, light=(0.0, 0.0, -1.0)):
                lights=(Light(light, (1.0, 1.0, 1.0), 2.0),),
                camera=Camera(eye=(0, -700, 150), target=(0, 0, 150), fov_y_deg=25),
                render=RenderSettings(width=16, height=16, spp=1, max_depth=64))
+    return d
+
+
+def _stepped(liquid=None, light=(0.0, 0.0, -1.0)):
+    """:func:`_stepped_design` compiled in a black environment."""
     black = EnvironmentMap(np.zeros((4, 8, 3), np.float32))
-    return RenderContext.from_design(d, None, 16, 16, environment=black)
+    return RenderContext.from_design(_stepped_design(liquid, light), None, 16, 16, environment=black)
 
 
 def _unshadowed(ctx, cos=1.0):
@@ -355,3 +360,42 @@ def test_a_light_edit_relights_a_plastic_cap(bordeaux):
     again, full = job(d2, previous=first, changed={"lights"}), job(d2)
     np.testing.assert_array_equal(again.image(), full.image())
     assert not np.array_equal(again.image(), first.image())
+
+
+def _rim_hit(d):
+    """``finish_hit``'s answer ``(children, r, g, b, bits)`` for a ray straight up onto the
+    flat rim of the -x side of ``d``'s plastic skirt (:func:`_stepped_design`), 15 mm from
+    the axis, with the kernels' own scratch (as the integrator calls it)."""
+    from engine.tracer.kernels.finish import finish_hit
+    from engine.tracer.kernels.intersect import O_MAT
+    from engine.tracer.kernels.queries import hits
+    from engine.tracer.labels import with_buffers
+    ctx = RenderContext.from_design(d, None, 8, 8)
+    seg, tab, slab_f, slab_i, obj_i, obj_f = ctx.scene[:6]
+    o, dr = np.array([[-15.0, 0.0, ctx.cap.z_min - 1.0]]), np.array([[0.0, 0.0, 1.0]])
+    t, k, part, n = np.zeros(1), np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros((1, 3))
+    hits(seg, tab, slab_f, slab_i, obj_i, obj_f, o, dr, np.zeros(1, np.int64), np.full(1, -1, np.int64),
+         np.zeros(1, np.int64), t, k, part, n)
+    assert k[0] == ctx.geometry.obj_i.shape[0]          # the cap's part
+    p = o[0] + t[0] * dr[0]
+    return finish_hit(ctx.finish_tuple, ctx.scene, with_buffers(ctx.labels), int(k[0]), int(part[0]),
+                      int(obj_i[k[0], O_MAT]), *p, *n[0], *dr[0], 0, 0, np.uint64(1), np.zeros((4, 8)),
+                      ctx.env_params, np.zeros(16), np.zeros(5), np.zeros((64, 2)))
+
+
+def test_a_label_a_plastic_parts_shadow_ray_crosses_enters_its_record():
+    """The rim of a plastic skirt lit by a light below on the other side: its shadow ray crosses
+    the neck under the skirt and leaves it at z ~ 221 mm through a label there. The hit reports
+    the label's object-mask bit (so a relabel traces the pixel again) and is darker than with the
+    label turned away from the shadow ray's path (the integrator ORs the bits into the sample's
+    mask)."""
+    from engine.model.design import Label
+    from engine.tracer.kernels.labels import LABEL_BIT0
+    neck_label = Label(z_mm=221.0, angle_deg=0.0, height_mm=10.0, width_mm=20.0, diffuse=0.7)
+    d = dataclasses.replace(_stepped_design(light=(1.0, 0.0, -0.6)), labels=(neck_label,))
+    nk, r, g, b, bits = _rim_hit(d)
+    assert bits == 1 << LABEL_BIT0
+    away = dataclasses.replace(d, labels=(dataclasses.replace(neck_label, angle_deg=90.0),))
+    nk2, r2, g2, b2, bits2 = _rim_hit(away)
+    assert bits2 == 0
+    assert r2 > r + 0.05 and nk == nk2 == 1

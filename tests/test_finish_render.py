@@ -399,3 +399,20 @@ def test_a_label_a_plastic_parts_shadow_ray_crosses_enters_its_record():
     nk2, r2, g2, b2, bits2 = _rim_hit(away)
     assert bits2 == 0
     assert r2 > r + 0.05 and nk == nk2 == 1
+
+
+def test_a_closure_shadows_a_label_under_its_skirt():
+    """A label on the neck just under a plastic skirt, lit by a steep light: the label's shadow
+    ray meets the skirt's rim (closure parts are opaque to shadow rays; before, it passed through
+    a part as through air, so the cap changed nothing there)."""
+    from engine.model.design import Label
+    black = EnvironmentMap(np.zeros((4, 8, 3), np.float32))
+    neck_label = Label(z_mm=232.5, angle_deg=0.0, height_mm=9.0, width_mm=20.0, diffuse=0.7, specular=0.0)
+    d = dataclasses.replace(_stepped_design(light=(0.2, 0.0, 1.0)), labels=(neck_label,))
+    out = {}
+    for name, design in (("capped", d), ("bare", dataclasses.replace(d, cap=None))):
+        ctx = RenderContext.from_design(design, None, 8, 8, environment=black)
+        out[name], counters = trace_rays(ctx, [[40.0, 0.0, 236.0]], [[-1.0, 0.0, 0.0]])
+        assert counters[1] == 0 and counters[2] == 0
+    assert np.all(out["bare"][0] > 0.01)
+    assert np.all(out["capped"][0] < 1e-3 * out["bare"][0]), out

@@ -34,8 +34,9 @@ did. :func:`finish_hit` writes the branch's children itself:
 The finish tuple (:mod:`engine.tracer.finishes`): ``(obj_rows (n_obj, 2) int64 first/count
 of each object's rows, kinds (n,) int64, params (n, P_COLS), atlas (m, 3) float32, irradiance
 (h, w, 3) float32, lights (L, 6) float64 direction towards the light (unit) and RGB
-irradiance, glass (2, N_X, N_ALPHA, N_MU), mirror (N_ALPHA, N_MU), mirror_avg (N_ALPHA,)
-float64 the albedo tables of`` :mod:`~engine.tracer.kernels.microfacet` ``)``. Units mm.
+irradiance, then glass (2, N_X, N_ALPHA, N_MU), mirror (N_ALPHA, N_MU) and mirror_avg
+(N_ALPHA,) float64)``: the last three the albedo tables of
+:mod:`~engine.tracer.kernels.microfacet`. Units mm.
 """
 from __future__ import annotations
 

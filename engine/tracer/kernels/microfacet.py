@@ -12,14 +12,16 @@ stream (deterministic), and sends its branches through it:
 * a **rough mirror** (a metal, or a plastic's coat) the reflection, weight ``F(m) G1(o_r)``.
 
 That is an unbiased one-sample estimate of the *single-scattering* BSDF, whose albedo ``E`` is
-below 1: light that a microfacet sends into a neighbour (the ``1 - G1`` part) is lost, up to a
-quarter at alpha 0.5 leaving glass. The multiple scattering between microfacets gives it back
-(energy compensation; tables of ``E`` from :mod:`engine.tracer.ggx_albedo`, built by
-:func:`glass_albedo` / :func:`mirror_albedo` from the very weights drawn here, so they agree):
+below 1: light that a microfacet sends into a neighbour (the ``1 - G1`` part) is lost: a
+quarter at alpha 0.5 leaving glass head-on, 40 % at grazing. The multiple scattering between
+microfacets gives it back (energy compensation; tables of ``E`` from
+:mod:`engine.tracer.ggx_albedo`, built by :func:`glass_albedo` / :func:`mirror_albedo` from the
+very weights drawn here, so they agree):
 
 * glass: both weights are divided by ``E(cos_i, alpha, eta)``, the albedo (reflection plus
   transmission) of that side of the interface (Turquin 2019 for dielectrics). A white furnace
-  then returns exactly 1 on average from either side, total internal reflection included, and
+  then returns 1 on average from either side (within the tables' interpolation, < 1 % near
+  grazing, ~1e-3 elsewhere), total internal reflection included, and
   reflection and transmission keep the single-scattering split (what multiple scattering adds
   is shared as the single bounce shares it: plausible, not reciprocal in transmission);
 * a mirror: each channel's weight is scaled by ``1 + k (1 - E) / E`` with ``E`` the albedo of

@@ -16,8 +16,9 @@ not mirror-sharp, metal or coat), except that a material at least :data:`MATTE_R
 every bump row of the design (the bottle's tiles on the outer wall, and on a punted bottom, the
 closure's reliefs on their parts) sorted by object, and, with a plastic part, the environment's
 cosine-prefiltered irradiance (:func:`engine.tracer.lighting.irradiance_table`, once per environment) and the design's
-distant lights. A design without bumps or cap gets empty rows: the kernels then never leave the
-plain path. Units mm.
+distant lights, and always the GGX albedo tables of rough surfaces
+(:func:`engine.tracer.ggx_albedo.albedo_tables`, loaded once per process). A design without
+bumps or cap gets empty rows: the kernels then never leave the plain path. Units mm.
 """
 from __future__ import annotations
 
@@ -32,8 +33,10 @@ from .kernels import intersect as K
 from .kernels import profile as R
 from .kernels.bumps import FROSTED, P_ALPHA, P_COLS, P_V0, P_V1
 from .kernels.labels import LABEL_BIT0
+from .ggx_albedo import albedo_tables, conductor_average, dielectric_average
 from .lighting import irradiance_table, light_table
 from .kernels.materials import CONDUCTOR, MAT_COLS, MF_ALBEDO, MF_COAT_IOR, MF_K, MF_N, MF_TINT, PLASTIC
+from .kernels.microfacet import MF_FAVG
 from .render_objects import AIR, BOTTOM, LIQUID, OUTER_WALL, _chain_bbox, _Tables, cached
 
 #: Objects the kernels' int64 object masks can tell apart (the bits above are the labels').
@@ -64,13 +67,18 @@ class CapTables:
 
 
 def material_row(material):
-    """``(kind, mat_f row)`` of a :class:`~engine.appearance.closure_parts.ClosureMaterial`."""
+    """``(kind, mat_f row)`` of a :class:`~engine.appearance.closure_parts.ClosureMaterial`,
+    with the mean Fresnel ``F_avg`` of its mirror (tint included) that a rough surface's
+    energy compensation reads (:mod:`engine.tracer.kernels.microfacet`)."""
     row = np.zeros(MAT_COLS)
     if material.kind == "conductor":
         row[MF_N:MF_N + 3], row[MF_K:MF_K + 3], row[MF_TINT:MF_TINT + 3] = material.eta, material.k, material.tint
+        row[MF_FAVG:MF_FAVG + 3] = [t * conductor_average(n, k)
+                                    for n, k, t in zip(material.eta, material.k, material.tint)]
         return CONDUCTOR, row
     row[MF_ALBEDO:MF_ALBEDO + 3] = np.clip(material.tint, 0.0, 1.0)
     row[MF_COAT_IOR] = 1.0 if material.roughness >= MATTE_ROUGHNESS else material.eta[0]
+    row[MF_FAVG:MF_FAVG + 3] = dielectric_average(row[MF_COAT_IOR])
     return PLASTIC, row
 
 
@@ -157,7 +165,7 @@ _EMPTY_IRR = np.zeros((2, 2, 3), np.float32)
 def empty_finish(n_objects: int) -> tuple:
     """The finish tuple of a plain design: no rows on any object."""
     return (np.zeros((n_objects, 2), np.int64), np.zeros(0, np.int64), np.zeros((0, P_COLS)),
-            np.zeros((1, 3), np.float32), _EMPTY_IRR, np.zeros((0, 6)))
+            np.zeros((1, 3), np.float32), _EMPTY_IRR, np.zeros((0, 6))) + albedo_tables()
 
 
 def finish_arrays(design, assets, geom, cap: CapTables | None, scene: tuple, texels) -> tuple:
@@ -201,4 +209,4 @@ def finish_arrays(design, assets, geom, cap: CapTables | None, scene: tuple, tex
     plastic = bool(np.any(scene[7][:, 0] == PLASTIC))
     irr = irradiance_table(texels) if plastic else _EMPTY_IRR
     lights = light_table(design.lights) if plastic else np.zeros((0, 6))
-    return (obj_rows, kinds, params, np.ascontiguousarray(bt.atlas, np.float32), irr, lights)
+    return (obj_rows, kinds, params, np.ascontiguousarray(bt.atlas, np.float32), irr, lights) + albedo_tables()

@@ -16,8 +16,8 @@ must marshal to its own thread. ``image()``, ``progress`` and ``sample_counts()`
 at any time. A job started with ``previous=`` and ``changed=`` (the design fields an edit
 changed) reuses the previous film when nothing it renders changed.
 
-Relabel: when only labels, lights or label images changed (every other field of the design
-equal, same size and sampling), the job keeps the previous job's compiled scene (a label edit
+Relabel: when only labels, lights (without a closure: they light its diffuse parts too) or
+label images changed (every other field of the design equal, same size and sampling), the job keeps the previous job's compiled scene (a label edit
 never rebuilds geometry, media or environment: :meth:`RenderContext.with_labels`) and replays
 the same waves: a pixel's traced samples are reused from the previous job's per-wave record
 when the pixel is clean and the wave asks it for the same samples, and traced again otherwise.
@@ -178,6 +178,12 @@ MAX_RECORDED_SAMPLES = 1 << 21
 _NO_SAMPLES = (np.zeros((0, 3)), np.zeros((0, 2), np.int64), np.zeros((0, H_COLS)), np.zeros((0, 2), np.int64))
 
 
+def _lights_shade(design) -> bool:
+    """Whether ``design``'s lights light anything: its labels, or its closure's diffuse
+    (plastic, cork) parts."""
+    return bool(design.labels) or design.cap is not None
+
+
 def _without_labels(design):
     return dataclasses.replace(design, labels=(), lights=(), name="", notes="")
 
@@ -329,7 +335,9 @@ class RenderJob:
             return False
         visual = self._changed & VISUAL_FIELDS
         if not self.design.labels and not prev.design.labels:
-            visual = visual - {"lights", "labels"}  # lights shade labels only
+            visual = visual - {"labels"}
+        if not _lights_shade(self.design) and not _lights_shade(prev.design):
+            visual = visual - {"lights"}
         return (not visual and prev.done and prev.error is None and not prev.cancelled
                 and (prev.width, prev.height, prev.spp) == (self.width, self.height, self.spp))
 
@@ -342,8 +350,9 @@ class RenderJob:
                 or not prev.done or prev.error is not None or prev.cancelled
                 or (prev.width, prev.height, prev.spp, prev.adaptive, prev.noise_target)
                 != (self.width, self.height, self.spp, self.adaptive, self.noise_target)
-                or _without_labels(prev.design) != _without_labels(self.design)):
-            return None
+                or _without_labels(prev.design) != _without_labels(self.design)
+                or (prev.design.lights != self.design.lights and self.design.cap is not None)):
+            return None  # (lights shade a closure's diffuse parts too: those pixels are not recorded)
         env = self.design.environment
         if env.asset is not None:
             a, b = (prev.assets or {}).get(env.asset), (self.assets or {}).get(env.asset)

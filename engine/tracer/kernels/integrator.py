@@ -218,8 +218,9 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
         if kind == -1:
             pass
         elif finish[0][k, 1] > 0 or kind == PLASTIC:  # a finish writes the children (and the base's light)
-            nk, er, eg, eb = finish_hit(finish, seg, obj_i, mat_i, mat_f, media, k, part, mat, px, py, pz,
-                                        nx, ny, nz, dx, dy, dz, inc, trn, bseed, kids, tex, env_p)
+            nk, er, eg, eb, fbits = finish_hit(finish, scene, labels, k, part, mat, px, py, pz, nx, ny, nz,
+                                               dx, dy, dz, inc, trn, bseed, kids, env_p, roots, crit, ivals)
+            objmask |= fbits  # labels a plastic part's shadow rays consulted
             lr += wr * er
             lg += wg * eg
             lb += wb * eb

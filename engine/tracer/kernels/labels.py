@@ -67,8 +67,10 @@ Lights are directional (``Design.lights``: towards the light, colour x intensity
 irradiance at normal incidence). Each lit sheet point casts one straight shadow ray per light
 towards it (:func:`shadow`): labels on the outer wall block it (times ``1 - alpha``), glass and
 liquid attenuate it by the Fresnel transmittance of each interface crossed (``1 - R`` with the
-real indices; total internal reflection blocks) and by Beer-Lambert absorption, and refraction
-is ignored (the ray goes straight; caustics are not followed). Only label points use lights.
+real indices; total internal reflection blocks) and by Beer-Lambert absorption, a closure part
+(any material but a dielectric interface) blocks it, and refraction is ignored (the ray goes
+straight; caustics are not followed). Label points and plastic closures
+(:func:`engine.tracer.kernels.finish.lit_by_lights`) use lights.
 """
 from __future__ import annotations
 
@@ -79,9 +81,9 @@ from numba import njit
 
 from .bumps import consistent_normal
 from .finish import keep_sides
-from .intersect import (F_COS, F_SIN, O_KIND, REVOLVED, nearest_hit, object_media)
-from .materials import (K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, fresnel_conductor,
-                        fresnel_dielectric, smooth_dielectric)
+from .intersect import F_COS, F_SIN, O_KIND, O_MAT, REVOLVED, nearest_hit, object_media
+from .materials import (K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND, SMOOTH_DIELECTRIC,
+                        fresnel_conductor, fresnel_dielectric, smooth_dielectric)
 from .revolved import segment_v
 from .roots import INLINE, JIT
 from .sampling import env_lookup
@@ -278,7 +280,8 @@ def find_label(lab, obj, theta, h, v, px, py):
 def shadow(scene, lab, ox, oy, oz, lx, ly, lz, medium, last, side, roots, crit, ivals):
     """Transmittance ``(r, g, b, bits)`` of a straight shadow ray from a point on object
     ``last`` (left with ``side``, in ``medium``) along unit ``l`` (module rule: labels block by
-    their alpha, interfaces pass ``1 - R``, media absorb; refraction ignored)."""
+    their alpha, interfaces pass ``1 - R``, media absorb, closure parts block; refraction
+    ignored). Shared by label sheets and plastic closures."""
     seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
     tr = tg = tb = 1.0
     bits = np.int64(0)
@@ -291,8 +294,10 @@ def shadow(scene, lab, ox, oy, oz, lx, ly, lz, medium, last, side, roots, crit, 
             tr *= math.exp(-media[medium, 1] * t)
             tg *= math.exp(-media[medium, 2] * t)
             tb *= math.exp(-media[medium, 3] * t)
+        if mat_i[obj_i[k, O_MAT], M_KIND] != SMOOTH_DIELECTRIC:  # a closure part: opaque
+            return 0.0, 0.0, 0.0, bits
         ox, oy, oz = ox + t * lx, oy + t * ly, oz + t * lz
-        if k == 0:  # only wall labels block: a closure passes shadow rays, and so do its prints
+        if k == 0:  # wall labels block by their alpha (a closure part, prints and all, stopped the ray above)
             theta, h = surface_point(seg, obj_i, obj_f, part, ox, oy, oz)
             kl, s, tt, alpha, code, b = find_label(lab, 0, theta, h, h, ox, oy)
             bits |= b

@@ -11,7 +11,8 @@ did. :func:`finish_hit` writes the branch's children itself:
   (:func:`~engine.tracer.kernels.bumps.consistent_normal`). The geometric normal still decides
   media: after the material wrote its children, any child on the wrong side of the *geometric*
   surface (a reflection that a bent normal sent into the glass, or a refraction sent back out)
-  takes the direction the smooth geometric surface would give it (:func:`keep_sides`). Its
+  takes the direction the smooth geometric surface would give it
+  (:func:`~engine.tracer.kernels.materials.keep_sides`). Its
   weight is kept, so energy is conserved and a relief can never make a branch travel inside a
   medium it is not in (no leak, no mismatch).
 * **Frosted** rows make the glass a rough dielectric (GGX, roughness ``alpha``) and a frosted
@@ -49,8 +50,8 @@ import numpy as np
 from .bumps import FROSTED, P_ALPHA, P_V0, P_V1, consistent_normal, perturb_normal, surface_slope
 from .intersect import O_KIND, PLANE, REVOLVED
 from .labels import shadow
-from .materials import (CONDUCTOR, K_SIDE, KD_X, KD_Y, KD_Z, M_KIND, MF_ALBEDO, MF_COAT_IOR, PLASTIC,
-                        SMOOTH_DIELECTRIC, coat, conductor, fresnel_dielectric, smooth_dielectric)
+from .materials import (CONDUCTOR, M_KIND, MF_ALBEDO, MF_COAT_IOR, PLASTIC, SMOOTH_DIELECTRIC, coat,
+                        conductor, keep_sides, smooth_dielectric)
 from .microfacet import frosted_glass, rough_mirror
 from .revolved import segment_v
 from .roots import JIT, hypot2
@@ -95,37 +96,6 @@ def shading_frame(fin, seg, obj_i, k, part, px, py, pz, nx, ny, nz):
     tvx, tvy, tvz = -nz * ex, -nz * ey, nx * ex + ny * ey
     sx, sy, sz = perturb_normal(nx, ny, nz, -ey, ex, 0.0, tvx, tvy, tvz, su, sv)
     return sx, sy, sz, alpha
-
-
-@njit(**JIT)
-def keep_sides(kids, nk, dx, dy, dz, fx, fy, fz, eta):
-    """Send every child whose direction is on the wrong side of the geometric surface (normal
-    ``f``, facing the incident side; ``eta`` transmitted / incident index) for its medium the
-    way the smooth geometric surface would: a reflection along the geometric mirror direction,
-    a refraction along the geometric refraction (mirrored across the tangent plane where the
-    geometric surface reflects totally). Weights are kept (module doc). Mirroring a bent
-    direction instead leaves rays that creep along the wall at grazing angles until a hit is
-    lost to rounding."""
-    cos_i = -(dx * fx + dy * fy + dz * fz)
-    for c in range(nk):
-        x, y, z = kids[c, KD_X], kids[c, KD_Y], kids[c, KD_Z]
-        d = x * fx + y * fy + z * fz
-        want = 1.0 if kids[c, K_SIDE] < 0.5 else -1.0
-        if d * want > 0.0:
-            continue
-        if want > 0.0:
-            x, y, z = dx + 2.0 * cos_i * fx, dy + 2.0 * cos_i * fy, dz + 2.0 * cos_i * fz
-        else:
-            _, cos_t = fresnel_dielectric(cos_i, eta)
-            if cos_t > 0.0:
-                q = cos_i / eta - cos_t
-                x, y, z = dx / eta + q * fx, dy / eta + q * fy, dz / eta + q * fz
-            elif d != 0.0:
-                x, y, z = x - 2.0 * d * fx, y - 2.0 * d * fy, z - 2.0 * d * fz
-            else:
-                x, y, z = x - 1e-9 * fx, y - 1e-9 * fy, z - 1e-9 * fz
-        h = math.sqrt(x * x + y * y + z * z)
-        kids[c, KD_X], kids[c, KD_Y], kids[c, KD_Z] = x / h, y / h, z / h
 
 
 @njit(**JIT)

@@ -80,10 +80,9 @@ import numpy as np
 from numba import njit
 
 from .bumps import consistent_normal
-from .finish import keep_sides
 from .intersect import F_COS, F_SIN, O_KIND, O_MAT, REVOLVED, nearest_hit, object_media
 from .materials import (K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND, SMOOTH_DIELECTRIC,
-                        fresnel_conductor, fresnel_dielectric, smooth_dielectric)
+                        fresnel_conductor, fresnel_dielectric, keep_sides, smooth_dielectric)
 from .revolved import segment_v
 from .roots import INLINE, JIT
 from .sampling import env_lookup
@@ -574,7 +573,7 @@ def _glass_beneath(dx, dy, dz, nx, ny, nz, bx, by, bz, outside, eta, weight, kid
     """The glass's two branches of weight ``weight`` (the uncovered part of a texel) after the
     ``nk`` children in ``kids``: about the smooth surface (geometric normal ``n``), or where a
     relief bends the shading normal to ``b`` about it, each child kept on its side of the
-    geometric surface (:func:`engine.tracer.kernels.finish.keep_sides`). Returns the count."""
+    geometric surface (:func:`engine.tracer.kernels.materials.keep_sides`). Returns the count."""
     fx, fy, fz = (nx, ny, nz) if outside else (-nx, -ny, -nz)
     if bx == nx and by == ny and bz == nz:
         cos_g = abs(dx * nx + dy * ny + dz * nz)

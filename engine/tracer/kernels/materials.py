@@ -118,3 +118,34 @@ def coat(ior, dx, dy, dz, nx, ny, nz, cos_i, scale, kids, c):
     refl, _ = fresnel_dielectric(cos_i, ior)
     _mirror(kids, c, dx, dy, dz, nx, ny, nz, cos_i, refl * scale, refl * scale, refl * scale)
     return 1.0 - refl
+
+
+@njit(**JIT)
+def keep_sides(kids, nk, dx, dy, dz, fx, fy, fz, eta):
+    """Send every child whose direction is on the wrong side of the geometric surface (normal
+    ``f``, facing the incident side; ``eta`` transmitted / incident index) for its medium the
+    way the smooth geometric surface would: a reflection along the geometric mirror direction,
+    a refraction along the geometric refraction (mirrored across the tangent plane where the
+    geometric surface reflects totally). Weights are kept (module doc). Mirroring a bent
+    direction instead leaves rays that creep along the wall at grazing angles until a hit is
+    lost to rounding."""
+    cos_i = -(dx * fx + dy * fy + dz * fz)
+    for c in range(nk):
+        x, y, z = kids[c, KD_X], kids[c, KD_Y], kids[c, KD_Z]
+        d = x * fx + y * fy + z * fz
+        want = 1.0 if kids[c, K_SIDE] < 0.5 else -1.0
+        if d * want > 0.0:
+            continue
+        if want > 0.0:
+            x, y, z = dx + 2.0 * cos_i * fx, dy + 2.0 * cos_i * fy, dz + 2.0 * cos_i * fz
+        else:
+            _, cos_t = fresnel_dielectric(cos_i, eta)
+            if cos_t > 0.0:
+                q = cos_i / eta - cos_t
+                x, y, z = dx / eta + q * fx, dy / eta + q * fy, dz / eta + q * fz
+            elif d != 0.0:
+                x, y, z = x - 2.0 * d * fx, y - 2.0 * d * fy, z - 2.0 * d * fz
+            else:
+                x, y, z = x - 1e-9 * fx, y - 1e-9 * fy, z - 1e-9 * fz
+        h = math.sqrt(x * x + y * y + z * z)
+        kids[c, KD_X], kids[c, KD_Y], kids[c, KD_Z] = x / h, y / h, z / h

@@ -67,20 +67,22 @@ def _close(tex, scale, rot, lr, lg, lb, wr, wg, wb, dx, dy, dz):
 
 
 @njit(**JIT)
-def _closure_beneath(finish, scene, k, part, mat, px, py, pz, nx, ny, nz, dx, dy, dz, inc, trn, bseed, kids,
-                     nk, rest, tex, env_p):
+def _closure_beneath(finish, scene, labels, k, part, mat, px, py, pz, nx, ny, nz, dx, dy, dz, inc, trn, bseed,
+                     kids, nk, rest, env_p, roots, crit, ivals):
     """The closure's own material under the uncovered fraction ``rest`` of a print's texel:
     its children (weights times ``rest``) go before the print's ``nk`` children in ``kids``.
-    Returns ``(children, r, g, b)``, the radiance factors of its diffuse base times ``rest``."""
-    seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
+    Returns ``(children, r, g, b, bits)``: the radiance factors of its diffuse base times
+    ``rest`` and the object-mask bits of the labels its shadow rays consulted."""
+    mat_i, mat_f = scene[7], scene[8]
     end = kids.shape[0] - nk  # the print's children wait in the last rows
     for c in range(nk - 1, -1, -1):
         for j in range(KID_COLS):
             kids[end + c, j] = kids[c, j]
     er = eg = eb = 0.0
+    bits = np.int64(0)
     if finish[0][k, 1] > 0 or mat_i[mat, M_KIND] == PLASTIC:
-        m, er, eg, eb = finish_hit(finish, seg, obj_i, mat_i, mat_f, media, k, part, mat, px, py, pz,
-                                   nx, ny, nz, dx, dy, dz, inc, trn, bseed, kids, tex, env_p)
+        m, er, eg, eb, bits = finish_hit(finish, scene, labels, k, part, mat, px, py, pz, nx, ny, nz,
+                                         dx, dy, dz, inc, trn, bseed, kids, env_p, roots, crit, ivals)
     else:  # a closure's outside faces the air: the ray meets it against its normal
         m = conductor(mat_f, mat, dx, dy, dz, nx, ny, nz, -(nx * dx + ny * dy + nz * dz), 1.0, kids, 0)
     for c in range(m):
@@ -90,7 +92,7 @@ def _closure_beneath(finish, scene, k, part, mat, px, py, pz, nx, ny, nz, dx, dy
     for c in range(nk):
         for j in range(KID_COLS):
             kids[m + c, j] = kids[end + c, j]
-    return m + nk, rest * er, rest * eg, rest * eb
+    return m + nk, rest * er, rest * eg, rest * eb, bits
 
 
 @njit(**JIT)
@@ -208,8 +210,10 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
                     sig = mix64(sig ^ np.uint64(0x5BD1E995 + lbits))
                 kind = -1  # answered by the label
                 if rest > 0.0:  # a closure shows through the print's uncovered part
-                    nk, er, eg, eb = _closure_beneath(finish, scene, k, part, mat, px, py, pz, nx, ny, nz,
-                                                      dx, dy, dz, inc, trn, bseed, kids, nk, rest, tex, env_p)
+                    nk, er, eg, eb, fbits = _closure_beneath(finish, scene, labels, k, part, mat, px, py, pz,
+                                                             nx, ny, nz, dx, dy, dz, inc, trn, bseed, kids, nk,
+                                                             rest, env_p, roots, crit, ivals)
+                    objmask |= fbits
                     lr += wr * er
                     lg += wg * eg
                     lb += wb * eb

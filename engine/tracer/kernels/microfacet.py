@@ -47,7 +47,7 @@ from numba import njit
 from .bumps import ggx_g1, onb
 from .materials import (K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, MF_K, MF_N, MF_TINT,
                         fresnel_conductor, fresnel_dielectric)
-from .roots import INLINE, JIT
+from .roots import INLINE, JIT, JIT_NRT
 
 #: Grid of the albedo tables: cos(theta_i), GGX alpha, x = (n - 1) / (n + 1) of the index ratio.
 N_MU, N_ALPHA, N_X = 33, 26, 26
@@ -220,7 +220,7 @@ def _tail_node(i, q):
     return 1.0 - (1.0 - v) ** TAIL_POWER, TAIL_POWER * (1.0 - v) ** (TAIL_POWER - 1) / q
 
 
-@njit(**JIT)
+@njit(**JIT_NRT)  # allocates its children's scratch
 def _mean_weight(alpha, cos_i, eta, q):
     """Mean weight of one draw met at ``cos_i`` by a ``q x q`` midpoint rule over its two
     uniforms (the first one substituted, :data:`TAIL_POWER`): both branches of
@@ -245,14 +245,14 @@ def _mean_weight(alpha, cos_i, eta, q):
     return total
 
 
-@njit(**JIT)
+@njit(**JIT_NRT)
 def glass_albedo(alpha, cos_i, eta, q):
     """Single-scattering albedo (reflection + transmission) of :func:`rough_dielectric` met
     at ``cos_i``, ``eta`` transmitted / incident (quadrature of :func:`_mean_weight`)."""
     return _mean_weight(alpha, cos_i, eta, q)
 
 
-@njit(**JIT)
+@njit(**JIT_NRT)
 def mirror_albedo(alpha, cos_i, q):
     """Albedo of a GGX mirror with ``F = 1`` met at ``cos_i``: the mean ``G1(o)`` of
     :func:`visible_reflection` (quadrature of :func:`_mean_weight`)."""

@@ -22,7 +22,8 @@ from numba import njit
 #: 1.1-2x faster (``python -m benchmarks.tracer``: frame over raw Embree 3.24 -> 2.11 on
 #: public_1, 6.5 -> 3.9 on the Bordeaux, 7.1 -> 6.2 on public_4, 1 thread). Such a kernel can
 #: take arrays and views of them but not allocate one; the few that allocate their scratch
-#: (``tile.make_work``, its caller ``tile.render_pixels``, the batch queries) use
+#: (``tile.make_work``, its caller ``tile.render_pixels``, the batch queries, the albedo
+#: quadrature of ``microfacet``) use
 #: :data:`JIT_NRT`. ``_nrt`` is numba's own option (``numba.core.options``), not public API:
 #: a numba that drops it fails loudly at the first compile, in every test.
 JIT = dict(nogil=True, cache=True, fastmath=False, error_model="numpy", _nrt=False)

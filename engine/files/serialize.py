@@ -4,7 +4,8 @@ Design rule: the dictionary form mirrors the frozen dataclasses of :mod:`engine.
 field by field (names unchanged, tuples as lists, ``None`` as ``null``), so a new field in
 ``design.py`` is carried automatically. Reading trusts nothing: every value is checked for
 its declared type (numbers finite, booleans not taken for numbers, no missing or unknown
-keys) and every list for a sane length, and any problem raises
+keys, except the few :data:`OPTIONAL_FIELDS` newer than the format) and every list for a
+sane length, and any problem raises
 :class:`engine.errors.ProjectError` with the JSON path of the offending value. The shape is
 special-cased because its sections are SPEC segment lists (see :mod:`engine.geometry.segments`).
 Floats are written as Python floats; ``json`` writes them with ``repr``, which round-trips
@@ -38,7 +39,7 @@ from functools import lru_cache
 
 from ..errors import ProjectError, shown
 from ..limits import MAX_LIST_ITEMS as LIST_LIMIT, MAX_SEGMENTS, MAX_TEXT_CHARS
-from ..model.design import Design
+from ..model.design import BumpTile, Design
 from .migrate_finishes import migrate_1_to_2 as _finishes_1_to_2
 from .migrate_labels import migrate_1_to_2 as _labels_1_to_2
 from ..geometry.section import Section
@@ -286,11 +287,17 @@ def _decode_tuple(value, args, path: str) -> tuple:
     return tuple(_decode(v, a, f"{path}[{i}]") for i, (v, a) in enumerate(zip(items, args)))
 
 
+#: Fields added to a value within the current format: a file written before them lacks them
+#: and gets their default (the format version moves on only when a migration is needed).
+OPTIONAL_FIELDS = {BumpTile: ("geometry",)}
+
+
 def _decode_dataclass(value, cls, path: str):
+    optional = OPTIONAL_FIELDS.get(cls, ())
     names = [f.name for f in dataclasses.fields(cls)]
-    obj = _object(value, path, names)
+    obj = _object(value, path, [n for n in names if n not in optional], optional)
     hints = _hints(cls)
-    kwargs = {n: _decode(obj[n], hints[n], f"{path}.{n}") for n in names}
+    kwargs = {n: _decode(obj[n], hints[n], f"{path}.{n}") for n in names if n in obj}
     try:
         return cls(**kwargs)
     except (ValueError, TypeError) as exc:

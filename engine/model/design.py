@@ -173,11 +173,14 @@ PROCEDURAL_BUMPS = ("knurl", "stipple", "flutes", "facets", "diamond", "thread",
 #: embossed logo or text (the image's ink raised with a rounded bevel).
 IMAGE_BUMPS = ("height_map", "colour_code", "normal_gl", "normal_dx", "emboss")
 BUMP_KINDS = PROCEDURAL_BUMPS + IMAGE_BUMPS
+#: How a thread tile is drawn (``BumpTile.geometry``).
+THREAD_GEOMETRY = ("auto", "relief", "true")
 
 
 @dataclass(frozen=True)
 class BumpTile:
-    """Relief on a band of the outer surface: it bends the shading normal, never the geometry.
+    """Relief on a band of the outer surface: it bends the shading normal (a thread may instead
+    be drawn as true geometry, ``geometry`` below).
 
     The band runs from height ``z0`` to ``z1`` (mm above z = 0, ``z0 < z1``) all around the
     bottle; the pattern repeats ``repeat`` times around the girth, turned by ``angle_deg``
@@ -203,6 +206,11 @@ class BumpTile:
     ``asset``, ``width_deg``
         image kinds: the embedded image, and the angle one copy spans around the axis
         (360 / repeat or more: the copies tile seamlessly).
+    ``geometry``
+        ``thread``: how it is drawn: ``"relief"`` bends the shading normal only, ``"true"``
+        raises the helical ridge as real glass, ``"auto"`` (default) picks by the rule of
+        :func:`engine.appearance.threads.thread_rendering` (true geometry when the ridge is
+        large relative to the wall). Other kinds ignore it.
     """
 
     name: str = "bump"
@@ -220,6 +228,7 @@ class BumpTile:
     asset: str | None = None
     width_deg: float = 360.0
     inverted: bool = False
+    geometry: str = "auto"
 
 
 #: Closure kinds: screw cap with a knurled skirt, crown cork, cork with a capsule, aluminium

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from .. import limits as L
 from ..errors import DesignError, shown
-from .design import BUMP_KINDS, CAP_KINDS, CAP_MATERIALS, IMAGE_BUMPS
+from .design import BUMP_KINDS, CAP_KINDS, CAP_MATERIALS, IMAGE_BUMPS, THREAD_GEOMETRY
 
 _TURN = (-L.MAX_TURN_DEG, L.MAX_TURN_DEG)
 
@@ -48,6 +48,9 @@ def check_bump_values(tile, where: str) -> None:
         raise DesignError(f"{where} is a {tile.kind} but names no image asset")
     if tile.kind not in IMAGE_BUMPS and tile.asset is not None:
         raise DesignError(f"{where} is a {tile.kind}, which takes no image (asset {shown(tile.asset)})")
+    if tile.geometry not in THREAD_GEOMETRY:
+        raise DesignError(f"{where}.geometry {shown(tile.geometry)} is not one of "
+                          f"{', '.join(THREAD_GEOMETRY)}")
     if tile.kind == "thread" and tile.finish:
         from ..appearance.threads import parse_finish
         parse_finish(tile.finish, f"{where}.finish")

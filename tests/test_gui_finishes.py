@@ -131,3 +131,23 @@ def test_the_new_tabs_fit_the_side_dock_without_squeezing(make_window, qtbot):
         assert spin.width() >= hint.width() and spin.height() >= hint.height()
     preview = w.preview.width() * w.preview.height()
     assert all(preview > d.width() * d.height() for d in w.docks.values() if d.isVisible())
+
+
+def test_a_thread_shows_how_it_is_drawn_and_the_choice_is_undoable(make_window):
+    w = make_window()
+    panel = w.bumps_panel
+    words.select_key(panel.add_kind, "thread")
+    panel.add_button.click()
+    tile = w.scene.design.bumps[0]
+    assert tile.kind == "thread" and tile.geometry == "auto"
+    assert panel.geometry.isEnabled() and "(auto)" in panel.drawing.text()
+    words.select_key(panel.geometry, "true")
+    assert w.scene.design.bumps[0].geometry == "true"
+    assert panel.drawing.text().startswith("Drawn as true geometry, as chosen")
+    words.select_key(panel.geometry, "relief")
+    assert "relief, as chosen" in panel.drawing.text()
+    w.undo_stack.undo()
+    assert w.scene.design.bumps[0].geometry == "true" and panel.geometry.currentData() == "true"
+    words.select_key(panel.add_kind, "knurl")
+    panel.add_button.click()
+    assert not panel.geometry.isEnabled() and panel.drawing.text() == ""

@@ -22,7 +22,7 @@ from engine.model.check import check_values
 from engine.tracer.context import RenderContext, trace_pixels
 from engine.tracer.kernels import profile as R
 from engine.tracer.kernels.bumps import THREAD, bump_height
-from engine.tracer.kernels.helix import helix_field, helix_normal, helix_roots
+from engine.tracer.kernels.helix import MAX_ROOTS, helix_field, helix_normal, helix_roots
 from engine.tracer.render_objects import OUTER_WALL
 from engine.model.design import Camera
 from tests.test_tracer import WHITE
@@ -117,7 +117,7 @@ def _ref_roots(row, o, d, samples=400_001):
 
 def _kernel_roots(seg, j, o, d):
     out = np.zeros(16)
-    n = helix_roots(seg, j, *o, *d, 0.0, np.inf, out)
+    n = helix_roots(seg, j, *o, *d, 0.0, np.inf, out, MAX_ROOTS)
     return out[:n]
 
 

@@ -7,7 +7,8 @@ both ways (normal perturbation against geometry, same view) measures only the bu
 approximation. The ridge's cross-section (its profile across the pitch, standing ``h`` off the
 neck) is closed by a base :data:`EMBED_MM` inside the glass, swept along each start's helix
 for the tile's turns and capped at both ends: a closed, consistently outward-oriented solid
-(the lead renders it as a mesh object overlapping the neck). Units mm.
+(for export and other renderers: the tracer raises a true thread analytically, the same ridge
+again, :mod:`engine.tracer.kernels.helix`). Units mm.
 """
 from __future__ import annotations
 

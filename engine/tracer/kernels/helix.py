@@ -24,7 +24,7 @@ the interval; a step where the bound cannot exclude a pair of crossings (``|F(a)
 lip (b - a)``, ``F`` first falling then rising in size) is searched for the turn of ``F``
 (:func:`_dip`). Each bracket is refined by safeguarded Newton to ``ROOT_TOL``. Bounded per
 ray and row: at most ``2 (MAX_STEPS + 1)`` marching evaluations, ``DIP_ITERATIONS`` per step
-searched, ``REFINE_ITERATIONS`` per root and ``MAX_ROOTS`` roots per interval. What can be
+searched, ``REFINE_ITERATIONS`` per root and ``MAX_ROOTS`` roots. What can be
 missed: a pair of crossings inside one short step with more than one turn of ``F`` between
 them (a graze of the ridge far shallower than ``lip`` times a step).
 Units mm.
@@ -46,8 +46,8 @@ MAX_STEPS = 256
 DIP_ITERATIONS = 40
 #: Safeguarded Newton iterations per root at most.
 REFINE_ITERATIONS = 64
-#: Roots returned per ray and row at most (the caller takes the first it accepts).
-MAX_ROOTS = 4
+#: Roots on the band returned per ray and row at most (the caller takes the first it accepts).
+MAX_ROOTS = 6
 #: A root is refined until its bracket is this narrow (mm).
 ROOT_TOL = 1e-10
 #: The shell holding the ridge is widened by this much (mm) on each side.
@@ -119,9 +119,10 @@ def _shell(seg, i):
 @njit(**JIT)
 def helix_lipschitz(seg, i, r_in):
     """A bound of ``|dF/dt|`` along any unit ray in row ``i``'s shell (``rho >= r_in``):
-    ``|grad F| <= 1 + |dh/du| R_ref / rho + |dL/dz| + |dh/dv| dv/dz``, each slope bounded by
-    the largest slopes of the bell across the ridge (``pi / (2 flank)`` per pitch) and of the
-    run-out's fade (``3.75 / runout`` per turn); 5 % to spare."""
+    ``grad F`` has the orthogonal parts ``1`` (radial), ``dh/du R_ref / rho`` (around) and
+    ``dL/dz + dh/dv dv/dz`` (along the axis), each slope bounded by the largest slopes of the
+    bell across the ridge (``pi / (2 flank)`` per pitch) and of the run-out's fade
+    (``3.75 / runout`` per turn); 5 % to spare."""
     z0, z1 = seg[i, S_Z0], seg[i, S_Z1]
     slope = abs(seg[i, S_R1] - seg[i, S_R0]) / (z1 - z0)
     vscale = seg[i, S_LEN] / (z1 - z0)
@@ -130,7 +131,9 @@ def helix_lipschitz(seg, i, r_in):
     bell = 0.5 * math.pi / min(seg[i, H_FLANK_LO], seg[i, H_FLANK_HI])
     hu = depth * (_RAMP_SLOPE / seg[i, H_RUNOUT] + seg[i, H_STARTS] * bell) / (TWO_PI * R)
     hv = depth * bell / seg[i, H_PITCH]
-    return 1.05 * (1.0 + hu * R / max(r_in, 1e-9) + slope + hv * vscale)
+    around = hu * R / max(r_in, 1e-9)
+    axial = slope + hv * vscale
+    return 1.05 * math.sqrt(1.0 + around * around + axial * axial)
 
 
 @njit(**INLINE)
@@ -190,15 +193,14 @@ def _dip(seg, i, ox, oy, oz, dx, dy, dz, a, b, fa, fb, lip):
 
 
 @njit(**JIT)
-def _march(seg, i, ox, oy, oz, dx, dy, dz, a, b, lip, out, n):
-    """Crossings of ``F`` on ``[a, b]``, ascending, appended to ``out`` from ``n`` (module
-    doc); ``lip`` bounds ``|dF/dt|``. Returns the new count."""
+def _march(seg, i, ox, oy, oz, dx, dy, dz, a, b, lip, out, n, stop):
+    """Crossings of ``F`` on ``[a, b]``, ascending, appended to ``out`` from ``n`` until there
+    are ``stop`` (module doc); ``lip`` bounds ``|dF/dt|``. Returns the new count."""
     hmin = (b - a) / MAX_STEPS
-    start = n
     t = a
     f, g = _along(seg, i, ox, oy, oz, dx, dy, dz, t)
     for _ in range(MAX_STEPS + 1):
-        if not t < b or n - start >= MAX_ROOTS:
+        if not t < b or n >= stop:
             break
         t1 = min(t + max(abs(f) / lip, hmin), b)
         f1, g1 = _along(seg, i, ox, oy, oz, dx, dy, dz, t1)
@@ -210,7 +212,7 @@ def _march(seg, i, ox, oy, oz, dx, dy, dz, a, b, lip, out, n):
             if not math.isnan(c):
                 out[n] = _refine(seg, i, ox, oy, oz, dx, dy, dz, t, c, f)
                 n += 1
-                if n - start < MAX_ROOTS:
+                if n < stop:
                     out[n] = _refine(seg, i, ox, oy, oz, dx, dy, dz, c, t1, -f)
                     n += 1
         t, f, g = t1, f1, g1
@@ -218,10 +220,12 @@ def _march(seg, i, ox, oy, oz, dx, dy, dz, a, b, lip, out, n):
 
 
 @njit(**JIT)
-def helix_roots(seg, i, ox, oy, oz, dx, dy, dz, tlo, thi, out):
+def helix_roots(seg, i, ox, oy, oz, dx, dy, dz, tlo, thi, out, need):
     """Crossings (mm, ascending, in ``(tlo, thi)``) of the ray ``o + t d`` (unit ``d``) with
-    HELIX row ``i``: its cone off the band, its threaded surface on it; returns their number
-    (written to ``out``, which holds at least ``2 MAX_ROOTS + 2``)."""
+    HELIX row ``i``: its cone off the band, and the first ``need`` (at most ``MAX_ROOTS``) on
+    the band, where they cost most (a caller that accepts the first crossing, or the second
+    on the surface a ray leaves, asks for no more); returns their number (written to ``out``,
+    which holds at least ``MAX_ROOTS + 2``)."""
     hz0, hz1 = seg[i, H_Z0], seg[i, H_Z1]
     m = cone_roots(ox, oy, oz, dx, dy, dz, seg[i, S_R0], seg[i, S_Z0], seg[i, S_R1], seg[i, S_Z1], tlo, out)
     n = 0
@@ -242,11 +246,12 @@ def helix_roots(seg, i, ox, oy, oz, dx, dy, dz, tlo, thi, out):
     rin, rout = _shell(seg, i)
     lip = helix_lipschitz(seg, i, rin)
     first = n
+    stop = n + min(need, MAX_ROOTS)
     E = dx * dx + dy * dy
     if E == 0.0:                  # along the axis: rho is constant
         rho = hypot2(ox, oy)
         if rho >= rin and rho <= rout:
-            n = _march(seg, i, ox, oy, oz, dx, dy, dz, lo, hi, lip, out, n)
+            n = _march(seg, i, ox, oy, oz, dx, dy, dz, lo, hi, lip, out, n, stop)
     else:
         s = -(ox * dx + oy * dy) / E  # closest approach to the axis
         mx, my = ox + s * dx, oy + s * dy
@@ -258,13 +263,13 @@ def helix_roots(seg, i, ox, oy, oz, dx, dy, dz, tlo, thi, out):
             g2 = rin * rin - m2
             if g2 <= 0.0:           # the ray never dips inside r_in: one interval
                 if a < b:
-                    n = _march(seg, i, ox, oy, oz, dx, dy, dz, a, b, lip, out, n)
+                    n = _march(seg, i, ox, oy, oz, dx, dy, dz, a, b, lip, out, n, stop)
             else:                   # in through the shell, across the bore side, out again
                 g = math.sqrt(g2 / E)
                 if a < min(b, s - g):
-                    n = _march(seg, i, ox, oy, oz, dx, dy, dz, a, min(b, s - g), lip, out, n)
-                if max(a, s + g) < b:
-                    n = _march(seg, i, ox, oy, oz, dx, dy, dz, max(a, s + g), b, lip, out, n)
+                    n = _march(seg, i, ox, oy, oz, dx, dy, dz, a, min(b, s - g), lip, out, n, stop)
+                if max(a, s + g) < b and n < stop:
+                    n = _march(seg, i, ox, oy, oz, dx, dy, dz, max(a, s + g), b, lip, out, n, stop)
     if n > first and first > 0:
         sort_small(out, n)
     return n

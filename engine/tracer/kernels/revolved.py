@@ -19,7 +19,7 @@ from numba import njit
 
 from .bands import subtract
 from .outlines import disc_interval
-from .helix import helix_normal, helix_roots, helix_v
+from .helix import MAX_ROOTS, helix_normal, helix_roots, helix_v
 from .profile import (ARC, ELLIPSE, HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR,
                       S_KIND, S_LEN, S_R0, S_R1, S_RMAX, S_RMIN, S_SWEEP, S_V0, S_Z0, S_Z1, S_ZMAX,
                       S_TAB0, S_TABN, S_ZMIN, TWO_PI, _offset_at, _offset_coord, in_sweep,
@@ -228,7 +228,7 @@ def segment_hits(seg, tab, i, ox, oy, oz, dx, dy, dz, tlo, thi, lo, hi, out, cri
     elif kind == OFFSET:
         return offset_roots(seg, tab, i, ox, oy, oz, dx, dy, dz, max(lo, tlo), min(hi, thi), out)
     elif kind == HELIX:
-        return helix_roots(seg, i, ox, oy, oz, dx, dy, dz, max(lo, tlo), min(hi, thi), out)
+        return helix_roots(seg, i, ox, oy, oz, dx, dy, dz, max(lo, tlo), min(hi, thi), out, MAX_ROOTS)
     else:
         cr, cz, ar, az = seg[i, S_CR], seg[i, S_CZ], seg[i, S_AR], seg[i, S_AZ]
         m = torus_roots(ox, oy, oz - cz, dx, dy, dz, abs(cr), ar, az, cr < 0.0, max(tlo, lo), out, crit,

@@ -346,3 +346,20 @@ def test_the_command_line_adds_a_true_thread_and_lists_how_it_is_drawn(bordeaux,
     capsys.readouterr()
     assert main(["bump", str(path), "list"]) == 0
     assert "true geometry, as chosen" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("cap", ["screw", "crown", "lug", None])
+def test_a_true_thread_under_a_cap_renders_without_leaks_or_mismatches(cap):
+    """The closure is sized from the thread's depth, so the glass ridge never meets its skirt."""
+    from engine.appearance.closure_shapes import default_cap
+    design, assets = load_project(ROOT / "resources" / "threaded_bottle.glassbench")
+    zt = design.shape.z_top
+    tile = dataclasses.replace(design.bumps[0], geometry="true")
+    cam = dataclasses.replace(design.camera, target=(0.0, 0.0, zt - 10.0), fov_y_deg=6.0)
+    d = dataclasses.replace(design, bumps=(tile,), cap=default_cap(cap) if cap else None, camera=cam)
+    ctx = RenderContext.from_design(d, assets, 24, 30)
+    assert np.count_nonzero(ctx.scene[0][:, R.S_KIND] == R.HELIX) == 1
+    ys, xs = np.mgrid[0:30, 0:24]
+    res = trace_pixels(ctx, xs.ravel(), ys.ravel(), 0, 2)
+    assert res.counters[1] == 0 and res.counters[2] == 0
+    assert np.count_nonzero(res.objects & (1 << OUTER_WALL)) > 100

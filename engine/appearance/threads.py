@@ -11,8 +11,13 @@ marked ``approximate`` (sizes past 33 mm, the 425 and 430 series, the wine and b
 finishes) are nominal values good for pictures, not for tooling.
 
 A thread is drawn either as relief (the shading normal bent by :mod:`engine.tracer.kernels.bumps`)
-or as true geometry (the helical ridge raised on the neck, :mod:`engine.tracer.kernels.helix`,
-the same ridge profile); :func:`thread_rendering` is the one rule that picks, and says why.
+or as true geometry (the helical ridge raised on the neck as glass, :mod:`engine.tracer.kernels.helix`,
+the same ridge profile); :func:`thread_rendering` is the one rule that picks, and says why:
+``auto`` takes true geometry when the ridge is deeper than :data:`WALL_FRACTION` of the wall.
+Measured by ``python -m benchmarks.finishes`` (a 28-400 thread on a 28 mm neck, 1.5 mm wall,
+same close view): the relief is off the true helix by 2.9 % of the neck's radiance, 25 % over
+the thread's own pixels (silhouette, self-occlusion at grazing view, the path through the
+ridge), and the true thread's frame costs 1.8 x the relief's there.
 """
 from __future__ import annotations
 

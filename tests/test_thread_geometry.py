@@ -176,6 +176,29 @@ def test_rays_into_the_thread_hit_where_the_dense_reference_does(helix):
     assert found >= 40
 
 
+def test_a_two_start_thread_of_several_turns_hits_where_the_reference_does(bordeaux):
+    """Two starts of a 28-415 thread (about 1.6 turns each) on the Bordeaux neck: random rays
+    and rays along the axis crossing several ridges."""
+    design, assets = bordeaux
+    d = _threaded(design, finish="28-415", repeat=2)
+    seg = RenderContext.from_design(d, assets, 8, 8).scene[0]
+    j = int(np.flatnonzero(seg[:, R.S_KIND] == R.HELIX)[0])
+    row = seg[j]
+    assert row[R.H_STARTS] == 2 and row[R.H_TURNS] > 1.0
+    rng = np.random.default_rng(5)
+    for _ in range(25):
+        th, z = rng.uniform(-np.pi, np.pi), rng.uniform(row[R.H_Z0], row[R.H_Z1])
+        p = np.array([row[R.S_R0] * math.cos(th), row[R.S_R0] * math.sin(th), z])
+        d = _unit(-p * [1, 1, 0] + rng.normal(0.0, 6.0, 3))
+        _assert_same_roots(seg, j, p - 60.0 * d, d)
+    crossings = 0
+    for th in np.linspace(-3.0, 3.0, 5):
+        r = row[R.S_R0] + 0.5 * row[R.H_DEPTH]
+        o = np.array([r * math.cos(th), r * math.sin(th), row[R.H_Z0] - 1.0])
+        crossings += len(_assert_same_roots(seg, j, o, [0.0, 0.0, 1.0]))
+    assert crossings >= 5 * 4          # at least two ridges crossed on every ray
+
+
 @pytest.mark.parametrize("delta", [-1e-3, -1e-5, 1e-5, 1e-3])
 @pytest.mark.parametrize("along", ["girth", "crest"])
 def test_grazing_rays_at_the_crest_hit_or_miss_as_the_reference_does(helix, delta, along):
@@ -346,6 +369,9 @@ def test_the_command_line_adds_a_true_thread_and_lists_how_it_is_drawn(bordeaux,
     capsys.readouterr()
     assert main(["bump", str(path), "list"]) == 0
     assert "true geometry, as chosen" in capsys.readouterr().out
+    assert main(["bump", str(path), "add", "knurl", "--z0", "40", "--z1", "80", "--geometry", "true"]) == 2
+    assert "threads only" in capsys.readouterr().err
+    assert len(load_project(path)[0].bumps) == 1
 
 
 @pytest.mark.parametrize("cap", ["screw", "crown", "lug", None])

@@ -159,9 +159,11 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
                 if seg[j, S_KIND] == LINE:  # the common case, without a call
                     n = cone_roots(ox, oy, oz, dx, dy, dz, seg[j, S_R0], seg[j, S_Z0], seg[j, S_R1],
                                    seg[j, S_Z1], t0, roots)
-                elif seg[j, S_KIND] == HELIX:  # a true thread: only the crossings the loop below can take
-                    n = helix_roots(seg, j, ox, oy, oz, dx, dy, dz, max(a, t0), min(b, best), roots,
-                                    2 if k == last_obj else 1)
+                elif seg[j, S_KIND] == HELIX:
+                    # a true thread: only the crossings the loop below can take (the first, or a
+                    # second when the first may be the start or an edge's rounding, _accept)
+                    need = 2 if k == last_obj or a < obj_f[k, F_EDGE] else 1
+                    n = helix_roots(seg, j, ox, oy, oz, dx, dy, dz, max(a, t0), min(b, best), roots, need)
                 else:
                     n = segment_hits(seg, tab, j, ox, oy, oz, dx, dy, dz, t0, best, a, b, roots, crit, stack)
             else:

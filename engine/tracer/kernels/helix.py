@@ -223,9 +223,9 @@ def _march(seg, i, ox, oy, oz, dx, dy, dz, a, b, lip, out, n, stop):
 def helix_roots(seg, i, ox, oy, oz, dx, dy, dz, tlo, thi, out, need):
     """Crossings (mm, ascending, in ``(tlo, thi)``) of the ray ``o + t d`` (unit ``d``) with
     HELIX row ``i``: its cone off the band, and the first ``need`` (at most ``MAX_ROOTS``) on
-    the band, where they cost most (a caller that accepts the first crossing, or the second
-    on the surface a ray leaves, asks for no more); returns their number (written to ``out``,
-    which holds at least ``MAX_ROOTS + 2``)."""
+    the band, where they cost most (the nearest-hit search takes the first it accepts and asks
+    for no more); returns their number (written to ``out``, which holds at least
+    ``MAX_ROOTS + 2``)."""
     hz0, hz1 = seg[i, H_Z0], seg[i, H_Z1]
     m = cone_roots(ox, oy, oz, dx, dy, dz, seg[i, S_R0], seg[i, S_Z0], seg[i, S_R1], seg[i, S_Z1], tlo, out)
     n = 0

@@ -160,10 +160,12 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
                     n = cone_roots(ox, oy, oz, dx, dy, dz, seg[j, S_R0], seg[j, S_Z0], seg[j, S_R1],
                                    seg[j, S_Z1], t0, roots)
                 elif seg[j, S_KIND] == HELIX:
-                    # a true thread: only the crossings the loop below can take (the first, or a
-                    # second when the first may be the start or an edge's rounding, _accept)
-                    need = 2 if k == last_obj or a < obj_f[k, F_EDGE] else 1
-                    n = helix_roots(seg, j, ox, oy, oz, dx, dy, dz, max(a, t0), min(b, best), roots, need)
+                    # a true thread: its first crossing only, the one the loop below takes, unless
+                    # it lies within the edge distance, where _accept may refuse it (the start
+                    # found again, an edge's rounding): then the second too
+                    n = helix_roots(seg, j, ox, oy, oz, dx, dy, dz, max(a, t0), min(b, best), roots, 1)
+                    if n > 0 and roots[0] < obj_f[k, F_EDGE]:
+                        n = helix_roots(seg, j, ox, oy, oz, dx, dy, dz, max(a, t0), min(b, best), roots, 2)
                 else:
                     n = segment_hits(seg, tab, j, ox, oy, oz, dx, dy, dz, t0, best, a, b, roots, crit, stack)
             else:

@@ -17,7 +17,7 @@ the same ridge profile); :func:`thread_rendering` is the one rule that picks, an
 Measured by ``python -m benchmarks.finishes`` (a 28-400 thread on a 28 mm neck, 1.5 mm wall,
 same close view): the relief is off the true helix by 2.9 % of the neck's radiance, 25 % over
 the thread's own pixels (silhouette, self-occlusion at grazing view, the path through the
-ridge), and the true thread's frame costs 1.8 x the relief's there.
+ridge), and the true thread's frame costs about 1.7 x the relief's there.
 """
 from __future__ import annotations
 

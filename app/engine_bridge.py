@@ -172,6 +172,18 @@ def wireframe_lines(shape: BottleShape, tol_mm: float = 0.5):
     return v, edges[flat | (turn < 0.3 * step)]
 
 
+def design_wireframe(design, tol_mm: float = 0.5):
+    """``(points (N, 3), edges (M, 2))`` of what the 3D view draws: the glass's outside
+    (:func:`wireframe_lines`) and the closure's rings and meridians, if it has one."""
+    from engine.appearance.closures import closure_outline
+
+    points, edges = wireframe_lines(design.shape, tol_mm)
+    cap_points, cap_edges = closure_outline(design)
+    if not len(cap_points):
+        return points, edges
+    return np.concatenate([points, cap_points]), np.concatenate([edges, cap_edges + len(points)])
+
+
 # ---------------------------------------------------------------------------- tracer
 def warm_up_tracer():
     """Load (or compile) the tracer's kernels on a background thread; returns the thread."""

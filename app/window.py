@@ -203,7 +203,7 @@ class MainWindow(QMainWindow):
             self.materials_panel.refresh(design)
         if changed & {"camera", "environment", "render"}:
             self.camera_panel.refresh(design)
-        if changed & {"labels", "shape", "assets"}:
+        if changed & {"labels", "shape", "assets", "cap"}:  # a print on the cap follows it
             self.labels_panel.refresh(design, self.scene.assets)
         if changed & {"bumps", "shape", "assets"}:
             self.bumps_panel.refresh(design, self.scene.assets)
@@ -213,8 +213,8 @@ class MainWindow(QMainWindow):
             self.trade_panel.show_name(design.name)
             self._offer_name(self._shown_fill_ml, only_if_shown=True)
         if self.wireframe is not None:
-            if "shape" in changed:
-                self.wireframe_controller.request(design.shape)
+            if changed & {"shape", "cap", "bumps"}:  # a closure follows the finish and its thread
+                self.wireframe_controller.request(design)
             if "camera" in changed:
                 self.wireframe.set_camera(design.camera)  # the 3D view looks through the design's camera
         if "render" in changed:

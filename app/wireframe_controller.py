@@ -114,7 +114,8 @@ class LatestOnlyWorker(QObject):
 
 
 class WireframeController(LatestOnlyWorker):
-    """Background wireframe builder: ``meshReady(points (N, 3), edges (M, 2))``."""
+    """Background wireframe builder of a design (the glass and its closure):
+    ``meshReady(points (N, 3), edges (M, 2))``."""
 
     meshReady = Signal(object, object)
     thread_name = "wireframe"
@@ -125,8 +126,8 @@ class WireframeController(LatestOnlyWorker):
         self.tol_mm = tol_mm
         self.resultReady.connect(lambda r: self.meshReady.emit(*r))
 
-    def compute(self, shape):
-        return engine_bridge.wireframe_lines(shape, self.tol_mm)
+    def compute(self, design):
+        return engine_bridge.design_wireframe(design, self.tol_mm)
 
 
 class DerivedController(LatestOnlyWorker):

@@ -179,8 +179,12 @@ def mitsuba_points(spec_path, ref, spps, design=None, reference_spp=0):
 GLASSBENCH_SETTINGS = (
     # (label, anti-aliasing samples, adaptive noise target or None)
     ("centre only", 1, None), ("AA 4", 4, None), ("AA 16", 16, None), ("AA 64", 64, None),
+    # a render setting of 4 samples with adaptive rounds: the front between 4 and 64 samples
+    ("AA 4 adaptive 0.02", 4, 0.02), ("AA 4 adaptive 0.01", 4, 0.01),
     ("adaptive 0.02", 16, 0.02), ("adaptive 0.01", 16, 0.01), ("adaptive 0.005", 16, 0.005),
 )
+#: ``--quick``: the labels of the settings it renders.
+QUICK_SETTINGS = ("centre only", "AA 4", "AA 4 adaptive 0.02", "adaptive 0.02", "adaptive 0.01")
 
 
 def glassbench_points(spec_path, ref, settings, threads, scene=None):
@@ -248,7 +252,7 @@ def main(argv=None) -> int:
     names = a.scenes.split(",")
     max_spp = min(a.max_spp, 256) if a.quick else a.max_spp
     spps = [s for s in (1, 4, 16, 64, 256, 1024, 4096) if s <= max_spp]
-    settings = GLASSBENCH_SETTINGS[:2] + GLASSBENCH_SETTINGS[4:6] if a.quick else GLASSBENCH_SETTINGS
+    settings = tuple(st for st in GLASSBENCH_SETTINGS if st[0] in QUICK_SETTINGS) if a.quick else GLASSBENCH_SETTINGS
     os.makedirs(OUT, exist_ok=True)
     rows, speed = [], {}
     fig, axes = plt.subplots(1, len(names), figsize=(4.2 * len(names), 4), squeeze=False)

@@ -133,6 +133,26 @@ def test_the_new_tabs_fit_the_side_dock_without_squeezing(make_window, qtbot):
     assert all(preview > d.width() * d.height() for d in w.docks.values() if d.isVisible())
 
 
+def test_a_tile_moved_onto_the_cap_follows_its_skirt_and_is_refused_without_a_cap(make_window):
+    from engine.appearance.bump_tables import cap_band
+    w = make_window()
+    panel = w.bumps_panel
+    words.select_key(panel.add_kind, "knurl")
+    panel.add_button.click()
+    before = w.scene.design
+    words.select_key(panel.on, "cap")  # the sample has no cap: refused, nothing changes
+    assert w.scene.design == before and "no cap" in panel.problem.text()
+    assert panel.on.currentData() == "bottle"
+    words.select_key(w.cap_panel.kind, "screw")
+    words.select_key(panel.on, "cap")
+    tile = w.scene.design.bumps[0]
+    assert tile.on == "cap" and "on the cap" in panel.list.item(0).text()
+    assert cap_band(w.scene.design, tile.z0, tile.z1) is not None, "the band lies on the skirt"
+    assert "lower edge of the cap's skirt" in panel.z0.toolTip()
+    w.undo_stack.undo()
+    assert w.scene.design.bumps[0].on == "bottle" and panel.on.currentData() == "bottle"
+
+
 def test_a_thread_shows_how_it_is_drawn_and_the_choice_is_undoable(make_window):
     w = make_window()
     panel = w.bumps_panel

@@ -343,3 +343,40 @@ def test_removing_a_label_drops_only_its_own_images(make_window, tiny_design, tm
     assert asset not in w.scene.assets and "notes.png" in w.scene.assets
     w.undo_stack.undo()
     assert asset in w.scene.assets
+
+
+def test_a_label_goes_on_the_cap_top_and_skirt_from_the_on_choice_undoably(make_window, tiny_design, tmp_path,
+                                                                           qtbot):
+    from engine.appearance.cap_surfaces import cap_surface
+    from engine.model.design import Cap
+    w = make_window(dataclasses.replace(tiny_design, cap=None))
+    panel = w.labels_panel
+    artwork(tmp_path, "a.png", size=(40, 80))
+    _add(panel, tmp_path / "a.png")
+    on_wall = w.scene.design
+    assert [panel.surface.itemText(i) for i in range(panel.surface.count())] == ["bottle", "cap top", "cap skirt"]
+    panel.surface.setCurrentIndex(panel.surface.findData("cap-top"))   # no cap yet: refused
+    assert w.scene.design == on_wall and panel.surface.currentData() == "wall"
+    assert "has no cap" in panel.problem.text()
+    w.editor.apply("Cap", None, cap=Cap("screw", "plastic"))
+    panel.surface.setCurrentIndex(panel.surface.findData("cap-top"))
+    lab = w.scene.design.labels[0]
+    top = cap_surface(w.scene.design, "cap-top")
+    assert lab.surface == "cap-top" and (lab.cap_x_mm, lab.cap_y_mm) == (0.0, 0.0)
+    assert math.hypot(lab.width_mm, lab.height_mm) <= 2 * top.radius, "shrunk to fit the top"
+    assert lab.width_mm / lab.height_mm == pytest.approx(2.0, rel=0.05), "aspect kept"
+    assert panel.cap_x_mm.isEnabled() and not panel.z_mm.isEnabled()
+    panel.cap_x_mm.setValue(1.5)
+    assert w.scene.design.labels[0].cap_x_mm == pytest.approx(1.5)
+    qtbot.waitUntil(lambda: not panel.dieline_pending())
+    assert "cap's top" in panel.figures.text()
+    panel.surface.setCurrentIndex(panel.surface.findData("cap-skirt"))
+    lab = w.scene.design.labels[0]
+    skirt = cap_surface(w.scene.design, "cap-skirt")
+    assert lab.surface == "cap-skirt" and lab.z_mm == pytest.approx(skirt.height_mm / 2, abs=0.01)
+    assert panel.z_mm.isEnabled() and not panel.cap_x_mm.isEnabled()
+    w.undo_stack.undo()
+    w.undo_stack.undo()
+    assert w.scene.design.labels[0].surface == "cap-top" and panel.surface.currentData() == "cap-top"
+    w.undo_stack.undo()
+    assert w.scene.design.labels == on_wall.labels and panel.surface.currentData() == "wall"

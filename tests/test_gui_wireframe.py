@@ -70,6 +70,22 @@ def test_the_3d_view_shows_the_design_camera_and_copies_it_back_without_a_jump(m
     assert w.scene.design.camera == before
 
 
+def test_the_wireframe_shows_the_cap_and_follows_it(make_window, qtbot):
+    from engine.appearance.closures import closure_geometry
+    from widgets import words
+    w = make_window(wireframe=True)
+    ctrl = w.wireframe_controller
+    qtbot.waitUntil(ctrl.is_idle, timeout=30_000)
+    bare = len(w.wireframe.poly.points)
+    assert float(w.wireframe.poly.points[:, 2].max()) == pytest.approx(w.scene.design.shape.z_top, abs=1e-6)
+    words.select_key(w.cap_panel.kind, "screw")
+    qtbot.waitUntil(lambda: ctrl.is_idle() and len(w.wireframe.poly.points) > bare, timeout=30_000)
+    cap = closure_geometry(w.scene.design)
+    assert float(w.wireframe.poly.points[:, 2].max()) == pytest.approx(cap.z_max, abs=1e-6)
+    w.undo_stack.undo()
+    qtbot.waitUntil(lambda: ctrl.is_idle() and len(w.wireframe.poly.points) == bare, timeout=30_000)
+
+
 def test_a_refused_shape_is_reported_not_fatal(make_window, qtbot, monkeypatch):
     from app import engine_bridge
     w = make_window(wireframe=True)
@@ -79,7 +95,7 @@ def test_a_refused_shape_is_reported_not_fatal(make_window, qtbot, monkeypatch):
         raise ValueError("cannot tessellate")
     monkeypatch.setattr(engine_bridge, "wireframe_lines", broken)
     with qtbot.waitSignal(w.wireframe_controller.failed, timeout=10_000) as blocker:
-        w.wireframe_controller.request(w.scene.design.shape)
+        w.wireframe_controller.request(w.scene.design)
     assert "cannot tessellate" in blocker.args[0]
 
 

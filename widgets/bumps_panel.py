@@ -25,7 +25,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QFileDialog, QFormLayout, Q
 from engine.appearance import swatch, tile_defaults
 from engine.appearance.bump_tables import thread_drawings
 from engine.errors import GlassbenchError
-from engine.model.design import BUMP_KINDS, IMAGE_BUMPS
+from engine.model.design import BUMP_KINDS, BUMP_SURFACES, IMAGE_BUMPS
 from widgets import edit_fields as ef
 from widgets.labels_panel import IMAGE_FILTER, assets_in_use
 
@@ -34,6 +34,7 @@ BUMP_WORDS = {"knurl": "Knurl", "stipple": "Stipple (dots)", "flutes": "Flutes",
               "height_map": "Image: height map", "colour_code": "Image: colour code",
               "normal_gl": "Image: normal map (OpenGL)", "normal_dx": "Image: normal map (DirectX)",
               "emboss": "Image: embossed logo"}
+ON_WORDS = {"bottle": "Bottle", "cap": "Cap"}
 #: A thread's ``geometry`` choices as the panel names them.
 GEOMETRY_WORDS = {"auto": "Auto (by the wall)", "relief": "Relief (normal only)", "true": "True geometry"}
 #: Swatch size (px).
@@ -51,6 +52,18 @@ def default_band(design, kind: str) -> tuple[float, float]:
     if kind in IMAGE_BUMPS:
         return round(0.3 * top, 1), round(0.45 * top, 1)
     return 2.0, round(min(12.0, 0.2 * top), 1)
+
+
+def default_cap_band(design) -> tuple[float, float] | None:
+    """Where a tile moved onto the cap goes (mm above the lower edge of its straight skirt):
+    the skirt less a sixth at each end (clear of the rounded edges); ``None`` without a cap
+    or a straight skirt."""
+    from engine.appearance.bump_tables import cap_band
+    band = cap_band(design, 0.0, 1e9) if design.cap is not None else None
+    if band is None:
+        return None
+    height = band[2] - band[1]
+    return round(height / 6.0, 1), round(5.0 * height / 6.0, 1)
 
 
 class BumpsPanel(QWidget):
@@ -85,6 +98,11 @@ class BumpsPanel(QWidget):
             self.kind.addItem(BUMP_WORDS[kind], kind)
         self.kind.setToolTip("Changing the kind starts from that kind's usual numbers")
         self.name = QLineEdit()
+        self.on = QComboBox()
+        for on in BUMP_SURFACES:
+            self.on.addItem(ON_WORDS[on], on)
+        self.on.setToolTip("The glass, or the cap's straight skirt (heights then measured from its lower "
+                           "edge, so the band follows the cap)")
         self.z0 = ef.spin(-5000, 5000, 1, 1.0, " mm", "Bottom of the band (height above the standing plane)")
         self.z1 = ef.spin(-5000, 5000, 1, 1.0, " mm", "Top of the band")
         self.repeat = ef.int_spin(1, 4096, "Repeats of the pattern around the girth")
@@ -123,6 +141,7 @@ class BumpsPanel(QWidget):
         form = QFormLayout(self.form_box)
         form.addRow("Kind", self.kind)
         form.addRow("Name", self.name)
+        form.addRow("On", self.on)
         self.rows = {}
         for text, w in (("From height", self.z0), ("To height", self.z1), ("Repeat", self.repeat),
                         ("Depth", self.depth_mm), ("Turn", self.angle), ("Pitch", self.pitch),
@@ -146,6 +165,7 @@ class BumpsPanel(QWidget):
         self.add_button.clicked.connect(lambda: self.add_tile(self.add_kind.currentData()))
         self.remove_button.clicked.connect(self.remove_tile)
         self.kind.currentIndexChanged.connect(lambda _: self.set_kind(self.kind.currentData()))
+        self.on.currentIndexChanged.connect(lambda _: self.set_surface(self.on.currentData()))
         self.name.editingFinished.connect(lambda: self._edit("Rename tile", "name", name=self.name.text()))
         for w, key, text in ((self.z0, "z0", "Tile bottom"), (self.z1, "z1", "Tile top"),
                              (self.repeat, "repeat", "Tile repeat"), (self.depth_mm, "depth", "Tile depth"),
@@ -262,6 +282,32 @@ class BumpsPanel(QWidget):
         return self._apply(f"Tile kind {BUMP_WORDS[kind].lower()}", None,
                            ef.replaced(self.editor.design.bumps, self.index, new), assets)
 
+    def set_surface(self, on: str) -> bool:
+        """Move the selected tile onto the glass or the cap's skirt (its default band there,
+        its repeat sized for that girth); refused without a cap, or for a thread."""
+        tile = self.tile
+        if tile is None or on == tile.on:
+            return False
+        design = self.editor.design
+        if on == "cap":
+            band = default_cap_band(design)
+            if tile.kind == "thread":
+                why = "a thread belongs to the glass finish, not to the cap"
+            elif band is None:
+                why = "the design has no cap with a straight skirt: put one on in the Cap tab first"
+            else:
+                why = None
+            if why is not None:
+                self._refuse(why)
+                self.refresh(design)
+                return False
+        else:
+            band = default_band(design, tile.kind)
+        keep = {f: getattr(tile, f) for f in ("name", "asset", "angle_deg", "inverted", "depth", "width",
+                                              "sharpness", "alpha", "pitch", "width_deg")}
+        new = tile_defaults.new_tile(design, tile.kind, *band, on=on, **keep)
+        return self._apply(f"Tile on the {on}", None, ef.replaced(design.bumps, self.index, new))
+
     def choose_tile_image(self) -> bool:
         tile = self.tile
         if tile is None or tile.kind not in IMAGE_BUMPS:
@@ -278,10 +324,10 @@ class BumpsPanel(QWidget):
         assets = self.editor.scene.assets if assets is None else assets
         fields = (self.z0, self.z1, self.repeat, self.depth_mm, self.angle, self.pitch, self.ridge_width,
                   self.sharpness, self.alpha, self.width_deg)
-        blockers = [QSignalBlocker(w) for w in (self.list, self.kind, self.name, self.finish, self.inverted,
-                                                self.geometry) + fields]
+        blockers = [QSignalBlocker(w) for w in (self.list, self.kind, self.name, self.on, self.finish,
+                                                self.inverted, self.geometry) + fields]
         ef.show_rows(self.list, [f"{t.name} ({BUMP_WORDS.get(t.kind, t.kind)}) {t.z0:g}..{t.z1:g} mm"
-                                 for t in design.bumps],
+                                 + (" on the cap" if t.on == "cap" else "") for t in design.bumps],
                      self.list.currentRow() if self._select is None else self._select)
         tile = self.tile
         self.form_box.setEnabled(tile is not None)
@@ -294,6 +340,9 @@ class BumpsPanel(QWidget):
             return
         self.kind.setCurrentIndex(self.kind.findData(tile.kind))
         self.name.setText(tile.name)
+        self.on.setCurrentIndex(self.on.findData(tile.on))
+        above = "the lower edge of the cap's skirt" if tile.on == "cap" else "the standing plane"
+        self.z0.setToolTip(f"Bottom of the band (height above {above})")
         for w, key in zip(fields, ("z0", "z1", "repeat", "depth", "angle_deg", "pitch", "width",
                                    "sharpness", "alpha", "width_deg")):
             w.setValue(getattr(tile, key))
@@ -321,7 +370,7 @@ class BumpsPanel(QWidget):
 
     def _draw_swatch(self, design, tile, assets):
         try:
-            radius = tile_defaults.band_radius(design, tile.z0, tile.z1)
+            radius = tile_defaults.band_radius(design, tile.z0, tile.z1, tile.on)
             self.swatch_pixels = swatch.swatch_rgb(tile, dict(assets), (SWATCH_PX, SWATCH_PX), radius)
         except (GlassbenchError, ValueError, KeyError, ArithmeticError) as exc:
             self.swatch_pixels = None

@@ -19,6 +19,7 @@ label (:meth:`LabelsPanel.place_selected`); its size is set by the numbers.
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 
 import numpy as np
@@ -29,6 +30,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QFileDialog, QFormLayout, Q
                                QSizePolicy, QVBoxLayout, QWidget)
 
 from engine.appearance import images, presets, report
+from engine.appearance.cap_surfaces import cap_surface
 from engine.appearance.regions import region_map
 from engine.appearance.label_cli import asset_name, camera_azimuth_deg, describe
 from engine.appearance.frame import Placement, label_frame
@@ -45,6 +47,29 @@ THUMB_PX = 220
 #: How long (ms) a label must hold still before its die-line is drawn again (flattening a
 #: doubly curved band takes about half a second).
 DIELINE_SETTLE_MS = 150
+
+
+#: The designer's words for where a label lies (``Label.surface``).
+SURFACE_WORDS = {"wall": "bottle", "cap-top": "cap top", "cap-skirt": "cap skirt"}
+
+
+def placed_on(design, label: Label, surface: str) -> Label:
+    """``label`` moved onto ``surface`` of ``design``: on the cap centred on its top (read from
+    the front) or half-way up its skirt, shrunk to fit (aspect kept); on the wall at 40 % of
+    the height. Raises the engine's ``DesignError`` when the design has no such surface."""
+    if surface == "wall":
+        return dataclasses.replace(label, surface=surface, z_mm=round(0.4 * design.shape.z_top, 1))
+    surf = cap_surface(design, surface)
+    w, h = label.width_mm, label.height_mm
+    if surface == "cap-top":  # the rectangle's diagonal within 90 % of the disk
+        scale = min(1.0, 0.9 * 2.0 * surf.radius / math.hypot(w, h))
+        z = label.z_mm
+    else:
+        scale = min(1.0, 0.8 * surf.height_mm / h, 0.5 * 2.0 * math.pi * surf.radius / w)
+        z = round(0.5 * surf.height_mm, 2)
+    w, h = (max(1.0, math.floor(10.0 * v * scale) / 10.0) for v in (w, h))
+    return dataclasses.replace(label, surface=surface, z_mm=z, cap_x_mm=0.0, cap_y_mm=0.0,
+                               width_mm=w, height_mm=h)
 
 
 def is_image_path(path: str) -> bool:
@@ -238,9 +263,18 @@ class LabelsPanel(QWidget):
 
         self.name = QLineEdit()
         self.name.setToolTip("The label's name (unique in the design; the command line uses it)")
-        self.z_mm = ef.spin(0, 5000, 1, 1.0, " mm", "Height of the label's centre above the standing plane")
+        self.surface = QComboBox()
+        for key, text in SURFACE_WORDS.items():
+            self.surface.addItem(text, key)
+        self.surface.setToolTip("Where the label lies: on the bottle's wall, or printed on the "
+                                "cap's flat top or its skirt (the design needs a cap)")
+        self.z_mm = ef.spin(0, 5000, 1, 1.0, " mm", "Height of the label's centre above the standing "
+                            "plane (on the cap's skirt: above the skirt's lower edge)")
+        self.cap_x_mm = ef.spin(-500, 500, 1, 0.5, " mm", "Cap top: the print's centre, x from the axis")
+        self.cap_y_mm = ef.spin(-500, 500, 1, 0.5, " mm", "Cap top: the print's centre, y from the axis")
         self.angle_deg = ef.spin(-360, 360, 1, 5.0, " \u00b0", "Azimuth of the label's centre about the "
-                                 "axis, from +x towards +y")
+                                 "axis, from +x towards +y (on the cap's top: where its reader "
+                                 "stands, its bottom edge towards them)")
         self.height_mm = ef.spin(1, 5000, 1, 1.0, " mm", "Height along the wall (slant)")
         self.width_mm = ef.spin(1, 5000, 1, 1.0, " mm", "Arc length around the girth at mid-height")
         self.sheet = QComboBox()
@@ -309,8 +343,9 @@ class LabelsPanel(QWidget):
         place_box = QGroupBox("Placement (on the surface)")
         pf = QFormLayout(place_box)
         pf.addRow("Name", self.name)
-        for text, w in (("Centre height", self.z_mm), ("Centre angle", self.angle_deg),
-                        ("Height", self.height_mm), ("Width", self.width_mm)):
+        pf.addRow("On", self.surface)
+        for text, w in (("Centre height", self.z_mm), ("Centre x", self.cap_x_mm), ("Centre y", self.cap_y_mm),
+                        ("Centre angle", self.angle_deg), ("Height", self.height_mm), ("Width", self.width_mm)):
             pf.addRow(text, w)
         sheet_box = QGroupBox("Sheet")
         sf = QFormLayout(sheet_box)
@@ -367,7 +402,10 @@ class LabelsPanel(QWidget):
         self.up_button.clicked.connect(lambda: self.move_label(-1))
         self.down_button.clicked.connect(lambda: self.move_label(1))
         self.name.editingFinished.connect(self._rename)
+        self.surface.currentIndexChanged.connect(lambda _: self.choose_surface(self.surface.currentData()))
         for w, key, text in ((self.z_mm, "z_mm", "Label height"), (self.angle_deg, "angle_deg", "Label angle"),
+                             (self.cap_x_mm, "cap_x_mm", "Label centre x"),
+                             (self.cap_y_mm, "cap_y_mm", "Label centre y"),
                              (self.height_mm, "height_mm", "Label size"), (self.width_mm, "width_mm", "Label width"),
                              (self.diffuse, "diffuse", "Label diffuse"), (self.specular, "specular", "Label specular"),
                              (self.transmission, "transmission", "Label transmission")):
@@ -523,11 +561,28 @@ class LabelsPanel(QWidget):
             return False
         return self._apply_labels(f"Reorder label {labels[i + step].name}", None, labels, select=i + step)
 
-    def place_selected(self, at, merge_key=None) -> bool:
-        """Move the selected label's centre to ``at`` (``(z_mm, angle_deg)``); ``merge_key``
-        makes a drag's moves one undo step."""
+    def choose_surface(self, surface: str) -> bool:
+        """Put the selected label on ``surface`` (:data:`SURFACE_WORDS`' keys), centred there
+        and shrunk to fit (aspect kept); one undo step, refused by the engine with its message
+        (a design without a cap, a crown's skirt)."""
         lab = self.label
-        if lab is None:
+        if lab is None or surface is None or surface == lab.surface:
+            return False
+        design = self.editor.design
+        try:
+            moved = placed_on(design, lab, surface)
+        except (GlassbenchError, ValueError) as exc:
+            self._refuse(str(exc))
+            self.refresh(design, self.editor.scene.assets)
+            return False
+        return self._put(f"Label on the {SURFACE_WORDS[surface]}", None, moved)
+
+    def place_selected(self, at, merge_key=None) -> bool:
+        """Move the selected label's centre to ``at`` (``(z_mm, angle_deg)`` on the wall);
+        ``merge_key`` makes a drag's moves one undo step. A print on the cap is placed by its
+        numbers only."""
+        lab = self.label
+        if lab is None or lab.surface != "wall":
             return False
         z, angle = (round(float(v), 1) for v in at)
         return self._put("Move label", merge_key, dataclasses.replace(lab, z_mm=z, angle_deg=angle))
@@ -537,7 +592,7 @@ class LabelsPanel(QWidget):
         angle_deg)`` on the surface: :meth:`engine.appearance.frame.LabelFrame.size_to`);
         ``merge_key`` makes a drag's sizes one undo step. At least 1 mm a side."""
         lab = self.label
-        if lab is None:
+        if lab is None or lab.surface != "wall":
             return False
         try:
             frame = label_frame(self.editor.design.shape, Placement.of(lab))
@@ -680,8 +735,9 @@ class LabelsPanel(QWidget):
 
     def refresh(self, design, assets=None):
         assets = self.editor.scene.assets if assets is None else assets
-        widgets = (self.list, self.name, self.z_mm, self.angle_deg, self.height_mm, self.width_mm,
-                   self.sheet, self.diffuse, self.specular, self.transmission, self.regions)
+        widgets = (self.list, self.name, self.surface, self.z_mm, self.cap_x_mm, self.cap_y_mm, self.angle_deg,
+                   self.height_mm, self.width_mm, self.sheet, self.diffuse, self.specular, self.transmission,
+                   self.regions)
         blockers = [QSignalBlocker(w) for w in widgets]
         ef.show_rows(self.list, [lab.name for lab in design.labels],
                      self.list.currentRow() if self._select is None else self._select)
@@ -700,7 +756,12 @@ class LabelsPanel(QWidget):
             del blockers
             return
         self.name.setText(lab.name)
-        for w, v in ((self.z_mm, lab.z_mm), (self.angle_deg, lab.angle_deg), (self.height_mm, lab.height_mm),
+        self.surface.setCurrentIndex(max(0, self.surface.findData(lab.surface)))
+        self.z_mm.setEnabled(lab.surface != "cap-top")
+        for w in (self.cap_x_mm, self.cap_y_mm):
+            w.setEnabled(lab.surface == "cap-top")
+        for w, v in ((self.z_mm, lab.z_mm), (self.cap_x_mm, lab.cap_x_mm), (self.cap_y_mm, lab.cap_y_mm),
+                     (self.angle_deg, lab.angle_deg), (self.height_mm, lab.height_mm),
                      (self.width_mm, lab.width_mm), (self.diffuse, lab.diffuse), (self.specular, lab.specular),
                      (self.transmission, lab.transmission)):
             w.setValue(v)

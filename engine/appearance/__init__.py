@@ -30,6 +30,7 @@ module                      holds
 ``closures``                a closure as meridian chains of section segments with a material
 ``closure_parts``           what closures are made of: materials, parts, reliefs, gaps (values)
 ``closure_shapes``          the profile of each closure kind, sized from the finish
+``cap_surfaces``            prints on the closure: its flat top and straight skirt, checks, tables
 ``finish_check``            relief images and the closure's fit, for ``check_design``
 ``commands``                ``glassbench cap / bump``
 ==========================  ===================================================================

@@ -6,9 +6,11 @@ where every number the kernels need to stay smooth is made safe: rounding widths
 so that grooves, facets and seams meet with continuous normals, bands fade in and out, a
 thread is laid out from its standard (:func:`engine.appearance.threads.thread_layout`).
 :func:`bump_tables` does this for a whole design: the tiles on the bottle's outer surface
-(bands placed by height, converted to the section's arc length ``v``) and the reliefs on the
-closure's parts, with one float32 atlas holding every relief image. A thread drawn as true
-geometry (:func:`thread_drawings`) gets no relief row: the tracer raises it as glass. Units mm.
+(bands placed by height, converted to the section's arc length ``v``), the closure's own
+reliefs, and the designer's tiles on the cap (bands placed by height above the lower edge of
+its straight skirt, :func:`cap_band`), with one float32 atlas holding every relief image.
+A thread drawn as true geometry (:func:`thread_drawings`) gets no relief row: the tracer
+raises it as glass. Units mm.
 """
 from __future__ import annotations
 
@@ -92,7 +94,7 @@ def _thread_drawings(shape, bumps) -> tuple:
     neck = 2.0 * finish_of(design).r_neck
     taken, out = set(), []
     for tile in bumps:
-        if tile.kind != "thread":
+        if tile.kind != "thread" or tile.on != "bottle":
             out.append(None)
             continue
         lo, hi = max(tile.z0, wall[0].p0[1]), min(tile.z1, wall[-1].p1[1])
@@ -121,6 +123,26 @@ def _thread_drawings(shape, bumps) -> tuple:
             taken.add(piece)
         out.append(drawing)
     return tuple(out)
+
+
+def cap_band(design, z0: float, z1: float):
+    """``(part name, v0, v1, radius)``: where the band of heights ``z0..z1`` (mm above the
+    lower edge of the closure's straight skirt, as a skirt print is placed:
+    :func:`engine.appearance.cap_surfaces.cap_surface`) lies on the skirt, as the tracer
+    measures ``v`` on that part (arc length along its chain); ``None`` without a cap, for a
+    closure without a straight skirt (a crown), or where the band misses the skirt."""
+    from ..errors import DesignError
+    from .cap_surfaces import cap_surface
+    from .closures import closure_geometry
+    try:
+        skirt = cap_surface(design, "cap-skirt")
+    except DesignError:
+        return None
+    a, b = max(z0, 0.0), min(z1, skirt.height_mm)
+    if not b - a > 1e-6:
+        return None
+    part = closure_geometry(design).parts[skirt.part]
+    return part.name, skirt.v0 + a, skirt.v0 + b, skirt.radius
 
 
 def tile_params(tile, v0: float, v1: float, radius: float, neck_diameter: float = 0.0,
@@ -184,10 +206,18 @@ def bump_tables(design, assets) -> BumpTables:
     kinds, rows, surfaces, names, atlas = [], [], [], [], []
     count = 0
     neck = 2.0 * finish_of(design).r_neck
+    closure = closure_geometry(design)
     for tile, drawing in zip(design.bumps, thread_drawings(design)):
-        band = band_coordinates(design, tile.z0, tile.z1)
-        if band is None or (drawing is not None and drawing.mode == "true"):
-            continue   # a thread drawn as true geometry is glass (engine.tracer.thread_geometry)
+        if tile.on == "cap":
+            band = cap_band(design, tile.z0, tile.z1)
+            places = [] if band is None else [(f"closure:{band[0]}", band[1:])]
+        elif drawing is not None and drawing.mode == "true":
+            places = []   # a thread drawn as true geometry is glass (engine.tracer.thread_geometry)
+        else:
+            band = band_coordinates(design, tile.z0, tile.z1)
+            places = [] if band is None else [(BOTTLE, band)]
+        if not places:
+            continue
         texture = None
         if tile.kind in IMAGE_BUMPS:
             tex, mode = relief_texture(tile.asset, assets[tile.asset], tile.kind, tile.width,
@@ -195,12 +225,12 @@ def bump_tables(design, assets) -> BumpTables:
             texture = (count, tex.shape[1], tex.shape[0], mode)
             atlas.append(tex.reshape(-1, 3))
             count += tex.shape[0] * tex.shape[1]
-        kind, row = tile_params(tile, *band, neck_diameter=neck, texture=texture)
-        kinds.append(kind)
-        rows.append(row)
-        surfaces.append(BOTTLE)
-        names.append(tile.name)
-    closure = closure_geometry(design)
+        for surface, band in places:
+            kind, row = tile_params(tile, *band, neck_diameter=neck, texture=texture)
+            kinds.append(kind)
+            rows.append(row)
+            surfaces.append(surface)
+            names.append(tile.name)
     for part in closure.parts if closure is not None else ():
         for relief in part.reliefs:
             kind, row = tile_params(relief.tile, relief.v0, relief.v1, relief.radius, neck)

@@ -87,7 +87,7 @@ def _finish(shape, bumps) -> Finish:
         wide = np.asarray(radius_at(inner, zs), float) > r_bore + 0.5
         stop = int(np.argmax(wide)) if wide.any() else len(zs)
         z_bore = float(zs[stop - 1]) if stop > 0 else z_top
-    threads = [t for t in bumps if t.kind == "thread" and t.z1 > z_start and t.z0 < z_top]
+    threads = [t for t in bumps if t.kind == "thread" and t.on == "bottle" and t.z1 > z_start and t.z0 < z_top]
     deepest = max(threads, key=lambda t: t.depth, default=None)
     return Finish(float(sp.r_top), z_top, z_start, r_bore, z_bore, deepest,
                   deepest.depth if deepest is not None else 0.0)

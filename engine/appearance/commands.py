@@ -13,7 +13,7 @@ import os
 
 from ..errors import shown
 from ..limits import BUMP_REPEAT_RANGE, GGX_ALPHA_RANGE, MAX_BUMP_DEPTH_MM, MAX_EXTENT_MM, check_range
-from ..model.design import BUMP_KINDS, CAP_KINDS, CAP_MATERIALS, THREAD_GEOMETRY
+from ..model.design import BUMP_KINDS, BUMP_SURFACES, CAP_KINDS, CAP_MATERIALS, THREAD_GEOMETRY
 
 CAP_CHOICES = CAP_KINDS + ("none",)
 #: Relief maps by their command-line name (``--map``).
@@ -50,6 +50,9 @@ def add_parsers(sub) -> None:
     bump.add_argument("--geometry", choices=THREAD_GEOMETRY, default=None,
                       help="thread: drawn as relief, as true glass, or auto (true when the ridge "
                            "is large against the wall; default)")
+    bump.add_argument("--on", choices=BUMP_SURFACES, default="bottle",
+                      help="the glass (heights above the standing plane) or the cap's straight "
+                           "skirt (heights above its lower edge)")
     bump.add_argument("--name", default=None)
 
 
@@ -111,8 +114,11 @@ def cmd_bump(args) -> int:
     if args.action == "list":
         from .bump_tables import thread_drawings
         for i, (t, drawing) in enumerate(zip(design.bumps, thread_drawings(design))):
+            where = "" if t.on == "bottle" else (" on the cap" if design.cap is not None else
+                                                 " on the cap (no cap: not drawn)")
             how = f"; drawn as {drawing.reason}" if drawing is not None else ""
-            print(f"{i}: {t.name} ({t.kind}) z {t.z0:g}..{t.z1:g} mm, x{t.repeat}, depth {t.depth:g} mm{how}")
+            print(f"{i}: {t.name} ({t.kind}) z {t.z0:g}..{t.z1:g} mm{where}, x{t.repeat}, "
+                  f"depth {t.depth:g} mm{how}")
         return 0
     if args.action == "remove":
         try:
@@ -127,8 +133,22 @@ def cmd_bump(args) -> int:
         return 0
     tile, assets = _new_tile(args, design, dict(assets), CliError)
     _save(args.project, dataclasses.replace(design, bumps=design.bumps + (tile,)), assets)
-    print(f"wrote {args.project}: added {tile.name} ({tile.kind}) on z {tile.z0:g}..{tile.z1:g} mm")
+    where = " above the lower edge of the cap's skirt" if tile.on == "cap" else ""
+    print(f"wrote {args.project}: added {tile.name} ({tile.kind}) on z {tile.z0:g}..{tile.z1:g} mm{where}")
     return 0
+
+
+def _check_cap_band(design, kind: str, z0: float, z1: float, CliError) -> None:
+    """Refuse a tile on the cap that could not be drawn: no cap, a thread, a band off the skirt."""
+    from .cap_surfaces import cap_surface
+    if kind == "thread":
+        raise CliError("a thread belongs to the glass finish, not to the cap (drop --on cap)")
+    if design.cap is None:
+        raise CliError("the design has no cap: put one on first (glassbench cap PROJECT set KIND)")
+    skirt = cap_surface(design, "cap-skirt", "the tile")
+    if not (z1 > 0.0 and z0 < skirt.height_mm):
+        raise CliError(f"heights {z0:g}..{z1:g} mm above the lower edge of the cap's skirt miss it "
+                       f"(its straight skirt is {skirt.height_mm:.1f} mm tall)")
 
 
 def _new_tile(args, design, assets, CliError):
@@ -147,7 +167,9 @@ def _new_tile(args, design, assets, CliError):
         check_range("--repeat", args.repeat, BUMP_REPEAT_RANGE, integer=True)
     given = dict(repeat=args.repeat, depth=args.depth, alpha=args.alpha, angle_deg=args.angle,
                  width_deg=args.width_deg, pitch=args.pitch, name=args.name,
-                 inverted=True if args.inverted else None)
+                 inverted=True if args.inverted else None, on=args.on)
+    if args.on == "cap":
+        _check_cap_band(design, what, args.z0, args.z1, CliError)
     if what.startswith("image:"):
         path = what[len("image:"):]
         from ..files.project import DEFAULT_LIMITS

@@ -25,7 +25,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import limits as L
-from .decal import D_COLS, design_decals, pack_decals
+from .cap_surfaces import surface_decal
+from .decal import D_COLS, label_decal, pack_decals
 from .images import ArtworkError, asset_image, probe_image
 from .presets import FINISH_CODES, FOIL_OPTICS, WHITE_UNDERPRINT
 from .regions import region_map
@@ -88,10 +89,11 @@ def compile_labels(design, assets) -> CompiledLabels:
     """The :class:`CompiledLabels` of ``design`` with ``assets`` (name -> bytes).
 
     Raises :class:`engine.appearance.images.ArtworkError` for a bad or missing image; the labels
-    must lie on the wall (a design that passed ``check_design`` does).
+    must lie on their surfaces (a design that passed ``check_design`` does).
     """
     check_artwork_budget(design, assets)
-    rows, nodes = pack_decals(design_decals(design))
+    rows, nodes = pack_decals([label_decal(design.shape, lab) if lab.surface == "wall"
+                               else surface_decal(design, lab) for lab in design.labels])
     label_f = np.zeros((len(design.labels), L_COLS))
     textures: dict[str, int] = {}
     images, maps, finishes = [], [], []

@@ -147,11 +147,6 @@ def label_decal(shape, label) -> Decal:
     return placement_decal(shape, Placement.of(label))
 
 
-def design_decals(design) -> tuple[Decal, ...]:
-    """Decals of every label of ``design``, in overlap order (later on top)."""
-    return tuple(label_decal(design.shape, lab) for lab in design.labels)
-
-
 def pack_decals(decals):
     """Decals as two flat arrays for the kernels: ``rows`` float64 ``(n, D_COLS)`` (columns
     ``D_THETA0 .. D_OFFSET``; ``D_NT``/``D_NH`` node counts, ``D_OFFSET`` the first node) and

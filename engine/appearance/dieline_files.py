@@ -71,6 +71,11 @@ def drawing(report, project_name: str = "") -> Drawing:
         d.cut.append([at(p) for p in pts] + [at(pts[0])])
         dims = [f"{fig['width_mm']:.2f} x {fig['height_mm']:.2f} mm"
                 + (" (bounding box)" if fig["kind"] == "outline" else "")]
+        if fig.get("surface") == "cap-top":
+            dims.append(f"printed on the cap's top, a flat disk {fig['disk_diameter_mm']:.2f} mm across")
+        elif fig.get("surface") == "cap-skirt":
+            dims.append(f"printed on the cap's skirt, {fig['skirt_girth_mm']:.2f} mm around, "
+                        f"{fig['skirt_height_mm']:.2f} mm high")
     x0, x1 = lo[0] + dx, hi[0] + dx
     d.lines.append([(x0, bottom - 6), (x1, bottom - 6)])
     d.texts.append(((x0 + x1) / 2, bottom - 6 - 1.3 * TEXT_MM, f"{hi[0] - lo[0]:.2f} mm"))

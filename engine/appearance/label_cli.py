@@ -2,7 +2,8 @@
 
 Design rule: what the printer and a scripted variant need, over the engine's public API only.
 Every number is checked against :mod:`engine.limits` before the project is read, and every
-label against ``check_design`` (so on the wall, at most once around) before it is saved, which
+label against ``check_design`` (so on the wall, at most once around, or on a closure it fits
+on: ``label add --on cap-top|cap-skirt``) before it is saved, which
 is atomic (:func:`engine.files.project.save_project`). Warnings where a label cannot lie flat go
 to stderr as ``glassbench COMMAND: warning: label 'NAME': ...``, one a line; errors are the
 usual one line and status 2 (:func:`engine.cli.main`). Units: mm, degrees.
@@ -18,7 +19,7 @@ import sys
 
 from .. import limits as L
 from ..errors import GlassbenchError, shown
-from ..model.design import Label, LabelSide
+from ..model.design import LABEL_SURFACES, Label, LabelSide
 from .images import image_extension, read_image_file, srgb_to_linear
 from .presets import DEFAULT_SHEET, SHEET_PRESETS
 
@@ -42,10 +43,17 @@ def add_parsers(sub) -> None:
     d, s, t = SHEET_PRESETS[DEFAULT_SHEET]
     add = actions.add_parser("add", help="add a label with IMAGE as its front")
     add.add_argument("image", metavar="IMAGE")
-    add.add_argument("--z", type=float, required=True, help="height of the centre above the standing plane (mm)")
-    add.add_argument("--height", type=float, required=True, help="height along the wall (mm)")
+    add.add_argument("--on", choices=LABEL_SURFACES, default="wall",
+                     help="where: the bottle's wall (default), or printed on the cap's top or skirt")
+    add.add_argument("--z", type=float, default=None,
+                     help="height of the centre above the standing plane (mm; on the wall, required), "
+                          "or above the skirt's lower edge (cap-skirt; default: mid-skirt)")
+    add.add_argument("--x", type=float, default=0.0, help="cap-top: the centre's x from the axis (mm)")
+    add.add_argument("--y", type=float, default=0.0, help="cap-top: the centre's y from the axis (mm)")
+    add.add_argument("--height", type=float, required=True, help="height along the wall or skirt (mm)")
     add.add_argument("--width", type=float, required=True, help="arc length around the girth (mm)")
-    add.add_argument("--angle", type=float, default=None, help="azimuth of the centre (deg; default: facing the camera)")
+    add.add_argument("--angle", type=float, default=None,
+                     help="azimuth of the centre, or cap-top: of the reader (deg; default: facing the camera)")
     add.add_argument("--back", default=None, metavar="COLOUR|IMAGE",
                      help="the back: #rrggbb (sRGB), r,g,b (linear 0..1) or an image file")
     add.add_argument("--diffuse", type=float, default=d, help=f"diffuse K (default {d:g})")
@@ -83,6 +91,12 @@ def cmd_labels(args) -> int:
 
 def describe(fig: dict) -> str:
     """A die-line's figures in words."""
+    if fig.get("surface") == "cap-top":
+        return (f"rectangle {fig['width_mm']:.2f} x {fig['height_mm']:.2f} mm on the cap's top "
+                f"(a flat disk {fig['disk_diameter_mm']:.2f} mm across)")
+    if fig.get("surface") == "cap-skirt":
+        return (f"rectangle {fig['width_mm']:.2f} x {fig['height_mm']:.2f} mm on the cap's skirt "
+                f"({fig['skirt_girth_mm']:.2f} mm around, {fig['skirt_height_mm']:.2f} mm high)")
     if fig["kind"] == "rectangle":
         return f"rectangle {fig['width_mm']:.2f} x {fig['height_mm']:.2f} mm"
     if fig["kind"] == "sector":
@@ -155,6 +169,7 @@ def camera_azimuth_deg(camera) -> float:
 def cmd_label(args) -> int:
     """``label PROJECT add IMAGE ...`` / ``label PROJECT remove LABEL``; saves the project."""
     from ..files.project import check_design, load_project, save_project
+    from .cap_surfaces import cap_surface
     if args.action == "remove":
         design, assets = load_project(args.project)
         i = find_label(design, args.name)
@@ -165,7 +180,11 @@ def cmd_label(args) -> int:
                      {k: v for k, v in assets.items() if k not in gone})
         print(f"removed label {design.labels[i].name!r} from {args.project}")
         return 0
-    for flag, value, bounds, unit in (("--z", args.z, (0.0, L.MAX_EXTENT_MM), "mm"),
+    if args.on == "wall" and args.z is None:
+        raise LabelCliError("a label on the wall needs --z (the height of its centre, mm)")
+    for flag, value, bounds, unit in (("--z", 0.0 if args.z is None else args.z, (0.0, L.MAX_EXTENT_MM), "mm"),
+                                      ("--x", args.x, (-L.MAX_EXTENT_MM, L.MAX_EXTENT_MM), "mm"),
+                                      ("--y", args.y, (-L.MAX_EXTENT_MM, L.MAX_EXTENT_MM), "mm"),
                                       ("--height", args.height, L.LABEL_SIZE_RANGE_MM, "mm"),
                                       ("--width", args.width, L.LABEL_SIZE_RANGE_MM, "mm"),
                                       ("--diffuse", args.diffuse, L.LABEL_COEFFICIENT_RANGE, ""),
@@ -191,8 +210,12 @@ def cmd_label(args) -> int:
         back = LabelSide(asset_name(name, "back", back_data, assets))
         assets[back.asset] = back_data
     angle = args.angle if args.angle is not None else camera_azimuth_deg(design.camera)
-    label = Label(name, LabelSide(front_asset), back, args.z, angle, args.height, args.width,
-                  args.diffuse, args.specular, args.transmission)
+    z = args.z
+    if z is None:  # wall labels have it; a print on a cap is centred on the skirt, or unused
+        z = 0.5 * cap_surface(design, "cap-skirt", f"label {name!r}").height_mm if args.on == "cap-skirt" else 0.0
+    label = Label(name, LabelSide(front_asset), back, z, angle, args.height, args.width,
+                  args.diffuse, args.specular, args.transmission, surface=args.on, cap_x_mm=args.x,
+                  cap_y_mm=args.y)
     new = dataclasses.replace(design, labels=design.labels + (label,))
     check_design(new, assets)
     from .report import label_report

@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 
 from ..errors import DesignError, shown
+from .cap_surfaces import check_cap_label
 from .frame import TWO_PI, Placement, label_frame
 
 
@@ -24,7 +25,10 @@ def _where(i: int, label) -> str:
 def check_label_placement(design) -> None:
     """Raise ``DesignError`` for the first label of ``design`` that does not lie on its wall."""
     for i, label in enumerate(design.labels):
-        check_one(design.shape, label, _where(i, label))
+        if label.surface == "wall":
+            check_one(design.shape, label, _where(i, label))
+        else:  # a print on the closure: the cap must be there and the print fit on it
+            check_cap_label(design, label, _where(i, label))
 
 
 def check_one(shape, label, where: str = "the label") -> None:

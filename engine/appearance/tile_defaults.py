@@ -28,10 +28,15 @@ WIDTH = {"flutes": 0.8, "stipple": 0.6, "diamond": 0.6, "knurl": 0.0, "emboss": 
          "thread": 0.5}
 
 
-def band_radius(design, z0: float, z1: float) -> float:
+def band_radius(design, z0: float, z1: float, on: str = "bottle") -> float:
     """Outer radius (mm) of the bottle at the middle of the band (its mouth radius if the band
-    is outside the wall)."""
-    from .bump_tables import band_coordinates
+    is outside the wall); with ``on="cap"`` the radius of the cap's straight skirt, else of
+    the whole closure."""
+    from .bump_tables import band_coordinates, cap_band
+    from .closures import closure_geometry
+    if on == "cap" and design.cap is not None:
+        band = cap_band(design, 0.0, 1e9)
+        return band[3] if band is not None else closure_geometry(design).r_max
     band = band_coordinates(design, z0, z1)
     return band[2] if band is not None else float(design.shape.primary.r_top)
 
@@ -41,7 +46,7 @@ def new_tile(design, kind: str, z0: float, z1: float, **given) -> BumpTile:
     values, overridden by ``given`` (field name -> value; ``None`` values are ignored)."""
     given = {k: v for k, v in given.items() if v is not None}
     fields = {"name": kind.replace("_", " "), "kind": kind, "z0": float(z0), "z1": float(z1)}
-    girth = 2.0 * math.pi * band_radius(design, z0, z1)
+    girth = 2.0 * math.pi * band_radius(design, z0, z1, given.get("on", "bottle"))
     if kind in SPACING_MM:
         fields["repeat"] = max(8, round(girth / SPACING_MM[kind]))
     elif kind in REPEAT:

@@ -12,8 +12,10 @@ Floats are written as Python floats; ``json`` writes them with ``repr``, which r
 float64 exactly.
 
 A *document* is what ``project.json`` holds: ``{"format_version": N, "generator": str,
-"design": {...}}``. Format 2 is current: labels with placement, faces, coefficients and
-finish regions; bump tiles and the closure as real values. Format 1 had placeholder labels,
+"design": {...}}``. Format 3 is current: format 2 with fields added to labels and bump tiles
+(a label's ``surface`` and cap-top centre ``cap_x_mm, cap_y_mm``; a tile's ``on``), filled in by :mod:`engine.files.migrate_fields`.
+Format 2: labels with placement, faces, coefficients and finish regions; bump tiles and the
+closure as real values. Format 1 had placeholder labels,
 ``{"name", "asset"}`` (:mod:`engine.files.migrate_labels`), and placeholder bump tiles and cap
 (:mod:`engine.files.migrate_finishes`). Format 0, the prototype layout, is still read::
 
@@ -40,13 +42,14 @@ from functools import lru_cache
 from ..errors import ProjectError, shown
 from ..limits import MAX_LIST_ITEMS as LIST_LIMIT, MAX_SEGMENTS, MAX_TEXT_CHARS
 from ..model.design import BumpTile, Design
+from .migrate_fields import migrate_2_to_3 as _migrate_2_to_3
 from .migrate_finishes import migrate_1_to_2 as _finishes_1_to_2
 from .migrate_labels import migrate_1_to_2 as _labels_1_to_2
 from ..geometry.section import Section
 from ..geometry.shape import SECTION_NAMES, BottleShape
 
 #: The format this glassbench writes (``project.json``'s ``format_version``).
-CURRENT_FORMAT = 2
+CURRENT_FORMAT = 3
 #: Longest string accepted anywhere in a design (:data:`engine.limits.MAX_TEXT_CHARS`).
 MAX_STRING_CHARS = MAX_TEXT_CHARS
 #: Most items accepted in any list (:data:`engine.limits.MAX_LIST_ITEMS`); a section's
@@ -353,4 +356,4 @@ def _migrate_1_to_2(doc: dict) -> dict:
     return _finishes_1_to_2(_labels_1_to_2(doc))
 
 
-MIGRATIONS = {0: _migrate_0_to_1, 1: _migrate_1_to_2}
+MIGRATIONS = {0: _migrate_0_to_1, 1: _migrate_1_to_2, 2: _migrate_2_to_3}

@@ -129,17 +129,35 @@ class FinishRegion:
     gloss: float = 0.9
 
 
+#: Where a label lies: the bottle's outer wall, or printed on the closure's flat top or on
+#: its straight skirt (:mod:`engine.appearance.cap_surfaces`).
+LABEL_SURFACES = ("wall", "cap-top", "cap-skirt")
+
+
 @dataclass(frozen=True)
 class Label:
-    """A thin two-sided sheet of paper or film on the outer wall.
+    """A thin two-sided sheet of paper or film on the outer wall, or a print on the closure.
 
-    Placement is measured on the surface (mm): ``z_mm`` is the height of the label's centre
-    above the standing plane, ``angle_deg`` the azimuth of its centre about +z (world frame,
-    from +x towards +y), ``height_mm`` its length along the wall (slant) and ``width_mm`` its
-    arc length around the girth at mid-height (on a non-round body the cross-section's
-    perimeter). Seen from outside, the front artwork's top is up and it reads left to right
-    with increasing azimuth; the back is seen from inside the bottle, the right way round for
-    a viewer there (:func:`engine.appearance.decal.back_coordinates`).
+    Placement is measured on the surface (mm) named by ``surface``:
+
+    ``"wall"`` (the default)
+        ``z_mm`` is the height of the label's centre above the standing plane, ``angle_deg``
+        the azimuth of its centre about +z (world frame, from +x towards +y), ``height_mm``
+        its length along the wall (slant) and ``width_mm`` its arc length around the girth at
+        mid-height (on a non-round body the cross-section's perimeter).
+    ``"cap-skirt"``
+        the same on the closure's straight skirt, except that ``z_mm`` is the height of the
+        centre above the skirt's lower edge (so the print follows the cap when the neck
+        changes).
+    ``"cap-top"``
+        a flat rectangle ``width_mm x height_mm`` on the closure's top disk, centred at
+        ``(cap_x_mm, cap_y_mm)`` from the axis (world x, y), read from azimuth ``angle_deg``:
+        its bottom edge faces that way (the default -90 reads upright from the front).
+
+    Seen from outside, the front artwork's top is up and it reads left to right with
+    increasing azimuth; the back is seen from inside the bottle, the right way round for
+    a viewer there (:func:`engine.appearance.decal.back_coordinates`); a print on the closure
+    is seen from outside only (the closure is opaque).
 
     ``diffuse`` (K) multiplies the face colour (artwork decoded from sRGB to linear),
     ``specular`` weights a clear coat, ``transmission`` is the diffuse transmission of the
@@ -158,6 +176,9 @@ class Label:
     specular: float = 0.05
     transmission: float = 0.1
     regions: tuple[FinishRegion, ...] = ()
+    surface: str = "wall"
+    cap_x_mm: float = 0.0
+    cap_y_mm: float = 0.0
 
     def asset_names(self) -> tuple[str, ...]:
         """The assets the label refers to (front, back, masks), in that order, each once."""
@@ -173,6 +194,8 @@ PROCEDURAL_BUMPS = ("knurl", "stipple", "flutes", "facets", "diamond", "thread",
 #: embossed logo or text (the image's ink raised with a rounded bevel).
 IMAGE_BUMPS = ("height_map", "colour_code", "normal_gl", "normal_dx", "emboss")
 BUMP_KINDS = PROCEDURAL_BUMPS + IMAGE_BUMPS
+#: Where a bump tile lies: the glass's outer surface, or the closure's outer skirt.
+BUMP_SURFACES = ("bottle", "cap")
 #: How a thread tile is drawn (``BumpTile.geometry``).
 THREAD_GEOMETRY = ("auto", "relief", "true")
 
@@ -206,6 +229,12 @@ class BumpTile:
     ``asset``, ``width_deg``
         image kinds: the embedded image, and the angle one copy spans around the axis
         (360 / repeat or more: the copies tile seamlessly).
+    ``on``
+        ``"bottle"``: the glass's outer surface, ``z0..z1`` above the standing plane;
+        ``"cap"``: the closure's straight skirt, ``z0..z1`` above its lower edge (as a skirt
+        print is placed), so the band follows the cap when the finish moves (no cap, or a
+        crown, which has no straight skirt: the tile is kept, not drawn; a thread belongs to
+        the glass finish, never to the cap).
     ``geometry``
         ``thread``: how it is drawn: ``"relief"`` bends the shading normal only, ``"true"``
         raises the helical ridge as real glass, ``"auto"`` (default) picks by the rule of
@@ -228,6 +257,7 @@ class BumpTile:
     asset: str | None = None
     width_deg: float = 360.0
     inverted: bool = False
+    on: str = "bottle"
     geometry: str = "auto"
 
 

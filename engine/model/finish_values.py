@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from .. import limits as L
 from ..errors import DesignError, shown
-from .design import BUMP_KINDS, CAP_KINDS, CAP_MATERIALS, IMAGE_BUMPS, THREAD_GEOMETRY
+from .design import BUMP_KINDS, BUMP_SURFACES, CAP_KINDS, CAP_MATERIALS, IMAGE_BUMPS, THREAD_GEOMETRY
 
 _TURN = (-L.MAX_TURN_DEG, L.MAX_TURN_DEG)
 
@@ -48,6 +48,11 @@ def check_bump_values(tile, where: str) -> None:
         raise DesignError(f"{where} is a {tile.kind} but names no image asset")
     if tile.kind not in IMAGE_BUMPS and tile.asset is not None:
         raise DesignError(f"{where} is a {tile.kind}, which takes no image (asset {shown(tile.asset)})")
+    if tile.on not in BUMP_SURFACES:
+        raise DesignError(f"{where}.on {shown(tile.on)} is not one of {', '.join(BUMP_SURFACES)}")
+    if tile.on == "cap" and tile.kind == "thread":
+        raise DesignError(f"{where} is a thread on the cap: a thread belongs to the glass finish "
+                          f"(the cap's own thread is inside it, never seen)")
     if tile.geometry not in THREAD_GEOMETRY:
         raise DesignError(f"{where}.geometry {shown(tile.geometry)} is not one of "
                           f"{', '.join(THREAD_GEOMETRY)}")

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 from .. import limits as L
 from ..errors import DesignError, shown
-from .design import FINISH_KINDS, REGION_SOURCES
+from .design import FINISH_KINDS, LABEL_SURFACES, REGION_SOURCES
 
 
 def check_label_values(labels) -> None:
@@ -33,7 +33,12 @@ def check_label_values(labels) -> None:
             raise DesignError(f"{where}.name {shown(label.name)} is already the name of "
                               f"design.labels[{seen[label.name]}]; label names must differ")
         seen[label.name] = i
+        if label.surface not in LABEL_SURFACES:
+            raise DesignError(f"{where}.surface must be one of {', '.join(LABEL_SURFACES)}, "
+                              f"got {shown(label.surface)}")
         L.check_range(f"{where}.z_mm", label.z_mm, (0.0, L.MAX_EXTENT_MM), "mm")
+        for key in ("cap_x_mm", "cap_y_mm"):
+            L.check_range(f"{where}.{key}", getattr(label, key), (-L.MAX_EXTENT_MM, L.MAX_EXTENT_MM), "mm")
         L.check_range(f"{where}.angle_deg", label.angle_deg, (-L.MAX_TURN_DEG, L.MAX_TURN_DEG), "deg")
         for key in ("height_mm", "width_mm"):
             L.check_range(f"{where}.{key}", getattr(label, key), L.LABEL_SIZE_RANGE_MM, "mm")

@@ -86,13 +86,14 @@ class RenderContext:
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
         return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
                    float(design.render.min_weight), int(scene[7].shape[0]), level, env,
-                   label_arrays(design, assets, tex), finish, cap)
+                   label_arrays(design, assets, tex, geom.obj_i.shape[0]), finish, cap)
 
     def with_labels(self, design, assets=None) -> "RenderContext":
         """This context with the labels (and lights) of ``design``: geometry, media, camera and
         environment are kept as they are (the caller vouches that only labels, lights or label
         assets differ)."""
-        return dataclasses.replace(self, labels=label_arrays(design, assets, self.texels))
+        return dataclasses.replace(self, labels=label_arrays(design, assets, self.texels,
+                                                             self.geometry.obj_i.shape[0]))
 
     @property
     def finish_tuple(self) -> tuple:

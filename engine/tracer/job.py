@@ -24,8 +24,8 @@ when the pixel is clean and the wave asks it for the same samples, and traced ag
 A pixel is dirty when its ray trees (any sample, shadow rays included) consulted a label whose
 artwork, finish or coefficients changed (the label bits of the object mask,
 :mod:`engine.tracer.kernels.labels`), any label when lights changed, and every pixel whose
-trees met the outer wall when a label moved, was added, removed or reordered (the new
-footprint may cover it). A label whose edit changes its face colours only (artwork of the same
+trees met the object a label lies on (the outer wall, or a closure part for a print on the cap)
+before or after it moved, was added, removed or reordered (the new footprint may cover it). A label whose edit changes its face colours only (artwork of the same
 size with the same alpha channel and region map, everything else equal) leaves every ray tree
 as it was: its pixels are not traced but their label terms recomputed from the recorded hits
 (:func:`engine.tracer.kernels.labels.replay_samples`). Since samples are seeded by (pixel,
@@ -51,9 +51,11 @@ from ..appearance.frame import Placement
 from .context import PixelResult, RenderContext, TraceStats, trace_pixels
 from .film import Film
 from .kernels.integrator import N_COUNTERS
+from ..appearance.cap_surfaces import P_OBJECT
 from ..appearance.compiled import L_FRONT_TEX, L_REGION_MAP
 from ..model.design import LabelSide
-from .kernels.labels import (H_COLS, LABEL_BIT0, LB_CODES, LB_F, LB_REGION_I, LB_TEX_I, LB_TEXELS,
+from .kernels.labels import (H_COLS, LABEL_BIT0, LB_CODES, LB_F, LB_OBJECTS, LB_PLACE, LB_REGION_I, LB_TEX_I,
+                             LB_TEXELS,
                              MAX_LABEL_BIT, replay_samples)
 from .labels import with_buffers
 
@@ -61,13 +63,22 @@ NOISE_TARGET = adaptive.NOISE_TARGET
 #: Design fields the image depends on (an edit of any other field keeps the film).
 VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets",
                            "labels", "lights", "bumps", "cap"})
-#: Object-mask bits of the outer wall and of all labels (engine.tracer.kernels.labels).
-_OUTER_WALL_BIT = np.int64(1)
+#: Object-mask bits of all labels (engine.tracer.kernels.labels).
 _ALL_LABEL_BITS = np.int64(sum(1 << b for b in range(LABEL_BIT0, MAX_LABEL_BIT + 1)))
 
 
 def _label_bit(k: int) -> np.int64:
     return np.int64(1 << min(LABEL_BIT0 + k, MAX_LABEL_BIT))
+
+
+def _object_bit(labels: tuple, k: int) -> np.int64:
+    """The object-mask bit of the render object label ``k`` of the tables ``labels`` lies on."""
+    return np.int64(1 << int(labels[LB_PLACE][k, P_OBJECT]))
+
+
+def _placed(label) -> tuple:
+    """What fixes where a label lies: its surface and the numbers that place it there."""
+    return Placement.of(label), label.surface, label.cap_x_mm, label.cap_y_mm
 
 
 @dataclass
@@ -344,13 +355,13 @@ class RenderJob:
         if prev.design.lights != self.design.lights:
             bits |= _ALL_LABEL_BITS
         if len(old) != len(new):
-            bits |= _OUTER_WALL_BIT | _ALL_LABEL_BITS
+            bits |= prev._ctx.labels[LB_OBJECTS][0] | ctx.labels[LB_OBJECTS][0] | _ALL_LABEL_BITS
         else:
             for k, (a, b) in enumerate(zip(old, new)):
                 if a == b and _label_assets_equal(a, b, prev.assets, self.assets):
                     continue
-                if Placement.of(a) != Placement.of(b):
-                    bits |= _OUTER_WALL_BIT | _label_bit(k)
+                if _placed(a) != _placed(b):
+                    bits |= _object_bit(prev._ctx.labels, k) | _object_bit(ctx.labels, k) | _label_bit(k)
                 elif _colour_only(a, b, k, prev, self, prev._ctx.labels, ctx.labels):
                     colour_bits |= _label_bit(k)
                 else:

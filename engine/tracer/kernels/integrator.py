@@ -33,9 +33,9 @@ import numpy as np
 from numba import njit
 
 from .intersect import O_MAT, nearest_hit, object_media
-from .labels import LB_HIT_F, LB_REST, finish_radiance, label_hit
-from .finish import finish_hit
-from .materials import (CONDUCTOR, K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND, PLASTIC,
+from .finish import finish_hit, shading_frame
+from .labels import LB_HIT_F, LB_OBJECTS, LB_REST, finish_radiance, label_hit
+from .materials import (CONDUCTOR, K_SIDE, KD_X, KD_Y, KD_Z, KID_COLS, KW_B, KW_G, KW_R, M_KIND, PLASTIC,
                         SMOOTH_DIELECTRIC, conductor, smooth_dielectric)
 from .roots import INLINE, JIT
 from .sampling import branch_seed, env_lookup, mix64, uniform01
@@ -67,6 +67,33 @@ def _close(tex, scale, rot, lr, lg, lb, wr, wg, wb, dx, dy, dz):
 
 
 @njit(**JIT)
+def _closure_beneath(finish, scene, k, part, mat, px, py, pz, nx, ny, nz, dx, dy, dz, inc, trn, bseed, kids,
+                     nk, rest, tex, env_p):
+    """The closure's own material under the uncovered fraction ``rest`` of a print's texel:
+    its children (weights times ``rest``) go before the print's ``nk`` children in ``kids``.
+    Returns ``(children, r, g, b)``, the radiance factors of its diffuse base times ``rest``."""
+    seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
+    end = kids.shape[0] - nk  # the print's children wait in the last rows
+    for c in range(nk - 1, -1, -1):
+        for j in range(KID_COLS):
+            kids[end + c, j] = kids[c, j]
+    er = eg = eb = 0.0
+    if finish[0][k, 1] > 0 or mat_i[mat, M_KIND] == PLASTIC:
+        m, er, eg, eb = finish_hit(finish, seg, obj_i, mat_i, mat_f, media, k, part, mat, px, py, pz,
+                                   nx, ny, nz, dx, dy, dz, inc, trn, bseed, kids, tex, env_p)
+    else:  # a closure's outside faces the air: the ray meets it against its normal
+        m = conductor(mat_f, mat, dx, dy, dz, nx, ny, nz, -(nx * dx + ny * dy + nz * dz), 1.0, kids, 0)
+    for c in range(m):
+        kids[c, KW_R] *= rest
+        kids[c, KW_G] *= rest
+        kids[c, KW_B] *= rest
+    for c in range(nk):
+        for j in range(KID_COLS):
+            kids[m + c, j] = kids[end + c, j]
+    return m + nk, rest * er, rest * eg, rest * eb
+
+
+@njit(**JIT)
 def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min_weight,
                  rr_weight, max_nodes, work, depth_rec, counters, rec_rays, rec_n, labels, finish):
     """Radiance ``(r, g, b)`` of one camera ray and its record.
@@ -85,8 +112,10 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
         material is min-ed into it.
     labels : tuple
         The label tables (:func:`engine.tracer.labels.label_arrays`; empty without labels): a
-        hit on the outer wall (object 0) under a label is the label's (:mod:`.labels`), and the
-        labels consulted set their bits (from ``labels.LABEL_BIT0``) in the object mask.
+        hit under a label on the object it lies on (the outer wall, object 0, or a closure
+        part: ``labels[LB_OBJECTS]`` holds their bits) is the label's (:mod:`.labels`), its
+        shading normal bent by the object's relief, and the labels consulted set their bits
+        (from ``labels.LABEL_BIT0``) in the object mask.
     finish : tuple
         The finish arrays of :mod:`engine.tracer.kernels.finish` (relief, frosting, caps):
         at each hit :func:`~engine.tracer.kernels.finish.finish_hit` writes the children when
@@ -163,9 +192,13 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
             counters[C_MISMATCH] += 1
         kind = mat_i[mat, M_KIND]
         cos_i = abs(dn)
-        if k == 0 and labels[0].shape[0] > 0:
-            nk, er, eg, eb, lbits = label_hit(labels, scene, env_p, part, px, py, pz, nx, ny, nz, dx, dy, dz,
-                                              inc, trn, wr, wg, wb, kids, roots, crit, ivals)
+        if labels[0].shape[0] > 0 and (labels[LB_OBJECTS][0] >> np.int64(k)) & 1:
+            bx, by, bz = nx, ny, nz
+            if finish[0][k, 1] > 0:  # relief under the label bends its shading normal too
+                bx, by, bz, _ = shading_frame(finish, seg, obj_i, k, part, px, py, pz, nx, ny, nz)
+            nk, er, eg, eb, lbits, rest = label_hit(labels, scene, env_p, k, part, px, py, pz, nx, ny, nz,
+                                                    bx, by, bz, dx, dy, dz, inc, trn, wr, wg, wb, kids,
+                                                    roots, crit, ivals)
             objmask |= lbits
             if nk >= 0:  # summed apart and added last, so a relabel can recompute them alone
                 ar += wr * er
@@ -174,6 +207,12 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
                 if dominant:
                     sig = mix64(sig ^ np.uint64(0x5BD1E995 + lbits))
                 kind = -1  # answered by the label
+                if rest > 0.0:  # a closure shows through the print's uncovered part
+                    nk, er, eg, eb = _closure_beneath(finish, scene, k, part, mat, px, py, pz, nx, ny, nz,
+                                                      dx, dy, dz, inc, trn, bseed, kids, nk, rest, tex, env_p)
+                    lr += wr * er
+                    lg += wg * eg
+                    lb += wb * eb
             else:
                 nk = 0
         if kind == -1:

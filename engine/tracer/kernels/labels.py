@@ -1,19 +1,32 @@
-"""Labels at an outer-wall hit, compiled: where the hit falls on which label, and what the sheet
-does to the branch there.
+"""Labels at a hit on the outer wall or a closure part, compiled: where the hit falls on which
+label, and what the sheet does to the branch there.
 
-Design rule: a label is a decal over the outer wall, not an object: :func:`label_hit` is called
-by the integrator at every hit on render object 0 (the outer wall) when the design has labels,
-and either hands the hit back (``nk = -1``: no label there, or a clear part of one; the glass's
-own material follows) or answers for it: children written into ``kids`` (coat or foil mirror
-branches, and the glass's two branches scaled by the uncovered fraction ``1 - alpha``) and the
+Design rule: a label is a decal over a render object, not an object: :func:`label_hit` is
+called by the integrator at every hit on an object labels lie on (the outer wall, object 0, and
+for prints on the cap a closure part; their bits are ``lab[LB_OBJECTS]``), and either hands the
+hit back (``nk = -1``: no label there, or a clear part of one; the object's own material
+follows) or answers for it: children written into ``kids`` (coat or foil mirror branches, and on
+the wall the glass's two branches scaled by the uncovered fraction ``1 - alpha``) and the
 radiance the lit diffuse sheet sends back at once. The label tables are the tuple ``lab`` of
-:func:`engine.tracer.labels.label_arrays` (columns of :mod:`engine.appearance.compiled` and
-:mod:`engine.appearance.decal`); a design without labels passes empty tables and costs one
-length test per outer-wall hit.
+:func:`engine.tracer.labels.label_arrays` (columns of :mod:`engine.appearance.compiled`,
+:mod:`engine.appearance.decal` and :mod:`engine.appearance.cap_surfaces`); a design without
+labels passes empty tables and costs one length test per hit.
 
-Lookup. The hit's surface coordinates are the labels' ``(theta, h)``
-(:mod:`engine.appearance.surface`): ``theta`` the polar angle in the bottle frame, ``h`` the
-arc length along the section (round walls, the segment's own ``v``) or the height z (swept).
+Relief. The caller passes the shading normal the object's relief bends the geometric one to
+(bump tiles under the label, :func:`engine.tracer.kernels.finish.shading_frame`): the coat's
+mirror child, the irradiance lookups, the lights and an embossed region's bend start from it;
+the geometric normal still decides media (a mirror child a bent normal would send into the wall
+reflects about the geometric normal; the glass beneath takes :func:`_glass_beneath`). A frosted
+band under a label's uncovered texels is drawn smooth.
+
+Lookup. Each label's place row (``LB_PLACE``) names its surface, its object and the band of
+the object's arc length ``v`` it may cover. On the wall the hit's surface coordinates are the
+labels' ``(theta, h)`` (:mod:`engine.appearance.surface`): ``theta`` the polar angle in the
+bottle frame, ``h`` the arc length along the section (round walls, the segment's own ``v``) or
+the height z (swept). On the cap's skirt ``(theta, h)`` is the world polar angle and z, looked
+up in the print's decal; on the cap's top ``(s, t)`` is affine in the hit's ``(x, y)``
+(:func:`_top_st`). A closure is opaque: a print on it is seen from outside only, gets no light
+from behind, and its uncovered fraction is handed back (``rest``) for the closure's material.
 Labels are tried from the last (on top) down; the first whose artwork covers the point
 (alpha > 0 and not a clear-vinyl region) is the one hit, every label consulted on the way sets
 its bit in the returned mask (bit :data:`LABEL_BIT0` + k, labels from 30 on share bit 62), so a
@@ -64,6 +77,8 @@ import math
 import numpy as np
 from numba import njit
 
+from .bumps import consistent_normal
+from .finish import keep_sides
 from .intersect import (F_COS, F_SIN, O_KIND, REVOLVED, nearest_hit, object_media)
 from .materials import (K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, fresnel_conductor,
                         fresnel_dielectric, smooth_dielectric)
@@ -73,12 +88,12 @@ from .sampling import env_lookup
 
 # the tuple of label tables (engine.tracer.labels.label_arrays)
 (LB_ROWS, LB_NODES, LB_F, LB_TEXELS, LB_TEX_I, LB_CODES, LB_REGION_I, LB_FINISH, LB_SIZE, LB_IRR,
- LB_LIGHTS) = range(11)
+ LB_LIGHTS, LB_PLACE, LB_OBJECTS) = range(13)
 # ... then the per-call record buffers (engine.tracer.labels.with_buffers; empty: not recording):
 # hits (float64 (cap, H_COLS), int64 (cap, 2)), their count and overflow flag (int64 (2,)), the
 # current sample's radiance without label terms (float64 (3,)), and per sample of the call its
 # radiance without label terms (float64 (S, 3)) and its hits' range (int64 (S, 2))
-LB_HIT_F, LB_HIT_I, LB_HIT_N, LB_REST, LB_SMP_F, LB_SMP_I = range(11, 17)
+LB_HIT_F, LB_HIT_I, LB_HIT_N, LB_REST, LB_SMP_F, LB_SMP_I = range(13, 19)
 #: Columns of a recorded hit: branch weight, alpha, the colour factor P and the colour-free term
 #: Q of its emission ``alpha (P c + Q)``, the face's artwork coordinates; label row and face.
 H_WR, H_WG, H_WB, H_ALPHA, H_P, H_Q, H_S, H_T = 0, 1, 2, 3, 4, 7, 10, 11
@@ -91,6 +106,12 @@ _D_THETA0, _D_THETA1, _D_H0, _D_H1, _D_NT, _D_NH, _D_OFFSET = range(7)
 (_L_DIFFUSE, _L_SPECULAR, _L_TRANSMISSION, _L_FRONT_R, _L_BACK_R, _L_FRONT_TEX, _L_BACK_TEX,
  _L_REGION_MAP, _L_REGION0) = 0, 1, 2, 3, 6, 9, 10, 11, 12
 _F_KIND, _F_DEPTH, _F_GLOSS, _F_N, _F_K, _F_UNDER = 0, 1, 2, 3, 6, 9
+#: Columns of a label's place row (engine.appearance.cap_surfaces.place_rows): its surface
+#: (:data:`WALL`, :data:`CAP_TOP`, :data:`CAP_SKIRT`), the render object it lies on, the band
+#: of the object's arc length ``v`` it may cover (mm; the whole object for the wall), and for a
+#: cap-top print its centre (mm) and the unit direction from its top edge to its bottom edge.
+_P_SURFACE, _P_OBJECT, _P_V0, _P_V1, _P_CX, _P_CY, _P_BX, _P_BY = range(8)
+WALL, CAP_TOP, CAP_SKIRT = 0, 1, 2
 #: Finish kind codes (engine.appearance.presets.FINISH_CODES; 0: plain paper).
 GOLD_FOIL, SILVER_FOIL, CLEAR_VINYL, CLEAR_VINYL_WHITE, EMBOSS, VARNISH = 1, 2, 3, 4, 5, 6
 #: Index of the paper's coat and of varnish (engine.appearance.presets.COAT_IOR).
@@ -197,16 +218,46 @@ def surface_point(seg, obj_i, obj_f, part, px, py, pz):
     return math.atan2(py, px) - math.atan2(obj_f[0, F_SIN], obj_f[0, F_COS]), pz
 
 
+@njit(**INLINE)
+def label_point(seg, obj_i, obj_f, obj, part, px, py, pz):
+    """``(theta, h, v)`` of a point on render object ``obj`` (segment or slab row ``part``):
+    on the outer wall (object 0) the labels' ``(theta, h)`` (:func:`surface_point`; ``v = h``);
+    on a closure part the world polar angle, ``h = z`` (mm) and the part's arc length ``v``."""
+    if obj == 0:
+        theta, h = surface_point(seg, obj_i, obj_f, part, px, py, pz)
+        return theta, h, h
+    return math.atan2(py, px), pz, segment_v(seg, part, px, py, pz)
+
+
+@njit(**INLINE)
+def _top_st(lab, k, px, py):
+    """Artwork ``(s, t)`` of the point ``(px, py)`` (mm) under cap-top print ``k`` (affine:
+    ``t`` grows along the place row's unit direction ``b``, ``s`` along ``(-b_y, b_x)``, to the
+    right of a reader looking down with the print's bottom edge towards them)."""
+    pl = lab[LB_PLACE][k]
+    x, y = px - pl[_P_CX], py - pl[_P_CY]
+    bx, by = pl[_P_BX], pl[_P_BY]
+    return 0.5 + (-by * x + bx * y) / lab[LB_SIZE][k, 0], 0.5 + (bx * x + by * y) / lab[LB_SIZE][k, 1]
+
+
 @njit(**JIT)
-def find_label(lab, theta, h):
-    """``(k, s, t, alpha, code, bits)`` of the label covering ``(theta, h)``: ``k = -1`` when
-    none covers it; ``bits`` the mask bits of every label consulted (module rule)."""
-    rows, lf = lab[LB_ROWS], lab[LB_F]
+def find_label(lab, obj, theta, h, v, px, py):
+    """``(k, s, t, alpha, code, bits)`` of the label covering the point of object ``obj`` at
+    :func:`label_point` ``(theta, h, v)`` (world ``px, py`` for cap-top prints): ``k = -1``
+    when none covers it; ``bits`` the mask bits of every label consulted (module rule)."""
+    rows, lf, place = lab[LB_ROWS], lab[LB_F], lab[LB_PLACE]
     bits = np.int64(0)
     for k in range(rows.shape[0] - 1, -1, -1):
-        s, t = decal_lookup(rows, lab[LB_NODES], k, theta, h)
-        if not (s == s):
+        if int(place[k, _P_OBJECT]) != obj or not (v >= place[k, _P_V0] and v <= place[k, _P_V1]):
             continue
+        if int(place[k, _P_SURFACE]) == CAP_TOP:
+            s, t = _top_st(lab, k, px, py)
+            if not (s >= 0.0 and s <= 1.0 and t >= 0.0 and t <= 1.0):
+                continue
+        else:
+            s, t = decal_lookup(rows, lab[LB_NODES], k, theta, h)
+            if not (s == s):
+                continue
         bits |= label_bit(k)
         alpha = 1.0
         m = int(lf[k, _L_FRONT_TEX])
@@ -241,9 +292,9 @@ def shadow(scene, lab, ox, oy, oz, lx, ly, lz, medium, last, side, roots, crit, 
             tg *= math.exp(-media[medium, 2] * t)
             tb *= math.exp(-media[medium, 3] * t)
         ox, oy, oz = ox + t * lx, oy + t * ly, oz + t * lz
-        if k == 0:
+        if k == 0:  # only wall labels block: a closure passes shadow rays, and so do its prints
             theta, h = surface_point(seg, obj_i, obj_f, part, ox, oy, oz)
-            kl, s, tt, alpha, code, b = find_label(lab, theta, h)
+            kl, s, tt, alpha, code, b = find_label(lab, 0, theta, h, h, ox, oy)
             bits |= b
             if kl >= 0:
                 tr *= 1.0 - alpha
@@ -265,21 +316,22 @@ def shadow(scene, lab, ox, oy, oz, lx, ly, lz, medium, last, side, roots, crit, 
 
 
 @njit(**INLINE)
-def _lights(scene, lab, px, py, pz, nx, ny, nz, out_in, roots, crit, ivals):
-    """Irradiance / pi from the design's lights on the sheet at ``p`` with outward normal ``n``:
-    ``(front r, g, b, back r, g, b, bits)``; ``out_in`` is the medium on the inner side."""
+def _lights(scene, lab, obj, px, py, pz, nx, ny, nz, out_in, roots, crit, ivals):
+    """Irradiance / pi from the design's lights on the sheet at ``p`` of object ``obj`` with
+    outward normal ``n``: ``(front r, g, b, back r, g, b, bits)``; ``out_in`` is the medium on
+    the inner side. A print on a closure (``obj > 0``, opaque) is lit from the front only."""
     lights = lab[LB_LIGHTS]
     fr = fg = fb = br = bg = bb = 0.0
     bits = np.int64(0)
     for i in range(lights.shape[0]):
         lx, ly, lz = lights[i, 0], lights[i, 1], lights[i, 2]
         c = nx * lx + ny * ly + nz * lz
-        if c == 0.0:
+        if c == 0.0 or (c < 0.0 and obj != 0):
             continue
         if c > 0.0:  # the light is on the outer side: the front face is lit
-            sr, sg, sb, b = shadow(scene, lab, px, py, pz, lx, ly, lz, AIR, 0, 1, roots, crit, ivals)
+            sr, sg, sb, b = shadow(scene, lab, px, py, pz, lx, ly, lz, AIR, obj, 1, roots, crit, ivals)
         else:
-            sr, sg, sb, b = shadow(scene, lab, px, py, pz, lx, ly, lz, out_in, 0, -1, roots, crit, ivals)
+            sr, sg, sb, b = shadow(scene, lab, px, py, pz, lx, ly, lz, out_in, obj, -1, roots, crit, ivals)
         bits |= b
         f = abs(c) / math.pi
         er, eg, eb = lights[i, 3] * sr * f, lights[i, 4] * sg * f, lights[i, 5] * sb * f
@@ -307,20 +359,28 @@ def _mirror_kid(kids, c, dx, dy, dz, nx, ny, nz, gx, gy, gz, wr, wg, wb):
 
 @njit(**JIT)
 def _emboss_normal(lab, k, q, code, depth, s, t, px, py, nx, ny, nz):
-    """Shading normal bent by the relief ``depth x indicator`` of region ``code`` (mm)."""
+    """Shading normal bent by the relief ``depth x indicator`` of region ``code`` (mm) of
+    label ``k`` about the unit normal ``n`` (the sheet's, relief of the surface included)."""
     w, h = lab[LB_REGION_I][q, 1], lab[LB_REGION_I][q, 2]
     ds, dt = 1.0 / w, 1.0 / h
     gs = (_indicator(lab, q, code, s + ds, t) - _indicator(lab, q, code, s - ds, t)) / (2.0 * ds)
     gt = (_indicator(lab, q, code, s, t + dt) - _indicator(lab, q, code, s, t - dt)) / (2.0 * dt)
     gu = depth * gs / lab[LB_SIZE][k, 0]  # dH / d(arc length around), s grows with azimuth
     gv = depth * gt / lab[LB_SIZE][k, 1]  # dH / d(slant down the wall), t grows downwards
-    rho = math.sqrt(px * px + py * py)
-    ex, ey = (px / rho, py / rho) if rho > 0.0 else (1.0, 0.0)
-    ux, uy, uz = -ey, ex, 0.0  # around, increasing azimuth
-    a = ux * nx + uy * ny
-    ux, uy, uz = ux - a * nx, uy - a * ny, -a * nz
+    if int(lab[LB_PLACE][k, _P_SURFACE]) == CAP_TOP:  # s and t grow along fixed directions
+        bx, by = lab[LB_PLACE][k, _P_BX], lab[LB_PLACE][k, _P_BY]
+        ux, uy, uz, vx, vy, vz = -by, bx, 0.0, bx, by, 0.0
+    else:
+        rho = math.sqrt(px * px + py * py)
+        ex, ey = (px / rho, py / rho) if rho > 0.0 else (1.0, 0.0)
+        ux, uy, uz = -ey, ex, 0.0  # around, increasing azimuth
+        vx, vy, vz = nz * ex, nz * ey, -(nx * ex + ny * ey)  # down the meridian, tangent
+    a = ux * nx + uy * ny + uz * nz
+    ux, uy, uz = ux - a * nx, uy - a * ny, uz - a * nz
     hu = math.sqrt(ux * ux + uy * uy + uz * uz)
-    vx, vy, vz = nz * ex, nz * ey, -(nx * ex + ny * ey)  # down the meridian, tangent
+    if int(lab[LB_PLACE][k, _P_SURFACE]) == CAP_TOP:
+        a = vx * nx + vy * ny + vz * nz
+        vx, vy, vz = vx - a * nx, vy - a * ny, vz - a * nz
     hv = math.sqrt(vx * vx + vy * vy + vz * vz)
     mx, my, mz = nx, ny, nz
     if hu > 0.0:
@@ -415,21 +475,25 @@ def replay_samples(lab, s0, count, smp_f, smp_i, hit_f, hit_i, out_sum, out_sums
 
 
 @njit(**JIT)
-def label_hit(lab, scene, env_p, part, px, py, pz, nx, ny, nz, dx, dy, dz, inc, trn, wr, wg, wb, kids,
-              roots, crit, ivals):
-    """What a label does at a hit on the outer wall (module rule).
+def label_hit(lab, scene, env_p, obj, part, px, py, pz, nx, ny, nz, bx, by, bz, dx, dy, dz, inc, trn, wr, wg,
+              wb, kids, roots, crit, ivals):
+    """What a label does at a hit on render object ``obj`` (module rule).
 
-    ``n`` is the outer wall's oriented unit normal (pointing into the air), ``d`` the ray, ``inc``
-    / ``trn`` the media on the ray's and the far side. Returns ``(nk, r, g, b, bits)``: ``nk =
-    -1`` when no label covers the point (the glass's material follows), else the number of
-    children in ``kids`` and the radiance (per unit branch weight) the sheet sends back now;
-    ``bits`` the labels consulted (object-mask bits, module rule).
+    ``n`` is the object's oriented unit normal (pointing into the air), ``b`` the shading
+    normal the surface's relief bends it to (:func:`engine.tracer.kernels.finish.
+    shading_frame`; ``b = n`` without relief), ``d`` the ray, ``inc`` / ``trn`` the media on the
+    ray's and the far side. Returns ``(nk, r, g, b, bits, rest)``: ``nk = -1`` when no label
+    covers the point (the object's material follows), else the number of children in ``kids``
+    and the radiance (per unit branch weight) the sheet sends back now; ``bits`` the labels
+    consulted (object-mask bits, module rule); ``rest`` the uncovered fraction ``1 - alpha``
+    of a print on a closure, which the caller gives the closure's own material (on the wall
+    the glass's share is among the children already, and ``rest`` is 0).
     """
     seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
-    theta, h = surface_point(seg, obj_i, obj_f, part, px, py, pz)
-    k, s, t, alpha, code, bits = find_label(lab, theta, h)
-    if k < 0:
-        return -1, 0.0, 0.0, 0.0, bits
+    theta, h, v = label_point(seg, obj_i, obj_f, obj, part, px, py, pz)
+    k, s, t, alpha, code, bits = find_label(lab, obj, theta, h, v, px, py)
+    if k < 0 or (obj != 0 and nx * dx + ny * dy + nz * dz >= 0.0):  # a closure: outside only
+        return -1, 0.0, 0.0, 0.0, bits, 0.0
     lf, irr = lab[LB_F], lab[LB_IRR]
     scale, rot = env_p[0], env_p[1]
     outside = inc == AIR
@@ -441,16 +505,18 @@ def label_hit(lab, scene, env_p, part, px, py, pz, nx, ny, nz, dx, dy, dz, inc, 
     face = 0 if outside else 1
     s_face = s if outside else 1.0 - s  # back_coordinates
     cr, cg, cb = face_colour(lab, k, face, s_face, t)
-    # shading normal (outward)
-    sx, sy, sz = nx, ny, nz
+    # shading normal (outward): the surface's relief, then an embossed region's
+    sx, sy, sz = bx, by, bz
     if outside and kind == EMBOSS:
         sx, sy, sz = _emboss_normal(lab, k, int(lf[k, _L_REGION_MAP]), code, lab[LB_FINISH][frow, _F_DEPTH],
-                                    s, t, px, py, nx, ny, nz)
+                                    s, t, px, py, bx, by, bz)
     # irradiance / pi on the outer (o*) and the inner (i*) side: environment, then lights
     or_, og, ob = env_lookup(irr, scale, rot, sx, sy, sz)
     ir, ig, ib = env_lookup(irr, scale, rot, -sx, -sy, -sz)
+    if obj != 0:  # a print on an opaque closure: no light from behind
+        ir = ig = ib = 0.0
     if lab[LB_LIGHTS].shape[0] > 0:
-        fr, fg, fb, br, bg, bb, b = _lights(scene, lab, px, py, pz, sx, sy, sz, trn if outside else inc,
+        fr, fg, fb, br, bg, bb, b = _lights(scene, lab, obj, px, py, pz, sx, sy, sz, trn if outside else inc,
                                             roots, crit, ivals)
         bits |= b
         or_, og, ob, ir, ig, ib = or_ + fr, og + fg, ob + fb, ir + br, ig + bg, ib + bb
@@ -490,9 +556,26 @@ def label_hit(lab, scene, env_p, part, px, py, pz, nx, ny, nz, dx, dy, dz, inc, 
     er, eg, eb = _emit(alpha, pr, cr, qr), _emit(alpha, pg, cg, qg), _emit(alpha, pb, cb, qb)
     if lab[LB_HIT_F].shape[0] > 0:
         _record_hit(lab, wr, wg, wb, alpha, pr, pg, pb, qr, qg, qb, s_face, t, k, face)
+    if alpha < 1.0 and obj != 0:
+        return nk, er, eg, eb, bits, 1.0 - alpha
     if alpha < 1.0:  # the uncovered part of the texel: the glass beneath, as without a label
-        fx, fy, fz = (nx, ny, nz) if outside else (-nx, -ny, -nz)
+        nk = _glass_beneath(dx, dy, dz, nx, ny, nz, bx, by, bz, outside, media[trn, 0] / media[inc, 0],
+                            1.0 - alpha, kids, nk)
+    return nk, er, eg, eb, bits, 0.0
+
+
+@njit(**INLINE)
+def _glass_beneath(dx, dy, dz, nx, ny, nz, bx, by, bz, outside, eta, weight, kids, nk):
+    """The glass's two branches of weight ``weight`` (the uncovered part of a texel) after the
+    ``nk`` children in ``kids``: about the smooth surface (geometric normal ``n``), or where a
+    relief bends the shading normal to ``b`` about it, each child kept on its side of the
+    geometric surface (:func:`engine.tracer.kernels.finish.keep_sides`). Returns the count."""
+    fx, fy, fz = (nx, ny, nz) if outside else (-nx, -ny, -nz)
+    if bx == nx and by == ny and bz == nz:
         cos_g = abs(dx * nx + dy * ny + dz * nz)
-        nk += smooth_dielectric(dx, dy, dz, fx, fy, fz, cos_g, media[trn, 0] / media[inc, 0], 1.0 - alpha,
-                                kids, nk)
-    return nk, er, eg, eb, bits
+        return nk + smooth_dielectric(dx, dy, dz, fx, fy, fz, cos_g, eta, weight, kids, nk)
+    sx, sy, sz = (bx, by, bz) if outside else (-bx, -by, -bz)
+    sx, sy, sz = consistent_normal(sx, sy, sz, fx, fy, fz, dx, dy, dz)
+    nk += smooth_dielectric(dx, dy, dz, sx, sy, sz, -(dx * sx + dy * sy + dz * sz), eta, weight, kids, nk)
+    keep_sides(kids, nk, dx, dy, dz, fx, fy, fz, eta)
+    return nk

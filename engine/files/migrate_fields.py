@@ -1,0 +1,29 @@
+"""Format 2 -> 3: fields added to labels and bump tiles get the values old projects meant.
+
+Design rule: one self-contained step, :func:`migrate_2_to_3`, registered as
+``engine.files.serialize.MIGRATIONS[2]``. Format 3 added fields whose default is exactly what a
+format-2 project drew, so the step only fills in what is missing, in new dictionaries, and checks
+nothing else (the decoder does): an old file opens unchanged, and a glassbench of format 2
+refuses a format-3 file with "made by a newer glassbench" instead of "unknown field".
+"""
+from __future__ import annotations
+
+#: Per list of the design: the fields format 3 added to its items, with their values for a
+#: format-2 item (the defaults of :mod:`engine.model.design`).
+ADDED = {
+    "labels": {"surface": "wall", "cap_x_mm": 0.0, "cap_y_mm": 0.0},
+    "bumps": {"on": "bottle"},
+}
+
+
+def migrate_2_to_3(doc: dict) -> dict:
+    """The format-3 document of format-2 ``doc`` (a new dict; ``doc`` is not changed)."""
+    design = doc.get("design")
+    if not isinstance(design, dict):
+        return dict(doc, format_version=3)  # the decoder names what is wrong
+    design = dict(design)
+    for key, fields in ADDED.items():
+        items = design.get(key)
+        if isinstance(items, list):
+            design[key] = [{**fields, **item} if isinstance(item, dict) else item for item in items]
+    return dict(doc, format_version=3, design=design)

@@ -328,6 +328,11 @@ def test_thread_drawings_read_the_wall_and_say_why(bordeaux):
     assert "one straight piece" in thread_drawings(low)[0].reason
     knurl = dataclasses.replace(design, bumps=(new_tile(design, "knurl", 40.0, 80.0),))
     assert thread_drawings(knurl) == (None,)
+    square, _ = load_project(ROOT / "resources" / "square.glassbench")
+    zt = square.shape.z_top
+    on_square = dataclasses.replace(square, bumps=(new_tile(square, "thread", zt - 12.0, zt - 1.0, geometry="true"),))
+    drawing = thread_drawings(on_square)[0]
+    assert drawing.mode == "relief" and "round neck" in drawing.reason
 
 
 def test_a_bad_geometry_value_is_refused_by_name(bordeaux):

@@ -1,5 +1,6 @@
 """Finishes benchmark: frame-time cost of each finish against the plain bottle, and the error of
-the bump approximation against true geometry for thread rings, in the same view.
+the bump approximation against true geometry for thread rings and for a helical screw thread,
+in the same view.
 
 Usage::
 
@@ -29,8 +30,18 @@ Usage::
   recovers). What a bump cannot give, by design: the silhouette and the rings' occlusion of
   one another at grazing view, which is where the error sits (the error image is written).
 
-Writes ``benchmarks/out/finishes.csv`` and ``finishes.png`` (cost bars; the three neck images
-and the error); prints last ``worst_cost=X bump_error=Y``.
+* **thread, relief vs true helix**: a 28-400 screw thread (1.19 mm ridge, one turn) on a 28 mm
+  neck with a 1.5 mm wall, in clear glass, rendered with ``geometry="true"`` (the helical ridge
+  as glass, :mod:`engine.tracer.kernels.helix`) and ``geometry="relief"`` (the same ridge
+  profile bending the shading normal) in the same view, and the plain neck. Reported: the
+  relief's mean absolute error against the true geometry over the neck's pixels (relative to
+  their mean radiance), the plain neck's, the relief's over the thread's own pixels (where the
+  true thread changes the plain neck by over 1 %), and the CPU time of each frame (best of
+  repeats) with the ratio true / relief. The cost table also has the Bordeaux's thread drawn true.
+
+Writes ``benchmarks/out/finishes.csv``, ``finishes.png`` (cost bars; the three ring images
+and the error) and ``finishes_thread.png``; prints last ``worst_cost=X bump_error=Y
+thread_relief_error=Z thread_true_cost=W``.
 """
 from __future__ import annotations
 
@@ -76,6 +87,8 @@ def finish_variants(design, assets):
     for kind, z0, z1 in (("knurl", 2.0, 30.0), ("stipple", 2.0, 30.0), ("flutes", 40.0, 150.0),
                          ("facets", 40.0, 150.0), ("diamond", 40.0, 150.0), ("thread", zt - 18.0, zt - 2.0)):
         out.append((kind, dataclasses.replace(design, bumps=(new_tile(design, kind, z0, z1),)), assets))
+    out.append(("thread true", dataclasses.replace(
+        design, bumps=(new_tile(design, "thread", zt - 18.0, zt - 2.0, geometry="true"),)), assets))
     out.append(("frosted a=0.3", dataclasses.replace(
         design, bumps=(new_tile(design, "frosted", 15.0, 180.0, alpha=0.3),)), assets))
     logo = logo_png(128)
@@ -183,6 +196,56 @@ def bump_vs_geometry(w, h, spp):
             "bump_cpu_s": round(t_bump, 4)}, (a, b, c, mask)
 
 
+# ------------------------------------------------------------- thread: relief vs helix
+#: The thread of the relief-vs-true comparison: a 28-400 finish on a 28 mm neck whose wall is
+#: this thick (mm), so the 1.19 mm ridge is large against it ("auto" draws it as geometry).
+THREAD_FINISH, THREAD_WALL = "28-400", 1.5
+
+
+def thread_designs():
+    """``(true geometry design, relief design, plain design)``: the same neck, thread and view."""
+    from make_samples import bordeaux_section, round_shape
+    from engine.appearance.tile_defaults import new_tile
+    from engine.model.design import Camera, Design, RenderSettings
+    sec = bordeaux_section(190.0, neck_r=14.0, top=300.0)
+    cam = Camera(eye=(0.0, -160.0, 300.0), target=(0.0, 0.0, 289.0), fov_y_deg=16.0)  # both silhouettes
+    base = Design(shape=round_shape(sec, THREAD_WALL, 4.0), camera=cam,
+                  render=RenderSettings(width=96, height=128, spp=4))
+    tile = new_tile(base, "thread", 280.0, 298.0, finish=THREAD_FINISH)
+    true, relief = (dataclasses.replace(base, bumps=(dataclasses.replace(tile, geometry=g),))
+                    for g in ("true", "relief"))
+    return true, relief, base
+
+
+def thread_relief_vs_true(w, h, spp, repeats):
+    """The thread drawn both ways in the same view: the relief's mean absolute error against
+    the true helical geometry over the neck's pixels (relative to their mean radiance), the
+    plain neck's, and each frame's CPU time (best of ``repeats``)."""
+    from engine.appearance.bump_tables import thread_drawings
+    from engine.tracer.context import RenderContext, trace_pixels
+    true, relief, plain = thread_designs()
+    assert thread_drawings(true)[0].mode == "true" and thread_drawings(relief)[0].mode == "relief"
+    # the three frames interleaved, so that load from other processes falls on all of them
+    runs = [_trace_cpu(d, None, w, h, spp, 1) for _ in range(repeats) for d in (true, relief, plain)]
+    (a, _, n_true), (b, _, n_relief), (c, _, _) = runs[:3]
+    t_true, t_relief, t_plain = (min(r[1] for r in runs[k::3]) for k in range(3))
+    ctx = RenderContext.from_design(true, None, w, h)
+    ys, xs = np.mgrid[0:h, 0:w]
+    mask = (trace_pixels(ctx, xs.ravel(), ys.ravel(), 0, 1).objects.reshape(h, w) & 1) == 1
+    level = float(a[mask].mean())
+    err = float(np.abs(b - a)[mask].mean()) / level
+    err_plain = float(np.abs(c - a)[mask].mean()) / level
+    # the thread's own pixels: where the true thread changes the plain neck by over 1 %
+    thread = (np.abs(a - c).mean(-1) > 0.01 * level) & mask
+    err_thread = float(np.abs(b - a)[thread].mean()) / float(a[thread].mean())
+    return {"relief_error": round(err, 4), "plain_error": round(err_plain, 4),
+            "recovered": round(1.0 - err / err_plain, 3), "relief_error_on_thread": round(err_thread, 4),
+            "thread_pixels": int(thread.sum()), "neck_pixels": int(mask.sum()), "true_cpu_s": round(t_true, 4),
+            "relief_cpu_s": round(t_relief, 4), "plain_cpu_s": round(t_plain, 4),
+            "true_over_relief": round(t_true / t_relief, 3),
+            "boundaries_true_over_relief": round(n_true / n_relief, 3)}, (a, b, c, mask)
+
+
 _PLAIN_CHILD = """
 import sys, time, numpy as np
 from engine.files.project import load_project
@@ -235,7 +298,13 @@ def main(argv=None) -> int:
     summary, (a, b, c, mask) = bump_vs_geometry(96, 128, 4 if not args.quick else 2)
     for k, v in summary.items():
         print(f"  {k} = {v}")
-    _write(rows + [{"finish": "rings: bump vs geometry", **summary}], os.path.join(OUT, "finishes.csv"))
+    print("screw thread 28-400, relief against true helical geometry (same view):")
+    helix, (ta, tb, tc, tmask) = thread_relief_vs_true(96, 128, 4 if not args.quick else 2, rep)
+    for k, v in helix.items():
+        print(f"  {k} = {v}")
+    _write(rows + [{"finish": "rings: bump vs geometry", **summary},
+                   {"finish": "thread: relief vs true helix", **helix}], os.path.join(OUT, "finishes.csv"))
+    _thread_figure(plt, tonemap_srgb8, helix, ta, tb, tc, tmask)
     fig, ax = plt.subplots(1, 5, figsize=(15, 4.2), gridspec_kw={"width_ratios": [3, 1, 1, 1, 1]})
     ax[0].barh([r["finish"] for r in rows], [r["ratio_to_plain"] for r in rows], color="#4a7")
     ax[0].axvline(1.0, color="k", lw=0.8)
@@ -253,8 +322,24 @@ def main(argv=None) -> int:
     fig.savefig(os.path.join(OUT, "finishes.png"), dpi=100)
     print(f"wrote {OUT}/finishes.csv and finishes.png")
     worst = max(r["ratio_to_plain"] for r in rows)
-    print(f"worst_cost={worst:.2f} bump_error={summary['bump_error']:.4f}")
+    print(f"worst_cost={worst:.2f} bump_error={summary['bump_error']:.4f} "
+          f"thread_relief_error={helix['relief_error']:.4f} thread_true_cost={helix['true_over_relief']:.2f}")
     return 0
+
+
+def _thread_figure(plt, tonemap, helix, a, b, c, mask):
+    """``finishes_thread.png``: the thread true, as relief, the plain neck and the error."""
+    fig, ax = plt.subplots(1, 4, figsize=(10, 4.2))
+    err = np.abs(b - a).mean(-1) * mask
+    for i, (img, title) in enumerate(((a, "true helix"), (b, "relief"), (c, "plain neck"))):
+        ax[i].imshow(tonemap(img))
+        ax[i].set_title(title)
+        ax[i].axis("off")
+    ax[3].imshow(err, cmap="magma")
+    ax[3].set_title(f"|relief - true| ({helix['relief_error']:.1%})")
+    ax[3].axis("off")
+    fig.tight_layout()
+    fig.savefig(os.path.join(OUT, "finishes_thread.png"), dpi=100)
 
 
 if __name__ == "__main__":

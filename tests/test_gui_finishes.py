@@ -151,3 +151,23 @@ def test_a_tile_moved_onto_the_cap_follows_its_skirt_and_is_refused_without_a_ca
     assert "lower edge of the cap's skirt" in panel.z0.toolTip()
     w.undo_stack.undo()
     assert w.scene.design.bumps[0].on == "bottle" and panel.on.currentData() == "bottle"
+
+
+def test_a_thread_shows_how_it_is_drawn_and_the_choice_is_undoable(make_window):
+    w = make_window()
+    panel = w.bumps_panel
+    words.select_key(panel.add_kind, "thread")
+    panel.add_button.click()
+    tile = w.scene.design.bumps[0]
+    assert tile.kind == "thread" and tile.geometry == "auto"
+    assert panel.geometry.isEnabled() and "(auto)" in panel.drawing.text()
+    words.select_key(panel.geometry, "true")
+    assert w.scene.design.bumps[0].geometry == "true"
+    assert panel.drawing.text().startswith("Drawn as true geometry, as chosen")
+    words.select_key(panel.geometry, "relief")
+    assert "relief, as chosen" in panel.drawing.text()
+    w.undo_stack.undo()
+    assert w.scene.design.bumps[0].geometry == "true" and panel.geometry.currentData() == "true"
+    words.select_key(panel.add_kind, "knurl")
+    panel.add_button.click()
+    assert not panel.geometry.isEnabled() and panel.drawing.text() == ""

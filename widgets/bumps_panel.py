@@ -7,7 +7,8 @@ used is refused with its message). New tiles and kind changes start from
 :func:`engine.appearance.tile_defaults.new_tile`, the numbers ``glassbench bump add`` uses;
 images go through :func:`~engine.appearance.tile_defaults.add_image_tile`, which checks them
 first. The picture is :func:`engine.appearance.swatch.swatch_rgb` of the selected tile, drawn
-again after each change of the design's tiles.
+again after each change of the design's tiles. A thread says how it is drawn (relief or true
+geometry, :func:`engine.appearance.bump_tables.thread_drawings`) and why, under its choice.
 """
 from __future__ import annotations
 
@@ -22,6 +23,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QFileDialog, QFormLayout, Q
                                QVBoxLayout, QWidget)
 
 from engine.appearance import swatch, tile_defaults
+from engine.appearance.bump_tables import thread_drawings
 from engine.errors import GlassbenchError
 from engine.model.design import BUMP_KINDS, BUMP_SURFACES, IMAGE_BUMPS
 from widgets import edit_fields as ef
@@ -33,6 +35,8 @@ BUMP_WORDS = {"knurl": "Knurl", "stipple": "Stipple (dots)", "flutes": "Flutes",
               "normal_gl": "Image: normal map (OpenGL)", "normal_dx": "Image: normal map (DirectX)",
               "emboss": "Image: embossed logo"}
 ON_WORDS = {"bottle": "Bottle", "cap": "Cap"}
+#: A thread's ``geometry`` choices as the panel names them.
+GEOMETRY_WORDS = {"auto": "Auto (by the wall)", "relief": "Relief (normal only)", "true": "True geometry"}
 #: Swatch size (px).
 SWATCH_PX = 128
 
@@ -118,6 +122,15 @@ class BumpsPanel(QWidget):
         self.width_deg = ef.spin(0.1, 360, 1, 5.0, " \u00b0", "The angle one copy of the image spans")
         self.inverted = QCheckBox("Inverted")
         self.inverted.setToolTip("Press in instead of raise (or raise instead of cut)")
+        self.geometry = QComboBox()
+        for key, text in GEOMETRY_WORDS.items():
+            self.geometry.addItem(text, key)
+        self.geometry.setToolTip("How a thread is drawn: bending the shading normal (relief) or as real "
+                                 "glass (true geometry, silhouette and path through the ridge); auto "
+                                 "takes true geometry when the ridge is large against the wall")
+        self.drawing = QLabel("")
+        self.drawing.setWordWrap(True)
+        self.drawing.setToolTip("How the thread is drawn now, and why")
 
         ef.compact(self.add_kind, self.kind)
         add_row = QHBoxLayout()
@@ -134,7 +147,7 @@ class BumpsPanel(QWidget):
                         ("Depth", self.depth_mm), ("Turn", self.angle), ("Pitch", self.pitch),
                         ("Width", self.ridge_width), ("Sharpness", self.sharpness), ("Roughness", self.alpha),
                         ("Finish", self.finish), ("Image", self.image_button), ("", self.image_text),
-                        ("Image span", self.width_deg)):
+                        ("Image span", self.width_deg), ("Drawn as", self.geometry), ("", self.drawing)):
             form.addRow(text, w)
             self.rows[w] = text
         form.addRow(self.inverted)
@@ -163,6 +176,8 @@ class BumpsPanel(QWidget):
         self.finish.editingFinished.connect(lambda: self._edit("Thread finish", "finish",
                                                                finish=self.finish.text().strip()))
         self.inverted.toggled.connect(lambda on: self._edit("Invert tile", None, inverted=on))
+        self.geometry.currentIndexChanged.connect(
+            lambda _: self._edit("Thread drawing", None, geometry=self.geometry.currentData()))
         self.image_button.clicked.connect(self.choose_tile_image)
         self.refresh(editor.design)
 
@@ -310,7 +325,7 @@ class BumpsPanel(QWidget):
         fields = (self.z0, self.z1, self.repeat, self.depth_mm, self.angle, self.pitch, self.ridge_width,
                   self.sharpness, self.alpha, self.width_deg)
         blockers = [QSignalBlocker(w) for w in (self.list, self.kind, self.name, self.on, self.finish,
-                                                self.inverted) + fields]
+                                                self.inverted, self.geometry) + fields]
         ef.show_rows(self.list, [f"{t.name} ({BUMP_WORDS.get(t.kind, t.kind)}) {t.z0:g}..{t.z1:g} mm"
                                  + (" on the cap" if t.on == "cap" else "") for t in design.bumps],
                      self.list.currentRow() if self._select is None else self._select)
@@ -333,14 +348,25 @@ class BumpsPanel(QWidget):
             w.setValue(getattr(tile, key))
         self.finish.setText(tile.finish)
         self.inverted.setChecked(tile.inverted)
+        self.geometry.setCurrentIndex(self.geometry.findData(tile.geometry))
+        self.drawing.setText(self._drawing_text(design))
         image = tile.kind in IMAGE_BUMPS
-        for w, on in ((self.finish, tile.kind == "thread"), (self.alpha, tile.kind == "frosted"),
+        for w, on in ((self.finish, tile.kind == "thread"), (self.geometry, tile.kind == "thread"),
+                      (self.alpha, tile.kind == "frosted"),
                       (self.image_button, image), (self.width_deg, image),
                       (self.pitch, tile.kind in ("knurl", "stipple", "thread"))):
             w.setEnabled(on)
         self.image_text.setText(tile.asset or "")
         del blockers
         self._draw_swatch(design, tile, assets)
+
+    def _drawing_text(self, design) -> str:
+        """How the selected thread is drawn and why (empty for other kinds)."""
+        try:
+            drawing = thread_drawings(design)[self.index]
+        except (GlassbenchError, ValueError, IndexError) as exc:
+            return f"cannot tell how it is drawn: {exc}"
+        return "" if drawing is None else f"Drawn as {drawing.reason}."
 
     def _draw_swatch(self, design, tile, assets):
         try:

@@ -9,12 +9,14 @@ thread is laid out from its standard (:func:`engine.appearance.threads.thread_la
 (bands placed by height, converted to the section's arc length ``v``), the closure's own
 reliefs, and the designer's tiles on the cap (bands placed by height above the lower edge of
 its straight skirt, :func:`cap_band`), with one float32 atlas holding every relief image.
-Units mm.
+A thread drawn as true geometry (:func:`thread_drawings`) gets no relief row: the tracer
+raises it as glass. Units mm.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -23,7 +25,7 @@ from ..geometry.validate import body_profile
 from ..model.design import IMAGE_BUMPS
 from ..tracer.kernels import bumps as K
 from .relief_image import relief_texture
-from .threads import thread_layout
+from .threads import thread_layout, thread_rendering
 
 KERNEL_KINDS = {"knurl": K.KNURL, "stipple": K.STIPPLE, "flutes": K.FLUTES, "facets": K.FACETS,
                 "diamond": K.DIAMOND, "thread": K.THREAD, "frosted": K.FROSTED,
@@ -68,6 +70,59 @@ def band_coordinates(design, z0: float, z1: float):
     idx, t = locate(wall, np.array([lo, hi]))
     v = base + starts[idx] + t * np.array([wall[i].length for i in idx])
     return float(v[0]), float(v[1]), radius
+
+
+def thread_drawings(design) -> tuple:
+    """How each of ``design``'s bump tiles that is a thread is drawn: a tuple as long as
+    ``design.bumps``, a :class:`~engine.appearance.threads.ThreadRendering` for a thread and
+    ``None`` for any other tile. The rule is :func:`~engine.appearance.threads.thread_rendering`;
+    this adds what it needs from the shape: the wall's thickness at mid-band and whether true
+    geometry can be built there (a round neck, a raised ridge, its band on one straight piece
+    of the outer wall that no earlier true thread uses, room for its turns). Cached by
+    ``(shape, bumps)``."""
+    return _thread_drawings(design.shape, design.bumps)
+
+
+@lru_cache(maxsize=32)
+def _thread_drawings(shape, bumps) -> tuple:
+    from ..geometry.segments import Line
+    from ..model.design import Design
+    from .closures import finish_of
+    design = Design(shape=shape, bumps=bumps)
+    prof = body_profile(shape)
+    wall, inner = prof.sections[0].outer_wall, prof.sections[0].inner_wall
+    neck = 2.0 * finish_of(design).r_neck
+    taken, out = set(), []
+    for tile in bumps:
+        if tile.kind != "thread" or tile.on != "bottle":
+            out.append(None)
+            continue
+        lo, hi = max(tile.z0, wall[0].p0[1]), min(tile.z1, wall[-1].p1[1])
+        mid = 0.5 * (lo + hi)
+        thick = float(radius_at(wall, mid) - radius_at(inner, mid)) if hi > lo else math.nan
+        piece = next((j for j, sg in enumerate(wall) if isinstance(sg, Line) and sg.p1[1] > sg.p0[1]
+                      and sg.p0[1] <= lo + 1e-9 and sg.p1[1] >= hi - 1e-9), None)
+        band = band_coordinates(design, tile.z0, tile.z1)
+        turns = thread_layout(tile, band[1] - band[0], neck).turns if band is not None else 0.0
+        if shape.cross_section != "round":
+            obstacle = "a round neck"
+        elif band is None:
+            obstacle = "its band on the wall"
+        elif tile.inverted or not tile.depth > 0.0:
+            obstacle = "a raised ridge (not an inverted or flat thread)"
+        elif piece is None:
+            obstacle = "its band on one straight piece of the neck"
+        elif not turns > 0.0:
+            obstacle = "room on its band for part of a turn"
+        elif piece in taken:
+            obstacle = "a straight piece no other true thread uses"
+        else:
+            obstacle = ""
+        drawing = thread_rendering(tile.geometry, tile.depth, thick, obstacle, lo, hi)
+        if drawing.mode == "true":
+            taken.add(piece)
+        out.append(drawing)
+    return tuple(out)
 
 
 def cap_band(design, z0: float, z1: float):
@@ -152,10 +207,12 @@ def bump_tables(design, assets) -> BumpTables:
     count = 0
     neck = 2.0 * finish_of(design).r_neck
     closure = closure_geometry(design)
-    for tile in design.bumps:
+    for tile, drawing in zip(design.bumps, thread_drawings(design)):
         if tile.on == "cap":
             band = cap_band(design, tile.z0, tile.z1)
             places = [] if band is None else [(f"closure:{band[0]}", band[1:])]
+        elif drawing is not None and drawing.mode == "true":
+            places = []   # a thread drawn as true geometry is glass (engine.tracer.thread_geometry)
         else:
             band = band_coordinates(design, tile.z0, tile.z1)
             places = [] if band is None else [(BOTTLE, band)]

@@ -13,7 +13,7 @@ import os
 
 from ..errors import shown
 from ..limits import BUMP_REPEAT_RANGE, GGX_ALPHA_RANGE, MAX_BUMP_DEPTH_MM, MAX_EXTENT_MM, check_range
-from ..model.design import BUMP_KINDS, BUMP_SURFACES, CAP_KINDS, CAP_MATERIALS
+from ..model.design import BUMP_KINDS, BUMP_SURFACES, CAP_KINDS, CAP_MATERIALS, THREAD_GEOMETRY
 
 CAP_CHOICES = CAP_KINDS + ("none",)
 #: Relief maps by their command-line name (``--map``).
@@ -47,6 +47,9 @@ def add_parsers(sub) -> None:
     bump.add_argument("--map", choices=tuple(MAP_MODES), default="height",
                       help="how an image's texels are read (default: height)")
     bump.add_argument("--inverted", action="store_true", help="press in instead of raise")
+    bump.add_argument("--geometry", choices=THREAD_GEOMETRY, default=None,
+                      help="thread: drawn as relief, as true glass, or auto (true when the ridge "
+                           "is large against the wall; default)")
     bump.add_argument("--on", choices=BUMP_SURFACES, default="bottle",
                       help="the glass (heights above the standing plane) or the cap's straight "
                            "skirt (heights above its lower edge)")
@@ -102,17 +105,20 @@ def cmd_cap(args) -> int:
 
 
 def cmd_bump(args) -> int:
-    """``bump PROJECT add KIND --z0 MM --z1 MM [...]``, ``bump PROJECT list``,
+    """``bump PROJECT add KIND --z0 MM --z1 MM [...]`` (a thread: ``--geometry
+    auto|relief|true``), ``bump PROJECT list`` (a thread's line says how it is drawn and why),
     ``bump PROJECT remove INDEX``."""
     from ..errors import CliError
     from ..files.project import load_project
     design, assets = load_project(args.project)
     if args.action == "list":
-        for i, t in enumerate(design.bumps):
+        from .bump_tables import thread_drawings
+        for i, (t, drawing) in enumerate(zip(design.bumps, thread_drawings(design))):
             where = "" if t.on == "bottle" else (" on the cap" if design.cap is not None else
                                                  " on the cap (no cap: not drawn)")
+            how = f"; drawn as {drawing.reason}" if drawing is not None else ""
             print(f"{i}: {t.name} ({t.kind}) z {t.z0:g}..{t.z1:g} mm{where}, x{t.repeat}, "
-                  f"depth {t.depth:g} mm")
+                  f"depth {t.depth:g} mm{how}")
         return 0
     if args.action == "remove":
         try:
@@ -182,4 +188,8 @@ def _new_tile(args, design, assets, CliError):
                        f"or image:FILE")
     if args.finish is not None:
         given["finish"] = args.finish
+    if args.geometry is not None:
+        if what != "thread":
+            raise CliError(f"--geometry is for threads only, not {shown(what)}")
+        given["geometry"] = args.geometry
     return new_tile(design, what, args.z0, args.z1, **given), assets

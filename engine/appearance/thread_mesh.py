@@ -2,12 +2,13 @@
 
 Design rule: the sweep is the *same* relief the bump draws: every vertex height comes from the
 compiled kernel (:func:`engine.tracer.kernels.bumps.relief_grid`) on the same parameter row
-(:func:`engine.appearance.bump_tables.tile_params`), so the benchmark that renders a thread
-both ways (normal perturbation against geometry, same view) measures only the bump
-approximation. The ridge's cross-section (its profile across the pitch, standing ``h`` off the
+(:func:`engine.appearance.bump_tables.tile_params`), the row the tracer's true thread
+(:mod:`engine.tracer.kernels.helix`) is raised from too, so the mesh, the relief and the
+tracer's geometry are one thread. The ridge's cross-section (its profile across the pitch, standing ``h`` off the
 neck) is closed by a base :data:`EMBED_MM` inside the glass, swept along each start's helix
 for the tile's turns and capped at both ends: a closed, consistently outward-oriented solid
-(the lead renders it as a mesh object overlapping the neck). Units mm.
+(for export and other renderers: the tracer raises a true thread analytically, the same ridge
+again, :mod:`engine.tracer.kernels.helix`). Units mm.
 """
 from __future__ import annotations
 

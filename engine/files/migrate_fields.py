@@ -12,7 +12,8 @@ from __future__ import annotations
 #: format-2 item (the defaults of :mod:`engine.model.design`).
 ADDED = {
     "labels": {"surface": "wall", "cap_x_mm": 0.0, "cap_y_mm": 0.0},
-    "bumps": {"on": "bottle"},
+    # a format-2 thread was always drawn as relief (a new tile's default, "auto", may not be)
+    "bumps": {"on": "bottle", "geometry": "relief"},
 }
 
 

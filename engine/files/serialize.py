@@ -12,7 +12,8 @@ float64 exactly.
 
 A *document* is what ``project.json`` holds: ``{"format_version": N, "generator": str,
 "design": {...}}``. Format 3 is current: format 2 with fields added to labels and bump tiles
-(a label's ``surface`` and cap-top centre ``cap_x_mm, cap_y_mm``; a tile's ``on``), filled in by :mod:`engine.files.migrate_fields`.
+(a label's ``surface`` and cap-top centre ``cap_x_mm, cap_y_mm``; a tile's ``on`` and
+``geometry``), filled in by :mod:`engine.files.migrate_fields` with what format 2 drew.
 Format 2: labels with placement, faces, coefficients and finish regions; bump tiles and the
 closure as real values. Format 1 had placeholder labels,
 ``{"name", "asset"}`` (:mod:`engine.files.migrate_labels`), and placeholder bump tiles and cap

@@ -196,11 +196,14 @@ IMAGE_BUMPS = ("height_map", "colour_code", "normal_gl", "normal_dx", "emboss")
 BUMP_KINDS = PROCEDURAL_BUMPS + IMAGE_BUMPS
 #: Where a bump tile lies: the glass's outer surface, or the closure's outer skirt.
 BUMP_SURFACES = ("bottle", "cap")
+#: How a thread tile is drawn (``BumpTile.geometry``).
+THREAD_GEOMETRY = ("auto", "relief", "true")
 
 
 @dataclass(frozen=True)
 class BumpTile:
-    """Relief on a band of the outer surface: it bends the shading normal, never the geometry.
+    """Relief on a band of the outer surface: it bends the shading normal (a thread may instead
+    be drawn as true geometry, ``geometry`` below).
 
     The band runs from height ``z0`` to ``z1`` (mm above z = 0, ``z0 < z1``) all around the
     bottle; the pattern repeats ``repeat`` times around the girth, turned by ``angle_deg``
@@ -232,6 +235,11 @@ class BumpTile:
         print is placed), so the band follows the cap when the finish moves (no cap, or a
         crown, which has no straight skirt: the tile is kept, not drawn; a thread belongs to
         the glass finish, never to the cap).
+    ``geometry``
+        ``thread``: how it is drawn: ``"relief"`` bends the shading normal only, ``"true"``
+        raises the helical ridge as real glass, ``"auto"`` (default) picks by the rule of
+        :func:`engine.appearance.threads.thread_rendering` (true geometry when the ridge is
+        large relative to the wall). Other kinds ignore it.
     """
 
     name: str = "bump"
@@ -250,6 +258,7 @@ class BumpTile:
     width_deg: float = 360.0
     inverted: bool = False
     on: str = "bottle"
+    geometry: str = "auto"
 
 
 #: Closure kinds: screw cap with a knurled skirt, crown cork, cork with a capsule, aluminium

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 from .. import limits as L
 from ..errors import DesignError, shown
-from .design import BUMP_KINDS, BUMP_SURFACES, CAP_KINDS, CAP_MATERIALS, IMAGE_BUMPS
+from .design import BUMP_KINDS, BUMP_SURFACES, CAP_KINDS, CAP_MATERIALS, IMAGE_BUMPS, THREAD_GEOMETRY
 
 _TURN = (-L.MAX_TURN_DEG, L.MAX_TURN_DEG)
 
@@ -53,6 +53,9 @@ def check_bump_values(tile, where: str) -> None:
     if tile.on == "cap" and tile.kind == "thread":
         raise DesignError(f"{where} is a thread on the cap: a thread belongs to the glass finish "
                           f"(the cap's own thread is inside it, never seen)")
+    if tile.geometry not in THREAD_GEOMETRY:
+        raise DesignError(f"{where}.geometry {shown(tile.geometry)} is not one of "
+                          f"{', '.join(THREAD_GEOMETRY)}")
     if tile.kind == "thread" and tile.finish:
         from ..appearance.threads import parse_finish
         parse_finish(tile.finish, f"{where}.finish")

@@ -24,6 +24,7 @@ from .kernels.labels import LB_HIT_F, LB_HIT_I, LB_HIT_N, LB_SMP_F, LB_SMP_I
 from .labels import empty_label_arrays, label_arrays, with_buffers
 from .finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays
+from .thread_geometry import scene_with_threads
 
 #: Boundaries one camera sample may visit before what it still holds is closed with the
 #: environment (bounds the time of a sample; light trapped by total internal reflection in a
@@ -78,7 +79,7 @@ class RenderContext:
         env = environment if environment is not None else environment_from_design(design.environment, assets)
         cam = PinholeCamera.from_design(design.camera, w, h)
         cap = cap_tables_for(design, geom)
-        scene = scene_with_cap(scene_arrays(geom, design), cap, geom.fill_height)
+        scene = scene_with_cap(scene_with_threads(scene_arrays(geom, design), design), cap, geom.fill_height)
         tex = np.ascontiguousarray(env.texels, dtype=np.float32)
         finish = finish_arrays(design, assets, geom, cap, scene, tex)
         params = np.array([float(env.scale), math.radians(float(env.rotation_deg))])

@@ -94,6 +94,26 @@ def _bell(x, w):
 
 
 # ------------------------------------------------------------------------- procedural tiles
+@njit(**INLINE)
+def thread_profile(uu, v, circ, n, pitch, start, flank_low, flank_high, turns, runout):
+    """The screw thread's ridge as factors ``(e, de/dtau, prof, dprof/ds)``: its height is
+    ``depth e prof``. ``uu`` (mm) is arc length around the girth of circumference ``circ``
+    from the thread's phase, ``v`` (mm) along the section; ``n`` starts of ``pitch`` (mm),
+    the first ridge centred at ``v = start``. ``prof`` is the ridge across (a bell of the
+    flank half-widths, fractions of the pitch, in the helical phase ``s``), ``e`` fades each
+    start in and out over ``runout`` turns at the ends of its ``turns`` (``tau``). One
+    function for the relief and the true helical geometry (:mod:`.helix`): both draw the
+    same thread."""
+    uw = uu - circ * math.floor(uu / circ)
+    s = (v - start) / pitch - n * uw / circ
+    k = math.floor(s + 0.5)
+    x = s - k
+    prof, dprof = _bell(x, 2.0 * (flank_high if x >= 0.0 else flank_low))
+    tau = (k + n * uw / circ) / n        # turns along this start's helix
+    e, de = _window(tau, 0.0, turns, runout)
+    return e, de, prof, dprof
+
+
 @njit(**JIT)
 def _relief(kind, p, u, v):
     """``(h, dh/du, dh/dv)`` of procedural tile ``p`` at ``(u, v)`` (module conventions)."""
@@ -159,14 +179,8 @@ def _relief(kind, p, u, v):
         return sgn * w * h0, sgn * w * ha / pu, sgn * (dw * h0 + w * hb / pv)
     if kind == THREAD:                       # helical ridges: n starts, pitch P, right-handed
         circ = TWO_PI * R
-        uw = uu - circ * math.floor(uu / circ)
         pitch = p[P_PITCH] if p[P_PITCH] > 0.0 else pu
-        s = (v - p[P_START]) / pitch - n * uw / circ
-        k = math.floor(s + 0.5)
-        x = s - k
-        prof, dprof = _bell(x, 2.0 * (p[P_C] if x >= 0.0 else p[P_B]))
-        tau = (k + n * uw / circ) / n        # turns along this start's helix
-        e, de = _window(tau, 0.0, p[P_A], p[P_D])
+        e, de, prof, dprof = thread_profile(uu, v, circ, n, pitch, p[P_START], p[P_B], p[P_C], p[P_A], p[P_D])
         hh = depth * e * prof
         hu = depth * (de / circ * prof - e * dprof * n / circ)
         return w * hh, w * hu, depth * w * e * dprof / pitch + dw * hh

@@ -20,8 +20,9 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .helix import helix_roots
 from .outlines import outline_sd
-from .profile import LINE, S_KIND, S_R0, S_R1, S_RMAX, S_RMIN, S_Z0, S_Z1, S_ZMAX, S_ZMIN
+from .profile import HELIX, LINE, S_KIND, S_R0, S_R1, S_RMAX, S_RMIN, S_Z0, S_Z1, S_ZMAX, S_ZMIN
 from .revolved import ray_box, segment_hits, segment_normal
 from .roots import INLINE, JIT, cone_roots
 from .swept import ruled_roots, swept_normal, swept_roots
@@ -158,6 +159,13 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
                 if seg[j, S_KIND] == LINE:  # the common case, without a call
                     n = cone_roots(ox, oy, oz, dx, dy, dz, seg[j, S_R0], seg[j, S_Z0], seg[j, S_R1],
                                    seg[j, S_Z1], t0, roots)
+                elif seg[j, S_KIND] == HELIX:
+                    # a true thread: its first crossing only, the one the loop below takes, unless
+                    # it lies within the edge distance, where _accept may refuse it (the start
+                    # found again, an edge's rounding): then the second too
+                    n = helix_roots(seg, j, ox, oy, oz, dx, dy, dz, max(a, t0), min(b, best), roots, 1)
+                    if n > 0 and roots[0] < obj_f[k, F_EDGE]:
+                        n = helix_roots(seg, j, ox, oy, oz, dx, dy, dz, max(a, t0), min(b, best), roots, 2)
                 else:
                     n = segment_hits(seg, tab, j, ox, oy, oz, dx, dy, dz, t0, best, a, b, roots, crit, stack)
             else:

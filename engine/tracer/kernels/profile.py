@@ -18,12 +18,19 @@ from numba import njit
 
 from .roots import INLINE, JIT, hypot2
 
-# segment kinds
-LINE, ARC, ELLIPSE, OFFSET = 0, 1, 2, 3
+# segment kinds (HELIX: a straight wall piece raised by a screw thread, kernels.helix)
+LINE, ARC, ELLIPSE, OFFSET, HELIX = 0, 1, 2, 3, 4
 # segment table columns
 S_KIND, S_R0, S_Z0, S_R1, S_Z1, S_CR, S_CZ, S_AR, S_AZ, S_A0, S_SWEEP, S_DIR, S_W = range(13)
 (S_RMIN, S_RMAX, S_ZMIN, S_ZMAX, S_V0, S_LEN, S_SPLIT, S_AXIS, S_HALF, S_TAB0, S_TABN) = range(13, 24)
 S_COLS = 24
+# A HELIX row is a line row (its base cone r = L(z) from (R0, Z0) to (R1, Z1), V0, LEN,
+# bounds widened by the ridge) whose thread lies on the band of heights [H_Z0, H_Z1]; the
+# thread sits in the columns only arcs use: the reference radius (mm), starts, phase (rad),
+# depth (mm), pitch (mm), turns per start, flank half-widths (fractions of the pitch),
+# run-out (turns) and the first ridge's centre (v, mm). See kernels.helix.
+(H_REF, H_STARTS, H_PHASE, H_DEPTH, H_PITCH, H_TURNS, H_FLANK_LO, H_FLANK_HI, H_RUNOUT, H_START,
+ H_Z0, H_Z1) = (S_CR, S_CZ, S_AR, S_AZ, S_A0, S_SWEEP, S_DIR, S_W, S_SPLIT, S_HALF, S_TAB0, S_TABN)
 TWO_PI = 2.0 * math.pi
 
 

@@ -8,6 +8,7 @@ extent; the inner wall of an ellipse arc (its exact offset, a degree-8 curve) is
 certified bands of :mod:`~engine.tracer.kernels.bands`. Every segment is first culled
 by its revolved bounding box (two cylinders, two planes), which is exact and conservative.
 Normals are the segment's outward meridian normal ``n = (T_z, -T_r)`` revolved to world space.
+A straight piece raised by a screw thread (``HELIX``) is handed to :mod:`.helix`.
 """
 from __future__ import annotations
 
@@ -18,7 +19,8 @@ from numba import njit
 
 from .bands import subtract
 from .outlines import disc_interval
-from .profile import (ARC, ELLIPSE, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR,
+from .helix import MAX_ROOTS, helix_normal, helix_roots, helix_v
+from .profile import (ARC, ELLIPSE, HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR,
                       S_KIND, S_LEN, S_R0, S_R1, S_RMAX, S_RMIN, S_SWEEP, S_V0, S_Z0, S_Z1, S_ZMAX,
                       S_TAB0, S_TABN, S_ZMIN, TWO_PI, _offset_at, _offset_coord, in_sweep,
                       offset_at_between, offset_point)
@@ -225,6 +227,8 @@ def segment_hits(seg, tab, i, ox, oy, oz, dx, dy, dz, tlo, thi, lo, hi, out, cri
                        seg[i, S_Z1], tlo, out)
     elif kind == OFFSET:
         return offset_roots(seg, tab, i, ox, oy, oz, dx, dy, dz, max(lo, tlo), min(hi, thi), out)
+    elif kind == HELIX:
+        return helix_roots(seg, i, ox, oy, oz, dx, dy, dz, max(lo, tlo), min(hi, thi), out, MAX_ROOTS)
     else:
         cr, cz, ar, az = seg[i, S_CR], seg[i, S_CZ], seg[i, S_AR], seg[i, S_AZ]
         m = torus_roots(ox, oy, oz - cz, dx, dy, dz, abs(cr), ar, az, cr < 0.0, max(tlo, lo), out, crit,
@@ -256,6 +260,8 @@ def segment_normal(seg, i, px, py, pz):
     else:
         ex, ey = 1.0, 0.0
     kind = int(seg[i, S_KIND])
+    if kind == HELIX:
+        return helix_normal(seg, i, px, py, pz)
     if kind == LINE:
         dr, dz = seg[i, S_R1] - seg[i, S_R0], seg[i, S_Z1] - seg[i, S_Z0]
         L = hypot2(dr, dz)
@@ -283,6 +289,8 @@ def segment_v(seg, i, px, py, pz):
     kind = int(seg[i, S_KIND])
     if kind == LINE:
         return seg[i, S_V0] + hypot2(rho - seg[i, S_R0], pz - seg[i, S_Z0])
+    if kind == HELIX:    # the base line's v at that height (the ridge stands off it)
+        return helix_v(seg, i, pz)
     if kind == OFFSET:
         axis = int(seg[i, S_AXIS])
         s = _offset_at(seg, i, axis, pz if axis == 1 else rho)

@@ -281,7 +281,7 @@ def main(argv=None) -> int:
         ratios = [(spp, ms / time_to_reach(g_pts, me)) for spp, ms, me in mt]
         speed[name] = ratios[-1][1]  # (the labelled scene is reported, not in the minimum)
         below = all(r > 1.0 for _, r in ratios)
-        print(f"    glassbench reaches Mitsuba's error at " +
+        print("    glassbench reaches Mitsuba's error at " +
               ", ".join(f"{spp} spp {r:.1f}x" for spp, r in ratios) +
               f" faster; below Mitsuba's curve everywhere: {'yes' if below else 'no'}")
         ax.plot([s for _, s, _ in mt], [e for _, _, e in mt], "o-", color="tab:red", label="Mitsuba 3 volpathmis")

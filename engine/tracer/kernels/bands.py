@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import math
 
-import numpy as np
 from numba import njit
 
 from .outlines import CIRCLE, OVAL, RRECT, RSQUARE, disc_interval, outline_interval, square_corner, xs_eval

@@ -10,7 +10,7 @@ from numba import njit
 
 from .integrator import trace_sample
 from .intersect import nearest_hit, object_normal
-from .roots import JIT, JIT_NRT
+from .roots import JIT_NRT
 from .tile import make_work
 
 

@@ -20,10 +20,9 @@ from numba import njit
 from .bands import subtract
 from .outlines import disc_interval
 from .helix import MAX_ROOTS, helix_normal, helix_roots, helix_v
-from .profile import (ARC, ELLIPSE, HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR,
-                      S_KIND, S_LEN, S_R0, S_R1, S_RMAX, S_RMIN, S_SWEEP, S_V0, S_Z0, S_Z1, S_ZMAX,
-                      S_TAB0, S_TABN, S_ZMIN, TWO_PI, _offset_at, _offset_coord, in_sweep,
-                      offset_at_between, offset_point)
+from .profile import (HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR, S_KIND, S_LEN,
+                      S_R0, S_R1, S_SWEEP, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1, TWO_PI, _offset_at,
+                      _offset_coord, in_sweep, offset_at_between, offset_point)
 from .roots import INLINE, JIT, cone_roots, hypot2, sort_small, torus_roots
 
 #: Band contraction on an offset arc stops at this fraction of the segment's length: only a

@@ -14,7 +14,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .roots import INLINE, JIT
+from .roots import JIT
 
 _PLASTIC = 1.32471795724474602596
 R2_X = 1.0 / _PLASTIC

@@ -21,7 +21,7 @@ from numba import njit
 from .bands import F_WALL, band_roots
 from .outlines import RSQUARE, square_corner, xs_eval
 from .profile import S_R0, S_R1, S_Z0, S_Z1, wall_state
-from .roots import INLINE, JIT, quadratic, sort_small
+from .roots import JIT, quadratic, sort_small
 
 
 @njit(**JIT)

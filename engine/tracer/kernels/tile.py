@@ -13,7 +13,7 @@ from numba import njit
 from .integrator import trace_sample
 from .labels import LB_HIT_N, record_sample
 from .materials import KID_COLS, MAX_CHILDREN
-from .roots import JIT, JIT_NRT
+from .roots import JIT_NRT
 from .sampling import C_EYE, C_W, camera_ray, mix64, pixel_offset
 
 

@@ -37,7 +37,7 @@ def test_a_labelled_design_round_trips_exactly(tmp_path):
 
 
 def test_the_migration_turns_format_1_placeholders_into_placed_labels(tmp_path):
-    assert CURRENT_FORMAT == 2
+    assert CURRENT_FORMAT >= 2  # format 1 is read through every later step
     design = design_with(cylinder_shape(r=30.0, top=150.0))
     doc1 = {"format_version": 1, "generator": "glassbench 0.1.0", "design": design_to_dict(design)}
     doc1["design"]["labels"] = [{"name": "front", "asset": "front.png"}, {"name": "neck", "asset": None}]

@@ -114,7 +114,8 @@ def test_an_interrupted_batch_resumes_with_only_the_missing_frames(cluster, tmp_
 
 
 class KillBusyWorker(BatchProgress):
-    """When the first frame is written, SIGKILLs a worker that is rendering one."""
+    """When the first frame is written, SIGKILLs a worker that is rendering one (any worker if
+    none is busy by then: the batch must lose no frame either way)."""
 
     def __init__(self, cluster):
         self.cluster, self.killed = cluster, None
@@ -127,13 +128,16 @@ class KillBusyWorker(BatchProgress):
         if self.killed is not None:
             return
         busy = {addr for addr, keys in self.cluster.client.processing().items() if keys}
-        name = next(n for n in self.cluster.workers if self.cluster.worker_address(n) in busy)
+        names = sorted(self.cluster.workers)
+        name = next((n for n in names if self.cluster.worker_address(n) in busy), names[0])
         self.killed = (name, self.cluster.worker_address(name))
         self.cluster.kill(name)
 
 
 def test_a_worker_killed_mid_batch_costs_only_its_frames(cluster, tmp_path):
-    job = turntable_job(BORDEAUX, 4, str(tmp_path / "turn"), width=24, height=32, spp=1, format="exr")
+    # frames long enough (a few tenths of a second) that others are still rendering or queued
+    # when the first one is written: 24 x 32 px at 1 spp took ~10 ms, all could be done by then
+    job = turntable_job(BORDEAUX, 8, str(tmp_path / "turn"), width=48, height=64, spp=2, format="exr")
     killer = KillBusyWorker(cluster)
     try:
         report = run_batch(job, scheduler=cluster.address, progress=killer)
@@ -143,7 +147,7 @@ def test_a_worker_killed_mid_batch_costs_only_its_frames(cluster, tmp_path):
     finally:
         if killer.killed is not None:
             cluster.replace(killer.killed[0])  # whole again for whatever runs next
-    assert sorted(report.rendered) == [f"frame_{k:04d}.exr" for k in range(4)]
+    assert sorted(report.rendered) == [f"frame_{k:04d}.exr" for k in range(8)]
     assert killer.events and all(0.0 <= f <= 1.0 and t >= 0 for _, f, t in killer.events), \
         "tile progress came from the workers as Dask events"
     entries = Manifest(job.output).frames

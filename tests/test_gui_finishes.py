@@ -160,14 +160,14 @@ def test_a_thread_shows_how_it_is_drawn_and_the_choice_is_undoable(make_window):
     panel.add_button.click()
     tile = w.scene.design.bumps[0]
     assert tile.kind == "thread" and tile.geometry == "auto"
-    assert panel.geometry.isEnabled() and "(auto)" in panel.drawing.text()
-    words.select_key(panel.geometry, "true")
+    assert panel.drawn_as.isEnabled() and "(auto)" in panel.drawing.text()
+    words.select_key(panel.drawn_as, "true")
     assert w.scene.design.bumps[0].geometry == "true"
     assert panel.drawing.text().startswith("Drawn as true geometry, as chosen")
-    words.select_key(panel.geometry, "relief")
+    words.select_key(panel.drawn_as, "relief")
     assert "relief, as chosen" in panel.drawing.text()
     w.undo_stack.undo()
-    assert w.scene.design.bumps[0].geometry == "true" and panel.geometry.currentData() == "true"
+    assert w.scene.design.bumps[0].geometry == "true" and panel.drawn_as.currentData() == "true"
     words.select_key(panel.add_kind, "knurl")
     panel.add_button.click()
-    assert not panel.geometry.isEnabled() and panel.drawing.text() == ""
+    assert not panel.drawn_as.isEnabled() and panel.drawing.text() == ""

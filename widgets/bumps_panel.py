@@ -122,10 +122,10 @@ class BumpsPanel(QWidget):
         self.width_deg = ef.spin(0.1, 360, 1, 5.0, " \u00b0", "The angle one copy of the image spans")
         self.inverted = QCheckBox("Inverted")
         self.inverted.setToolTip("Press in instead of raise (or raise instead of cut)")
-        self.geometry = QComboBox()
+        self.drawn_as = QComboBox()
         for key, text in GEOMETRY_WORDS.items():
-            self.geometry.addItem(text, key)
-        self.geometry.setToolTip("How a thread is drawn: bending the shading normal (relief) or as real "
+            self.drawn_as.addItem(text, key)
+        self.drawn_as.setToolTip("How a thread is drawn: bending the shading normal (relief) or as real "
                                  "glass (true geometry, silhouette and path through the ridge); auto "
                                  "takes true geometry when the ridge is large against the wall")
         self.drawing = QLabel("")
@@ -147,7 +147,7 @@ class BumpsPanel(QWidget):
                         ("Depth", self.depth_mm), ("Turn", self.angle), ("Pitch", self.pitch),
                         ("Width", self.ridge_width), ("Sharpness", self.sharpness), ("Roughness", self.alpha),
                         ("Finish", self.finish), ("Image", self.image_button), ("", self.image_text),
-                        ("Image span", self.width_deg), ("Drawn as", self.geometry), ("", self.drawing)):
+                        ("Image span", self.width_deg), ("Drawn as", self.drawn_as), ("", self.drawing)):
             form.addRow(text, w)
             self.rows[w] = text
         form.addRow(self.inverted)
@@ -176,8 +176,8 @@ class BumpsPanel(QWidget):
         self.finish.editingFinished.connect(lambda: self._edit("Thread finish", "finish",
                                                                finish=self.finish.text().strip()))
         self.inverted.toggled.connect(lambda on: self._edit("Invert tile", None, inverted=on))
-        self.geometry.currentIndexChanged.connect(
-            lambda _: self._edit("Thread drawing", None, geometry=self.geometry.currentData()))
+        self.drawn_as.currentIndexChanged.connect(
+            lambda _: self._edit("Thread drawing", None, geometry=self.drawn_as.currentData()))
         self.image_button.clicked.connect(self.choose_tile_image)
         self.refresh(editor.design)
 
@@ -325,7 +325,7 @@ class BumpsPanel(QWidget):
         fields = (self.z0, self.z1, self.repeat, self.depth_mm, self.angle, self.pitch, self.ridge_width,
                   self.sharpness, self.alpha, self.width_deg)
         blockers = [QSignalBlocker(w) for w in (self.list, self.kind, self.name, self.on, self.finish,
-                                                self.inverted, self.geometry) + fields]
+                                                self.inverted, self.drawn_as) + fields]
         ef.show_rows(self.list, [f"{t.name} ({BUMP_WORDS.get(t.kind, t.kind)}) {t.z0:g}..{t.z1:g} mm"
                                  + (" on the cap" if t.on == "cap" else "") for t in design.bumps],
                      self.list.currentRow() if self._select is None else self._select)
@@ -348,10 +348,10 @@ class BumpsPanel(QWidget):
             w.setValue(getattr(tile, key))
         self.finish.setText(tile.finish)
         self.inverted.setChecked(tile.inverted)
-        self.geometry.setCurrentIndex(self.geometry.findData(tile.geometry))
+        self.drawn_as.setCurrentIndex(self.drawn_as.findData(tile.geometry))
         self.drawing.setText(self._drawing_text(design))
         image = tile.kind in IMAGE_BUMPS
-        for w, on in ((self.finish, tile.kind == "thread"), (self.geometry, tile.kind == "thread"),
+        for w, on in ((self.finish, tile.kind == "thread"), (self.drawn_as, tile.kind == "thread"),
                       (self.alpha, tile.kind == "frosted"),
                       (self.image_button, image), (self.width_deg, image),
                       (self.pitch, tile.kind in ("knurl", "stipple", "thread"))):

@@ -28,8 +28,8 @@ from functools import lru_cache
 import numpy as np
 
 from ..errors import DesignError
-from ..geometry.segments import Line
 from ..model.design import Design
+from .closure_shapes import chain_lines
 from .closures import closure_geometry, finish_of
 from .decal import Decal
 
@@ -64,19 +64,10 @@ class CapSurface:
         return self.z1 - self.z0
 
 
-def _lines(chain):
-    """``(v0, v1, line)`` of every straight segment of a chain, ``v`` from its start."""
-    v = 0.0
-    for sg in chain:
-        if isinstance(sg, Line):
-            yield v, v + sg.length, sg
-        v += sg.length
-
-
 def _top(geom):
     best = None
     for i, part in enumerate(geom.parts):
-        for v0, v1, sg in _lines(part.chain):
+        for v0, v1, sg in chain_lines(part.chain):
             (r0, z0), (r1, z1) = sg.p0, sg.p1
             if abs(z1 - z0) < _FLAT and abs(r1) < _FLAT and r0 > r1 and (best is None or z0 > best.z0):
                 best = CapSurface("cap-top", i, v0, v1, float(r0), float(z0), float(z0))
@@ -86,7 +77,7 @@ def _top(geom):
 def _skirt(geom, r_glass: float):
     best = None
     for i, part in enumerate(geom.parts):
-        for v0, v1, sg in _lines(part.chain):
+        for v0, v1, sg in chain_lines(part.chain):
             (r0, z0), (r1, z1) = sg.p0, sg.p1
             if abs(r1 - r0) < _FLAT and z1 > z0 and r0 > r_glass and (
                     best is None or (r0, z1 - z0) > (best.radius, best.height_mm)):

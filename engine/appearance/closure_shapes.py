@@ -64,14 +64,22 @@ def filleted_chain(points, radii) -> tuple:
     return tuple(segs)
 
 
+def chain_lines(chain):
+    """``(v0, v1, line)`` of every straight segment of a chain, ``v`` the arc length (mm) from
+    the chain's start, as the tracer measures it on a closure part."""
+    v = 0.0
+    for sg in chain:
+        if isinstance(sg, Line):
+            yield v, v + sg.length, sg
+        v += sg.length
+
+
 def line_v(chain, a, b) -> tuple[float, float]:
     """Arc length ``v`` (mm from the chain's start) at the two ends of the straight part of
     ``chain`` lying on the line from ``a`` to ``b`` (the filleted remains of that edge)."""
-    v = 0.0
-    for sg in chain:
-        if isinstance(sg, Line) and _on_line(sg.p0, a, b) and _on_line(sg.p1, a, b):
-            return v, v + sg.length
-        v += sg.length
+    for v0, v1, sg in chain_lines(chain):
+        if _on_line(sg.p0, a, b) and _on_line(sg.p1, a, b):
+            return v0, v1
     raise ValueError("no straight part of the chain lies on that edge")
 
 

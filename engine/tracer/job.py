@@ -17,17 +17,18 @@ at any time. A job started with ``previous=`` and ``changed=`` (the design field
 changed) reuses the previous film when nothing it renders changed.
 
 Relabel: when only labels, lights (without a closure: they light its diffuse parts too) or
-label images changed (every other field of the design equal, same size and sampling), the job keeps the previous job's compiled scene (a label edit
-never rebuilds geometry, media or environment: :meth:`RenderContext.with_labels`) and replays
+label images changed (every other field of the design equal, same size and sampling), the job
+keeps the previous job's compiled scene (a label edit never rebuilds geometry, media or
+environment: :meth:`RenderContext.with_labels`) and replays
 the same waves: a pixel's traced samples are reused from the previous job's per-wave record
 when the pixel is clean and the wave asks it for the same samples, and traced again otherwise.
 A pixel is dirty when its ray trees (any sample, shadow rays included) consulted a label whose
 artwork, finish or coefficients changed (the label bits of the object mask,
 :mod:`engine.tracer.kernels.labels`), any label when lights changed, and every pixel whose
 trees met the object a label lies on (the outer wall, or a closure part for a print on the cap)
-before or after it moved, was added, removed or reordered (the new footprint may cover it). A label whose edit changes its face colours only (artwork of the same
-size with the same alpha channel and region map, everything else equal) leaves every ray tree
-as it was: its pixels are not traced but their label terms recomputed from the recorded hits
+before or after it moved, was added, removed or reordered (the new footprint may cover it). A
+label whose edit changes its face colours only (artwork of the same size with the same alpha
+channel and region map, everything else equal) leaves every ray tree as it was: its pixels are not traced but their label terms recomputed from the recorded hits
 (:func:`engine.tracer.kernels.labels.replay_samples`). Since samples are seeded by (pixel,
 sample) and the film is the same function of the traced results, the image equals a full render
 of the new design bit for bit; a pixel the new image's sampling plan asks other samples of is

@@ -65,8 +65,8 @@ _XS = {"rounded_square": RSQUARE, "rounded_rect": RRECT, "oval": OVAL, "round": 
 class RenderGeometry:
     """Geometry tables of one bottle (+ liquid): see the module table.
 
-    ``seg`` (n, S_COLS) float64 segments; ``tab`` (k, 3) the offset arcs' monotone tables of
-    ``(r, z, parameter)`` rows; ``slab_f`` (m, 4) ``(z0, z1, rmax, ruled)`` and ``slab_i``
+    ``seg`` (n, S_COLS) float64 segments; ``tab`` (k, 4) the offset arcs' monotone tables of
+    ``(r, z, parameter, band)`` rows; ``slab_f`` (m, 4) ``(z0, z1, rmax, ruled)`` and ``slab_i``
     (m, 3) segment rows per section of the swept walls' slabs; ``obj_i`` / ``obj_f`` the
     objects without their media (filled per design); ``scale_mm`` the bottle's size;
     ``fill_height`` (mm) or ``None``; ``kind`` the cross-section.
@@ -102,9 +102,11 @@ TABLE_ROWS = 64
 
 
 def _offset_table(sg, wall: bool):
-    """``(r, z, parameter)`` rows of an offset ellipse arc, sorted by z (wall) or r (base), its
-    extreme in the other coordinate included, so that both coordinates are monotone between
-    consecutive rows: the two rows bound the curve between them (a conservative box)."""
+    """``(r, z, parameter, band)`` rows of an offset ellipse arc, sorted by z (wall) or r
+    (base), its extreme in the other coordinate included, so that both coordinates are
+    monotone between consecutive rows: the two rows bound the curve between them (a
+    conservative box). ``band`` is the piece from this row to the next one: see
+    :func:`_piece_band` (0 on the last row)."""
     base = sg.base
     targets = (0.0, math.pi) if wall else (0.5 * math.pi, -0.5 * math.pi)
     split = _inside_angle(base.angle0, base.sweep, targets)
@@ -114,7 +116,50 @@ def _offset_table(sg, wall: bool):
     pts = np.asarray(sg.point(t), float).reshape(-1, 2)
     rows = np.column_stack([pts, t])
     key = 1 if wall else 0
-    return rows[np.argsort(rows[:, key], kind="stable")]
+    rows = rows[np.argsort(rows[:, key], kind="stable")]
+    band = [_piece_band(sg, rows[k], rows[k + 1]) for k in range(len(rows) - 1)] + [0.0]
+    return np.column_stack([rows, band])
+
+
+def _piece_band(sg, row0, row1) -> float:
+    """Signed width (mm) of the band beside the chord of one table piece that holds the piece.
+
+    With the chord from ``P0 = row0[:2]`` to ``P1`` and its unit normal ``n = (e_z, -e_r)``
+    (``e`` the chord's direction), every point ``Q`` of the curve between the rows has
+    ``n . (Q - P0)`` between 0 and the band: the piece turns by less than a half turn without
+    inflection (the offset is regular), so it lies in the triangle of its chord and its end
+    tangents, whose apex is this far from the chord. The kernels then know on which side of
+    the curve a point of the piece's box lies without solving the curve, unless it is inside
+    the band (:func:`engine.tracer.kernels.revolved.offset_roots`). ``inf`` where that does not
+    hold (the kernels then always solve the curve)."""
+    p0, p1 = np.asarray(row0[:2], float), np.asarray(row1[:2], float)
+    e = p1 - p0
+    length = float(np.hypot(*e))
+    if not length > 0.0:
+        return math.inf
+    e /= length
+    nrm = np.array([e[1], -e[0]])
+    ts = np.linspace(row0[2], row1[2], 9)
+    # regular (no cusp) and without inflection: the curvature keeps one sign, 1 - w k > 0
+    k_base = np.asarray(sg.base.curvature(ts), float)
+    if np.any(1.0 - sg.w * k_base <= 0.0):
+        return math.inf
+    d0 = np.asarray(sg.tangent(row0[2]), float).ravel()
+    d1 = np.asarray(sg.tangent(row1[2]), float).ravel()
+    cross = d0[0] * d1[1] - d0[1] * d1[0]
+    if not (abs(cross) > 1e-15 and float(np.dot(d0, d1)) > 0.0):
+        return math.inf
+    # apex: p0 + alpha d0 = p1 + beta d1
+    alpha = ((p1[0] - p0[0]) * d1[1] - (p1[1] - p0[1]) * d1[0]) / cross
+    apex = p0 + alpha * d0
+    h = float(np.dot(nrm, apex - p0))
+    # the sampled curve must lie inside (a check of the geometry above, not the bound itself)
+    q = np.asarray(sg.point(ts), float).reshape(-1, 2)
+    v = (q - p0) @ nrm
+    tol = 1e-9 * (1.0 + float(np.abs(q).max()))
+    if np.any(v * math.copysign(1.0, h) < -tol) or np.any(np.abs(v) > abs(h) + tol):
+        return math.inf
+    return h
 
 
 def _segment_row(sg, v0, wall: bool, tables=None):
@@ -348,7 +393,7 @@ def build_render_geometry(shape, fill_height: float | None) -> RenderGeometry:
     for of in tab.obj_f:
         of[K.F_EDGE] = edge
     seg = np.ascontiguousarray(np.array(tab.seg, float).reshape(-1, R.S_COLS))
-    table = np.ascontiguousarray(np.concatenate(tab.tables) if tab.tables else np.zeros((1, 3)))
+    table = np.ascontiguousarray(np.concatenate(tab.tables) if tab.tables else np.zeros((1, 4)))
     slab_f = np.ascontiguousarray(np.array(tab.slab_f, float).reshape(-1, 4))
     slab_i = np.ascontiguousarray(np.array(tab.slab_i, np.int64).reshape(-1, 3))
     return RenderGeometry(seg, table, slab_f, slab_i, np.ascontiguousarray(np.array(tab.obj_i)),

@@ -60,10 +60,11 @@ def offset_point(seg, i, s):
     return cr + ar * c - k * nr, cz + az * sn - k * nz, tr / tl, tz / tl
 
 
-@njit(**JIT)
-def _offset_coord(seg, i, axis, s):
-    """Coordinate ``axis`` of offset arc row ``i`` at base angle ``s`` and its derivative in
-    ``s``: the offset moves parallel to its base, ``dQ/ds = P'(s) (1 - sign w kappa(s))``."""
+@njit(**INLINE)
+def offset_rz(seg, i, s):
+    """Both coordinates ``(R, dR/ds, Z, dZ/ds)`` of offset arc row ``i`` at base angle ``s``
+    (rad, mm): the offset moves parallel to its base, ``dQ/ds = P'(s) (1 - sign w kappa(s))``
+    with ``kappa`` the base ellipse's curvature."""
     cr, cz, ar, az = seg[i, S_CR], seg[i, S_CZ], seg[i, S_AR], seg[i, S_AZ]
     sign, w = seg[i, S_DIR], seg[i, S_W]
     c, sn = math.cos(s), math.sin(s)
@@ -71,36 +72,83 @@ def _offset_coord(seg, i, axis, s):
     h2 = nr * nr + nz * nz
     h = math.sqrt(h2)
     k = sign * w / h
-    kappa = ar * az / (h2 * h)  # curvature of the base ellipse at s
-    scale = 1.0 - sign * w * kappa
+    scale = 1.0 - sign * w * ar * az / (h2 * h)
+    return cr + ar * c - k * nr, -ar * sn * scale, cz + az * sn - k * nz, az * c * scale
+
+
+@njit(**JIT)
+def _offset_coord(seg, i, axis, s):
+    """Coordinate ``axis`` (0 = r, 1 = z) of offset arc row ``i`` at base angle ``s`` and its
+    derivative in ``s`` (:func:`offset_rz`)."""
+    R, dR, Z, dZ = offset_rz(seg, i, s)
     if axis == 1:
-        return cz + az * sn - k * nz, az * c * scale
-    return cr + ar * c - k * nr, -ar * sn * scale
+        return Z, dZ
+    return R, dR
+
+
+@njit(**INLINE)
+def _sweep_fraction(angle, a0, sweep):
+    """Fraction of the arc from ``a0`` sweeping ``sweep`` (rad, signed) at ``angle``: in
+    ``[0, 1]`` on the arc, above 1 off it."""
+    sgn = 1.0 if sweep >= 0.0 else -1.0
+    return (((angle - a0) * sgn) % TWO_PI) / abs(sweep)
 
 
 @njit(**JIT)
 def _offset_at(seg, i, axis, value):
     """Base angle where offset arc ``i`` (monotone in coordinate ``axis``: 0 = r, 1 = z) has
-    that coordinate equal to ``value`` (clamped to the arc)."""
-    return offset_at_between(seg, i, axis, value, 0.0, 1.0)
+    that coordinate equal to ``value`` (clamped to the arc).
+
+    The first guess is the angle on the ellipse with semi-axes shortened by the offset (exact
+    for a circle arc and at an ellipse's vertices), on the branch the arc covers; the ends'
+    coordinates are the row's end points, so a solve costs 2-3 curve evaluations."""
+    a0, sw = seg[i, S_A0], seg[i, S_SWEEP]
+    shrink = seg[i, S_DIR] * seg[i, S_W]
+    if axis == 1:
+        f_lo, f_hi = seg[i, S_Z0] - value, seg[i, S_Z1] - value
+        u = min(1.0, max(-1.0, (value - seg[i, S_CZ]) / (seg[i, S_AZ] - shrink)))
+        c0 = math.asin(u)
+        c1 = math.pi - c0
+    else:
+        f_lo, f_hi = seg[i, S_R0] - value, seg[i, S_R1] - value
+        u = min(1.0, max(-1.0, (value - seg[i, S_CR]) / (seg[i, S_AR] - shrink)))
+        c0 = math.acos(u)
+        c1 = -c0
+    x = _sweep_fraction(c0, a0, sw)
+    if not x <= 1.0:
+        x = _sweep_fraction(c1, a0, sw)
+    return _offset_solve(seg, i, axis, value, 0.0, 1.0, f_lo, f_hi, x)
 
 
 @njit(**JIT)
 def offset_at_between(seg, i, axis, value, x0, x1):
     """Base angle where offset arc ``i`` has coordinate ``axis`` equal to ``value``, searched
-    between parameter fractions ``x0 < x1`` (clamped to them): Newton from the linear guess,
-    safeguarded by bisection on the bracket; a tight bracket (a table step) takes 2-3 steps."""
+    between parameter fractions ``x0 < x1`` (clamped to them), from the linear guess
+    (:func:`_offset_solve`); a tight bracket (a table step) takes 2-3 steps."""
     a0, sw = seg[i, S_A0], seg[i, S_SWEEP]
     f_lo = _offset_coord(seg, i, axis, a0 + x0 * sw)[0] - value
     f_hi = _offset_coord(seg, i, axis, a0 + x1 * sw)[0] - value
+    return _offset_solve(seg, i, axis, value, x0, x1, f_lo, f_hi, np.nan)
+
+
+@njit(**JIT)
+def _offset_solve(seg, i, axis, value, x0, x1, f_lo, f_hi, x):
+    """Newton from the fraction ``x`` (the linear guess if it is not inside ``(x0, x1)``) for
+    the base angle where coordinate ``axis`` of offset arc ``i`` equals ``value``, safeguarded
+    by bisection on the bracket ``[x0, x1]`` whose residuals are ``f_lo, f_hi``; clamped to
+    the bracket's nearer end when ``value`` is outside it."""
+    a0, sw = seg[i, S_A0], seg[i, S_SWEEP]
     if (f_lo > 0.0) == (f_hi > 0.0) or f_lo == 0.0 or f_hi == 0.0:
         return a0 + (x0 if abs(f_lo) <= abs(f_hi) else x1) * sw
     lo, hi = x0, x1
     inc = f_hi > f_lo  # coordinate increasing along the arc
-    x = x0 + (x1 - x0) * f_lo / (f_lo - f_hi)
+    if not (x > x0 and x < x1):
+        x = x0 + (x1 - x0) * f_lo / (f_lo - f_hi)
     for _ in range(60):
         f, df = _offset_coord(seg, i, axis, a0 + x * sw)
         f -= value
+        if f == 0.0:  # (a zero step would fail the safeguard below and bisect on)
+            return a0 + x * sw
         if (f < 0.0) == inc:
             lo = x
         else:

@@ -4,8 +4,8 @@ Design rule: one row of the segment table (:mod:`~engine.tracer.kernels.profile`
 meridian segment in its own (r, z) plane, in mm. Lines are cones
 (:func:`~engine.tracer.kernels.roots.cone_roots`), circle and ellipse arcs are tori or
 spheroids (:func:`~engine.tracer.kernels.roots.torus_roots`), both restricted to the segment's
-extent; the inner wall of an ellipse arc (its exact offset, a degree-8 curve) is found by the
-certified bands of :mod:`~engine.tracer.kernels.bands`. Every segment is first culled
+extent; the inner wall of an ellipse arc (its exact offset, a degree-8 curve) is found piece
+by piece along its monotone table (:func:`offset_roots`). Every segment is first culled
 by its revolved bounding box (two cylinders, two planes), which is exact and conservative.
 Normals are the segment's outward meridian normal ``n = (T_z, -T_r)`` revolved to world space.
 A straight piece raised by a screw thread (``HELIX``) is handed to :mod:`.helix`.
@@ -17,12 +17,12 @@ import math
 import numpy as np
 from numba import njit
 
-from .bands import subtract
+from .bands import annulus_bands, subtract
 from .outlines import disc_interval
 from .helix import MAX_ROOTS, helix_normal, helix_roots, helix_v
 from .profile import (HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR, S_KIND, S_LEN,
-                      S_R0, S_R1, S_SWEEP, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1, TWO_PI, _offset_at,
-                      _offset_coord, in_sweep, offset_at_between, offset_point)
+                      S_R0, S_R1, S_RMAX, S_RMIN, S_SWEEP, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1, TWO_PI, _offset_at,
+                      in_sweep, offset_at_between, offset_point, offset_rz)
 from .roots import INLINE, JIT, cone_roots, hypot2, sort_small, torus_roots
 
 #: Band contraction on an offset arc stops at this fraction of the segment's length: only a
@@ -85,15 +85,11 @@ def _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, t):
 
 
 @njit(**JIT)
-def _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
-    """The crossing in ``[a, b]`` (where the residual changes sign) by Newton on the 2-D system
-    ``(rho(t), z(t)) = (R(s), Z(s))`` in the ray distance ``t`` and the curve's base angle ``s``
-    (one curve evaluation per step); ``nan`` when an iterate leaves the bracket."""
+def _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, t, s):
+    """The crossing in ``[a, b]`` by Newton on the 2-D system ``(rho(t), z(t)) = (R(s), Z(s))``
+    in the ray distance ``t`` and the curve's base angle ``s`` (one curve evaluation per step),
+    from the guess ``(t, s)``; ``nan`` when an iterate leaves the bracket or the piece."""
     a0, sw = seg[i, S_A0], seg[i, S_SWEEP]
-    t = (a * fb - b * fa) / (fb - fa)
-    x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
-    rho = math.sqrt(x * x + y * y)
-    s = offset_at_between(seg, i, axis, z if axis == 1 else rho, x0, x1)
     s_lo, s_hi = a0 + min(x0, x1) * sw, a0 + max(x0, x1) * sw
     if s_lo > s_hi:
         s_lo, s_hi = s_hi, s_lo
@@ -101,8 +97,7 @@ def _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
     for _ in range(12):
         x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
         rho = math.sqrt(x * x + y * y)
-        R, dR = _offset_coord(seg, i, 0, s)
-        Z, dZ = _offset_coord(seg, i, 1, s)
+        R, dR, Z, dZ = offset_rz(seg, i, s)
         g1, g2 = rho - R, z - Z
         drho = (x * dx + y * dy) / rho if rho > 0.0 else 0.0
         det = -drho * dZ + dR * dz  # [[drho, -dR], [dz, -dZ]]
@@ -119,59 +114,163 @@ def _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
     return np.nan
 
 
+@njit(**INLINE)
+def _band_side(nr, nz, r0, z0, band, eps, sgn_pos, ox, oy, oz, dx, dy, dz, t):
+    """Sign of the residual at ray distance ``t`` when the point lies outside the piece's band
+    beside its chord (``n . (p - P0)`` beyond ``[min(0, band), max(0, band)]`` by ``eps``):
+    ``sgn_pos`` on the positive side, ``-sgn_pos`` on the negative one; 0 inside (unknown)."""
+    x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
+    v = nr * (math.sqrt(x * x + y * y) - r0) + nz * (z - z0)
+    if v > max(0.0, band) + eps:
+        return sgn_pos
+    if v < min(0.0, band) - eps:
+        return -sgn_pos
+    return 0.0
+
+
+@njit(**INLINE)
+def _chord_extreme(nr, nz, ox, oy, dx, dy, dz, a, b):
+    """The ray distance in ``(a, b)`` where ``v(t) = nr rho(t) + nz z(t)`` (the distance from
+    a chord with unit normal ``(nr, nz)``, up to a constant) is stationary, or nan.
+
+    ``rho(t)`` is convex, so ``v`` is convex (``nr > 0``) or concave and has at most one
+    stationary point: with ``rho^2 = E tau^2 + m^2`` (``tau`` from the closest approach to
+    the axis), ``nr E tau = -nz dz rho`` gives ``tau`` in closed form."""
+    E = dx * dx + dy * dy
+    if E == 0.0 or nr == 0.0:
+        return np.nan
+    ts = -(ox * dx + oy * dy) / E
+    mx, my = ox + ts * dx, oy + ts * dy
+    m2 = mx * mx + my * my
+    c = nz * dz
+    den = E * (nr * nr * E - c * c)
+    if not den > 0.0:
+        return np.nan  # v is monotone
+    tau = abs(c) * math.sqrt(m2 / den)
+    if nr * c > 0.0:
+        tau = -tau
+    t = ts + tau
+    return t if a < t < b else np.nan
+
+
 @njit(**JIT)
-def _piece_root(seg, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, dx, dy, dz, a, b, out, n):
-    """The crossing of one table piece inside ``[a, b]`` if its residual changes sign there
-    (Illinois false position), appended to ``out`` when it lies on the piece."""
-    fa = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a)
-    fb = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, b)
+def _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, band, ox, oy, oz, dx, dy, dz, a, b):
+    """The crossing in ``[a, b]`` of table piece ``k``, whose residual changes sign there:
+    Newton from where the ray crosses the middle of the piece's band (linear in the distance
+    from the chord between the ends), the curve's parameter from the chord's fraction there;
+    Illinois false position on the curve if Newton leaves the bracket (slower, sure)."""
+    pr, pz = tab[k, 0], tab[k, 1]
+    er, ez = -nz, nr
+    length = hypot2(tab[k + 1, 0] - pr, tab[k + 1, 1] - pz)
+    root = np.nan
+    if length > 0.0:
+        va = nr * (hypot2(ox + a * dx, oy + a * dy) - pr) + nz * (oz + a * dz - pz)
+        vb = nr * (hypot2(ox + b * dx, oy + b * dy) - pr) + nz * (oz + b * dz - pz)
+        mid = 0.5 * band if math.isfinite(band) else 0.0
+        t = a if va == vb else a + (b - a) * min(1.0, max(0.0, (mid - va) / (vb - va)))
+        x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
+        u = min(1.0, max(0.0, ((math.sqrt(x * x + y * y) - pr) * er + (z - pz) * ez) / length))
+        s = seg[i, S_A0] + (tab[k, 2] + u * (tab[k + 1, 2] - tab[k, 2])) * seg[i, S_SWEEP]
+        root = _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, t, s)
+    if not math.isfinite(root):
+        fa = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a)
+        fb = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, b)
+        root = _illinois_piece(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb)
+    return root
+
+
+@njit(**JIT)
+def _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, dx, dy, dz, a, b, out, n):
+    """The crossings of table piece ``k`` (rows ``k, k + 1``) inside ``[a, b]``, appended to
+    ``out`` when they lie on the piece.
+
+    The residual's sign at a point comes from the piece's band beside its chord when the point
+    lies outside it (no curve to solve: most ends, the band being micrometres wide), else from
+    the curve. Ends of one sign hide a pair of crossings only if the ray dips towards the other
+    side between them: then the sign where the ray's distance from the chord is extreme
+    (:func:`_chord_extreme`) splits the interval. Each crossing: :func:`_piece_solve`."""
+    pr, pz = tab[k, 0], tab[k, 1]
+    er, ez = tab[k + 1, 0] - pr, tab[k + 1, 1] - pz
+    length = hypot2(er, ez)
+    band = tab[k, 3]
+    nr, nz = 0.0, 0.0
+    if length > 0.0:
+        nr, nz = ez / length, -er / length
+    # a point beyond the band on its positive side is outside the curve (residual > 0) when the
+    # normal leans that way in the residual's coordinate (rho for a wall, z for a base)
+    lean = nr if axis == 1 else nz
+    use_band = math.isfinite(band) and lean != 0.0
+    sgn_pos = 1.0 if lean > 0.0 else -1.0
+    eps = 1e-12 * (r1 + abs(z1) + 1.0)
+    fa = _band_side(nr, nz, pr, pz, band, eps, sgn_pos, ox, oy, oz, dx, dy, dz, a) if use_band else 0.0
+    fb = _band_side(nr, nz, pr, pz, band, eps, sgn_pos, ox, oy, oz, dx, dy, dz, b) if use_band else 0.0
     if fa == 0.0:
-        root = a
+        fa = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a)
+    if fb == 0.0:
+        fb = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, b)
+    roots_lo, roots_hi = np.nan, np.nan
+    if fa == 0.0:
+        roots_lo = a
     elif (fa > 0.0) != (fb > 0.0) and fb != 0.0:
-        root = _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb)
-        if not math.isfinite(root):  # Newton left the bracket: false position (slower, sure)
-            last = 0
-            root = a
-            for _ in range(100):
-                root = (a * fb - b * fa) / (fb - fa)
-                if not (root > a and root < b):
-                    root = 0.5 * (a + b)
-                fr = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, root)
-                if fr == 0.0 or b - a <= 4e-16 * max(abs(a), abs(b)) + 1e-300:
-                    break
-                if (fr > 0.0) == (fa > 0.0):
-                    a, fa = root, fr
-                    if last > 0:
-                        fb *= 0.5
-                    last = 1
-                else:
-                    b, fb = root, fr
-                    if last < 0:
-                        fa *= 0.5
-                    last = -1
-    else:
-        return n
-    px, py, pz = ox + root * dx, oy + root * dy, oz + root * dz
-    rho = math.sqrt(px * px + py * py)
-    if r0 - pad <= rho <= r1 + pad and z0 - pad <= pz <= z1 + pad and n < out.shape[0]:
-        if n == 0 or abs(root - out[n - 1]) > 1e-12 * (abs(root) + 1.0):
-            out[n] = root
-            n += 1
+        roots_lo = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, band, ox, oy, oz, dx, dy, dz, a, b)
+    elif fb != 0.0:  # one sign at both ends: a pair only if the ray dips to the other side
+        tm = _chord_extreme(nr, nz, ox, oy, dx, dy, dz, a, b)
+        if math.isfinite(tm):
+            fm = _band_side(nr, nz, pr, pz, band, eps, sgn_pos, ox, oy, oz, dx, dy, dz, tm) if use_band else 0.0
+            if fm != 0.0 and (fm > 0.0) == (fa > 0.0):
+                return n
+            if fm == 0.0:
+                fm = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, tm)
+            if fm != 0.0 and (fm > 0.0) != (fa > 0.0):
+                roots_lo = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, band, ox, oy, oz, dx, dy, dz, a, tm)
+                roots_hi = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, band, ox, oy, oz, dx, dy, dz, tm, b)
+    for j in range(2):
+        root = roots_lo if j == 0 else roots_hi
+        if not math.isfinite(root):
+            continue
+        px, py, qz = ox + root * dx, oy + root * dy, oz + root * dz
+        rho = math.sqrt(px * px + py * py)
+        if r0 - pad <= rho <= r1 + pad and z0 - pad <= qz <= z1 + pad and n < out.shape[0]:
+            if n == 0 or abs(root - out[n - 1]) > 1e-12 * (abs(root) + 1.0):
+                out[n] = root
+                n += 1
     return n
 
 
 @njit(**JIT)
-def offset_roots(seg, tab, i, ox, oy, oz, dx, dy, dz, lo, hi, out):
-    """Crossings (ascending, in ``[lo, hi]``) of the ray with offset arc row ``i`` revolved.
+def _illinois_piece(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
+    """The crossing in ``[a, b]`` of the piece's exact residual by Illinois false position
+    (``a`` itself when the residual does not change sign there, a rounding-level case)."""
+    if fa == 0.0 or (fa > 0.0) == (fb > 0.0):
+        return a if abs(fa) <= abs(fb) else b
+    last = 0
+    root = a
+    for _ in range(100):
+        root = (a * fb - b * fa) / (fb - fa)
+        if not (root > a and root < b):
+            root = 0.5 * (a + b)
+        fr = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, root)
+        if fr == 0.0 or b - a <= 4e-16 * max(abs(a), abs(b)) + 1e-300:
+            break
+        if (fr > 0.0) == (fa > 0.0):
+            a, fa = root, fr
+            if last > 0:
+                fb *= 0.5
+            last = 1
+        else:
+            b, fb = root, fr
+            if last < 0:
+                fa *= 0.5
+            last = -1
+    return root
 
-    The arc's table cuts it into pieces along which both r and z are monotone, so the two rows
-    of a piece bound it (a revolved box, :func:`ray_box`). In each box the ray meets, the
-    residual changes sign where the ray crosses the piece; that crossing is solved by Illinois
-    false position with the curve solved inside the piece's parameter bracket. Only a pair of
-    crossings of one short piece (a graze within its sagitta) can be missed."""
+
+@njit(**JIT)
+def _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, lo, hi, out, n):
+    """Crossings of offset arc row ``i`` with the ray for ``t`` in ``[lo, hi]``, appended to
+    ``out`` from index ``n`` in table order: the pieces whose key coordinate (z for a wall, r
+    for a base) the ray's range of it meets (:func:`offset_roots`)."""
     first, count = int(seg[i, S_TAB0]), int(seg[i, S_TABN])
-    axis = int(seg[i, S_AXIS])
-    n = 0
     # the rows rise in the key coordinate: visit only the pieces the ray's range of it meets
     if axis == 1:
         za, zb = oz + lo * dz, oz + hi * dz
@@ -210,7 +309,31 @@ def offset_roots(seg, tab, i, ox, oy, oz, dx, dy, dz, lo, hi, out):
             a, b = (l0, h0) if part == 0 else (l1, h1)
             if a > b:
                 continue
-            n = _piece_root(seg, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, dx, dy, dz, a, b, out, n)
+            n = _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, dx, dy, dz, a, b,
+                             out, n)
+    return n
+
+
+@njit(**JIT)
+def offset_roots(seg, tab, i, ox, oy, oz, dx, dy, dz, lo, hi, out):
+    """Crossings (ascending, in ``[lo, hi]``) of the ray with offset arc row ``i`` revolved.
+
+    The arc's table cuts it into pieces along which both r and z are monotone, so the two rows
+    of a piece bound it (a revolved box, :func:`ray_box`). In each box the ray meets, the
+    residual changes sign where the ray crosses the piece (read from the piece's band beside
+    its chord where the ray's end lies outside it, :func:`_piece_root`); that crossing is
+    solved by Newton in the ray distance and the curve's parameter. Only a pair of crossings
+    of one short piece (a graze within its band, a few micrometres) can be missed."""
+    axis = int(seg[i, S_AXIS])
+    if axis == 0:  # a base: [lo, hi] is already within its heights, the key is the radius
+        n = _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, lo, hi, out, 0)
+    else:  # a wall: only where the ray's radius is within the row's can it meet a piece
+        l0, h0, l1, h1 = annulus_bands(ox, oy, dx, dy, seg[i, S_RMIN], seg[i, S_RMAX], lo, hi)
+        n = 0
+        if l0 <= h0:
+            n = _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, l0, h0, out, n)
+        if l1 <= h1:
+            n = _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, l1, h1, out, n)
     sort_small(out, n)  # pieces come in table order, not ray order
     return n
 

@@ -20,9 +20,10 @@ from tests.test_revolved import SEGMENTS, _random_rays
 OFFSETS = ["offset_dome", "offset_shoulder", "offset_concave"]
 
 
-def _row(name):
+def _row(name, wall=True):
+    """The kernel's row (a wall's, z-rising; else a base's, r-rising) and its table."""
     tables = []
-    row = _segment_row(SEGMENTS[name], 0.0, True, tables)
+    row = _segment_row(SEGMENTS[name], 0.0, wall, tables)
     return row[None, :].copy(), np.ascontiguousarray(tables[0])
 
 
@@ -104,3 +105,20 @@ def test_kernel_normals_are_the_curve_normals(name):
     n = normal(sg.base, t)  # the offset's normal is its base's
     want = np.column_stack([n[:, 0] * np.cos(phi), n[:, 0] * np.sin(phi), n[:, 1]])
     assert np.abs(got - want).max() < 1e-9
+
+
+def test_rays_along_and_near_the_axis_meet_an_offset_dome_once():
+    """A dome's offset reaches the axis (a punt's inner dome: a base row, whose residual is a
+    height over the radius; a wall ends at the mouth, never on the axis): a ray down the axis
+    (and a hair beside it) meets it once, at the offset's apex height, as numpy says."""
+    seg, tab = _row("offset_dome", wall=False)
+    sg = SEGMENTS["offset_dome"]
+    apex_z = float(sg.point(1.0)[1])
+    o = np.array([[0.0, 0.0, 120.0], [1e-9, 0.0, 120.0], [1e-4, -1e-4, 120.0], [0.0, 0.0, -50.0]])
+    d = np.array([[0.0, 0.0, -1.0], [0.0, 0.0, -1.0], [0.0, 0.0, -1.0], [0.0, 0.0, 1.0]])
+    got = np.full((4, 4), np.nan)
+    _kernel_hits(seg, tab, o, d, got)
+    ref = revolved_hits(o, d, sg)
+    assert np.array_equal(np.isfinite(got).sum(1), np.isfinite(ref).sum(1))
+    assert np.nanmax(np.abs(np.sort(got, 1) - np.sort(ref, 1))) < 1e-8
+    assert abs(120.0 - got[0, 0] - apex_z) < 1e-9

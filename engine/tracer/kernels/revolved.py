@@ -21,7 +21,7 @@ from .bands import annulus_bands, subtract
 from .outlines import disc_interval
 from .helix import MAX_ROOTS, helix_normal, helix_roots, helix_v
 from .profile import (HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR, S_KIND, S_LEN,
-                      S_R0, S_R1, S_RMAX, S_RMIN, S_SWEEP, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1, TWO_PI, _offset_at,
+                      S_R0, S_R1, S_RMAX, S_RMIN, S_SWEEP, S_ZMAX, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1, TWO_PI, _offset_at,
                       in_sweep, offset_at_between, offset_point, offset_rz)
 from .roots import INLINE, JIT, cone_roots, hypot2, sort_small, torus_roots
 
@@ -281,6 +281,10 @@ def _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, lo, hi, out, n):
         sn = min(max(sa, lo), hi)
         v_lo = hypot2(ox + sn * dx, oy + sn * dy)
         v_hi = max(hypot2(ox + lo * dx, oy + lo * dy), hypot2(ox + hi * dx, oy + hi * dy))
+    # the pieces' boxes are padded (below): so is the range (a ray down the axis meets a dome
+    # whose apex row computed a radius of 1e-15)
+    slack = 1e-9 * (seg[i, S_RMAX] + abs(seg[i, S_ZMAX]) + 1.0)
+    v_lo, v_hi = v_lo - slack, v_hi + slack
     k0, k1 = first, first + count - 1
     while k0 < k1:  # first row whose key reaches v_lo
         m = (k0 + k1) // 2

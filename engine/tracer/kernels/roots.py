@@ -75,10 +75,10 @@ def quadratic(A, B, C):
     return 2, t1, t2
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def _cbrt(x):
-    """Real cube root of ``x >= 0``."""
-    return x ** (1.0 / 3.0) if x > 0.0 else 0.0
+    """Real cube root of ``x >= 0`` (``np.cbrt``: libm's cube root, not ``pow``, 3x faster)."""
+    return np.cbrt(x) if x > 0.0 else 0.0
 
 
 @njit(**JIT)
@@ -124,7 +124,7 @@ def _cubic_critical(p, q, out):
         out[0], out[1] = out[1], out[0]
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def _factors(qx, qy, qz, Dx, Dy, Dz, Rn, u):
     """``(g_out, g_in)`` of the unit-tube torus at scaled distance ``u`` from the closest approach."""
     x = qx + u * Dx
@@ -137,10 +137,17 @@ def _factors(qx, qy, qz, Dx, Dy, Dz, Rn, u):
 
 
 @njit(**JIT)
-def _solve_piece(qx, qy, qz, Dx, Dy, Dz, Rn, lo, hi, f_lo, f_hi):
+def _solve_piece(qx, qy, qz, Dx, Dy, Dz, Rn, lo, hi, f_lo, f_hi, o_lo, o_hi, i_lo, i_hi):
     """The single root of ``f = g_out g_in`` in ``[lo, hi]`` where ``f`` changes sign
-    (Newton on the vanishing factor, safeguarded by Illinois false position)."""
-    x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
+    (Newton on the vanishing factor, safeguarded by Illinois false position). ``o_*``, ``i_*``
+    are the factors at the ends: the first guess is false position on the one that changes
+    sign (nearly linear there; the product is not, and costs Newton a step more)."""
+    if (o_lo > 0.0) != (o_hi > 0.0):
+        x = (lo * o_hi - hi * o_lo) / (o_hi - o_lo)
+    elif (i_lo > 0.0) != (i_hi > 0.0):
+        x = (lo * i_hi - hi * i_lo) / (i_hi - i_lo)
+    else:
+        x = (lo * f_hi - hi * f_lo) / (f_hi - f_lo)
     if not (x > lo and x < hi):
         x = 0.5 * (lo + hi)
     last = 0
@@ -253,18 +260,22 @@ def torus_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, out, crit, tmax=np
     u_hi = tmax * speed - s0 if math.isfinite(tmax) else np.inf
     pad = 1e-9 * (abs(u_lo) + abs(u_hi) + B) if math.isfinite(u_hi) and math.isfinite(u_lo) else 0.0
     u_lo, u_hi = u_lo - pad, u_hi + pad
+    prev, o_prev, i_prev = np.nan, 0.0, 0.0  # the last piece's upper end: the next one's lower
     for j in range(4):
         lo, hi = max(crit[j], u_lo), min(crit[j + 1], u_hi)
         if not hi > lo:
             continue
-        g_o, g_i = _factors(qx, qy, qz, Dx, Dy, Dz, Rn, lo)
-        f_lo = g_o * g_i
-        g_o, g_i = _factors(qx, qy, qz, Dx, Dy, Dz, Rn, hi)
-        f_hi = g_o * g_i
+        if lo == prev:
+            o_lo, i_lo = o_prev, i_prev
+        else:
+            o_lo, i_lo = _factors(qx, qy, qz, Dx, Dy, Dz, Rn, lo)
+        o_hi, i_hi = _factors(qx, qy, qz, Dx, Dy, Dz, Rn, hi)
+        prev, o_prev, i_prev = hi, o_hi, i_hi
+        f_lo, f_hi = o_lo * i_lo, o_hi * i_hi
         if f_lo == 0.0:
             u = lo
         elif (f_lo > 0.0) != (f_hi > 0.0) and f_hi != 0.0:
-            u = _solve_piece(qx, qy, qz, Dx, Dy, Dz, Rn, lo, hi, f_lo, f_hi)
+            u = _solve_piece(qx, qy, qz, Dx, Dy, Dz, Rn, lo, hi, f_lo, f_hi, o_lo, o_hi, i_lo, i_hi)
         else:
             continue
         g_o, g_i = _factors(qx, qy, qz, Dx, Dy, Dz, Rn, u)

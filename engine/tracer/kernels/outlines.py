@@ -70,6 +70,53 @@ def xs_eval(kind, r0, r1, r2, x, y):
             -y * y / (r1 ** 3 * s), 0.0)
 
 
+@njit(**INLINE)
+def box_direction(dx, dy, x_first):
+    """Unit gradient ``(g_x, g_y)`` (first quadrant) of a rounded rectangle at a point whose
+    offsets from its inner box are ``(dx, dy) = (|x| - (a - c), |y| - (b - c))`` (mm), as
+    :func:`rrect_sd` takes it; on the inner diagonal (``dx = dy <= 0``, where both axes are
+    subgradients) ``x_first`` picks the x axis."""
+    ox, oy = max(dx, 0.0), max(dy, 0.0)
+    h = math.sqrt(ox * ox + oy * oy)
+    if h > 0.0:
+        return ox / h, oy / h
+    if dx > dy or (x_first and dx == dy):
+        return 1.0, 0.0
+    return 0.0, 1.0
+
+
+@njit(**JIT)
+def rrect_directions(ax_lo, ax_hi, ay_lo, ay_hi, hx_lo, hx_hi, hy_lo, hy_hi):
+    """The arc of unit gradients (first quadrant) of rounded rectangles with inner box half
+    sizes ``a - c`` in ``[hx_lo, hx_hi]``, ``b - c`` in ``[hy_lo, hy_hi]`` at points with
+    ``|x|`` in ``[ax_lo, ax_hi]``, ``|y|`` in ``[ay_lo, ay_hi]`` (mm): ``(c1, s1, c2, s2)``,
+    its ends nearest the x axis and nearest the y axis. The gradient's angle grows with ``dy``
+    and falls with ``dx`` (:func:`box_direction`), so the corners of the box bound it."""
+    c1, s1 = box_direction(ax_hi - hx_lo, ay_lo - hy_hi, True)
+    c2, s2 = box_direction(ax_lo - hx_hi, ay_hi - hy_lo, False)
+    return c1, s1, c2, s2
+
+
+@njit(**JIT)
+def gradient_span(x, y, qx, qy, hx_lo, hx_hi, hy_lo, hy_hi):
+    """``(min, max)`` of ``g . q`` over the unit gradients (and subgradients) ``g`` at
+    ``(x, y)`` (mm, neither 0) of the rounded rectangles whose inner box half sizes lie in
+    ``[hx_lo, hx_hi] x [hy_lo, hy_hi]``: the dot product along the arc of gradients
+    (:func:`rrect_directions`) peaks inside it only where ``q`` points into it."""
+    sx = -1.0 if x < 0.0 else 1.0
+    sy = -1.0 if y < 0.0 else 1.0
+    ux, uy = sx * qx, sy * qy  # q seen from the first quadrant
+    c1, s1, c2, s2 = rrect_directions(abs(x), abs(x), abs(y), abs(y), hx_lo, hx_hi, hy_lo, hy_hi)
+    e1, e2 = ux * c1 + uy * s1, ux * c2 + uy * s2
+    lo, hi = min(e1, e2), max(e1, e2)
+    w1, w2 = uy * c1 - ux * s1, uy * c2 - ux * s2  # d/d angle at the ends
+    if w1 > 0.0 and w2 < 0.0:
+        hi = math.sqrt(ux * ux + uy * uy)
+    if w1 < 0.0 and w2 > 0.0:
+        lo = -math.sqrt(ux * ux + uy * uy)
+    return lo, hi
+
+
 @njit(**JIT)
 def outline_sd(kind, p0, p1, p2, x, y):
     """Signed value of a fixed outline (CIRCLE, RRECT or OVAL parameters) at ``(x, y)``."""

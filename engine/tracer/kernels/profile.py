@@ -218,6 +218,32 @@ def wall_range(seg, tab, i, z_lo, z_hi):
 
 
 @njit(**JIT)
+def wall_slopes(seg, i, z_lo, z_hi):
+    """Range ``(lo, hi)`` of the slope ``dr/dz`` of wall segment row ``i`` over heights
+    ``[z_lo, z_hi]`` (mm/mm; constant beyond the segment's ends, where ``r`` is clamped).
+
+    ``(-inf, inf)`` where no bound is known: an offset arc, or an arc whose end in range turns
+    horizontal (``|u| = 1`` below). Exact for lines and arcs: ``dr/dz = k u / sqrt(1 - u^2)``
+    with ``u = (z - z_c) / a_z`` is monotone in ``u``, so its extremes are at the ends."""
+    kind = int(seg[i, S_KIND])
+    z0, z1 = seg[i, S_Z0], seg[i, S_Z1]
+    if kind == LINE:
+        k = (seg[i, S_R1] - seg[i, S_R0]) / (z1 - z0)
+        return k, k
+    if kind != ARC and kind != ELLIPSE:
+        return -np.inf, np.inf
+    az = seg[i, S_AZ]
+    ua = (min(max(z_lo, z0), z1) - seg[i, S_CZ]) / az
+    ub = (min(max(z_hi, z0), z1) - seg[i, S_CZ]) / az
+    if max(abs(ua), abs(ub)) >= 1.0:
+        return -np.inf, np.inf
+    k = -seg[i, S_HALF] * seg[i, S_AR] / az
+    sa = k * ua / math.sqrt((1.0 - ua) * (1.0 + ua))
+    sb = k * ub / math.sqrt((1.0 - ub) * (1.0 + ub))
+    return min(sa, sb), max(sa, sb)
+
+
+@njit(**JIT)
 def base_z(seg, i, rho):
     """Height (mm) of the r-rising offset-arc row ``i`` (a punt's inner base) at radius ``rho``."""
     return offset_point(seg, i, _offset_at(seg, i, 0, rho))[1]

@@ -20,8 +20,8 @@ least its value at the start), bounded over the radius ranges by the arc of poss
 (:func:`~engine.tracer.kernels.outlines.gradient_span`). The radii's share is bounded by the
 derivatives in the radii (in ``[-1, 0]``, a corner's in ``[0, sqrt2 - 1]``, from the arc of
 gradients over the whole band) times the sections' slope ranges
-(:func:`~engine.tracer.kernels.profile.wall_slopes`, exact for lines and arcs). Where a section
-turns horizontal, or for ovals and punts, only the contraction runs.
+(:func:`~engine.tracer.kernels.profile.wall_slopes`, exact for lines and arcs; one-sided where
+a section turns horizontal). Ovals and punts are only contracted.
 Units: mm; outlines in the bottle frame.
 """
 from __future__ import annotations
@@ -148,7 +148,8 @@ def _newton(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa,
             a = x
         else:
             b = x
-        xn = x - fx / df if df != 0.0 else np.nan
+        # (df is infinite where a section turns horizontal: no step from there)
+        xn = x - fx / df if df != 0.0 and abs(df) < np.inf else np.nan
         newton = xn >= a and xn <= b
         if not newton:
             xn = 0.5 * (a + b)
@@ -164,9 +165,16 @@ def _newton(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa,
 
 
 @njit(**INLINE)
+def _times(d, s):
+    """``d s`` for a bound ``s`` that may be infinite, with ``0 * inf = 0`` (a factor ``d``
+    that vanishes bounds the product by 0, however steep ``s``)."""
+    return 0.0 if d == 0.0 else d * s
+
+
+@njit(**INLINE)
 def _product(d_lo, d_hi, s_lo, s_hi):
-    """Range of ``d s`` over ``d`` in ``[d_lo, d_hi]`` and ``s`` in ``[s_lo, s_hi]`` (finite)."""
-    p1, p2, p3, p4 = d_lo * s_lo, d_lo * s_hi, d_hi * s_lo, d_hi * s_hi
+    """Range of ``d s`` over ``d`` in ``[d_lo, d_hi]`` (finite), ``s`` in ``[s_lo, s_hi]``."""
+    p1, p2, p3, p4 = _times(d_lo, s_lo), _times(d_lo, s_hi), _times(d_hi, s_lo), _times(d_hi, s_hi)
     return min(min(p1, p2), min(p3, p4)), max(max(p1, p2), max(p3, p4))
 
 
@@ -204,12 +212,11 @@ def monotone_sign(seg, r0, r1, r2, nsec, kind, px, py, qx, qy, dz, a, b, z_lo, z
     sg_lo = min(c1 + s1, c2 + s2)  # sigma = g_x + g_y, sqrt2 on the diagonal
     sg_hi = SQRT2 if (s1 <= c1 and s2 >= c2) else max(c1 + s1, c2 + s2)
     # the radii's share of the slope: d residual / d radius times dr/dz dz/dt
+    # (a section turning horizontal has an infinite slope at that end: the bound is one-sided)
     u_lo, u_hi = wall_slopes(seg, r0, z_lo, z_hi)
+    u_lo, u_hi = _product(dz, dz, u_lo, u_hi)
     v_lo, v_hi = wall_slopes(seg, r1, z_lo, z_hi)
-    if not (u_hi - u_lo < np.inf and v_hi - v_lo < np.inf):
-        return 0  # a section turns horizontal here: no slope bound (and no 0 * inf below)
-    u_lo, u_hi = min(u_lo * dz, u_hi * dz), max(u_lo * dz, u_hi * dz)
-    v_lo, v_hi = min(v_lo * dz, v_hi * dz), max(v_lo * dz, v_hi * dz)
+    v_lo, v_hi = _product(dz, dz, v_lo, v_hi)
     if kind == RSQUARE:
         # d/du = (1 + sqrt2) sigma - (2 + sqrt2) in [-1, 0] and d/dv = -1 - d/du
         d_lo = max(-1.0, (1.0 + SQRT2) * sg_lo - (2.0 + SQRT2))
@@ -218,17 +225,17 @@ def monotone_sign(seg, r0, r1, r2, nsec, kind, px, py, qx, qy, dz, a, b, z_lo, z
         for d in (d_lo, d_hi):  # multilinear: its extremes are at the box's corners
             for su in (u_lo, u_hi):
                 for sv in (v_lo, v_hi):
-                    w = d * su - (1.0 + d) * sv
+                    w = _times(d, su) - _times(1.0 + d, sv)
+                    if w != w:
+                        return 0  # opposite infinities
                     lo, hi = min(lo, w), max(hi, w)
     else:  # d/da = -g_x, d/db = -g_y, d/dc = sigma - 1
         w_lo, w_hi = wall_slopes(seg, r2, z_lo, z_hi)
-        if not w_hi - w_lo < np.inf:
-            return 0
-        w_lo, w_hi = min(w_lo * dz, w_hi * dz), max(w_lo * dz, w_hi * dz)
+        w_lo, w_hi = _product(dz, dz, w_lo, w_hi)
         lo, hi = _product(-c1, -c2, u_lo, u_hi)
         l2, h2 = _product(-s2, -s1, v_lo, v_hi)
         l3, h3 = _product(sg_lo - 1.0, sg_hi - 1.0, w_lo, w_hi)
-        lo, hi = lo + l2 + l3, hi + h2 + h3
+        lo, hi = lo + l2 + l3, hi + h2 + h3  # lows are finite or -inf, highs finite or inf
     margin = 1e-9 * math.sqrt(qx * qx + qy * qy)  # far above the rounding of the bounds
     lo, hi = lo - margin, hi + margin
     # the outline's share: convex along the footprint, so its slope is largest at the end b

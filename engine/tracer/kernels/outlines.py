@@ -2,10 +2,12 @@
 
 Design rule: an outline is a circle ``(r)``, an oval ``(a, b)`` or a rounded rectangle
 ``(a, b, c)`` (a rounded square ``(u, v)`` is the rounded rectangle ``(u, u, q)``), in the
-bottle's own frame, in mm, as in :mod:`engine.geometry.crosssection`. Two things are asked of
-it: a signed value (negative inside; the exact distance for the rounded shapes, ``S - 1`` for
-the oval) with its derivatives in the radii, and the interval along a 2-D line that lies
-inside it (closed form: the rounded rectangle is the union of two boxes and four discs).
+bottle's own frame, in mm, as in :mod:`engine.geometry.crosssection`. Three things are asked
+of it: a signed value (negative inside; the exact distance for the rounded shapes, ``S - 1`` for
+the oval) with its derivatives in the radii, the interval along a 2-D line that lies inside it
+(closed form: the rounded rectangle is its bounding box cut at the corners by four discs), and
+for the rounded rectangle the range of its unit gradients over ranges of points and sizes (the
+monotonicity certificate of :mod:`~engine.tracer.kernels.bands`).
 """
 from __future__ import annotations
 
@@ -167,15 +169,9 @@ def _union(lo, hi, l2, h2):
 
 
 @njit(**JIT)
-def outline_interval(kind, p0, p1, p2, px, py, qx, qy):
-    """``(t_in, t_out)``: where the 2-D line ``p + t q`` is inside the convex outline
-    (CIRCLE ``(r)``, OVAL ``(a, b)``, RRECT ``(a, b, c)``, ``0 <= c <= min(a, b)``);
-    ``t_in > t_out`` when it never is."""
-    if kind == CIRCLE:
-        return disc_interval(px, py, qx, qy, 0.0, 0.0, p0)
-    if kind == OVAL:
-        return disc_interval(px / p0, py / p1, qx / p0, qy / p1, 0.0, 0.0, 1.0)
-    a, b, c = p0, p1, p2
+def _rrect_union(a, b, c, px, py, qx, qy):
+    """:func:`outline_interval` of the rounded rectangle as the union of its two boxes and
+    four corner discs."""
     lo, hi = _box_interval(px, py, qx, qy, a, b - c)
     l2, h2 = _box_interval(px, py, qx, qy, a - c, b)
     lo, hi = _union(lo, hi, l2, h2)
@@ -185,3 +181,44 @@ def outline_interval(kind, p0, p1, p2, px, py, qx, qy):
         l3, h3 = disc_interval(px, py, qx, qy, sx * (a - c), sy * (b - c), c)
         lo, hi = _union(lo, hi, l3, h3)
     return lo, hi
+
+
+@njit(**INLINE)
+def _rrect_interval(a, b, c, px, py, qx, qy):
+    """:func:`outline_interval` of the rounded rectangle ``(a, b, c)`` from its bounding box:
+    where the line enters (leaves) the box inside a corner square (``|x| > a - c`` and
+    ``|y| > b - c``) it enters (leaves) the outline on that corner's disc, since the square's
+    inner edges lie in the disc. A line missing that disc meets no more than the corner square
+    (it could only leave it through the box's faces); that rare case, and a corner square
+    misjudged by rounding, take the union of the pieces."""
+    if qx == 0.0 and qy == 0.0:  # a point: no ends to look at
+        return _rrect_union(a, b, c, px, py, qx, qy)
+    lo, hi = _box_interval(px, py, qx, qy, a, b)
+    if lo > hi or c <= 0.0:
+        return lo, hi
+    hx, hy = a - c, b - c
+    x, y = px + lo * qx, py + lo * qy
+    if abs(x) > hx and abs(y) > hy:
+        l2, h2 = disc_interval(px, py, qx, qy, math.copysign(hx, x), math.copysign(hy, y), c)
+        if l2 > h2:
+            return _rrect_union(a, b, c, px, py, qx, qy)
+        lo = max(lo, l2)
+    x, y = px + hi * qx, py + hi * qy
+    if abs(x) > hx and abs(y) > hy:
+        l2, h2 = disc_interval(px, py, qx, qy, math.copysign(hx, x), math.copysign(hy, y), c)
+        if l2 > h2:
+            return _rrect_union(a, b, c, px, py, qx, qy)
+        hi = min(hi, h2)
+    return lo, hi
+
+
+@njit(**JIT)
+def outline_interval(kind, p0, p1, p2, px, py, qx, qy):
+    """``(t_in, t_out)``: where the 2-D line ``p + t q`` is inside the convex outline
+    (CIRCLE ``(r)``, OVAL ``(a, b)``, RRECT ``(a, b, c)``, ``0 <= c <= min(a, b)``);
+    ``t_in > t_out`` when it never is."""
+    if kind == CIRCLE:
+        return disc_interval(px, py, qx, qy, 0.0, 0.0, p0)
+    if kind == OVAL:
+        return disc_interval(px / p0, py / p1, qx / p0, qy / p1, 0.0, 0.0, 1.0)
+    return _rrect_interval(p0, p1, p2, px, py, qx, qy)

@@ -220,27 +220,35 @@ def wall_range(seg, tab, i, z_lo, z_hi):
 @njit(**JIT)
 def wall_slopes(seg, i, z_lo, z_hi):
     """Range ``(lo, hi)`` of the slope ``dr/dz`` of wall segment row ``i`` over heights
-    ``[z_lo, z_hi]`` (mm/mm; constant beyond the segment's ends, where ``r`` is clamped).
+    ``[z_lo, z_hi]`` (mm/mm; 0 beyond the segment's ends, where :func:`wall_r` clamps).
 
-    ``(-inf, inf)`` where no bound is known: an offset arc, or an arc whose end in range turns
-    horizontal (``|u| = 1`` below). Exact for lines and arcs: ``dr/dz = k u / sqrt(1 - u^2)``
-    with ``u = (z - z_c) / a_z`` is monotone in ``u``, so its extremes are at the ends."""
+    Exact for lines and arcs: on an arc ``dr/dz = k u / sqrt(1 - u^2)`` with
+    ``u = (z - z_c) / a_z`` is monotone in ``u``, so its extremes are at the ends; an end where
+    the arc turns horizontal (``|u| = 1``) gives a signed infinity. ``(-inf, inf)`` for an
+    offset arc (no bound known)."""
     kind = int(seg[i, S_KIND])
     z0, z1 = seg[i, S_Z0], seg[i, S_Z1]
     if kind == LINE:
-        k = (seg[i, S_R1] - seg[i, S_R0]) / (z1 - z0)
-        return k, k
-    if kind != ARC and kind != ELLIPSE:
+        sa = sb = (seg[i, S_R1] - seg[i, S_R0]) / (z1 - z0)
+    elif kind == ARC or kind == ELLIPSE:
+        az = seg[i, S_AZ]
+        k = -seg[i, S_HALF] * seg[i, S_AR] / az
+        sa = _arc_slope(k, (min(max(z_lo, z0), z1) - seg[i, S_CZ]) / az)
+        sb = _arc_slope(k, (min(max(z_hi, z0), z1) - seg[i, S_CZ]) / az)
+    else:
         return -np.inf, np.inf
-    az = seg[i, S_AZ]
-    ua = (min(max(z_lo, z0), z1) - seg[i, S_CZ]) / az
-    ub = (min(max(z_hi, z0), z1) - seg[i, S_CZ]) / az
-    if max(abs(ua), abs(ub)) >= 1.0:
-        return -np.inf, np.inf
-    k = -seg[i, S_HALF] * seg[i, S_AR] / az
-    sa = k * ua / math.sqrt((1.0 - ua) * (1.0 + ua))
-    sb = k * ub / math.sqrt((1.0 - ub) * (1.0 + ub))
-    return min(sa, sb), max(sa, sb)
+    lo, hi = min(sa, sb), max(sa, sb)
+    if z_lo < z0 or z_hi > z1:
+        lo, hi = min(lo, 0.0), max(hi, 0.0)
+    return lo, hi
+
+
+@njit(**INLINE)
+def _arc_slope(k, u):
+    """``k u / sqrt(1 - u^2)``, a signed infinity at ``|u| >= 1``."""
+    if abs(u) >= 1.0:
+        return np.inf if k * u > 0.0 else -np.inf
+    return k * u / math.sqrt((1.0 - u) * (1.0 + u))
 
 
 @njit(**JIT)

@@ -8,10 +8,11 @@ outside the *inner* one (smallest): a closed-form 2-D problem (a ray against cir
 and rounded rectangles) giving at most two *bands*. Restricting to a band narrows the height
 range, hence the radii, hence the bands: the iteration contracts onto the crossings; where it
 stalls the interval is halved. A band narrower than the leaf length is solved on the exact
-surface (Illinois). This is a proof, not a sampling: no crossing outside the bands is possible.
+surface: a sign change at its ends gives one crossing (safeguarded Newton on a wall, Illinois
+on a punt's base). This is a proof, not a sampling: no crossing outside the bands is possible.
 
 Rounded squares and rectangles stop contracting earlier, as soon as the residual is *certified
-monotone* on a band (then it holds at most one crossing, found by safeguarded Newton): along
+monotone* on a band: then the band holds at most one crossing, found by the same Newton. Along
 the ray, the residual's change is the outline's share, ``g . q`` (``g`` the unit gradient at
 the footprint point, ``q`` the footprint direction), plus the radii's share,
 ``sum_k d residual / d r_k * dr_k/dz * dz/dt``. The outline is convex, so at fixed radii its
@@ -133,9 +134,10 @@ def wall_value_slope(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, 
 
 @njit(**JIT)
 def _newton(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
-    """The crossing inside ``[a, b]`` where the wall's residual is certified monotone and
-    ``fa``, ``fb`` have opposite signs: Newton from the secant point, each step kept inside
-    the bracket (else bisection), to a step of 2 ulps or to the residual's rounding noise."""
+    """A crossing of the wall inside ``[a, b]`` (``fa``, ``fb`` of opposite signs; the only one
+    where the residual is certified monotone): Newton from the secant point, each step kept
+    inside the shrinking bracket (else bisection), to a step of 2 ulps or to the residual's
+    rounding noise."""
     x = (a * fb - b * fa) / (fb - fa)
     if not (x > a and x < b):
         x = 0.5 * (a + b)
@@ -254,8 +256,8 @@ def monotone_sign(seg, r0, r1, r2, nsec, kind, px, py, qx, qy, dz, a, b, z_lo, z
 def band_roots(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, lo, hi, leaf,
                out, n, stack):
     """Crossings (ascending, appended to ``out`` from index ``n``) of the ray with a wall in
-    ``[lo, hi]``: bands contracted (module doc) until certified monotone (then Newton) or down
-    to ``leaf`` (mm, then Illinois).
+    ``[lo, hi]``: bands contracted (module doc) until certified monotone or down to ``leaf``
+    (mm), then solved by Newton (a wall) or Illinois (a punt's base).
 
     ``f_kind`` F_WALL: a z-rising wall whose sections are segment rows ``r0..r2`` (``nsec`` of
     them) of cross-section ``kind``, turned by ``(c, s) = (cos, sin)`` of the bottle's rotation;
@@ -333,6 +335,9 @@ def band_roots(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, d
                         ko, o0, o1, o2 = OVAL, a_hi, b_hi, 0.0
                         ki, i0, i1, i2 = OVAL, a_lo, b_lo, 0.0
                     e0, e1 = outline_interval(ko, o0, o1, o2, px, py, qx, qy)
+                    if max(e0, a) > min(e1, b):  # never inside the outer outline: no band
+                        empty = True
+                        break
                     g0, g1 = (outline_interval(ki, i0, i1, i2, px, py, qx, qy) if ok_in else (1.0, -1.0))
                     l0, h0, l1, h1 = subtract(e0, e1, g0, g1, a, b)
             if l0 > h0 and l1 > h1:
@@ -360,7 +365,7 @@ def band_roots(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, d
             root = a
         elif (fa > 0.0) == (fb > 0.0):
             continue
-        elif monotone != 0:
+        elif f_kind == F_WALL:  # (in a leaf not certified: some crossing of the bracket)
             root = _newton(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa, fb)
         else:
             root = _illinois(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa, fb)

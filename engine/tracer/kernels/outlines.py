@@ -23,13 +23,13 @@ SQRT2 = math.sqrt(2.0)
 DQ_DU, DQ_DV = (SQRT2 + 1.0) * SQRT2, -(SQRT2 + 1.0)
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def square_corner(u, v):
     """Corner radius ``q`` (mm) of the rounded square with half-width ``u``, diagonal ``v``."""
     return (SQRT2 + 1.0) * (SQRT2 * u - v)
 
 
-@njit(**JIT)
+@njit(**INLINE)
 def rrect_sd(x, y, a, b, c):
     """Signed distance (mm) to the rounded rectangle ``(a, b, c)`` and its derivatives
     ``(sd, gx, gy, d_a, d_b, d_c)`` (gradient unit)."""

@@ -49,100 +49,85 @@ SHAPES = {"rounded square sample": _square_sample, "curved rounded rectangle": _
 WALLS = ((OUTER_WALL, "outer"), (INNER_WALL, "inner"))
 
 
-def _curved_slabs(geom, k):
-    """Rows of object ``k``'s slabs whose sections are not all straight (band contraction)."""
-    first, count = geom.obj_i[k, K.O_FIRST], geom.obj_i[k, K.O_COUNT]
-    return [j for j in range(first, first + count) if geom.slab_f[j, 3] < 0.5]
-
-
-def _rays(rng, m, z_lo, z_hi):
-    """Rays from around the bottle towards points near its wall, steep ones included (mm)."""
-    o = rng.normal(size=(m, 3)) * [70.0, 70.0, 0.0]
-    o[:, 2] = rng.uniform(z_lo - 30.0, z_hi + 30.0, m)
-    ang = rng.uniform(0.0, 2.0 * np.pi, m)
-    rad = rng.uniform(0.0, 30.0, m)
-    target = np.stack([rad * np.cos(ang), rad * np.sin(ang), rng.uniform(z_lo, z_hi, m)], 1)
-    d = target - o
-    return o, d / np.linalg.norm(d, axis=1, keepdims=True)
-
-
-def _slab_interval(geom, j, o, d):
-    """The ray's parameter interval inside slab ``j``'s box, its padding cut off (there the
-    kernel clamps the slab's sections, the engine continues into the next ones)."""
-    z0, z1, rmax = geom.slab_f[j, 0], geom.slab_f[j, 1], geom.slab_f[j, 2]
+def _slab_rays(geom, seed, m):
+    """For each swept wall's curved slab (its sections not all straight: band contraction),
+    ``m`` random rays that enter the slab's box: yields ``(k, part, j, o, d, lo, hi)``, ``lo..hi``
+    the ray's interval in the box without its padding (where the kernel clamps the slab's
+    sections and the engine continues into the next ones)."""
+    rng = np.random.default_rng(seed)
     pad = 3e-9 * geom.scale_mm
-    return ray_box(*o, *d, 0.0, rmax, z0 + pad, z1 - pad, 0.0, np.inf)
+    for k, part in WALLS:
+        first, count = geom.obj_i[k, K.O_FIRST], geom.obj_i[k, K.O_COUNT]
+        for j in range(first, first + count):
+            z0, z1, rmax, ruled = geom.slab_f[j]
+            if ruled > 0.5:
+                continue
+            # from around the bottle towards points near its wall, steep rays included (mm)
+            o = rng.normal(size=(m, 3)) * [70.0, 70.0, 0.0]
+            o[:, 2] = rng.uniform(z0 - 30.0, z1 + 30.0, m)
+            ang, rad = rng.uniform(0.0, 2.0 * np.pi, m), rng.uniform(0.0, 30.0, m)
+            d = np.stack([rad * np.cos(ang), rad * np.sin(ang), rng.uniform(z0, z1, m)], 1) - o
+            d /= np.linalg.norm(d, axis=1, keepdims=True)
+            for i in range(m):
+                lo, hi = ray_box(*o[i], *d[i], 0.0, rmax, z0 + pad, z1 - pad, 0.0, np.inf)
+                if lo < hi:
+                    yield k, part, j, o[i], d[i], lo, hi
+
+
+def _wall(geom, k):
+    """``(kind, nsec, cos, sin, leaf)`` of swept wall object ``k``."""
+    return (geom.obj_i[k, K.O_XS], geom.obj_i[k, K.O_NSEC], geom.obj_f[k, K.F_COS], geom.obj_f[k, K.F_SIN],
+            geom.obj_f[k, K.F_LEAF])
 
 
 @pytest.mark.parametrize("name", SHAPES)
 def test_certified_windows_are_monotone(name):
-    shape = SHAPES[name]()
-    geom, body = _geometry(shape)
+    geom, body = _geometry(SHAPES[name]())
     rng = np.random.default_rng(5)
     certified = tried = 0
-    for k, part in WALLS:
-        kind, nsec = geom.obj_i[k, K.O_XS], geom.obj_i[k, K.O_NSEC]
-        c, s = geom.obj_f[k, K.F_COS], geom.obj_f[k, K.F_SIN]
-        for j in _curved_slabs(geom, k):
-            rows = geom.slab_i[j]
-            z0, z1 = geom.slab_f[j, 0], geom.slab_f[j, 1]
-            o, d = _rays(rng, 300, z0, z1)
-            for i in range(len(o)):
-                lo, hi = _slab_interval(geom, j, o[i], d[i])
-                if not lo < hi:
-                    continue
-                # a random window, from a micrometre to the whole interval
-                length = (hi - lo) * 10.0 ** rng.uniform(-6.0, 0.0)
-                a = rng.uniform(lo, hi - length)
-                b = a + length
-                za, zb = o[i, 2] + a * d[i, 2], o[i, 2] + b * d[i, 2]
-                z_lo, z_hi = min(za, zb), max(za, zb)
-                ranges = [wall_range(geom.seg, geom.tab, r, z_lo, z_hi) for r in rows]
-                px, py = c * o[i, 0] + s * o[i, 1], -s * o[i, 0] + c * o[i, 1]
-                qx, qy = c * d[i, 0] + s * d[i, 1], -s * d[i, 0] + c * d[i, 1]
-                sign = monotone_sign(geom.seg, rows[0], rows[1], rows[2], nsec, kind, px, py, qx, qy,
-                                     d[i, 2], a, b, z_lo, z_hi, *ranges[0], *ranges[1], *ranges[2])
-                tried += 1
-                if sign == 0:
-                    continue
-                certified += 1
-                t = np.linspace(a, b, 400)
-                g, _ = body.wall_implicit(part, o[i] + t[:, None] * d[i])
-                steps = np.diff(g) * sign
-                assert steps.min() >= -1e-11, (name, part, j, i, a, b, sign, steps.min())
-    # the certificate is not vacuous: most short windows on these walls pass it
+    for k, part, j, o, d, lo, hi in _slab_rays(geom, 5, 300):
+        kind, nsec, c, s, _ = _wall(geom, k)
+        rows = geom.slab_i[j]
+        # a random window, from a micrometre to the whole interval
+        length = (hi - lo) * 10.0 ** rng.uniform(-6.0, 0.0)
+        a = rng.uniform(lo, hi - length)
+        b = a + length
+        za, zb = o[2] + a * d[2], o[2] + b * d[2]
+        z_lo, z_hi = min(za, zb), max(za, zb)
+        ranges = [wall_range(geom.seg, geom.tab, r, z_lo, z_hi) for r in rows]
+        px, py = c * o[0] + s * o[1], -s * o[0] + c * o[1]
+        qx, qy = c * d[0] + s * d[1], -s * d[0] + c * d[1]
+        sign = monotone_sign(geom.seg, rows[0], rows[1], rows[2], nsec, kind, px, py, qx, qy, d[2], a, b,
+                             z_lo, z_hi, *ranges[0], *ranges[1], *ranges[2])
+        tried += 1
+        if sign == 0:
+            continue
+        certified += 1
+        t = np.linspace(a, b, 400)
+        g, _ = body.wall_implicit(part, o + t[:, None] * d)
+        steps = np.diff(g) * sign
+        assert steps.min() >= -1e-11, (name, part, j, a, b, sign, steps.min())
+    # the certificate is not vacuous: many windows on these walls pass it
     assert certified > 0.25 * tried, (certified, tried)
 
 
 @pytest.mark.parametrize("name", SHAPES)
 def test_swept_roots_find_every_crossing_a_dense_sampling_finds(name):
-    shape = SHAPES[name]()
-    geom, body = _geometry(shape)
-    rng = np.random.default_rng(11)
+    geom, body = _geometry(SHAPES[name]())
     out, stack = np.zeros(16), np.zeros((64, 2))
     found = 0
-    for k, part in WALLS:
-        kind, nsec = geom.obj_i[k, K.O_XS], geom.obj_i[k, K.O_NSEC]
-        c, s, leaf = geom.obj_f[k, K.F_COS], geom.obj_f[k, K.F_SIN], geom.obj_f[k, K.F_LEAF]
-        for j in _curved_slabs(geom, k):
-            z0, z1 = geom.slab_f[j, 0], geom.slab_f[j, 1]
-            o, d = _rays(rng, 150, z0, z1)
-            for i in range(len(o)):
-                lo, hi = _slab_interval(geom, j, o[i], d[i])
-                if not lo < hi:
-                    continue
-                n = swept_roots(geom.seg, geom.tab, geom.slab_i[j], kind, nsec, c, s, *o[i], *d[i], lo, hi,
-                                leaf, out, stack)
-                roots = out[:n].copy()
-                assert np.all(np.diff(roots) > 0.0) and np.all((roots >= lo) & (roots <= hi))
-                t = np.linspace(lo, hi, 20001)
-                g, _ = body.wall_implicit(part, o[i] + t[:, None] * d[i])
-                change = np.nonzero(np.sign(g[:-1]) != np.sign(g[1:]))[0]
-                step = t[1] - t[0]
-                for q in change:  # every sampled crossing is found, to the sampling step
-                    assert np.any(np.abs(roots - t[q]) <= 1.01 * step), (name, part, j, i, t[q], roots)
-                found += len(change)
-                # and every root lies on the wall (mm, first-order distance)
-                gr, grad = body.wall_implicit(part, o[i] + roots[:, None] * d[i])
-                assert np.all(np.abs(gr) / np.linalg.norm(grad, axis=1) < 1e-9)
+    for k, part, j, o, d, lo, hi in _slab_rays(geom, 11, 150):
+        kind, nsec, c, s, leaf = _wall(geom, k)
+        n = swept_roots(geom.seg, geom.tab, geom.slab_i[j], kind, nsec, c, s, *o, *d, lo, hi, leaf, out, stack)
+        roots = out[:n].copy()
+        assert np.all(np.diff(roots) > 0.0) and np.all((roots >= lo) & (roots <= hi))
+        t = np.linspace(lo, hi, 20001)
+        g, _ = body.wall_implicit(part, o + t[:, None] * d)
+        change = np.nonzero(np.sign(g[:-1]) != np.sign(g[1:]))[0]
+        for q in change:  # every sampled crossing is found, to the sampling step
+            assert np.any(np.abs(roots - t[q]) <= 1.01 * (t[1] - t[0])), (name, part, j, t[q], roots)
+        found += len(change)
+        # and every root lies on the wall (first-order distance, mm)
+        gr, grad = body.wall_implicit(part, o + roots[:, None] * d)
+        assert np.all(np.abs(gr) / np.linalg.norm(grad, axis=1) < 1e-9)
     assert found > 200

@@ -184,28 +184,38 @@ def _rrect_union(a, b, c, px, py, qx, qy):
 
 
 @njit(**INLINE)
+def _corner_disc(px, py, qx, qy, t, hx, hy, c):
+    """``(True, t_in, t_out)``: the line's interval in the corner disc (centre ``(+-hx, +-hy)``,
+    radius ``c``) whose corner square holds the point at ``t``; ``(False, 0, 0)`` when the
+    point lies in none (``|x| <= hx`` or ``|y| <= hy``)."""
+    x, y = px + t * qx, py + t * qy
+    if abs(x) > hx and abs(y) > hy:
+        l2, h2 = disc_interval(px, py, qx, qy, math.copysign(hx, x), math.copysign(hy, y), c)
+        return True, l2, h2
+    return False, 0.0, 0.0
+
+
+@njit(**INLINE)
 def _rrect_interval(a, b, c, px, py, qx, qy):
     """:func:`outline_interval` of the rounded rectangle ``(a, b, c)`` from its bounding box:
     where the line enters (leaves) the box inside a corner square (``|x| > a - c`` and
     ``|y| > b - c``) it enters (leaves) the outline on that corner's disc, since the square's
     inner edges lie in the disc. A line missing that disc meets no more than the corner square
-    (it could only leave it through the box's faces); that rare case, and a corner square
-    misjudged by rounding, take the union of the pieces."""
+    (it could only leave it through the box's faces); that rare case, and a point (``q = 0``),
+    take the union of the pieces."""
     if qx == 0.0 and qy == 0.0:  # a point: no ends to look at
         return _rrect_union(a, b, c, px, py, qx, qy)
     lo, hi = _box_interval(px, py, qx, qy, a, b)
     if lo > hi or c <= 0.0:
         return lo, hi
     hx, hy = a - c, b - c
-    x, y = px + lo * qx, py + lo * qy
-    if abs(x) > hx and abs(y) > hy:
-        l2, h2 = disc_interval(px, py, qx, qy, math.copysign(hx, x), math.copysign(hy, y), c)
+    corner, l2, h2 = _corner_disc(px, py, qx, qy, lo, hx, hy, c)
+    if corner:
         if l2 > h2:
             return _rrect_union(a, b, c, px, py, qx, qy)
         lo = max(lo, l2)
-    x, y = px + hi * qx, py + hi * qy
-    if abs(x) > hx and abs(y) > hy:
-        l2, h2 = disc_interval(px, py, qx, qy, math.copysign(hx, x), math.copysign(hy, y), c)
+    corner, l2, h2 = _corner_disc(px, py, qx, qy, hi, hx, hy, c)
+    if corner:
         if l2 > h2:
             return _rrect_union(a, b, c, px, py, qx, qy)
         hi = min(hi, h2)

@@ -51,9 +51,9 @@ from .kernels.outlines import CIRCLE, OVAL, RRECT, RSQUARE
 AIR, GLASS, LIQUID = 0, 1, 2
 OBJECT_NAMES = ("outer wall", "bottom", "inner wall", "inner base", "rim", "free surface")
 OUTER_WALL, BOTTOM, INNER_WALL, INNER_BASE, RIM, FREE_SURFACE = range(6)
-#: Band contraction on a swept wall stops at this fraction of the bottle's size, then the exact
-#: surface is solved: only a pair of crossings closer than that can be missed (a graze a few
-#: nanometres deep at bottle scale).
+#: Band contraction on a swept wall stops at this fraction of the bottle's size (or earlier, on a
+#: band proven monotone: kernels.bands), then the exact surface is solved: only a pair of
+#: crossings closer than that can be missed (a graze a few nanometres deep at bottle scale).
 SWEPT_LEAF = 1e-4
 #: Hits nearer than this fraction of the bottle's size to a ray's start must agree with the
 #: ray's medium (a ray leaving an edge onto the neighbouring surface).

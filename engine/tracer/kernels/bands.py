@@ -8,19 +8,34 @@ outside the *inner* one (smallest): a closed-form 2-D problem (a ray against cir
 and rounded rectangles) giving at most two *bands*. Restricting to a band narrows the height
 range, hence the radii, hence the bands: the iteration contracts onto the crossings; where it
 stalls the interval is halved. A band narrower than the leaf length is solved on the exact
-surface. This is a proof, not a sampling: no crossing outside the bands is possible.
+surface: a sign change at its ends gives one crossing (safeguarded Newton on a wall, Illinois
+on a punt's base). This is a proof, not a sampling: no crossing outside the bands is possible.
+
+Rounded squares and rectangles stop contracting earlier, as soon as the residual is *certified
+monotone* on a band: then the band holds at most one crossing, found by the same Newton. Along
+the ray, the residual's change is the outline's share, ``g . q`` (``g`` the unit gradient at
+the footprint point, ``q`` the footprint direction), plus the radii's share,
+``sum_k d residual / d r_k * dr_k/dz * dz/dt``. The outline is convex, so at fixed radii its
+share only grows along the ray: over the band it is at most its value at the band's end (at
+least its value at the start), bounded over the radius ranges by the arc of possible gradients
+(:func:`~engine.tracer.kernels.outlines.gradient_span`). The radii's share is bounded by the
+derivatives in the radii (in ``[-1, 0]``, a corner's in ``[0, sqrt2 - 1]``, from the arc of
+gradients over the whole band) times the sections' slope ranges
+(:func:`~engine.tracer.kernels.profile.wall_slopes`, exact for lines and arcs; one-sided where
+a section turns horizontal). Ovals and punts are only contracted.
 Units: mm; outlines in the bottle frame.
 """
 from __future__ import annotations
 
 import math
 
+import numpy as np
 from numba import njit
 
-from .outlines import CIRCLE, OVAL, RRECT, RSQUARE, disc_interval, outline_interval, square_corner, xs_eval
-from .profile import base_range, base_z, wall_r, wall_range
+from .outlines import (CIRCLE, OVAL, RRECT, RSQUARE, SQRT2, disc_interval, gradient_span, outline_interval,
+                       rrect_directions, square_corner, xs_eval)
+from .profile import base_range, base_z, wall_r, wall_range, wall_slopes, wall_state
 from .roots import INLINE, JIT
-
 
 
 @njit(**INLINE)
@@ -101,10 +116,148 @@ def residual(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy,
 
 
 @njit(**JIT)
+def wall_value_slope(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, t):
+    """The ``F_WALL`` residual at ray distance ``t`` (mm) and its derivative in ``t``: the
+    outline's gradient along the ray's footprint plus, through the radii, ``dr/dz dz/dt``
+    from the sections' tangents (finite where the certificate below lets Newton run)."""
+    x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
+    ra, tra, tza = wall_state(seg, r0, z)
+    rb, trb, tzb, rc, trc, tzc = 0.0, 0.0, 1.0, 0.0, 0.0, 1.0
+    if nsec > 1:
+        rb, trb, tzb = wall_state(seg, r1, z)
+    if nsec > 2:
+        rc, trc, tzc = wall_state(seg, r2, z)
+    f, gx, gy, d0, d1, d2 = xs_eval(kind, ra, rb, rc, c * x + s * y, -s * x + c * y)
+    qx, qy = c * dx + s * dy, -s * dx + c * dy
+    return f, gx * qx + gy * qy + dz * (d0 * tra / tza + d1 * trb / tzb + d2 * trc / tzc)
+
+
+@njit(**JIT)
+def _newton(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
+    """A crossing of the wall inside ``[a, b]`` (``fa``, ``fb`` of opposite signs; the only one
+    where the residual is certified monotone): Newton from the secant point, each step kept
+    inside the shrinking bracket (else bisection), to a step of 2 ulps or to the residual's
+    rounding noise."""
+    x = (a * fb - b * fa) / (fb - fa)
+    if not (x > a and x < b):
+        x = 0.5 * (a + b)
+    step = np.inf
+    for _ in range(100):
+        fx, df = wall_value_slope(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, x)
+        if fx == 0.0:
+            return x
+        if (fx > 0.0) == (fa > 0.0):
+            a = x
+        else:
+            b = x
+        # (df is infinite where a section turns horizontal: no step from there)
+        xn = x - fx / df if df != 0.0 and abs(df) < np.inf else np.nan
+        newton = xn >= a and xn <= b
+        if not newton:
+            xn = 0.5 * (a + b)
+        d = abs(xn - x)
+        if d <= 4e-16 * abs(x) or b - a <= 4e-16 * max(abs(a), abs(b)):
+            return xn
+        # at the residual's rounding noise (far below a micrometre) the steps stop shrinking
+        if newton and d > 0.5 * step and d <= 1e-13 * (abs(x) + 1.0):
+            return xn
+        step = d if newton else np.inf
+        x = xn
+    return x
+
+
+@njit(**INLINE)
+def _times(d, s):
+    """``d s`` for a bound ``s`` that may be infinite, with ``0 * inf = 0`` (a factor ``d``
+    that vanishes bounds the product by 0, however steep ``s``)."""
+    return 0.0 if d == 0.0 else d * s
+
+
+@njit(**INLINE)
+def _product(d_lo, d_hi, s_lo, s_hi):
+    """Range of ``d s`` over ``d`` in ``[d_lo, d_hi]`` (finite), ``s`` in ``[s_lo, s_hi]``."""
+    p1, p2, p3, p4 = _times(d_lo, s_lo), _times(d_lo, s_hi), _times(d_hi, s_lo), _times(d_hi, s_hi)
+    return min(min(p1, p2), min(p3, p4)), max(max(p1, p2), max(p3, p4))
+
+
+@njit(**INLINE)
+def _abs_range(x0, x1):
+    """Range of ``|x|`` over the segment from ``x0`` to ``x1``."""
+    if (x0 < 0.0) != (x1 < 0.0):
+        return 0.0, max(abs(x0), abs(x1))
+    return min(abs(x0), abs(x1)), max(abs(x0), abs(x1))
+
+
+@njit(**JIT)
+def monotone_sign(seg, r0, r1, r2, nsec, kind, px, py, qx, qy, dz, a, b, z_lo, z_hi, a_lo, a_hi,
+                  b_lo, b_hi, c_lo, c_hi):
+    """-1 if the rounded wall's residual provably decreases over ``[a, b]``, +1 if it provably
+    increases, else 0 (module doc): then the window holds at most one crossing.
+
+    ``kind`` RSQUARE or RRECT; ``(px, py) + t (qx, qy)`` the ray's footprint in the bottle frame,
+    ``dz`` its rise per mm; ``z_lo..z_hi`` the window's heights and ``a_lo..c_hi`` the sections'
+    radius ranges there (mm)."""
+    if kind == RSQUARE:  # inner box half size u - q = (sqrt2 + 1)(v - u), both axes
+        hx_lo = (SQRT2 + 1.0) * (b_lo - a_hi)
+        hx_hi = (SQRT2 + 1.0) * (b_hi - a_lo)
+        hy_lo, hy_hi = hx_lo, hx_hi
+    else:
+        hx_lo, hx_hi = a_lo - c_hi, a_hi - c_lo
+        hy_lo, hy_hi = b_lo - c_hi, b_hi - c_lo
+    # every section is a valid outline (corner <= half sizes, engine.geometry.crosssection)
+    hx_lo, hy_lo = max(hx_lo, 0.0), max(hy_lo, 0.0)
+    xa, ya, xb, yb = px + a * qx, py + a * qy, px + b * qx, py + b * qy
+    # the gradients anywhere in the window (first quadrant): an arc from (c1, s1) to (c2, s2)
+    ax_lo, ax_hi = _abs_range(xa, xb)
+    ay_lo, ay_hi = _abs_range(ya, yb)
+    c1, s1, c2, s2 = rrect_directions(ax_lo, ax_hi, ay_lo, ay_hi, hx_lo, hx_hi, hy_lo, hy_hi)
+    sg_lo = min(c1 + s1, c2 + s2)  # sigma = g_x + g_y, sqrt2 on the diagonal
+    sg_hi = SQRT2 if (s1 <= c1 and s2 >= c2) else max(c1 + s1, c2 + s2)
+    # the radii's share of the slope: d residual / d radius times dr/dz dz/dt
+    # (a section turning horizontal has an infinite slope at that end: the bound is one-sided)
+    u_lo, u_hi = wall_slopes(seg, r0, z_lo, z_hi)
+    u_lo, u_hi = _product(dz, dz, u_lo, u_hi)
+    v_lo, v_hi = wall_slopes(seg, r1, z_lo, z_hi)
+    v_lo, v_hi = _product(dz, dz, v_lo, v_hi)
+    if kind == RSQUARE:
+        # d/du = (1 + sqrt2) sigma - (2 + sqrt2) in [-1, 0] and d/dv = -1 - d/du
+        d_lo = max(-1.0, (1.0 + SQRT2) * sg_lo - (2.0 + SQRT2))
+        d_hi = min(0.0, (1.0 + SQRT2) * sg_hi - (2.0 + SQRT2))
+        lo, hi = np.inf, -np.inf
+        for d in (d_lo, d_hi):  # multilinear: its extremes are at the box's corners
+            for su in (u_lo, u_hi):
+                for sv in (v_lo, v_hi):
+                    w = _times(d, su) - _times(1.0 + d, sv)
+                    if w != w:
+                        return 0  # opposite infinities
+                    lo, hi = min(lo, w), max(hi, w)
+    else:  # d/da = -g_x, d/db = -g_y, d/dc = sigma - 1
+        w_lo, w_hi = wall_slopes(seg, r2, z_lo, z_hi)
+        w_lo, w_hi = _product(dz, dz, w_lo, w_hi)
+        lo, hi = _product(-c1, -c2, u_lo, u_hi)
+        l2, h2 = _product(-s2, -s1, v_lo, v_hi)
+        l3, h3 = _product(sg_lo - 1.0, sg_hi - 1.0, w_lo, w_hi)
+        lo, hi = lo + l2 + l3, hi + h2 + h3  # lows are finite or -inf, highs finite or inf
+    margin = 1e-9 * math.sqrt(qx * qx + qy * qy)  # far above the rounding of the bounds
+    lo, hi = lo - margin, hi + margin
+    # the outline's share: convex along the footprint, so its slope is largest at the end b
+    if xb != 0.0 and yb != 0.0:
+        g_lo, g_hi = gradient_span(xb, yb, qx, qy, hx_lo, hx_hi, hy_lo, hy_hi)
+        if g_hi + hi < 0.0:
+            return -1
+    if xa != 0.0 and ya != 0.0:
+        g_lo, g_hi = gradient_span(xa, ya, qx, qy, hx_lo, hx_hi, hy_lo, hy_hi)
+        if g_lo + lo > 0.0:
+            return 1
+    return 0
+
+
+@njit(**JIT)
 def band_roots(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, lo, hi, leaf,
                out, n, stack):
     """Crossings (ascending, appended to ``out`` from index ``n``) of the ray with a wall in
-    ``[lo, hi]``: bands contracted (module doc) down to ``leaf`` (mm), then solved exactly.
+    ``[lo, hi]``: bands contracted (module doc) until certified monotone or down to ``leaf``
+    (mm), then solved by Newton (a wall) or Illinois (a punt's base).
 
     ``f_kind`` F_WALL: a z-rising wall whose sections are segment rows ``r0..r2`` (``nsec`` of
     them) of cross-section ``kind``, turned by ``(c, s) = (cos, sin)`` of the bottle's rotation;
@@ -114,20 +267,26 @@ def band_roots(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, d
     # the ray's footprint in the bottle frame (outlines are not turned)
     px, py = c * ox + s * oy, -s * ox + c * oy
     qx, qy = c * dx + s * dy, -s * dx + c * dy
-    top = 0
+    certify = f_kind == F_WALL and (kind == RSQUARE or kind == RRECT)
     stack[0, 0], stack[0, 1] = lo, hi
     top = 1
     budget = BUDGET
-    n0 = n
+    first = n
+    fresh = True  # the whole interval: it usually holds an entry and an exit, never monotone
     while top > 0 and n < out.shape[0]:
         top -= 1
         a, b = stack[top, 0], stack[top, 1]
         empty = False
+        monotone = 0
         while budget > 0:
             budget -= 1
             if b - a <= leaf:
                 break
-            za, zb = oz + a * dz, oz + b * dz
+            # a band's ends lie on the bounding outlines, which a crossing may touch: its heights
+            # are taken a rounding-level margin wider (as the leaf's, below)
+            eps = 1e-13 * (abs(a) + abs(b)) + 1e-3 * leaf
+            wa, wb = max(lo, a - eps), min(hi, b + eps)
+            za, zb = oz + wa * dz, oz + wb * dz
             z_lo, z_hi = min(za, zb), max(za, zb)
             if f_kind == F_BASE:
                 # z(t) must lie within the curve's height range over the ray's radius range
@@ -154,6 +313,13 @@ def band_roots(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, d
                     b_lo, b_hi = wall_range(seg, tab, r1, z_lo, z_hi)
                 if nsec > 2:
                     c_lo, c_hi = wall_range(seg, tab, r2, z_lo, z_hi)
+                if certify and not fresh:
+                    monotone = monotone_sign(seg, r0, r1, r2, nsec, kind, px, py, qx, qy, dz, wa, wb,
+                                             z_lo, z_hi, a_lo, a_hi, b_lo, b_hi, c_lo, c_hi)
+                    if monotone != 0:  # at most one crossing in [wa, wb]: no more contraction
+                        a, b = wa, wb
+                        break
+                fresh = False
                 if kind == CIRCLE:
                     l0, h0, l1, h1 = annulus_bands(ox, oy, dx, dy, a_lo, a_hi, a, b)
                 else:
@@ -169,8 +335,11 @@ def band_roots(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, d
                         ko, o0, o1, o2 = OVAL, a_hi, b_hi, 0.0
                         ki, i0, i1, i2 = OVAL, a_lo, b_lo, 0.0
                     e0, e1 = outline_interval(ko, o0, o1, o2, px, py, qx, qy)
-                    n0, n1 = (outline_interval(ki, i0, i1, i2, px, py, qx, qy) if ok_in else (1.0, -1.0))
-                    l0, h0, l1, h1 = subtract(e0, e1, n0, n1, a, b)
+                    if max(e0, a) > min(e1, b):  # never inside the outer outline: no band
+                        empty = True
+                        break
+                    g0, g1 = (outline_interval(ki, i0, i1, i2, px, py, qx, qy) if ok_in else (1.0, -1.0))
+                    l0, h0, l1, h1 = subtract(e0, e1, g0, g1, a, b)
             if l0 > h0 and l1 > h1:
                 empty = True
                 break
@@ -187,19 +356,20 @@ def band_roots(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, d
             a, b = l0, h0
         if empty:
             continue
-        # a band's ends lie on the bounding outlines, which a crossing may touch: widen by a
-        # rounding-level margin (nothing lies outside the bands) before testing the sign
-        eps = 1e-13 * (abs(a) + abs(b)) + 1e-3 * leaf
-        a, b = max(lo, a - eps), min(hi, b + eps)
+        if monotone == 0:  # a leaf (or the budget spent): widened as above
+            eps = 1e-13 * (abs(a) + abs(b)) + 1e-3 * leaf
+            a, b = max(lo, a - eps), min(hi, b + eps)
         fa = residual(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a)
         fb = residual(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, b)
         if fa == 0.0:
             root = a
-        elif (fa > 0.0) != (fb > 0.0):
-            root = _illinois(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa, fb)
-        else:
+        elif (fa > 0.0) == (fb > 0.0):
             continue
-        if n == n0 or root > out[n - 1] + 2.0 * eps:  # neighbouring bands may share a crossing
+        elif f_kind == F_WALL:  # (in a leaf not certified: some crossing of the bracket)
+            root = _newton(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa, fb)
+        else:
+            root = _illinois(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa, fb)
+        if n == first or root > out[n - 1] + 2.0 * eps:  # neighbouring bands may share a crossing
             out[n] = root
             n += 1
     return n

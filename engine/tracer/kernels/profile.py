@@ -266,6 +266,40 @@ def wall_range(seg, tab, i, z_lo, z_hi):
 
 
 @njit(**JIT)
+def wall_slopes(seg, i, z_lo, z_hi):
+    """Range ``(lo, hi)`` of the slope ``dr/dz`` of wall segment row ``i`` over heights
+    ``[z_lo, z_hi]`` (mm/mm; 0 beyond the segment's ends, where :func:`wall_r` clamps).
+
+    Exact for lines and arcs: on an arc ``dr/dz = k u / sqrt(1 - u^2)`` with
+    ``u = (z - z_c) / a_z`` is monotone in ``u``, so its extremes are at the ends; an end where
+    the arc turns horizontal (``|u| = 1``) gives a signed infinity. ``(-inf, inf)`` for an
+    offset arc (no bound known)."""
+    kind = int(seg[i, S_KIND])
+    z0, z1 = seg[i, S_Z0], seg[i, S_Z1]
+    if kind == LINE:
+        sa = sb = (seg[i, S_R1] - seg[i, S_R0]) / (z1 - z0)
+    elif kind == ARC or kind == ELLIPSE:
+        az = seg[i, S_AZ]
+        k = -seg[i, S_HALF] * seg[i, S_AR] / az
+        sa = _arc_slope(k, (min(max(z_lo, z0), z1) - seg[i, S_CZ]) / az)
+        sb = _arc_slope(k, (min(max(z_hi, z0), z1) - seg[i, S_CZ]) / az)
+    else:
+        return -np.inf, np.inf
+    lo, hi = min(sa, sb), max(sa, sb)
+    if z_lo < z0 or z_hi > z1:
+        lo, hi = min(lo, 0.0), max(hi, 0.0)
+    return lo, hi
+
+
+@njit(**INLINE)
+def _arc_slope(k, u):
+    """``k u / sqrt(1 - u^2)``, a signed infinity at ``|u| >= 1``."""
+    if abs(u) >= 1.0:
+        return np.inf if k * u > 0.0 else -np.inf
+    return k * u / math.sqrt((1.0 - u) * (1.0 + u))
+
+
+@njit(**JIT)
 def base_z(seg, i, rho):
     """Height (mm) of the r-rising offset-arc row ``i`` (a punt's inner base) at radius ``rho``."""
     return offset_point(seg, i, _offset_at(seg, i, 0, rho))[1]

@@ -21,7 +21,7 @@ from numba import njit
 from .bands import F_WALL, band_roots
 from .outlines import RSQUARE, square_corner, xs_eval
 from .profile import S_R0, S_R1, S_Z0, S_Z1, wall_state
-from .roots import JIT, quadratic, sort_small
+from .roots import INLINE, JIT, quadratic, sort_small
 
 
 @njit(**JIT)
@@ -56,7 +56,17 @@ def swept_normal(seg, slab_seg, kind, nsec, cos_r, sin_r, px, py, pz):
     return wx / h, wy / h, gz / h
 
 
-@njit(**JIT)
+@njit(**INLINE)
+def _nonnegative(c0, c1, lo, hi):
+    """The part of ``[lo, hi]`` where ``c0 + c1 t >= 0`` (``lo > hi``: none)."""
+    if c1 > 0.0:
+        return max(lo, -c0 / c1), hi
+    if c1 < 0.0:
+        return lo, min(hi, -c0 / c1)
+    return (lo, hi) if c0 >= 0.0 else (1.0, -1.0)
+
+
+@njit(**INLINE)
 def _ruled_roots(cx0, cx1, cy0, cy1, r0, r1, sx, sy, px, py, pz, qx, qy, dz, zb, lo, hi, out, n):
     """Crossings with one corner of a rounded-rectangle wall whose corner centre
     ``(sx hx(z), sy hy(z))`` and radius ``c(z)`` are linear in the height (a slanted circular
@@ -64,6 +74,13 @@ def _ruled_roots(cx0, cx1, cy0, cy1, r0, r1, sx, sy, px, py, pz, qx, qy, dz, zb,
     # along the ray: hx = cx0 + cx1 t etc. (t measured from the ray origin)
     ux0, ux1 = px - sx * cx0, qx - sx * cx1
     uy0, uy1 = py - sy * cy0, qy - sy * cy1
+    # the quadrant test below is linear in t: where the ray never is in the quadrant (most
+    # corners of most rays), no quadratic (a hair of slack: the test after the roots decides)
+    slack = 1e-9 * (abs(lo) + abs(hi) + 1.0)
+    a, b = _nonnegative(sx * ux0, sx * ux1, lo - slack, hi + slack)
+    a, b = _nonnegative(sy * uy0, sy * uy1, a, b)
+    if a > b:
+        return n
     A = ux1 * ux1 + uy1 * uy1 - r1 * r1
     B = ux0 * ux1 + uy0 * uy1 - r0 * r1
     C = ux0 * ux0 + uy0 * uy0 - r0 * r0

@@ -1,5 +1,5 @@
 """Finishes in the tracer: relief normals at hits, no leaks with relief, the plain render kept
-bit for bit, caps drawn and following the finish, frosted glass deterministic and bounded,
+(to its last bits), caps drawn and following the finish, frosted glass deterministic and bounded,
 hostile relief images refused."""
 from __future__ import annotations
 
@@ -97,15 +97,18 @@ def test_no_leaks_or_mismatches_with_relief_on_a_half_millimetre_wall():
     assert ctx.finish[0][OUTER_WALL, 1] == 3
 
 
-def test_a_plain_design_renders_bit_for_bit_as_before_finishes(bordeaux):
+def test_a_plain_design_renders_as_before_finishes(bordeaux):
     """The reference was rendered by the tracer before finishes existed (commit f019c7d: the
     40 x 56 Bordeaux, samples 0-2 of every pixel) on this machine's toolchain (numba without
     fastmath, glibc's libm); a machine whose libm rounds differently must re-render it from
-    that commit, as a plain render's bits then differ before and after alike."""
+    that commit. Bit for bit until the intersectors' search windows changed (a ray in the
+    liquid no longer meets the outer wall first, whose hit narrowed the window of the inner
+    wall's solve; the torus solve starts on the factor that vanishes): the roots then differ
+    in their last bits, the radiance by 7e-12, every sample's dominant path is the same."""
     design, assets = bordeaux
     ref = np.load(ROOT / "tests" / "data" / "plain_bordeaux_40x56.npz")
     img, res, ctx = _image(design, assets, 40, 56, 0, 3)
-    assert np.array_equal(img, ref["bordeaux"])
+    assert np.abs(img - ref["bordeaux"]).max() < 1e-10
     assert np.array_equal(res.signature.reshape(56, 40), ref["bordeaux_sig"])
     assert ctx.finish[0][:, 1].sum() == 0 and ctx.cap is None
 

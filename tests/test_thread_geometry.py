@@ -289,9 +289,12 @@ def test_a_true_thread_renders_without_leaks_in_a_real_environment(bordeaux):
     assert np.count_nonzero(res.objects & (1 << OUTER_WALL)) > 100
 
 
-def test_a_relief_thread_renders_bit_for_bit_as_before(bordeaux):
+def test_a_relief_thread_renders_as_before(bordeaux):
     """The reference was rendered by the tracer before true threads (commit 187750e) with the
-    same relief thread; ``geometry="relief"`` must give the same bits."""
+    same relief thread; ``geometry="relief"`` must give the same image: the same bits until
+    the intersectors' search windows changed (see
+    ``test_finish_render.test_a_plain_design_renders_as_before_finishes``), now within 1e-13,
+    with every sample's dominant path the same."""
     design, assets = bordeaux
     ref = np.load(ROOT / "tests" / "data" / "thread_relief_bordeaux_32x40.npz")
     d = _threaded(design, "relief", finish="33-400")
@@ -299,7 +302,7 @@ def test_a_relief_thread_renders_bit_for_bit_as_before(bordeaux):
     assert ctx.finish[0][OUTER_WALL, 1] == 1 and not np.any(ctx.scene[0][:, R.S_KIND] == R.HELIX)
     ys, xs = np.mgrid[0:40, 0:32]
     res = trace_pixels(ctx, xs.ravel(), ys.ravel(), 0, 2)
-    assert np.array_equal(res.sums.reshape(40, 32, 3), ref["image"])
+    assert np.abs(res.sums.reshape(40, 32, 3) - ref["image"]).max() < 1e-10
     assert np.array_equal(res.signature.reshape(40, 32), ref["signature"])
 
 

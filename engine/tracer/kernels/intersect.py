@@ -8,7 +8,8 @@ true crossing along a ray and never the crossing the ray started from: a hit on 
 the ray just left counts only when it crosses back from the side the ray went to (a ray on
 one side of a surface can only cross it towards the other), and a hit at a rounding-level
 distance on a *neighbouring* object counts only when its media agree with the ray's medium
-(a ray leaving an edge). No origin offsets, no epsilon along the normal.
+(a ray leaving an edge). No origin offsets, no epsilon along the normal. The objects
+partition space into media, so only those bounding the ray's medium are searched.
 
 A hit is ``(t, object, part, geometric normal)``: the geometric normal decides the media;
 what lies on the surface there (a label's decal, a finish's shading normal from its surface
@@ -125,6 +126,11 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
     best_k, best_part = -1, -1
     bnx, bny, bnz = 0.0, 0.0, 0.0
     for k in range(obj_i.shape[0]):
+        # the objects partition space into media: a ray meets only surfaces that bound its
+        # medium (a ray in the liquid never tests the outer wall, the bottom or the rim)
+        if (obj_i[k, O_FRONT_LO] != medium and obj_i[k, O_BACK_LO] != medium and obj_i[k, O_FRONT_HI] != medium
+                and obj_i[k, O_BACK_HI] != medium):
+            continue
         # on the object the ray leaves, search from a hair past its start: the start itself is a
         # root, whose computed sign is rounding noise and would fool every sign test there
         t0 = START_FRACTION * obj_f[k, F_EDGE] if k == last_obj else 0.0

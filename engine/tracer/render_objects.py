@@ -200,7 +200,21 @@ def _segment_row(sg, v0, wall: bool, tables=None):
         tables.append(rows)
     else:
         row[R.S_KIND] = R.ARC if isinstance(sg, Arc) else R.ELLIPSE
+        row[R.S_SIDE] = _arc_side(row)
     return row
+
+
+def _arc_side(row) -> float:
+    """The side of its chord an arc row lies on (``S_SIDE``: +1 or -1), or 0 when the chord is
+    too short against the arc (a full or nearly full ellipse): the kernels then test the angle."""
+    r0, z0, r1, z1 = row[R.S_R0], row[R.S_Z0], row[R.S_R1], row[R.S_Z1]
+    mid = row[R.S_A0] + 0.5 * row[R.S_SWEEP]
+    mr, mz = row[R.S_CR] + row[R.S_AR] * math.cos(mid), row[R.S_CZ] + row[R.S_AZ] * math.sin(mid)
+    cross = (r1 - r0) * (mz - z0) - (z1 - z0) * (mr - r0)
+    size = row[R.S_AR] + row[R.S_AZ]
+    if math.hypot(r1 - r0, z1 - z0) < 1e-6 * size or abs(cross) < 1e-9 * size * size:
+        return 0.0
+    return math.copysign(1.0, cross)
 
 
 class _Tables:

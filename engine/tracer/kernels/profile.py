@@ -23,7 +23,11 @@ LINE, ARC, ELLIPSE, OFFSET, HELIX = 0, 1, 2, 3, 4
 # segment table columns
 S_KIND, S_R0, S_Z0, S_R1, S_Z1, S_CR, S_CZ, S_AR, S_AZ, S_A0, S_SWEEP, S_DIR, S_W = range(13)
 (S_RMIN, S_RMAX, S_ZMIN, S_ZMAX, S_V0, S_LEN, S_SPLIT, S_AXIS, S_HALF, S_TAB0, S_TABN) = range(13, 24)
-S_COLS = 24
+# S_SIDE (arcs): the side of the chord from (R0, Z0) to (R1, Z1) the arc lies on, the sign of
+# (P1 - P0) x (Q - P0) for its points Q (an ellipse lies on both sides of any chord, one arc
+# on each); 0 where the chord cannot tell (a full ellipse): the angle decides
+S_SIDE = 24
+S_COLS = 25
 # A HELIX row is a line row (its base cone r = L(z) from (R0, Z0) to (R1, Z1), V0, LEN,
 # bounds widened by the ridge) whose thread lies on the band of heights [H_Z0, H_Z1]; the
 # thread sits in the columns only arcs use: the reference radius (mm), starts, phase (rad),

@@ -20,9 +20,9 @@ from numba import njit
 from .bands import annulus_bands, subtract
 from .outlines import disc_interval
 from .helix import MAX_ROOTS, helix_normal, helix_roots, helix_v
-from .profile import (HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR, S_KIND, S_LEN,
-                      S_R0, S_R1, S_RMAX, S_RMIN, S_SWEEP, S_ZMAX, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1, TWO_PI, _offset_at,
-                      in_sweep, offset_at_between, offset_point, offset_rz)
+from .profile import (HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR, S_KIND, S_LEN, S_R0,
+                      S_R1, S_RMAX, S_RMIN, S_SIDE, S_SWEEP, S_ZMAX, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1,
+                      TWO_PI, _offset_at, in_sweep, offset_at_between, offset_point, offset_rz)
 from .roots import INLINE, JIT, cone_roots, hypot2, sort_small, torus_roots
 
 #: Band contraction on an offset arc stops at this fraction of the segment's length: only a
@@ -360,12 +360,21 @@ def segment_hits(seg, tab, i, ox, oy, oz, dx, dy, dz, tlo, thi, lo, hi, out, cri
         m = torus_roots(ox, oy, oz - cz, dx, dy, dz, abs(cr), ar, az, cr < 0.0, max(tlo, lo), out, crit,
                         min(thi, hi))
         n = 0
-        for j in range(m):  # keep the roots inside the arc's sweep, in order
+        side = seg[i, S_SIDE]
+        r0, z0 = seg[i, S_R0], seg[i, S_Z0]
+        er, ez = seg[i, S_R1] - r0, seg[i, S_Z1] - z0
+        # the arc is the part of its ellipse on one side of its chord (S_SIDE); at the chord's
+        # ends a slack of 1e-9 of the ellipse's size, as the angle test's 1e-9 of the sweep
+        slack = 1e-9 * (ar + az) * hypot2(er, ez)
+        for j in range(m):  # keep the roots on the arc, in order
             t = out[j]
             x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
             rho = hypot2(x, y)
-            ang = math.atan2((z - cz) / az, (rho - cr) / ar)
-            if in_sweep(ang, seg[i, S_A0], seg[i, S_SWEEP]):
+            if side != 0.0:
+                on_arc = side * (er * (z - z0) - ez * (rho - r0)) >= -slack
+            else:
+                on_arc = in_sweep(math.atan2((z - cz) / az, (rho - cr) / ar), seg[i, S_A0], seg[i, S_SWEEP])
+            if on_arc:
                 out[n] = t
                 n += 1
     k = 0

@@ -35,7 +35,7 @@ from numba import njit
 from .outlines import (CIRCLE, OVAL, RRECT, RSQUARE, SQRT2, disc_interval, gradient_span, outline_interval,
                        rrect_directions, square_corner, xs_eval)
 from .profile import base_range, base_z, wall_r, wall_range, wall_slopes, wall_state
-from .roots import INLINE, JIT
+from .roots import INLINE, JIT, illinois_done, illinois_point, illinois_update
 
 
 @njit(**INLINE)
@@ -74,22 +74,11 @@ def _illinois(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy
     x = a
     last = 0
     for _ in range(100):
-        x = (a * fb - b * fa) / (fb - fa)
-        if not (x > a and x < b):
-            x = 0.5 * (a + b)
+        x = illinois_point(a, b, fa, fb)
         fx = residual(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, x)
-        if fx == 0.0 or b - a <= 4e-16 * max(abs(a), abs(b)) + 1e-300:
+        if illinois_done(a, b, fx):
             break
-        if (fx > 0.0) == (fa > 0.0):
-            a, fa = x, fx
-            if last > 0:
-                fb *= 0.5
-            last = 1
-        else:
-            b, fb = x, fx
-            if last < 0:
-                fa *= 0.5
-            last = -1
+        a, b, fa, fb, last = illinois_update(a, b, fa, fb, x, fx, last)
     return x
 
 

@@ -23,7 +23,8 @@ from .helix import MAX_ROOTS, helix_normal, helix_roots, helix_v
 from .profile import (HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR, S_KIND, S_LEN, S_R0,
                       S_R1, S_RMAX, S_RMIN, S_SIDE, S_SWEEP, S_ZMAX, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1,
                       TWO_PI, _offset_at, in_sweep, offset_at_between, offset_point, offset_rz)
-from .roots import INLINE, JIT, cone_roots, hypot2, sort_small, torus_roots
+from .roots import (INLINE, JIT, cone_roots, hypot2, illinois_done, illinois_point, illinois_update, sort_small,
+                    torus_roots)
 
 #: Band contraction on an offset arc stops at this fraction of the segment's length: only a
 #: pair of crossings closer than that can be missed (a graze of well under 1e-6 mm).
@@ -246,22 +247,11 @@ def _illinois_piece(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
     last = 0
     root = a
     for _ in range(100):
-        root = (a * fb - b * fa) / (fb - fa)
-        if not (root > a and root < b):
-            root = 0.5 * (a + b)
+        root = illinois_point(a, b, fa, fb)
         fr = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, root)
-        if fr == 0.0 or b - a <= 4e-16 * max(abs(a), abs(b)) + 1e-300:
+        if illinois_done(a, b, fr):
             break
-        if (fr > 0.0) == (fa > 0.0):
-            a, fa = root, fr
-            if last > 0:
-                fb *= 0.5
-            last = 1
-        else:
-            b, fb = root, fr
-            if last < 0:
-                fa *= 0.5
-            last = -1
+        a, b, fa, fb, last = illinois_update(a, b, fa, fb, root, fr, last)
     return root
 
 

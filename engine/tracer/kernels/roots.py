@@ -41,6 +41,42 @@ def hypot2(x, y):
 
 
 @njit(**INLINE)
+def illinois_point(a, b, fa, fb):
+    """Next point of Illinois false position in the bracket ``[a, b]`` (residuals ``fa, fb``
+    of opposite signs): the secant's zero, the midpoint if that falls outside."""
+    x = (a * fb - b * fa) / (fb - fa)
+    if not (x > a and x < b):
+        x = 0.5 * (a + b)
+    return x
+
+
+@njit(**INLINE)
+def illinois_done(a, b, fx):
+    """Whether Illinois false position stops at a point of residual ``fx``: an exact zero, or
+    a bracket ``[a, b]`` down to a few ulps."""
+    return fx == 0.0 or b - a <= 4e-16 * max(abs(a), abs(b)) + 1e-300
+
+
+@njit(**INLINE)
+def illinois_update(a, b, fa, fb, x, fx, last):
+    """The bracket ``(a, b, fa, fb, last)`` after a point ``x`` of residual ``fx``: ``x``
+    replaces the end of its sign, and the other end's residual is halved when the same end
+    moved twice in a row (``last``: +1 the low end moved, -1 the high one), which keeps false
+    position from creeping from one side."""
+    if (fx > 0.0) == (fa > 0.0):
+        a, fa = x, fx
+        if last > 0:
+            fb *= 0.5
+        last = 1
+    else:
+        b, fb = x, fx
+        if last < 0:
+            fa *= 0.5
+        last = -1
+    return a, b, fa, fb, last
+
+
+@njit(**INLINE)
 def sort_small(out, n):
     """Sort ``out[:n]`` ascending in place (insertion sort: n is a handful of roots)."""
     for i in range(1, n):

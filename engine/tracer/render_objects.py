@@ -41,7 +41,7 @@ import numpy as np
 from ..geometry.offset import radius_at
 from ..geometry.validate import body_profile
 from ..model.fill import fill_height_of
-from ..geometry.segments import Arc, EllipseArc, Line, OffsetEllipseArc
+from ..geometry.segments import Arc, Line, OffsetEllipseArc
 from ..intersect.revolved import segment_bounds
 from .kernels import intersect as K
 from .kernels import profile as R

@@ -116,12 +116,19 @@ def _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, t, s):
 
 
 @njit(**INLINE)
-def _band_side(nr, nz, r0, z0, band, eps, sgn_pos, ox, oy, oz, dx, dy, dz, t):
-    """Sign of the residual at ray distance ``t`` when the point lies outside the piece's band
-    beside its chord (``n . (p - P0)`` beyond ``[min(0, band), max(0, band)]`` by ``eps``):
-    ``sgn_pos`` on the positive side, ``-sgn_pos`` on the negative one; 0 inside (unknown)."""
-    x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
-    v = nr * (math.sqrt(x * x + y * y) - r0) + nz * (z - z0)
+def _chord_v(nr, nz, r0, z0, ox, oy, oz, dx, dy, dz, t):
+    """Signed distance ``n . (p - P0)`` (mm) of the ray's point at ``t``, in its meridian
+    plane, from the chord through ``P0 = (r0, z0)`` with unit normal ``n = (nr, nz)``."""
+    x, y = ox + t * dx, oy + t * dy
+    return nr * (math.sqrt(x * x + y * y) - r0) + nz * (oz + t * dz - z0)
+
+
+@njit(**INLINE)
+def _band_side(v, band, eps, sgn_pos):
+    """Sign of the residual at a point whose distance from the piece's chord is ``v``
+    (:func:`_chord_v`) when it lies outside the band beside the chord (``v`` beyond
+    ``[min(0, band), max(0, band)]`` by ``eps``): ``sgn_pos`` on the positive side,
+    ``-sgn_pos`` on the negative one; 0 inside (unknown)."""
     if v > max(0.0, band) + eps:
         return sgn_pos
     if v < min(0.0, band) - eps:
@@ -155,18 +162,16 @@ def _chord_extreme(nr, nz, ox, oy, dx, dy, dz, a, b):
 
 
 @njit(**JIT)
-def _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, band, ox, oy, oz, dx, dy, dz, a, b):
-    """The crossing in ``[a, b]`` of table piece ``k``, whose residual changes sign there:
-    Newton from where the ray crosses the middle of the piece's band (linear in the distance
-    from the chord between the ends), the curve's parameter from the chord's fraction there;
-    Illinois false position on the curve if Newton leaves the bracket (slower, sure)."""
+def _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx, dy, dz, a, b, va, vb):
+    """The crossing in ``[a, b]`` of table piece ``k`` (chord of unit normal ``n``, ``length``
+    mm), whose residual changes sign there: Newton from where the ray crosses the middle of
+    the piece's band (linear in the distances ``va, vb`` of the ends from the chord), the
+    curve's parameter from the chord's fraction there; Illinois false position on the curve
+    if Newton leaves the bracket (slower, sure)."""
     pr, pz = tab[k, 0], tab[k, 1]
     er, ez = -nz, nr
-    length = hypot2(tab[k + 1, 0] - pr, tab[k + 1, 1] - pz)
     root = np.nan
     if length > 0.0:
-        va = nr * (hypot2(ox + a * dx, oy + a * dy) - pr) + nz * (oz + a * dz - pz)
-        vb = nr * (hypot2(ox + b * dx, oy + b * dy) - pr) + nz * (oz + b * dz - pz)
         mid = 0.5 * band if math.isfinite(band) else 0.0
         t = a if va == vb else a + (b - a) * min(1.0, max(0.0, (mid - va) / (vb - va)))
         x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
@@ -203,8 +208,10 @@ def _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, d
     use_band = math.isfinite(band) and lean != 0.0
     sgn_pos = 1.0 if lean > 0.0 else -1.0
     eps = 1e-12 * (r1 + abs(z1) + 1.0)
-    fa = _band_side(nr, nz, pr, pz, band, eps, sgn_pos, ox, oy, oz, dx, dy, dz, a) if use_band else 0.0
-    fb = _band_side(nr, nz, pr, pz, band, eps, sgn_pos, ox, oy, oz, dx, dy, dz, b) if use_band else 0.0
+    va = _chord_v(nr, nz, pr, pz, ox, oy, oz, dx, dy, dz, a)
+    vb = _chord_v(nr, nz, pr, pz, ox, oy, oz, dx, dy, dz, b)
+    fa = _band_side(va, band, eps, sgn_pos) if use_band else 0.0
+    fb = _band_side(vb, band, eps, sgn_pos) if use_band else 0.0
     if fa == 0.0:
         fa = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a)
     if fb == 0.0:
@@ -213,18 +220,22 @@ def _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, d
     if fa == 0.0:
         roots_lo = a
     elif (fa > 0.0) != (fb > 0.0) and fb != 0.0:
-        roots_lo = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, band, ox, oy, oz, dx, dy, dz, a, b)
+        roots_lo = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx, dy, dz, a, b,
+                                va, vb)
     elif fb != 0.0:  # one sign at both ends: a pair only if the ray dips to the other side
         tm = _chord_extreme(nr, nz, ox, oy, dx, dy, dz, a, b)
         if math.isfinite(tm):
-            fm = _band_side(nr, nz, pr, pz, band, eps, sgn_pos, ox, oy, oz, dx, dy, dz, tm) if use_band else 0.0
+            vm = _chord_v(nr, nz, pr, pz, ox, oy, oz, dx, dy, dz, tm)
+            fm = _band_side(vm, band, eps, sgn_pos) if use_band else 0.0
             if fm != 0.0 and (fm > 0.0) == (fa > 0.0):
                 return n
             if fm == 0.0:
                 fm = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, tm)
             if fm != 0.0 and (fm > 0.0) != (fa > 0.0):
-                roots_lo = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, band, ox, oy, oz, dx, dy, dz, a, tm)
-                roots_hi = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, band, ox, oy, oz, dx, dy, dz, tm, b)
+                roots_lo = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx, dy, dz,
+                                        a, tm, va, vm)
+                roots_hi = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx, dy, dz,
+                                        tm, b, vm, vb)
     for j in range(2):
         root = roots_lo if j == 0 else roots_hi
         if not math.isfinite(root):

@@ -95,6 +95,24 @@ def test_a_failing_worker_is_reported_not_swallowed(monkeypatch):
         render_image(design, threads=1, tile=16)
 
 
+def test_wait_returns_only_after_on_done_returned():
+    """A window tears down the signals ``on_done`` emits once ``wait`` returned: the job must
+    not run any code after that (the race crashed the window at quit, CI stop 17)."""
+    design = simple_design(40.0, width=8, height=8, spp=1)
+    inside, release, seen = threading.Event(), threading.Event(), []
+
+    def on_done(j):
+        seen.append(j.done)  # done is already true for the callback
+        inside.set()
+        release.wait(60)
+
+    job = RenderJob(design, threads=1, tile=16, on_done=on_done).start()
+    assert inside.wait(120) and seen == [True]
+    assert job.done and not job.wait(0.05), "wait returned while on_done still ran"
+    release.set()
+    assert job.wait(60)
+
+
 def test_camera_edit_reuses_geometry_and_fill_edit_rebuilds_it():
     import dataclasses
 

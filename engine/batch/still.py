@@ -68,6 +68,7 @@ class FinalRender:
         self.started = None
         self.seconds = None
         self._finished = threading.Event()
+        self._returned = threading.Event()  # set once ``on_done`` returned (see ``wait``)
 
     def start(self) -> "FinalRender":
         """Start rendering on worker threads; returns ``self``."""
@@ -86,8 +87,9 @@ class FinalRender:
             self.job.cancel()
 
     def wait(self, timeout: float | None = None) -> bool:
-        """Block until the render has ended (written, cancelled or failed)."""
-        return self._finished.wait(timeout)
+        """Block until the render has ended (written, cancelled or failed) and ``on_done``
+        returned: after a True, none of this render's code runs any more."""
+        return self._returned.wait(timeout) and (self.job is None or self.job.wait(timeout))
 
     @property
     def done(self) -> bool:
@@ -134,5 +136,8 @@ class FinalRender:
         finally:
             self.seconds = time.monotonic() - (self.started or time.monotonic())
             self._finished.set()
-            if self.on_done is not None:
-                self.on_done(self)
+            try:
+                if self.on_done is not None:
+                    self.on_done(self)
+            finally:
+                self._returned.set()

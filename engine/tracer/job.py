@@ -269,6 +269,9 @@ class RenderJob:
         self._cancel_flag = np.zeros(1, np.int64)
         self._cancel = threading.Event()
         self._finished = threading.Event()
+        #: set after ``on_done`` returned: what ``wait`` waits for, so that a caller who tears
+        #: down what the callback touches (the window's signals) never races the callback
+        self._returned = threading.Event()
         self._lock = threading.Lock()
         self._progress = 0.0
         self._thread = None
@@ -302,8 +305,10 @@ class RenderJob:
         self._cancel.set()
 
     def wait(self, timeout=None) -> bool:
-        """Block until the job stops or ``timeout`` seconds pass; True when it has stopped."""
-        return self._finished.wait(timeout)
+        """Block until the job stops and its ``on_done`` returned, or ``timeout`` seconds
+        pass; True when it has stopped. (``done`` turns true before ``on_done`` runs, so the
+        callback sees it; ``wait`` returns after, so nothing of the job runs any more.)"""
+        return self._returned.wait(timeout)
 
     @property
     def done(self) -> bool:
@@ -417,12 +422,14 @@ class RenderJob:
             if self.error is None and not self._cancel.is_set():
                 self._set_progress(1.0)
             self._finished.set()
-            if self.on_done is not None:
-                try:
+            try:
+                if self.on_done is not None:
                     self.on_done(self)
-                except Exception as exc:  # a failing callback is an error of the job
-                    if self.error is None:
-                        self.error = exc
+            except Exception as exc:  # a failing callback is an error of the job
+                if self.error is None:
+                    self.error = exc
+            finally:
+                self._returned.set()
 
     def _render(self, ctx=None) -> None:
         if ctx is None:

@@ -125,6 +125,7 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
     best = np.inf
     best_k, best_part = -1, -1
     bnx, bny, bnz = 0.0, 0.0, 0.0
+    pending = False  # the best crossing's normal is still to compute
     for k in range(obj_i.shape[0]):
         # the objects partition space into media: a ray meets only surfaces that bound its
         # medium (a ray in the liquid never tests the outer wall, the bottom or the rim)
@@ -145,7 +146,7 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
                 pz = oz + t * dz
                 nz = obj_f[k, F_PNZ]
                 if _accept(obj_i, obj_f, k, t, 0.0, 0.0, nz, dx, dy, dz, pz, medium, last_obj, last_side):
-                    best, best_k, best_part = t, k, -1
+                    best, best_k, best_part, pending = t, k, -1, False
                     bnx, bny, bnz = 0.0, 0.0, nz
             continue
         first, count = obj_i[k, O_FIRST], obj_i[k, O_COUNT]
@@ -190,12 +191,21 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
                 t = roots[q]
                 if not (t > t0 and t < best):
                     continue
-                px, py, pz = ox + t * dx, oy + t * dy, oz + t * dz
+                pz = oz + t * dz
                 if pz < obj_f[k, F_ZMIN] or pz > obj_f[k, F_ZMAX]:
                     continue
+                if k != last_obj and t >= obj_f[k, F_EDGE]:
+                    # _accept takes any such crossing whatever its normal: the normal waits
+                    # until the nearest is known (a nearer object or slab often replaces it)
+                    best, best_k, best_part, pending = t, k, j, True
+                    break
+                px, py = ox + t * dx, oy + t * dy
                 nx, ny, nz = object_normal(seg, slab_i, obj_i, obj_f, k, j, px, py, pz)
                 if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last_obj, last_side):
-                    best, best_k, best_part = t, k, j
+                    best, best_k, best_part, pending = t, k, j, False
                     bnx, bny, bnz = nx, ny, nz
                     break
+    if pending:
+        bnx, bny, bnz = object_normal(seg, slab_i, obj_i, obj_f, best_k, best_part, ox + best * dx,
+                                      oy + best * dy, oz + best * dz)
     return best, best_k, best_part, bnx, bny, bnz

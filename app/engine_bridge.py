@@ -197,6 +197,11 @@ def tracer_job_class():
     return tracer_job.RenderJob
 
 
+#: How the window's renders decide a pixel has enough samples: its noise below a fraction of a
+#: display level once tone-mapped (what the screen can show), not in linear radiance.
+WINDOW_NOISE = {"noise_space": "display", "noise_target": tracer_job.adaptive.DISPLAY_NOISE}
+
+
 def tonemap_srgb8(image: np.ndarray) -> np.ndarray:
     """Linear RGB float image -> sRGB uint8, the tracer's own tone map."""
     return np.asarray(tracer_job.tonemap_srgb8(image))

@@ -192,7 +192,8 @@ class RenderController(QObject):
         job = engine_bridge.tracer_job_class()(
             design, assets, width=width, height=height, spp=spp, threads=self.threads,
             worker_nice=WORKER_NICE, on_tile=lambda j, t, g=generation: self._worker_tile.emit(g, j, t),
-            on_done=lambda j, g=generation: self._worker_done.emit(g, j), **reuse)
+            on_done=lambda j, g=generation: self._worker_done.emit(g, j), **engine_bridge.WINDOW_NOISE,
+            **reuse)
         if not live:
             self._last_full = job
         return job

@@ -15,6 +15,8 @@ Every comparison is a ratio measured in the same run, on the same thread:
 * **threads**: the same deterministic job (a second or more on one thread) on 1 and 2 worker
   threads (images bit-identical).
 * **latency**: first finished tile over the whole job, and the bundled sample's time to converge.
+* **window**: the bundled sample at the window's preview size, converged with the window's
+  display-space noise criterion and with the linear one, each with its error in display levels.
 * **cold start**: a fresh process compiling the kernels into an empty cache, and then loading them.
 
 CPU time of the measuring thread is used for the frame/Embree ratio (both single-threaded), so
@@ -152,6 +154,40 @@ def latency(name):
             "mean_spp": float(job.sample_counts().mean())}
 
 
+#: The preview pane of the window at its default size (app.layout.DEFAULT_SIZE), device pixels.
+WINDOW_SIZE = (715, 954)
+
+
+def window_convergence(name, reference=True):
+    """The window's job on a sample at the window's preview size (2 threads): seconds to converge
+    with the window's display-space noise criterion and with the linear one of the references,
+    each with its RMS error in display levels (of 255, tone-mapped as the window shows it)
+    against a render at 5x lower linear noise (``reference=False``: no error, no reference)."""
+    from engine.tracer import adaptive
+    from engine.tracer.job import RenderJob, tonemap_srgb8
+
+    design, assets = load_scene(name)
+    w, h = WINDOW_SIZE
+
+    def run(**kw):
+        job = RenderJob(design, assets, width=w, height=h, threads=2, **kw).start()
+        job.wait()
+        if job.error is not None:
+            raise job.error
+        return job
+
+    ref = tonemap_srgb8(run(noise_target=adaptive.NOISE_TARGET / 5).image()).astype(float) if reference else None
+    out = []
+    for space, target in (("display", adaptive.DISPLAY_NOISE), ("linear", adaptive.NOISE_TARGET)):
+        job = run(noise_space=space, noise_target=target)
+        err = (float(np.sqrt(np.mean((tonemap_srgb8(job.image()).astype(float) - ref) ** 2)))
+               if reference else float("nan"))
+        out.append({"scene": name, "width": w, "height": h, "noise_space": space, "noise_target": target,
+                    "converged_s": job.seconds, "display_rmse_levels": err,
+                    "segments": int(job.stats.rays_cast), "mean_spp": float(job.sample_counts().mean())})
+    return out
+
+
 def cold_start():
     """Seconds for a fresh process to render an 8x8 image with an empty kernel cache (compile)
     and again with the cache it left (load)."""
@@ -257,6 +293,12 @@ def main(argv=None) -> int:
           f"{lat['first_tile_s']:.3f} s, converged {lat['converged_s']:.2f} s ({lat['first_over_frame']:.3f} of the "
           f"frame), mean {lat['mean_spp']:.2f} samples/pixel")
     rows.append(dict(section="latency", **lat))
+    win = window_convergence("bordeaux")
+    for r in win:
+        print(f"window (bordeaux at the window's {r['width']}x{r['height']}, 2 threads, noise in {r['noise_space']} "
+              f"space < {r['noise_target']:.4f}): converged {r['converged_s']:.2f} s, {r['segments'] / 1e6:.1f} M "
+              f"segments, display error {r['display_rmse_levels']:.3f} levels RMS against 5x less noise")
+    rows += [dict(section="window", **r) for r in win]
     cs = cold_start()
     print(f"cold start: compile the kernels {cs['compile']:.1f} s, load them from the cache {cs['load']:.1f} s "
           f"(fresh processes, each rendering 8x8 px)")

@@ -145,7 +145,7 @@ def test_a_held_drag_shows_a_live_pass_and_says_stale_until_release(make_window,
     assert w.render_progress.value() == 0, "a held render never claims to be done"
     qtbot.waitUntil(lambda: rc.job is not None and rc.live, timeout=10_000)
     assert rc.size == (round(48 * LIVE_SCALE), round(64 * LIVE_SCALE))
-    assert rc.job.spp == 1
+    assert rc.job.spp == 1 and rc.job.noise_space == "display", "the window judges noise as displayed"
     live = rc.job
     canvas.drag_to((0.0, 8.0))  # the next step cancels the live pass at once
     assert live.cancelled

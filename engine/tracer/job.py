@@ -227,7 +227,11 @@ class RenderJob:
         Add the adaptive rounds after the uniform anti-aliasing rounds.
     noise_target : float
         Adaptive rounds stop adding samples to a pixel once its standard error is below this
-        fraction of the design's reference level (the environment's mean radiance).
+        fraction of the design's reference level (the environment's mean radiance), or with
+        ``noise_space="display"`` below this many display units once tone-mapped.
+    noise_space : str
+        "linear" (references, final renders) or "display" (the window:
+        :data:`~engine.tracer.adaptive.DISPLAY_NOISE`): see :func:`adaptive.noise_targets`.
     previous : RenderJob, optional; changed : set of str, optional
         The job this one replaces and the design fields that changed since: when none of
         :data:`VISUAL_FIELDS` changed and the previous job finished at the same size, its film
@@ -240,7 +244,7 @@ class RenderJob:
 
     def __init__(self, design, assets=None, *, width=None, height=None, spp=None, threads=None,
                  tile=32, on_tile=None, on_done=None, adaptive=True, noise_target=NOISE_TARGET,
-                 previous=None, changed=None, worker_nice=0, _tile_shuffle_seed=None):
+                 noise_space="linear", previous=None, changed=None, worker_nice=0, _tile_shuffle_seed=None):
         self.design = design
         self.assets = assets
         self.width = int(width or design.render.width)
@@ -255,6 +259,9 @@ class RenderJob:
         self.on_done = on_done
         self.adaptive = bool(adaptive)
         self.noise_target = float(noise_target)
+        if noise_space not in ("linear", "display"):
+            raise ValueError(f"noise_space must be 'linear' or 'display', not {noise_space!r}")
+        self.noise_space = noise_space
         self.stats = TraceStats()
         self.error = None
         self.seconds = None
@@ -354,8 +361,8 @@ class RenderJob:
         prev = self._previous
         if (prev is None or prev._records is None or prev._ctx is None or self._records is None
                 or not prev.done or prev.error is not None or prev.cancelled
-                or (prev.width, prev.height, prev.spp, prev.adaptive, prev.noise_target)
-                != (self.width, self.height, self.spp, self.adaptive, self.noise_target)
+                or (prev.width, prev.height, prev.spp, prev.adaptive, prev.noise_target, prev.noise_space)
+                != (self.width, self.height, self.spp, self.adaptive, self.noise_target, self.noise_space)
                 or _without_labels(prev.design) != _without_labels(self.design)
                 or (prev.design.lights != self.design.lights and self.design.cap is not None)):
             return None  # (lights shade a closure's diffuse parts too: those pixels are not recorded)
@@ -456,7 +463,7 @@ class RenderJob:
             plan = adaptive.plan(self.spp, self.adaptive)
             for r, (target, varied) in enumerate(plan):
                 if varied:
-                    want = adaptive.noise_targets(film, target, self.noise_target, level)
+                    want = adaptive.noise_targets(film, target, self.noise_target, level, self.noise_space)
                 else:
                     want = np.where(edges, target, 0)
                 mask = want > film.aa_count

@@ -1,0 +1,70 @@
+"""The adaptive policy's noise criterion: linear radiance (references) or display units (window)."""
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from engine.tracer import adaptive
+from engine.tracer.film import Film
+from engine.tracer.job import tonemap_srgb8
+
+
+def _film_with(pixels):
+    """A 1-row film whose pixel i holds anti-aliasing samples ``pixels[i]`` (grey values)."""
+    film = Film(len(pixels), 1)
+    for i, samples in enumerate(pixels):
+        s = np.asarray(samples, float)
+        film.aa_count[0, i] = len(s)
+        film.aa_sum[0, i] = s.sum()
+        film.aa_sumsq[0, i] = (s ** 2).sum()
+    return film
+
+
+def test_display_slope_is_the_tone_maps_derivative_and_zero_above_white():
+    v = np.array([0.001, 0.02, 0.18, 0.5, 0.9])
+    h = 1e-6
+    numeric = (tonemap_srgb8_float(v + h) - tonemap_srgb8_float(v - h)) / (2 * h)
+    assert np.allclose(adaptive.display_slope(v), numeric, rtol=1e-5)
+    assert adaptive.display_slope(1.5) == 0.0
+
+
+def tonemap_srgb8_float(x):
+    """The tone map of :func:`tonemap_srgb8` before quantisation (to differentiate it)."""
+    x = np.clip(x, 0.0, 1.0)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
+
+
+def test_tone_map_matches_the_slopes_curve():
+    x = np.linspace(0, 1, 1001)[:, None, None] * np.ones((1, 1, 3))
+    assert np.array_equal(tonemap_srgb8(x)[..., 0], np.clip(np.round(tonemap_srgb8_float(x[..., 0]) * 255), 0, 255))
+
+
+def test_display_space_asks_more_of_dark_glass_and_nothing_of_clipped_highlights():
+    rng = np.random.default_rng(3)
+    scatter = rng.normal(0.0, 1.0, 8)
+    scatter = (scatter - scatter.mean()) / scatter.std()  # exactly unit spread
+    dark = 0.12 + 0.05 * scatter
+    mid = 0.5 + 0.05 * scatter  # the same spread, brighter: the display compresses it
+    white = 6.0 + 0.5 * scatter  # far above white: the display shows 255 whatever
+    film = _film_with([dark, mid, white])
+    want = adaptive.noise_targets(film, 10_000, adaptive.DISPLAY_NOISE, 1.0, space="display")[0]
+    assert want[0] > want[1] > 8, "same radiance spread: the darker pixel needs more samples"
+    assert want[2] == 8, "a clipped highlight keeps what it has"
+    # n = var slope^2 / target^2, the standard error's tolerance in display units
+    var = np.var(dark, ddof=1)
+    assert want[0] == np.ceil(var * adaptive.display_slope(dark.mean()) ** 2 / adaptive.DISPLAY_NOISE ** 2)
+    lin = adaptive.noise_targets(film, 10_000, 0.01, 1.0)[0]
+    assert lin[0] == lin[1] and lin[2] > 1000, "linear radiance: the spread alone decides"
+    with pytest.raises(ValueError, match="noise space"):
+        adaptive.noise_targets(film, 10, 0.01, 1.0, space="log")
+
+
+def test_the_windows_jobs_use_the_display_criterion():
+    from app import engine_bridge
+    from engine.tracer.job import RenderJob
+    from tests.test_tracer import simple_design
+
+    job = RenderJob(simple_design(40.0, width=8, height=8, spp=1), **engine_bridge.WINDOW_NOISE)
+    assert job.noise_space == "display" and job.noise_target == adaptive.DISPLAY_NOISE
+    with pytest.raises(ValueError, match="noise_space"):
+        RenderJob(simple_design(40.0, width=8, height=8, spp=1), noise_space="gamma")

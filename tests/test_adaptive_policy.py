@@ -6,6 +6,7 @@ import pytest
 
 from engine.tracer import adaptive
 from engine.tracer.film import Film
+from engine.tracer.display import srgb_encode
 from engine.tracer.job import tonemap_srgb8
 
 
@@ -28,10 +29,7 @@ def test_display_slope_is_the_tone_maps_derivative_and_zero_above_white():
     assert adaptive.display_slope(1.5) == 0.0
 
 
-def tonemap_srgb8_float(x):
-    """The tone map of :func:`tonemap_srgb8` before quantisation (to differentiate it)."""
-    x = np.clip(x, 0.0, 1.0)
-    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
+tonemap_srgb8_float = srgb_encode  # the tone map before quantisation (to differentiate it)
 
 
 def test_tone_map_matches_the_slopes_curve():

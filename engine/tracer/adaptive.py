@@ -13,6 +13,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .display import display_slope
+
 #: First anti-aliasing round: samples every edge pixel gets.
 FIRST_AA = 4
 #: Relative radiance step between neighbouring centres that marks an edge.
@@ -22,11 +24,13 @@ ADAPTIVE_FACTOR = 16
 #: Default target: per-pixel standard error below this fraction of the design's reference level.
 NOISE_TARGET = 0.01
 #: The window's target: per-pixel standard error below this many display units (sRGB, 0..1)
-#: once tone-mapped (:func:`engine.tracer.job.tonemap_srgb8`). Measured on the bundled sample
+#: once tone-mapped (:func:`engine.tracer.display.tonemap_srgb8`). Measured on the bundled sample
 #: at the window's 715x954 against a render at 5x less noise: 0.31 display levels (of 255) RMS
 #: in 5.7-6.0 s, where ``NOISE_TARGET`` in linear radiance gives 0.37 levels in 5.6-6.7 s (it
 #: spends samples on highlights the display clips and too few on dark glass).
 DISPLAY_NOISE = 2.0 / 255.0
+#: Where :func:`noise_targets` may judge a pixel's scatter.
+NOISE_SPACES = ("linear", "display")
 #: The adaptive rounds' samples play Russian roulette on branches lighter than this: those
 #: pixels are noisy anyway (light trapped in thick glass), and a sample then costs about a
 #: path instead of a tree (``python -m benchmarks.tracer``: error against time).
@@ -57,15 +61,6 @@ def edge_mask(centre_lum, signature, level: float) -> np.ndarray:
     step = _neighbour_max(centre_lum, lambda a, b: np.abs(a - b) > CONTRAST * np.maximum(a, b) + floor)
     path = _neighbour_max(signature, lambda a, b: a != b)
     return step | path
-
-
-def display_slope(value) -> np.ndarray:
-    """d(display)/d(radiance) of the window's tone map (exposure 1, clamp to [0, 1], sRGB
-    curve) at linear ``value``; 0 above white, where the display clips."""
-    v = np.asarray(value, dtype=float)
-    tiny = 0.0031308
-    slope = np.where(v <= tiny, 12.92, 1.055 / 2.4 * np.maximum(v, tiny) ** (1.0 / 2.4 - 1.0))
-    return np.where(v >= 1.0, 0.0, slope)
 
 
 def noise_targets(film, cap: int, noise_target: float, level: float, space: str = "linear") -> np.ndarray:

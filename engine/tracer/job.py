@@ -48,8 +48,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import adaptive
+from .adaptive import NOISE_SPACES
 from ..appearance.frame import Placement
 from .context import PixelResult, RenderContext, TraceStats, trace_pixels
+from .display import tonemap_srgb8  # noqa: F401 - the encoding the callers of a job use
 from .film import Film
 from .kernels.integrator import N_COUNTERS
 from ..appearance.cap_surfaces import P_OBJECT
@@ -259,7 +261,7 @@ class RenderJob:
         self.on_done = on_done
         self.adaptive = bool(adaptive)
         self.noise_target = float(noise_target)
-        if noise_space not in ("linear", "display"):
+        if noise_space not in NOISE_SPACES:  # (the argument ``adaptive`` hides the module here)
             raise ValueError(f"noise_space must be 'linear' or 'display', not {noise_space!r}")
         self.noise_space = noise_space
         self.stats = TraceStats()
@@ -665,9 +667,3 @@ def render_image(design, assets=None, **kw) -> np.ndarray:
         raise job.error
     return job.image()
 
-
-def tonemap_srgb8(image) -> np.ndarray:
-    """Display encoding: exposure 1, clamp to [0, 1], sRGB transfer curve, ``uint8`` (H, W, 3)."""
-    x = np.clip(np.nan_to_num(np.asarray(image, dtype=np.float64), nan=0.0), 0.0, 1.0)
-    srgb = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
-    return np.clip(np.round(srgb * 255.0), 0, 255).astype(np.uint8)

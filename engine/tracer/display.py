@@ -1,0 +1,32 @@
+"""What a screen shows of a linear render: exposure 1, clamp to [0, 1], the sRGB curve.
+
+Design rule: one definition of the display encoding, so that the 8-bit images the window and
+the PNG writers produce and the window's noise criterion (:mod:`engine.tracer.adaptive`, which
+needs the curve's slope) can never disagree.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+#: Linear value (0..1) below which the sRGB curve is the straight line ``12.92 x``.
+SRGB_KNEE = 0.0031308
+
+
+def srgb_encode(value) -> np.ndarray:
+    """Display value in [0, 1] (float64) of linear radiance ``value``: clamped, then sRGB;
+    NaN shows black."""
+    x = np.clip(np.nan_to_num(np.asarray(value, dtype=np.float64), nan=0.0), 0.0, 1.0)
+    return np.where(x <= SRGB_KNEE, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055)
+
+
+def display_slope(value) -> np.ndarray:
+    """d(display)/d(radiance) of :func:`srgb_encode` at linear ``value``; 0 at and above
+    white, where the display clips."""
+    v = np.asarray(value, dtype=float)
+    slope = np.where(v <= SRGB_KNEE, 12.92, 1.055 / 2.4 * np.maximum(v, SRGB_KNEE) ** (1.0 / 2.4 - 1.0))
+    return np.where(v >= 1.0, 0.0, slope)
+
+
+def tonemap_srgb8(image) -> np.ndarray:
+    """Display encoding of a linear image as ``uint8`` (H, W, 3): :func:`srgb_encode`, rounded."""
+    return np.clip(np.round(srgb_encode(image) * 255.0), 0, 255).astype(np.uint8)

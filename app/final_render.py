@@ -208,9 +208,7 @@ class FinalRenderDialog(QDialog):
         render, self.current = self.current, None  # a late "done" signal is now ignored
         if render is not None:
             render.cancel()
-            render.wait(timeout)
-            if render.job is not None:
-                render.job.wait(timeout)
+            render.wait(timeout)  # returns once the render's job and callbacks have ended
         self.hide()
 
     def closeEvent(self, event):

@@ -118,3 +118,18 @@ def test_void_qt_calls_keep_none_alive(qapp):
         timer.start(1000)
         timer.stop()
     assert sys.getrefcount(None) >= before - 50
+
+
+def test_a_closed_wireframe_keeps_no_wrapper_of_its_gl_surface(make_window, qtbot):
+    """The interactor held its GL surface as a plain ``QSurface`` wrapper, which PySide cannot
+    see deleted: the next Qt object born at that address came back as that "QSurface" (a
+    section table's selection model, a flaky GUI failure). After shutdown none may remain."""
+    import gc
+
+    from PySide6.QtGui import QSurface
+    w = make_window(wireframe=True)
+    w.show()
+    qtbot.waitExposed(w)
+    qtbot.waitUntil(w.wireframe_controller.is_idle, timeout=30_000)
+    w.wireframe.shutdown()
+    assert not [o for o in gc.get_objects() if type(o) is QSurface]

@@ -104,6 +104,13 @@ class WireframeView(QWidget):
         if not self._closed:
             self._closed = True
             self.plotter.close()
+            # why: the interactor keeps its GL surface as a plain QSurface wrapper, which PySide
+            # cannot tell is deleted with the widget; left alive, its stale address entry is
+            # handed out for the next Qt object born at that address (a section table's
+            # selection model came back as a "QSurface": a flaky GUI test). Closed, the
+            # interactor needs the surface no more.
+            if getattr(self.plotter, "_surface", None) is not None:
+                self.plotter._surface = None
 
 
 def wireframe_extent(points: np.ndarray) -> float:

@@ -180,11 +180,13 @@ GLASSBENCH_SETTINGS = (
     # (label, anti-aliasing samples, adaptive noise target or None)
     ("centre only", 1, None), ("AA 4", 4, None), ("AA 16", 16, None), ("AA 64", 64, None),
     # a render setting of 4 samples with adaptive rounds: the front between 4 and 64 samples
+    ("AA 4 adaptive 0.2", 4, 0.2), ("AA 4 adaptive 0.1", 4, 0.1), ("AA 4 adaptive 0.05", 4, 0.05),
     ("AA 4 adaptive 0.02", 4, 0.02), ("AA 4 adaptive 0.01", 4, 0.01),
     ("adaptive 0.02", 16, 0.02), ("adaptive 0.01", 16, 0.01), ("adaptive 0.005", 16, 0.005),
 )
 #: ``--quick``: the labels of the settings it renders.
-QUICK_SETTINGS = ("centre only", "AA 4", "AA 4 adaptive 0.02", "adaptive 0.02", "adaptive 0.01")
+QUICK_SETTINGS = ("centre only", "AA 4", "AA 4 adaptive 0.2", "AA 4 adaptive 0.1", "AA 4 adaptive 0.05",
+                  "AA 4 adaptive 0.02", "adaptive 0.02", "adaptive 0.01")
 
 
 def glassbench_points(spec_path, ref, settings, threads, scene=None):

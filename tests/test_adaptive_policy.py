@@ -10,14 +10,19 @@ from engine.tracer.display import srgb_encode
 from engine.tracer.job import tonemap_srgb8
 
 
-def _film_with(pixels):
-    """A 1-row film whose pixel i holds anti-aliasing samples ``pixels[i]`` (grey values)."""
+def _film_with(pixels, centres=None):
+    """A 1-row film whose pixel i holds anti-aliasing samples ``pixels[i]`` (grey values) and
+    the centre sample ``centres[i]`` (by default the samples' mean: a centre adding no scatter)."""
     film = Film(len(pixels), 1)
     for i, samples in enumerate(pixels):
         s = np.asarray(samples, float)
+        if s.size == 0:  # a pixel without anti-aliasing samples
+            continue
         film.aa_count[0, i] = len(s)
         film.aa_sum[0, i] = s.sum()
         film.aa_sumsq[0, i] = (s ** 2).sum()
+        film.centre[0, i] = s.mean() if centres is None else centres[i]
+        film.has_centre[0, i] = True
     return film
 
 
@@ -44,15 +49,15 @@ def test_display_space_asks_more_of_dark_glass_and_nothing_of_clipped_highlights
     dark = 0.12 + 0.05 * scatter
     mid = 0.5 + 0.05 * scatter  # the same spread, brighter: the display compresses it
     white = 6.0 + 0.5 * scatter  # far above white: the display shows 255 whatever
-    film = _film_with([dark, mid, white])
-    want = adaptive.noise_targets(film, 10_000, adaptive.DISPLAY_NOISE, 1.0, space="display")[0]
+    film = _film_with([dark, [], mid, [], white])  # two apart: no neighbour shares
+    want = adaptive.noise_targets(film, 10_000, adaptive.DISPLAY_NOISE, 1.0, space="display")[0][::2]
     assert want[0] > want[1] > 8, "same radiance spread: the darker pixel needs more samples"
     assert want[2] == 8, "a clipped highlight keeps what it has"
     # n = var slope^2 / target^2, the standard error's tolerance in display units
-    var = np.var(dark, ddof=1)
+    var = np.var(np.append(dark, dark.mean()), ddof=1)  # the centre is one more observation
     assert want[0] == np.ceil(var * adaptive.display_slope(dark.mean()) ** 2 / adaptive.DISPLAY_NOISE ** 2)
-    lin = adaptive.noise_targets(film, 10_000, 0.01, 1.0)[0]
-    assert lin[0] == lin[1] and lin[2] > 1000, "linear radiance: the spread alone decides"
+    lin = adaptive.noise_targets(film, 10_000, 0.01, 1.0)[0][::2]
+    assert abs(lin[0] - lin[1]) <= 1 and lin[2] > 1000, "linear radiance: the spread alone decides"
     with pytest.raises(ValueError, match="noise space"):
         adaptive.noise_targets(film, 10, 0.01, 1.0, space="log")
 
@@ -66,3 +71,26 @@ def test_the_windows_jobs_use_the_display_criterion():
     assert job.noise_space == "display" and job.noise_target == adaptive.DISPLAY_NOISE
     with pytest.raises(ValueError, match="noise_space"):
         RenderJob(simple_design(40.0, width=8, height=8, spp=1), noise_space="gamma")
+
+
+def test_a_centre_that_disagrees_with_agreeing_samples_asks_for_more():
+    """Four stratified samples can all miss a thin bright feature the centre sample met: the
+    scatter counts the centre, so the pixel is not taken as converged."""
+    film = _film_with([[0.02] * 4, [], [0.02] * 4], centres=[0.7, 0.0, 0.02])
+    want = adaptive.noise_targets(film, 64, 0.01, 1.0)[0][::2]
+    assert want[0] == 64 and want[1] == 4
+    assert film.image()[0, 0, 0] == np.float32(0.02), "the centre never enters the pixel's value"
+
+
+def test_a_quiet_pixel_beside_a_noisy_one_asks_a_share_of_its_need_in_linear_space_only():
+    rng = np.random.default_rng(4)
+    noisy = 0.5 + 0.3 * rng.standard_normal(8)
+    quiet = np.full(8, 0.3)
+    film = _film_with([noisy, quiet, quiet])  # pixel 2 is two pixels from the noisy one
+    lin = adaptive.noise_targets(film, 10**6, 0.001, 1.0)[0]
+    need = np.var(np.append(noisy, noisy.mean()), ddof=1) / 0.001 ** 2
+    assert lin[0] == np.ceil(need)
+    assert lin[1] == np.ceil(adaptive.NEIGHBOUR_SHARE * need), "its neighbour's share"
+    assert lin[2] == 8, "the share reaches the next pixel only"
+    disp = adaptive.noise_targets(film, 10**6, adaptive.DISPLAY_NOISE, 1.0, space="display")[0]
+    assert disp[0] > 8 and disp[1] == 8, "display space: the quiet pixel keeps what it has"

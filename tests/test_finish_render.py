@@ -101,7 +101,9 @@ def test_a_plain_design_renders_as_before_finishes(bordeaux):
     """The reference was rendered by the tracer before finishes existed (commit f019c7d: the
     40 x 56 Bordeaux, samples 0-2 of every pixel) on this machine's toolchain (numba without
     fastmath, glibc's libm); a machine whose libm rounds differently must re-render it from
-    that commit. Bit for bit until the intersectors' search windows changed (a ray in the
+    that commit. Re-rendered there when the sample positions became Owen-scrambled Sobol points
+    and the environment's arc tangents a polynomial (today's ``kernels/sampling.py`` patched
+    into that commit's tree: the pre-finishes tracer with today's sampler). Bit for bit until the intersectors' search windows changed (a ray in the
     liquid no longer meets the outer wall first, whose hit narrowed the window of the inner
     wall's solve; the torus solve starts on the factor that vanishes): the roots then differ
     in their last bits, the radiance by 7e-12, every sample's dominant path is the same."""

@@ -294,7 +294,8 @@ def test_a_relief_thread_renders_as_before(bordeaux):
     same relief thread; ``geometry="relief"`` must give the same image: the same bits until
     the intersectors' search windows changed (see
     ``test_finish_render.test_a_plain_design_renders_as_before_finishes``), now within 1e-13,
-    with every sample's dominant path the same."""
+    with every sample's dominant path the same. (Re-rendered at that commit with today's
+    ``kernels/sampling.py`` patched in when sample positions became Owen-scrambled Sobol.)"""
     design, assets = bordeaux
     ref = np.load(ROOT / "tests" / "data" / "thread_relief_bordeaux_32x40.npz")
     d = _threaded(design, "relief", finish="33-400")

@@ -13,23 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-# R2 low-discrepancy sequence (Roberts): successive samples of one pixel fill its square evenly,
-# and every prefix (1, 4, 16 samples...) is well stratified, which suits progressive waves.
-_PLASTIC = 1.32471795724474602596
-_R2_STEP = np.array([1.0 / _PLASTIC, 1.0 / (_PLASTIC * _PLASTIC)])
-
-
-def hash_u64(x):
-    """SplitMix64 finaliser of a uint64 array: a counter-based hash (bijective, well mixed)."""
-    z = np.asarray(x, dtype=np.uint64) + np.uint64(0x9E3779B97F4A7C15)
-    with np.errstate(over="ignore"):
-        z = (z ^ (z >> np.uint64(30))) * np.uint64(0xBF58476D1CE4E5B9)
-        z = (z ^ (z >> np.uint64(27))) * np.uint64(0x94D049BB133111EB)
-    return z ^ (z >> np.uint64(31))
-
 
 def pixel_offsets(pixel_index, sample_index):
-    """Sub-pixel positions in [0, 1)^2 for the given pixels and sample numbers.
+    """Sub-pixel positions in [0, 1)^2 for the given pixels and sample numbers: those the
+    render kernels use (:func:`engine.tracer.kernels.sampling.pixel_offset`).
 
     Parameters
     ----------
@@ -41,16 +28,18 @@ def pixel_offsets(pixel_index, sample_index):
     Returns
     -------
     ndarray, shape (N, 2)
-        ``(dx, dy)`` offsets, deterministic in (pixel, sample): a per-pixel random rotation
-        (Cranley-Patterson) of the R2 sequence.
+        ``(dx, dy)`` offsets, deterministic in (pixel, sample): sample 0 is the centre, samples
+        ``k >= 1`` the per-pixel Owen-scrambled Sobol points ``k - 1``.
     """
-    p = np.asarray(pixel_index, dtype=np.uint64)
-    k = np.asarray(sample_index, dtype=np.float64)
-    h = hash_u64(p)
-    h2 = hash_u64(h ^ np.uint64(0x5851F42D4C957F2D))
-    base = np.stack([(h >> np.uint64(11)).astype(np.float64), (h2 >> np.uint64(11)).astype(np.float64)], -1)
-    base *= 2.0 ** -53
-    return np.mod(base + k[..., None] * _R2_STEP, 1.0)
+    from .kernels.sampling import pixel_offsets_batch
+
+    p, k = np.broadcast_arrays(np.asarray(pixel_index, dtype=np.int64), np.asarray(sample_index, dtype=np.int64))
+    p, k = np.ascontiguousarray(p.ravel()), np.ascontiguousarray(k.ravel())
+    if np.any(p < 0) or np.any(k < 0):
+        raise ValueError("pixel and sample indices must be >= 0")
+    out = np.empty((p.size, 2))
+    pixel_offsets_batch(p, k, out)
+    return out
 
 
 @dataclass(frozen=True)

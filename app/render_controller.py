@@ -224,7 +224,7 @@ class RenderController(QObject):
     def _on_worker_tile(self, generation, job, tile):
         if generation != self.generation or job is not self.job:
             return  # stale: from a job that an edit cancelled
-        # why: early waves finish many tiles per frame; one image() copy per flush, not per tile
+        # why: early waves finish many tiles per frame; they are painted together per flush
         self._dirty.append(tile)
         if not self._flush_timer.isActive():
             self._flush_timer.start()
@@ -238,9 +238,8 @@ class RenderController(QObject):
             return
         generation = self.generation
         try:
-            image = np.asarray(job.image())
-            for tile in _latest_per_area(tiles):
-                region = image[tile.y0:tile.y1, tile.x0:tile.x1]
+            for tile in _latest_per_area(tiles):  # only the tiles' pixels: the film is locked meanwhile
+                region = np.asarray(job.image((tile.y0, tile.y1, tile.x0, tile.x1)))
                 rgb8 = np.ascontiguousarray(engine_bridge.tonemap_srgb8(region)[..., :3])
                 self.tileReady.emit(generation, tile.x0, tile.y0, rgb8)
         except Exception as exc:  # why: a bad tile is reported, the job keeps running

@@ -182,3 +182,17 @@ def test_workers_run_niced_and_render_the_same_image():
     assert set(seen) == {min(19, base + 5)}
     assert os.getpriority(os.PRIO_PROCESS, 0) == base  # the calling thread keeps its priority
     assert np.array_equal(job.image(), plain)
+
+
+def test_a_region_of_the_image_is_that_slice_of_the_whole():
+    """The window repaints finished tiles from ``image(region)``: the same pixels as the whole
+    image, without copying it."""
+    from tests.test_tracer import simple_design
+
+    job = RenderJob(simple_design(40.0, width=24, height=20, spp=2), threads=1).start()
+    assert job.wait(60) and job.error is None
+    whole = job.image()
+    for region in [(0, 20, 0, 24), (3, 11, 5, 17), (19, 20, 23, 24)]:
+        y0, y1, x0, x1 = region
+        part = job.image(region)
+        assert part.dtype == np.float32 and np.array_equal(part, whole[y0:y1, x0:x1])

@@ -65,13 +65,17 @@ class Film:
             self.preview[y0:y1, x0:x1] = block
 
     # ----------------------------------------------------------------- reading
-    def image(self) -> np.ndarray:
-        """Current estimate ``(H, W, 3)`` float32 linear radiance: AA mean, else centre, else
-        preview; always finite and >= 0 (a copy)."""
+    def image(self, region=None) -> np.ndarray:
+        """Current estimate float32 linear radiance: AA mean, else centre, else preview; always
+        finite and >= 0 (a copy). The whole ``(H, W, 3)`` image, or only ``region = (y0, y1, x0,
+        x1)`` (pixels, half-open): the window repaints finished tiles many times a second, and a
+        whole image each time held the film's lock, and the GUI thread, for 27 ms at 715 x 954."""
+        ys, xs = (slice(None), slice(None)) if region is None else (slice(region[0], region[1]),
+                                                                     slice(region[2], region[3]))
         with self.lock:
-            n = self.aa_count
-            img = np.where((n > 0)[..., None], self.aa_sum / np.maximum(n, 1)[..., None],
-                           np.where(self.has_centre[..., None], self.centre, self.preview))
+            n = self.aa_count[ys, xs]
+            img = np.where((n > 0)[..., None], self.aa_sum[ys, xs] / np.maximum(n, 1)[..., None],
+                           np.where(self.has_centre[ys, xs][..., None], self.centre[ys, xs], self.preview[ys, xs]))
         img = np.nan_to_num(img, nan=0.0, posinf=0.0, neginf=0.0)
         return np.clip(img, 0.0, np.finfo(np.float32).max).astype(np.float32)
 

@@ -335,9 +335,10 @@ class RenderJob:
         with self._lock:
             return self._progress
 
-    def image(self) -> np.ndarray:
-        """The current estimate, ``(H, W, 3)`` float32 linear radiance (a copy, always finite)."""
-        return self.film.image()
+    def image(self, region=None) -> np.ndarray:
+        """The current estimate, ``(H, W, 3)`` float32 linear radiance (a copy, always finite),
+        or only ``region = (y0, y1, x0, x1)`` of it (pixels, half-open)."""
+        return self.film.image(region)
 
     def sample_counts(self) -> np.ndarray:
         """Samples that make each pixel's value so far, ``(H, W)`` int (a copy)."""

@@ -15,7 +15,10 @@ sample are bounded. Energy is never created: reflectance + transmittance = 1, ab
 With ``rr_weight > 0`` (the adaptive rounds' extra samples of noisy pixels, whose error is
 their sample positions' scatter anyway) a branch lighter than ``rr_weight`` survives Russian
 roulette with probability ``weight / rr_weight`` and is then weighted up to it: unbiased, and
-the many faint branches of a deep tree in absorbing glass are not all followed. The draw comes
+the many faint branches of a deep tree in absorbing glass are not all followed. Only branches
+into glass or liquid play: a branch into air costs one segment and is often the brightest part
+of the pixel (the key light in the outer surface's 4 % reflection), and its roulette only added
+scatter (the window's sample: 0.197 -> 0.184 display levels at convergence in the same time). The draw comes
 from the branch's own seed, so it is deterministic. ``rr_weight = 0`` traces the whole tree.
 (Following one Fresnel branch per boundary instead, as a path tracer does, was measured: a
 sample costs half, but scatters four times as much on public_1, so it loses.)
@@ -250,7 +253,8 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
             cr, cg, cb = wr * kids[c, KW_R], wg * kids[c, KW_G], wb * kids[c, KW_B]
             cdx, cdy, cdz = kids[c, KD_X], kids[c, KD_Y], kids[c, KD_Z]
             wmax = max(cr, max(cg, cb))
-            if wmax < rr_weight:  # Russian roulette: survive with probability w / rr_weight
+            into = trn if kids[c, K_SIDE] > 0.5 else inc
+            if wmax < rr_weight and into != AIR:  # Russian roulette: survive with probability w / rr_weight
                 q_s = wmax / rr_weight
                 if uniform01(branch_seed(bseed, c), 0) >= q_s:
                     counters[C_ROULETTE] += 1
@@ -268,7 +272,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
             stk_f[top, K_OX], stk_f[top, K_OY], stk_f[top, K_OZ] = px, py, pz
             stk_f[top, K_DX], stk_f[top, K_DY], stk_f[top, K_DZ] = cdx, cdy, cdz
             stk_f[top, K_WR], stk_f[top, K_WG], stk_f[top, K_WB] = cr, cg, cb
-            stk_i[top, KI_MEDIUM] = trn if kids[c, K_SIDE] > 0.5 else inc
+            stk_i[top, KI_MEDIUM] = into
             stk_i[top, KI_DEPTH] = depth + 1
             stk_i[top, KI_LAST] = k
             stk_i[top, KI_SIDE] = 1 if cdx * nx + cdy * ny + cdz * nz >= 0.0 else -1

@@ -25,9 +25,9 @@ ADAPTIVE_FACTOR = 16
 NOISE_TARGET = 0.01
 #: The window's target: per-pixel standard error below this many display units (sRGB, 0..1)
 #: once tone-mapped (:func:`engine.tracer.display.tonemap_srgb8`). Measured on the bundled sample
-#: at the window's 715x954 against a render at 5x less noise: 0.31 display levels (of 255) RMS
-#: in 5.7-6.0 s, where ``NOISE_TARGET`` in linear radiance gives 0.37 levels in 5.6-6.7 s (it
-#: spends samples on highlights the display clips and too few on dark glass).
+#: at the window's 715x954 against a render with 256 samples per edge pixel: 0.22 display levels
+#: (of 255) RMS in 3.8 s, where ``NOISE_TARGET`` in linear radiance gives 0.14 levels in 5.4 s
+#: (it also spends samples on highlights the display clips): both far below a visible step.
 DISPLAY_NOISE = 2.0 / 255.0
 #: A pixel's adaptive rounds ask at least this share of the samples its neediest neighbour
 #: asks (:func:`noise_targets`). Measured with 4 anti-aliasing samples and adaptive targets

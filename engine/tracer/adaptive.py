@@ -46,27 +46,30 @@ def preview_block(width: int, height: int) -> int:
     return max(2, 2 ** int(np.log2(max(2, max(width, height) // 48))))
 
 
-def _neighbour_max(a, op):
-    """Per pixel, ``op`` of ``a`` with each of its 8 neighbours (edges replicate)."""
-    p = np.pad(a, 1, mode="edge")
+def _neighbours(a, mode):
+    """The 8 neighbour views of the ``(H, W)`` array ``a``, beyond its border padded by
+    ``np.pad``'s ``mode``."""
+    p = np.pad(a, 1, mode=mode)
     h, w = a.shape
-    out = np.zeros(a.shape, bool)
     for dy in (-1, 0, 1):
         for dx in (-1, 0, 1):
             if dy or dx:
-                out |= op(a, p[1 + dy:1 + dy + h, 1 + dx:1 + dx + w])
+                yield p[1 + dy:1 + dy + h, 1 + dx:1 + dx + w]
+
+
+def _neighbour_max(a, op):
+    """Per pixel, ``op`` of ``a`` with each of its 8 neighbours (edges replicate)."""
+    out = np.zeros(a.shape, bool)
+    for b in _neighbours(a, "edge"):
+        out |= op(a, b)
     return out
 
 
 def _neighbour_max_value(a):
     """Per pixel, the largest of its 8 neighbours' values of ``a`` (0 outside the image)."""
-    p = np.pad(a, 1)
-    h, w = a.shape
     out = np.zeros(a.shape)
-    for dy in (-1, 0, 1):
-        for dx in (-1, 0, 1):
-            if dy or dx:
-                np.maximum(out, p[1 + dy:1 + dy + h, 1 + dx:1 + dx + w], out=out)
+    for b in _neighbours(a, "constant"):
+        np.maximum(out, b, out=out)
     return out
 
 
@@ -105,8 +108,8 @@ def noise_targets(film, cap: int, noise_target: float, level: float, space: str 
     neighbour's samples caught crosses into this pixel too, where four stratified samples may
     all have missed it. (Not in display space: on the window's sample, whose edges have had
     sixteen samples by then, it cost 15 % more time and its display error rose from 0.20 to
-    0.22 levels, the extra samples being the adaptive rounds' roulette ones, which scatter
-    more than the full trees they are averaged with.)
+    0.22 levels, measured while the adaptive rounds' roulette still played on branches into
+    air too, whose samples scatter more than the full trees they are averaged with.)
 
     ``space`` "linear": the tolerance is ``noise_target x level`` (radiance: what rel RMSE
     against a reference measures). "display": ``noise_target`` display units through the

@@ -35,6 +35,8 @@ LIVE_INTERVAL_MS = 60
 #: Niceness of the render workers: every core renders, and the scheduler still prefers the GUI
 #: thread when they compete for a core (``python -m benchmarks.wireframe``).
 WORKER_NICE = 10
+#: Anti-aliasing waves (2 and later) are painted this many times less often than the first ones.
+REFINE_FLUSH_FACTOR = 4
 
 
 class RenderController(QObject):
@@ -74,6 +76,7 @@ class RenderController(QObject):
         self._dirty: list = []
         self._flush_timer = QTimer(self)
         self._flush_timer.setSingleShot(True)
+        self._flush_ms = flush_ms
         self._flush_timer.setInterval(flush_ms)
         self._flush_timer.timeout.connect(self.flush_tiles)
         self._worker_tile.connect(self._on_worker_tile)
@@ -227,7 +230,10 @@ class RenderController(QObject):
         # why: early waves finish many tiles per frame; they are painted together per flush
         self._dirty.append(tile)
         if not self._flush_timer.isActive():
-            self._flush_timer.start()
+            # why: the first waves build the picture and are shown as they come; the
+            # anti-aliasing waves only refine edges, and a repaint of the pane takes a core
+            # from the workers
+            self._flush_timer.start(self._flush_ms if tile.wave < 2 else REFINE_FLUSH_FACTOR * self._flush_ms)
 
     def flush_tiles(self):
         """Tone-map and hand out the tiles finished since the last flush (GUI thread)."""

@@ -76,8 +76,7 @@ class RenderController(QObject):
         self._dirty: list = []
         self._flush_timer = QTimer(self)
         self._flush_timer.setSingleShot(True)
-        self._flush_ms = flush_ms
-        self._flush_timer.setInterval(flush_ms)
+        self._flush_ms = flush_ms  # (each start passes its interval: see _on_worker_tile)
         self._flush_timer.timeout.connect(self.flush_tiles)
         self._worker_tile.connect(self._on_worker_tile)
         self._worker_done.connect(self._on_worker_done)

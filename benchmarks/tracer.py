@@ -185,21 +185,19 @@ def window_convergence(name, reference=True):
     design, assets = load_scene(name)
     w, h = WINDOW_SIZE
 
-    def run(**kw):
-        job = RenderJob(design, assets, width=w, height=h, threads=2, **kw).start()
+    def run(d=design, **kw):
+        job = RenderJob(d, assets, width=w, height=h, threads=2, **kw).start()
         job.wait()
         if job.error is not None:
             raise job.error
         return job
 
     ref = None
-    if reference:  # 256 samples on every edge pixel: the measured renders share at most 1/16 of
-        # its sample positions (a reference at the window's own 16 would share them all and
-        # flatter it: 0.31 display levels measured so, 0.38 against an independent one)
+    if reference:  # REFERENCE_SPP samples on every edge pixel: the measured renders share at most
+        # 1/16 of its sample positions (a reference at the window's own 16 would share them all
+        # and flatter it: 0.31 display levels measured so, 0.38 against an independent one)
         d_ref = dataclasses.replace(design, render=dataclasses.replace(design.render, spp=REFERENCE_SPP))
-        job = RenderJob(d_ref, assets, width=w, height=h, threads=2, noise_target=adaptive.NOISE_TARGET / 5).start()
-        job.wait()
-        ref = tonemap_srgb8(job.image()).astype(float)
+        ref = tonemap_srgb8(run(d_ref, noise_target=adaptive.NOISE_TARGET / 5).image()).astype(float)
     out = []
     for space, target in (("display", adaptive.DISPLAY_NOISE), ("linear", adaptive.NOISE_TARGET)):
         job = run(noise_space=space, noise_target=target)
@@ -321,7 +319,7 @@ def main(argv=None) -> int:
     for r in win:
         print(f"window (bordeaux at the window's {r['width']}x{r['height']}, 2 threads, noise in {r['noise_space']} "
               f"space < {r['noise_target']:.4f}): converged {r['converged_s']:.2f} s, {r['segments'] / 1e6:.1f} M "
-              f"segments, display error {r['display_rmse_levels']:.3f} levels RMS against a 256-sample reference")
+              f"segments, display error {r['display_rmse_levels']:.3f} levels RMS against a {REFERENCE_SPP}-sample reference")
     rows += [dict(section="window", **r) for r in win]
     cs = cold_start()
     print(f"cold start: compile the kernels {cs['compile']:.1f} s, load them from the cache {cs['load']:.1f} s "

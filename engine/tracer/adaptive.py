@@ -119,16 +119,15 @@ def noise_targets(film, cap: int, noise_target: float, level: float, space: str 
     at, have, mean, var = _scatter(film)
     if space == "linear":
         need = var / (noise_target * level) ** 2
+        full = np.zeros(film.aa_count.shape)
+        full[at] = need
+        need = np.maximum(need, NEIGHBOUR_SHARE * _neighbour_max_value(full)[at])
     elif space == "display":
         clipped = mean - 2.0 * np.sqrt(var / have) > 1.0
         slope = display_slope(np.minimum(mean, 1.0 - 1e-9))  # a mean near white may still fall
         need = np.where(clipped, 0.0, var * slope ** 2 / noise_target ** 2)
     else:
         raise ValueError(f"noise space must be 'linear' or 'display', not {space!r}")
-    if space == "linear":
-        full = np.zeros(film.aa_count.shape)
-        full[at] = need
-        need = np.maximum(need, NEIGHBOUR_SHARE * _neighbour_max_value(full)[at])
     out = np.zeros(film.aa_count.shape, np.int64)
     out[at] = np.clip(np.ceil(need), have, cap).astype(np.int64)
     return out

@@ -144,18 +144,24 @@ KINDS = ["generic", "equatorial", "far", "thin", "spindle", "elliptic", "scale",
          "graze_in", "graze_out", "inner_sheet"]
 
 
+def _seeded_case(kind, rng):
+    """A hard case of ``kind`` and whether it aims at the mirror sheet ``hypot(x, y) + R``."""
+    o, d, R, a, b, tau = _make_case(kind, rng)
+    inner = kind == "inner_sheet"
+    if inner:  # aim at the mirror sheet (hypot(x,y) + R)^2/a^2 + (z/b)^2 = 1 instead
+        d = _unit(rng.normal(size=3))
+        phi = rng.uniform(-0.9, 0.9) * np.arccos(R / a)
+        theta = rng.uniform(0, 2 * np.pi)
+        rho = a * np.cos(phi) - R
+        o = np.array([rho * np.cos(theta), rho * np.sin(theta), b * np.sin(phi)]) - 3 * a * d
+    return o, d, R, a, b, tau, inner
+
+
 @pytest.mark.parametrize("kind", KINDS)
 def test_seeded_hard_cases_match_50_digit_references(kind):
     rng = np.random.default_rng(KINDS.index(kind) + 7)
     for _ in range(8):
-        o, d, R, a, b, tau = _make_case(kind, rng)
-        inner = kind == "inner_sheet"
-        if inner:  # aim at the mirror sheet (hypot(x,y) + R)^2/a^2 + (z/b)^2 = 1 instead
-            d = _unit(rng.normal(size=3))
-            phi = rng.uniform(-0.9, 0.9) * np.arccos(R / a)
-            theta = rng.uniform(0, 2 * np.pi)
-            rho = a * np.cos(phi) - R
-            o = np.array([rho * np.cos(theta), rho * np.sin(theta), b * np.sin(phi)]) - 3 * a * d
+        o, d, R, a, b, tau, inner = _seeded_case(kind, rng)
         hits = ray_torus_hits(o[None], d[None], R, a, b, tmin=tau,
                               sheet="inner" if inner else "outer")[0]
         hits = hits[np.isfinite(hits)]
@@ -167,6 +173,50 @@ def test_seeded_hard_cases_match_50_digit_references(kind):
                 (kind, t, required, allowed)
         if kind == "graze_in":
             assert len(required) >= 2  # the construction dips 1e-5 tube radii into the glass
+
+
+@pytest.mark.parametrize("kind", KINDS)
+def test_convex_sheet_solver_matches_50_digit_references_on_its_side(kind):
+    """The solver of arcs on the outer side of their tube (and on the mirror sheet) finds every
+    root there and reports nothing else: roots at ``hypot(x, y) < R`` belong to the other side
+    (a hair of slack either way at ``hypot = R``, where both sides meet)."""
+    from engine.tracer.kernels.roots import SHEET_SLACK, convex_sheet_roots
+
+    rng = np.random.default_rng(KINDS.index(kind) + 70)
+    out = np.zeros(2)
+    for _ in range(12):
+        o, d, R, a, b, tau, inner = _seeded_case(kind, rng)
+        hits = out[:convex_sheet_roots(*o, *d, R, a, b, inner, tau, np.inf, out)]
+        required, allowed = _reference(o, d, R, a, b, tau, inner)
+        side = lambda t: inner or (math.hypot(*(o + t * d)[:2]) - R) / a
+        for t in required:
+            if inner or side(t) > SHEET_SLACK:
+                assert np.min(np.abs(hits - t), initial=np.inf) <= TOL_TUBE * a, (kind, t, hits)
+        for t in hits:
+            assert inner or side(t) >= -SHEET_SLACK, (kind, t)
+            assert min((abs(t - x) for x in required + allowed), default=np.inf) <= TOL_TUBE * a, \
+                (kind, t, required, allowed)
+
+
+def test_convex_sheet_solver_agrees_with_the_quartic_on_the_shared_cases():
+    """On the shared hard cases, every root the convex solver reports is one of the quartic's
+    (to 1e-6 tube radii), and it reports every root of the outer side the quartic finds,
+    except a touch: a pair closer than 1e-6 tube radii."""
+    from engine.tracer.kernels.roots import SHEET_SLACK, convex_sheet_roots, torus_roots
+
+    out, crit, mine = np.zeros(4), np.zeros(5), np.zeros(2)
+    for case in json.loads(CASES.read_text())["cases"]:
+        o, d = np.array(case["origin"]), np.array(case["direction"])
+        R, a, b, tau = case["R"], case["a"], case["b"], case["tau"]
+        quartic = list(out[:torus_roots(*o, *d, R, a, b, False, tau, out, crit)])
+        got = list(mine[:convex_sheet_roots(*o, *d, R, a, b, False, tau, np.inf, mine)])
+        near = lambda t, ts: min((abs(t - x) for x in ts), default=np.inf) <= TOL_TUBE * a
+        for t in got:
+            assert near(t, quartic), (case["category"], got, quartic)
+        for t in quartic:
+            outer = (math.hypot(*(o + t * d)[:2]) - R) / a > SHEET_SLACK
+            touch = near(t, [x for x in quartic if x != t])
+            assert near(t, got) or not outer or touch, (case["category"], got, quartic)
 
 
 def test_per_ray_tori_in_one_call_match_single_calls():

@@ -3,8 +3,11 @@
 Design rule: one row of the segment table (:mod:`~engine.tracer.kernels.profile`) is one
 meridian segment in its own (r, z) plane, in mm. Lines are cones
 (:func:`~engine.tracer.kernels.roots.cone_roots`), circle and ellipse arcs are tori or
-spheroids (:func:`~engine.tracer.kernels.roots.torus_roots`), both restricted to the segment's
-extent; the inner wall of an ellipse arc (its exact offset, a degree-8 curve) is found piece
+spheroids, both restricted to the segment's extent: an arc on the outer side of its tube
+(convex shoulders, heels, bulbs; every point at least its centre's radius from the axis)
+through :func:`~engine.tracer.kernels.roots.convex_sheet_roots`, which needs no quartic
+(measured on public_4, 0.82x the frame's time), any other through
+:func:`~engine.tracer.kernels.roots.torus_roots`; the inner wall of an ellipse arc (its exact offset, a degree-8 curve) is found piece
 by piece along its monotone table (:func:`offset_roots`). Every segment is first culled
 by its revolved bounding box (two cylinders, two planes), which is exact and conservative.
 Normals are the segment's outward meridian normal ``n = (T_z, -T_r)`` revolved to world space.
@@ -23,8 +26,8 @@ from .helix import MAX_ROOTS, helix_normal, helix_roots, helix_v
 from .profile import (HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR, S_KIND, S_LEN, S_R0,
                       S_R1, S_RMAX, S_RMIN, S_SIDE, S_SWEEP, S_ZMAX, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1,
                       TWO_PI, _offset_at, in_sweep, offset_at_between, offset_point, offset_rz)
-from .roots import (INLINE, JIT, cone_roots, hypot2, illinois_done, illinois_point, illinois_update, sort_small,
-                    torus_roots)
+from .roots import (INLINE, JIT, SHEET_SLACK, cone_roots, convex_sheet_roots, hypot2, illinois_done, illinois_point,
+                    illinois_update, sort_small, torus_roots)
 
 #: Band contraction on an offset arc stops at this fraction of the segment's length: only a
 #: pair of crossings closer than that can be missed (a graze of well under 1e-6 mm).
@@ -358,8 +361,13 @@ def segment_hits(seg, tab, i, ox, oy, oz, dx, dy, dz, tlo, thi, lo, hi, out, cri
         return helix_roots(seg, i, ox, oy, oz, dx, dy, dz, max(lo, tlo), min(hi, thi), out, MAX_ROOTS)
     else:
         cr, cz, ar, az = seg[i, S_CR], seg[i, S_CZ], seg[i, S_AR], seg[i, S_AZ]
-        m = torus_roots(ox, oy, oz - cz, dx, dy, dz, abs(cr), ar, az, cr < 0.0, max(tlo, lo), out, crit,
-                        min(thi, hi))
+        if abs(cr) >= 1e-9 * ar and (cr < 0.0 or seg[i, S_RMIN] >= cr - 0.5 * SHEET_SLACK * ar):
+            # the arc lies on a sheet's part that is convex along rays: no quartic needed
+            m = convex_sheet_roots(ox, oy, oz - cz, dx, dy, dz, abs(cr), ar, az, cr < 0.0, max(tlo, lo),
+                                   min(thi, hi), out)
+        else:
+            m = torus_roots(ox, oy, oz - cz, dx, dy, dz, abs(cr), ar, az, cr < 0.0, max(tlo, lo), out, crit,
+                            min(thi, hi))
         n = 0
         side = seg[i, S_SIDE]
         r0, z0 = seg[i, S_R0], seg[i, S_Z0]

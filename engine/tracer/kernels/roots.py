@@ -32,6 +32,10 @@ JIT_NRT = dict(JIT, _nrt=True)
 #: so LLVM cannot inline it, and a call passing arrays costs ~30 ns (measured; 5 ns inlined).
 INLINE = dict(JIT, inline="always")
 _MAX_ITER = 80
+#: :func:`convex_sheet_roots` keeps outer-sheet roots down to this many tube radii inside
+#: ``hypot(x, y) = R``: there its factor differs from the torus's by the slack squared
+#: (1e-12 tube radii), and an arc's padded bounds may reach a hair inside its centre's radius.
+SHEET_SLACK = 1e-6
 _SQRT3_2 = 0.5 * math.sqrt(3.0)
 
 
@@ -230,6 +234,23 @@ def _solve_piece(qx, qy, qz, Dx, Dy, Dz, Rn, lo, hi, f_lo, f_hi, o_lo, o_hi, i_l
     return x
 
 
+@njit(**INLINE)
+def _tube_frame(ox, oy, oz, dx, dy, dz, R, a, b):
+    """The ray in the unit-tube frame (x, y over ``a``, z over ``b``): ``(q, D, speed, s0, Rn,
+    B, q2)``, its point ``q`` closest to the centre, its unit direction ``D``, the frame's length
+    of a mm of the ray, the scaled distance ``s0`` from the origin to ``q`` (a hit at scaled
+    distance ``u`` from ``q`` is at ``t = (s0 + u) / speed`` mm), the scaled radius ``Rn`` of the
+    tube's centre circle, the torus's scaled bounding radius ``B`` and ``|q|^2``."""
+    qx, qy, qz = ox / a, oy / a, oz / b
+    Dx, Dy, Dz = dx / a, dy / a, dz / b
+    speed = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
+    Dx, Dy, Dz = Dx / speed, Dy / speed, Dz / speed
+    s0 = -(qx * Dx + qy * Dy + qz * Dz)
+    qx, qy, qz = qx + s0 * Dx, qy + s0 * Dy, qz + s0 * Dz
+    Rn = R / a
+    return qx, qy, qz, Dx, Dy, Dz, speed, s0, Rn, Rn + 1.0, qx * qx + qy * qy + qz * qz
+
+
 @njit(**JIT)
 def torus_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, out, crit, tmax=np.inf):
     """Hit distances (mm) of the ray ``o + t d`` (unit ``d``) with the torus about z
@@ -243,13 +264,8 @@ def torus_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, out, crit, tmax=np
     """
     n = 0
     if R < 1e-9 * a:  # the tube centre on the axis: a spheroid, closed form
-        qx, qy, qz = ox / a, oy / a, oz / b
-        Dx, Dy, Dz = dx / a, dy / a, dz / b
-        speed = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
-        Dx, Dy, Dz = Dx / speed, Dy / speed, Dz / speed
-        s0 = -(qx * Dx + qy * Dy + qz * Dz)
-        mx, my, mz = qx + s0 * Dx, qy + s0 * Dy, qz + s0 * Dz
-        m = math.sqrt(mx * mx + my * my + mz * mz)
+        _, _, _, _, _, _, speed, s0, _, _, m2 = _tube_frame(ox, oy, oz, dx, dy, dz, 0.0, a, b)
+        m = math.sqrt(m2)
         if m >= 1.0:
             return 0
         u = math.sqrt((1.0 - m) * (1.0 + m))
@@ -258,15 +274,7 @@ def torus_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, out, crit, tmax=np
                 out[n] = tt
                 n += 1
         return n
-    qx, qy, qz = ox / a, oy / a, oz / b
-    Dx, Dy, Dz = dx / a, dy / a, dz / b
-    speed = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
-    Dx, Dy, Dz = Dx / speed, Dy / speed, Dz / speed
-    s0 = -(qx * Dx + qy * Dy + qz * Dz)
-    qx, qy, qz = qx + s0 * Dx, qy + s0 * Dy, qz + s0 * Dz  # closest approach to the centre
-    Rn = R / a
-    B = Rn + 1.0
-    q2 = qx * qx + qy * qy + qz * qz
+    qx, qy, qz, Dx, Dy, Dz, speed, s0, Rn, B, q2 = _tube_frame(ox, oy, oz, dx, dy, dz, R, a, b)
     if q2 >= B * B * (1.0 + 1e-12):
         return 0
     E = Dx * Dx + Dy * Dy
@@ -323,6 +331,114 @@ def torus_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, out, crit, tmax=np
         keep = abs(g_i) <= abs(g_o) if inner else abs(g_o) <= abs(g_i)
         tt = (s0 + u) / speed
         if keep and tt > tmin and tt <= tmax:
+            out[n] = tt
+            n += 1
+    return n
+
+
+@njit(**INLINE)
+def _convex_factor(qx, qy, qz, Dx, Dy, Dz, Rn, inner, u):
+    """``(g, dg/du, size)`` of the unit-tube torus factor that is convex along every ray, at scaled
+    distance ``u`` from the closest approach: the mirror sheet's ``(rho + Rn)^2 + z^2 - 1``
+    (``inner``) or the outer sheet's ``max(rho - Rn, 0)^2 + z^2 - 1``, which equals its factor
+    ``g_out`` where ``rho >= Rn`` (a convex non-negative function squared, plus a square); and
+    the size of the terms ``g`` is a difference of (its rounding is a few ulps of that)."""
+    x = qx + u * Dx
+    y = qy + u * Dy
+    z = qz + u * Dz
+    rho = hypot2(x, y)
+    drho = (x * Dx + y * Dy) / rho if rho > 0.0 else 0.0
+    d = rho + Rn if inner else max(rho - Rn, 0.0)
+    return (d - 1.0) * (d + 1.0) + z * z, 2.0 * d * drho + 2.0 * z * Dz, rho * abs(d) + d * d + z * z + 1.0
+
+
+@njit(**JIT)
+def _convex_root(qx, qy, qz, Dx, Dy, Dz, Rn, inner, lo, hi, g_lo, g_hi, s_lo, s_hi):
+    """The single root in ``[lo, hi]`` of a convex factor (:func:`_convex_factor`) whose values
+    ``g_lo, g_hi`` have opposite signs: Newton from the positive end, which a convex function's
+    tangents never carry past the root, inside the bracket (Illinois false position if
+    rounding does)."""
+    x, s = (lo, s_lo) if g_lo > 0.0 else (hi, s_hi)
+    g = g_lo if g_lo > 0.0 else g_hi
+    f_lo, f_hi = g_lo, g_hi
+    last = 0
+    for _ in range(_MAX_ITER):
+        xn = x - g / s if s != 0.0 else np.nan
+        if not (xn > lo and xn < hi):
+            xn = illinois_point(lo, hi, f_lo, f_hi)
+        tol = 4e-16 * (abs(xn) + Rn + 1.0)
+        if abs(xn - x) <= tol:
+            return xn
+        x = xn
+        g, s, size = _convex_factor(qx, qy, qz, Dx, Dy, Dz, Rn, inner, x)
+        if abs(g) <= 8e-16 * size or illinois_done(lo, hi, g):
+            return x
+        lo, hi, f_lo, f_hi, last = illinois_update(lo, hi, f_lo, f_hi, x, g, last)
+        if hi - lo <= tol:
+            return x
+    return x
+
+
+@njit(**JIT)
+def convex_sheet_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, tmax, out):
+    """Hit distances (mm, ascending, ``tmin < t <= tmax``) of the ray ``o + t d`` (unit ``d``)
+    with the part of a torus sheet about z that is convex along every ray: the mirror sheet
+    ``hypot(x, y) + R`` whole (``inner``), or the outer sheet where ``hypot(x, y) >= R``, the
+    outer side of its tube (the only part an arc with ``rmin >= R`` lies on). Torus and units as
+    :func:`torus_roots`; returns how many roots it wrote into ``out[0:2]``.
+
+    Along a ray a convex factor has at most two roots, and its values and slopes at the
+    window's ends settle most rays without a root at once: a sign change is one root; both
+    ends negative, none; both positive, none unless the tangents' lower bound dips below zero,
+    where cutting planes find the minimum (tangent touches, double roots, are not reported).
+    No cubic, no quartic.
+    """
+    qx, qy, qz, Dx, Dy, Dz, speed, s0, Rn, B, q2 = _tube_frame(ox, oy, oz, dx, dy, dz, R, a, b)
+    if q2 >= B * B * (1.0 + 1e-12):
+        return 0
+    half = math.sqrt(max(B * B - q2, 0.0)) * (1.0 + 1e-9) + 1e-12 * B
+    u_lo = max(-half, tmin * speed - s0) if math.isfinite(tmin) else -half
+    u_hi = min(half, tmax * speed - s0) if math.isfinite(tmax) else half
+    pad = 1e-9 * (abs(u_lo) + abs(u_hi) + B)  # (roots at the window's ends stay inside it)
+    lo, hi = u_lo - pad, u_hi + pad
+    if not hi > lo:
+        return 0
+    g_lo, s_lo, _ = _convex_factor(qx, qy, qz, Dx, Dy, Dz, Rn, inner, lo)
+    g_hi, s_hi, _ = _convex_factor(qx, qy, qz, Dx, Dy, Dz, Rn, inner, hi)
+    n_u = 0
+    u0 = u1 = 0.0
+    if (g_lo > 0.0) != (g_hi > 0.0):
+        u0 = _convex_root(qx, qy, qz, Dx, Dy, Dz, Rn, inner, lo, hi, g_lo, g_hi, s_lo, s_hi)
+        n_u = 1
+    elif g_lo > 0.0:  # both ends outside: a pair of roots only if the minimum is below zero
+        a_, b_, ga, gb, sa, sb = lo, hi, g_lo, g_hi, s_lo, s_hi
+        for _ in range(_MAX_ITER):
+            if sa >= 0.0 or sb <= 0.0 or not b_ - a_ > 4e-16 * (abs(a_) + abs(b_) + B):
+                break  # monotone on [a_, b_], or the minimum pinned to a touch: no crossing
+            m = (gb - ga + sa * a_ - sb * b_) / (sa - sb)  # where the end tangents meet
+            if not (m > a_ and m < b_):
+                m = 0.5 * (a_ + b_)
+            if ga + sa * (m - a_) > 0.0:
+                break  # the tangents' lower bound stays above zero
+            gm, sm, _ = _convex_factor(qx, qy, qz, Dx, Dy, Dz, Rn, inner, m)
+            if gm < 0.0:
+                u0 = _convex_root(qx, qy, qz, Dx, Dy, Dz, Rn, inner, a_, m, ga, gm, sa, sm)
+                u1 = _convex_root(qx, qy, qz, Dx, Dy, Dz, Rn, inner, m, b_, gm, gb, sm, sb)
+                n_u = 2
+                break
+            if sm > 0.0:
+                b_, gb, sb = m, gm, sm
+            else:
+                a_, ga, sa = m, gm, sm
+    n = 0
+    for j in range(n_u):
+        u = u0 if j == 0 else u1
+        if not inner:  # on the outer side of the tube, with SHEET_SLACK
+            x, y = qx + u * Dx, qy + u * Dy
+            if hypot2(x, y) < Rn - SHEET_SLACK:
+                continue
+        tt = (s0 + u) / speed
+        if tt > tmin and tt <= tmax:
             out[n] = tt
             n += 1
     return n

@@ -24,7 +24,7 @@ from numba import njit
 from .helix import helix_roots
 from .outlines import outline_sd
 from .profile import HELIX, LINE, S_KIND, S_R0, S_R1, S_RMAX, S_RMIN, S_Z0, S_Z1, S_ZMAX, S_ZMIN
-from .revolved import ray_box, segment_hits, segment_normal
+from .revolved import ray_axis, ray_box_from, segment_hits, segment_normal
 from .roots import INLINE, JIT, cone_roots
 from .swept import ruled_roots, swept_normal, swept_roots
 
@@ -126,6 +126,7 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
     best_k, best_part = -1, -1
     bnx, bny, bnz = 0.0, 0.0, 0.0
     pending = False  # the best crossing's normal is still to compute
+    axis = ray_axis(ox, oy, dx, dy, dz)
     for k in range(obj_i.shape[0]):
         # the objects partition space into media: a ray meets only surfaces that bound its
         # medium (a ray in the liquid never tests the outer wall, the bottom or the rim)
@@ -135,7 +136,7 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
         # on the object the ray leaves, search from a hair past its start: the start itself is a
         # root, whose computed sign is rounding noise and would fool every sign test there
         t0 = START_FRACTION * obj_f[k, F_EDGE] if k == last_obj else 0.0
-        lo, hi = ray_box(ox, oy, oz, dx, dy, dz, 0.0, obj_f[k, F_RMAX], obj_f[k, F_ZMIN],
+        lo, hi = ray_box_from(axis, ox, oy, oz, dx, dy, dz, 0.0, obj_f[k, F_RMAX], obj_f[k, F_ZMIN],
                          obj_f[k, F_ZMAX], t0, best)
         if lo > hi:
             continue
@@ -159,7 +160,7 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
             if kind == REVOLVED:
                 if obj_i[k, O_ZSORT] != 0 and seg[j, S_ZMIN] > z_hi:
                     break
-                a, b = ray_box(ox, oy, oz, dx, dy, dz, seg[j, S_RMIN], seg[j, S_RMAX], seg[j, S_ZMIN],
+                a, b = ray_box_from(axis, ox, oy, oz, dx, dy, dz, seg[j, S_RMIN], seg[j, S_RMAX], seg[j, S_ZMIN],
                                seg[j, S_ZMAX], t0, best)
                 if a > b:
                     continue
@@ -178,7 +179,8 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
             else:
                 if slab_f[j, 0] > z_hi:
                     break
-                a, b = ray_box(ox, oy, oz, dx, dy, dz, 0.0, slab_f[j, 2], slab_f[j, 0], slab_f[j, 1], t0, best)
+                a, b = ray_box_from(axis, ox, oy, oz, dx, dy, dz, 0.0, slab_f[j, 2], slab_f[j, 0], slab_f[j, 1], t0,
+                                    best)
                 if a > b:
                     continue
                 if slab_f[j, 3] > 0.5:  # straight sections: planes and slanted cones, closed form

@@ -7,9 +7,11 @@ spheroids, both restricted to the segment's extent: an arc on the outer side of 
 (convex shoulders, heels, bulbs; every point at least its centre's radius from the axis)
 through :func:`~engine.tracer.kernels.roots.convex_sheet_roots`, which needs no quartic
 (measured on public_4, 0.82x the frame's time), any other through
-:func:`~engine.tracer.kernels.roots.torus_roots`; the inner wall of an ellipse arc (its exact offset, a degree-8 curve) is found piece
-by piece along its monotone table (:func:`offset_roots`). Every segment is first culled
-by its revolved bounding box (two cylinders, two planes), which is exact and conservative.
+:func:`~engine.tracer.kernels.roots.torus_roots`; the inner wall of an ellipse arc (its
+exact offset, a degree-8 curve) is found piece by piece along its monotone table
+(:func:`offset_roots`). Every segment is first culled by its revolved bounding box (two
+cylinders, two planes), which is exact and conservative; the ray's share of that test
+(:func:`ray_axis`) is computed once per ray.
 Normals are the segment's outward meridian normal ``n = (T_z, -T_r)`` revolved to world space.
 A straight piece raised by a screw thread (``HELIX``) is handed to :mod:`.helix`.
 """
@@ -35,16 +37,27 @@ OFFSET_LEAF = 1e-5
 
 
 @njit(**INLINE)
-def ray_box(ox, oy, oz, dx, dy, dz, rmin, rmax, zmin, zmax, tlo, thi):
-    """Part ``[lo, hi]`` of ``tlo < t < thi`` where the ray may be inside the revolved box
-    ``rmin <= rho <= rmax, zmin <= z <= zmax`` (mm); ``lo > hi`` when it cannot.
+def ray_axis(ox, oy, dx, dy, dz):
+    """The ray's constants for :func:`ray_box_from`, computed once per ray rather than once per
+    box: ``(1/dz, s, m2, 1/E)``, ``s`` its distance (mm) to its closest approach to the z axis,
+    ``m2`` that distance's square from the axis, ``E = dx^2 + dy^2`` (a reciprocal is 0 where
+    its denominator is)."""
+    E = dx * dx + dy * dy
+    inv_dz = 1.0 / dz if dz != 0.0 else 0.0
+    if E > 0.0:
+        s = -(ox * dx + oy * dy) / E
+        mx, my = ox + s * dx, oy + s * dy
+        return inv_dz, s, mx * mx + my * my, 1.0 / E
+    return inv_dz, 0.0, ox * ox + oy * oy, 0.0
 
-    Exact for the slab in z and the cylinder ``rho <= rmax``; the inner cylinder only rejects
-    (``rho(t)^2`` is convex: the interval is not split where it dips inside ``rmin``).
-    """
+
+@njit(**INLINE)
+def ray_box_from(axis, ox, oy, oz, dx, dy, dz, rmin, rmax, zmin, zmax, tlo, thi):
+    """:func:`ray_box` from the ray's constants ``axis`` (:func:`ray_axis`)."""
+    inv_dz, s_axis, m2, inv_E = axis
     if dz != 0.0:
-        ta = (zmin - oz) / dz
-        tb = (zmax - oz) / dz
+        ta = (zmin - oz) * inv_dz
+        tb = (zmax - oz) * inv_dz
         lo = min(ta, tb)
         hi = max(ta, tb)
     else:
@@ -55,26 +68,32 @@ def ray_box(ox, oy, oz, dx, dy, dz, rmin, rmax, zmin, zmax, tlo, thi):
     hi = min(hi, thi)
     if lo > hi:
         return 1.0, -1.0
-    E = dx * dx + dy * dy
-    if E > 0.0:  # inside the cylinder rho <= rmax, from the closest approach to the axis
-        s_axis = -(ox * dx + oy * dy) / E
-        mx, my = ox + s_axis * dx, oy + s_axis * dy
-        h2 = rmax * rmax - (mx * mx + my * my)
-        if h2 < 0.0:
-            return 1.0, -1.0
-        h = math.sqrt(h2 / E)
+    h2 = rmax * rmax - m2
+    if h2 < 0.0:  # the ray never comes within rmax of the axis
+        return 1.0, -1.0
+    if inv_E > 0.0:  # inside the cylinder rho <= rmax, from the closest approach to the axis
+        h = math.sqrt(h2 * inv_E)
         lo = max(lo, s_axis - h)
         hi = min(hi, s_axis + h)
         if lo > hi:
             return 1.0, -1.0
-    elif ox * ox + oy * oy > rmax * rmax:
-        return 1.0, -1.0
-    if rmin > 0.0:
-        ra = hypot2(ox + lo * dx, oy + lo * dy)
-        rb = hypot2(ox + hi * dx, oy + hi * dy)
-        if max(ra, rb) < rmin:
+    if rmin > 0.0:  # rho^2 is convex along the ray: inside rmin at both ends, inside throughout
+        xa, ya, xb, yb = ox + lo * dx, oy + lo * dy, ox + hi * dx, oy + hi * dy
+        if max(xa * xa + ya * ya, xb * xb + yb * yb) < rmin * rmin:
             return 1.0, -1.0
     return lo, hi
+
+
+@njit(**INLINE)
+def ray_box(ox, oy, oz, dx, dy, dz, rmin, rmax, zmin, zmax, tlo, thi):
+    """Part ``[lo, hi]`` of ``tlo < t < thi`` where the ray may be inside the revolved box
+    ``rmin <= rho <= rmax, zmin <= z <= zmax`` (mm); ``lo > hi`` when it cannot.
+
+    Exact for the slab in z and the cylinder ``rho <= rmax``; the inner cylinder only rejects
+    (``rho(t)^2`` is convex: the interval is not split where it dips inside ``rmin``).
+    """
+    return ray_box_from(ray_axis(ox, oy, dx, dy, dz), ox, oy, oz, dx, dy, dz, rmin, rmax, zmin, zmax,
+                        tlo, thi)
 
 
 @njit(**JIT)

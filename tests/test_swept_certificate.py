@@ -49,9 +49,9 @@ SHAPES = {"rounded square sample": _square_sample, "curved rounded rectangle": _
 WALLS = ((OUTER_WALL, "outer"), (INNER_WALL, "inner"))
 
 
-def _slab_rays(geom, seed, m):
-    """For each swept wall's curved slab (its sections not all straight: band contraction),
-    ``m`` random rays that enter the slab's box: yields ``(k, part, j, o, d, lo, hi)``, ``lo..hi``
+def _slab_rays(geom, seed, m, ruled=False):
+    """For each swept wall's curved slab (its sections not all straight: band contraction; with
+    ``ruled``, each ruled slab instead), ``m`` random rays that enter the slab's box: yields ``(k, part, j, o, d, lo, hi)``, ``lo..hi``
     the ray's interval in the box without its padding (where the kernel clamps the slab's
     sections and the engine continues into the next ones)."""
     rng = np.random.default_rng(seed)
@@ -59,8 +59,8 @@ def _slab_rays(geom, seed, m):
     for k, part in WALLS:
         first, count = geom.obj_i[k, K.O_FIRST], geom.obj_i[k, K.O_COUNT]
         for j in range(first, first + count):
-            z0, z1, rmax, ruled = geom.slab_f[j]
-            if ruled > 0.5:
+            z0, z1, rmax, is_ruled = geom.slab_f[j, :4]
+            if (is_ruled > 0.5) != ruled:
                 continue
             # from around the bottle towards points near its wall, steep rays included (mm)
             o = rng.normal(size=(m, 3)) * [70.0, 70.0, 0.0]
@@ -131,3 +131,27 @@ def test_swept_roots_find_every_crossing_a_dense_sampling_finds(name):
         gr, grad = body.wall_implicit(part, o + roots[:, None] * d)
         assert np.all(np.abs(gr) / np.linalg.norm(grad, axis=1) < 1e-9)
     assert found > 200
+
+
+@pytest.mark.parametrize("name", SHAPES)
+def test_ruled_slabs_normals_are_the_walls_gradients(name):
+    """In a ruled slab the normal comes from the slab's linear outline coefficients
+    (:func:`~engine.tracer.kernels.swept.ruled_normal`), not from the sections: it is the
+    numpy implicit function's unit gradient at the wall's crossings, slanted walls included."""
+    from engine.tracer.kernels.swept import ruled_normal, ruled_roots
+
+    geom, body = _geometry(SHAPES[name]())
+    out = np.zeros(16)
+    slanted = checked = 0
+    for k, part, j, o, d, lo, hi in _slab_rays(geom, 13, 150, ruled=True):
+        kind, nsec, c, s, _ = _wall(geom, k)
+        for t in out[:ruled_roots(geom.slab_f[j], c, s, *o, *d, lo, hi, out)]:
+            p = o + t * d
+            n = np.array(ruled_normal(geom.slab_f[j], c, s, *p))
+            _, grad = body.wall_implicit(part, p)
+            assert np.allclose(n, grad / np.linalg.norm(grad), rtol=0.0, atol=1e-9), (name, part, j, p)
+            checked += 1
+            slanted += abs(n[2]) > 1e-3
+    assert checked > 100, checked
+    if name == "curved rounded rectangle":  # its straight shoulder: radii falling with z
+        assert slanted > 10, slanted

@@ -216,7 +216,7 @@ def object_normals(geometry: RenderGeometry, objects, parts, points) -> np.ndarr
     p = np.ascontiguousarray(np.asarray(points, float).reshape(-1, 3))
     n = len(p)
     out = np.empty((n, 3))
-    normals(geometry.seg, geometry.slab_i, geometry.obj_i, geometry.obj_f,
+    normals(geometry.seg, geometry.slab_f, geometry.slab_i, geometry.obj_i, geometry.obj_f,
             np.ascontiguousarray(np.broadcast_to(np.asarray(objects, np.int64), (n,))),
             np.ascontiguousarray(np.broadcast_to(np.asarray(parts, np.int64), (n,))), p, out)
     return out

@@ -47,6 +47,7 @@ from .kernels import intersect as K
 from .kernels import profile as R
 from .kernels.materials import MAT_COLS, SMOOTH_DIELECTRIC
 from .kernels.outlines import CIRCLE, OVAL, RRECT, RSQUARE
+from .kernels.swept import SL_COLS, ruled_coefficients
 
 AIR, GLASS, LIQUID = 0, 1, 2
 OBJECT_NAMES = ("outer wall", "bottom", "inner wall", "inner base", "rim", "free surface")
@@ -66,7 +67,8 @@ class RenderGeometry:
     """Geometry tables of one bottle (+ liquid): see the module table.
 
     ``seg`` (n, S_COLS) float64 segments; ``tab`` (k, 4) the offset arcs' monotone tables of
-    ``(r, z, parameter, band)`` rows; ``slab_f`` (m, 4) ``(z0, z1, rmax, ruled)`` and ``slab_i``
+    ``(r, z, parameter, band)`` rows; ``slab_f`` (m, SL_COLS) ``(z0, z1, rmax, ruled, ruled
+    slab's outline coefficients)`` (:mod:`~engine.tracer.kernels.swept`) and ``slab_i``
     (m, 3) segment rows per section of the swept walls' slabs; ``obj_i`` / ``obj_f`` the
     objects without their media (filled per design); ``scale_mm`` the bottle's size;
     ``fill_height`` (mm) or ``None``; ``kind`` the cross-section.
@@ -333,7 +335,8 @@ def _slabs(tab, chains, kind, scale):
         rmax = _circumradius(kind, rmaxes) * (1 + 1e-9) + pad
         rmax_all = max(rmax_all, rmax)
         ruled = kind in ("rounded_square", "rounded_rect") and all(tab.seg[r][R.S_KIND] == R.LINE for r in rows)
-        tab.slab_f.append((za - pad, zb + pad, rmax, 1.0 if ruled else 0.0))
+        coeffs = ruled_coefficients(_XS[kind], [tab.seg[r] for r in rows]) if ruled else (0.0,) * 6
+        tab.slab_f.append((za - pad, zb + pad, rmax, 1.0 if ruled else 0.0, *coeffs))
         tab.slab_i.append(rows + [rows[0]] * (3 - len(rows)))
     return first, len(tab.slab_f) - first, (rmax_all, z_lo - pad, z_hi + pad)
 
@@ -408,7 +411,7 @@ def build_render_geometry(shape, fill_height: float | None) -> RenderGeometry:
         of[K.F_EDGE] = edge
     seg = np.ascontiguousarray(np.array(tab.seg, float).reshape(-1, R.S_COLS))
     table = np.ascontiguousarray(np.concatenate(tab.tables) if tab.tables else np.zeros((1, 4)))
-    slab_f = np.ascontiguousarray(np.array(tab.slab_f, float).reshape(-1, 4))
+    slab_f = np.ascontiguousarray(np.array(tab.slab_f, float).reshape(-1, SL_COLS))
     slab_i = np.ascontiguousarray(np.array(tab.slab_i, np.int64).reshape(-1, 3))
     return RenderGeometry(seg, table, slab_f, slab_i, np.ascontiguousarray(np.array(tab.obj_i)),
                           np.ascontiguousarray(np.array(tab.obj_f)), tuple(tab.names), float(scale),

@@ -26,7 +26,7 @@ from .outlines import outline_sd
 from .profile import HELIX, LINE, S_KIND, S_R0, S_R1, S_RMAX, S_RMIN, S_Z0, S_Z1, S_ZMAX, S_ZMIN
 from .revolved import ray_axis, ray_box_from, segment_hits, segment_normal
 from .roots import INLINE, JIT, cone_roots
-from .swept import ruled_roots, swept_normal, swept_roots
+from .swept import SL_RMAX, SL_RULED, SL_Z0, SL_Z1, ruled_normal, ruled_roots, swept_normal, swept_roots
 
 # object kinds
 REVOLVED, SWEPT, PLANE = 0, 1, 2
@@ -51,7 +51,7 @@ def object_media(obj_i, obj_f, k, z):
 
 
 @njit(**JIT)
-def object_normal(seg, slab_i, obj_i, obj_f, k, part, px, py, pz):
+def object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, part, px, py, pz):
     """Oriented unit normal of object ``k`` at its point ``p``; ``part`` is the segment row
     (revolved) or slab row (swept) the hit was found on."""
     kind = obj_i[k, O_KIND]
@@ -60,6 +60,8 @@ def object_normal(seg, slab_i, obj_i, obj_f, k, part, px, py, pz):
         return 0.0, 0.0, obj_f[k, F_PNZ]
     if kind == REVOLVED:
         nx, ny, nz = segment_normal(seg, part, px, py, pz)
+    elif slab_f[part, SL_RULED] > 0.5:
+        nx, ny, nz = ruled_normal(slab_f[part], obj_f[k, F_COS], obj_f[k, F_SIN], px, py, pz)
     else:
         nx, ny, nz = swept_normal(seg, slab_i[part], obj_i[k, O_XS], obj_i[k, O_NSEC],
                                   obj_f[k, F_COS], obj_f[k, F_SIN], px, py, pz)
@@ -105,7 +107,7 @@ def _first_reaching(seg, slab_f, revolved, j0, j1, z):
     """First part in ``[j0, j1)`` (rising in z) whose top is at or above ``z`` (binary search)."""
     while j0 < j1:
         m = (j0 + j1) // 2
-        top = seg[m, S_ZMAX] if revolved else slab_f[m, 1]
+        top = seg[m, S_ZMAX] if revolved else slab_f[m, SL_Z1]
         if top < z:
             j0 = m + 1
         else:
@@ -177,15 +179,14 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
                 else:
                     n = segment_hits(seg, tab, j, ox, oy, oz, dx, dy, dz, t0, best, a, b, roots, crit, stack)
             else:
-                if slab_f[j, 0] > z_hi:
+                if slab_f[j, SL_Z0] > z_hi:
                     break
-                a, b = ray_box_from(axis, ox, oy, oz, dx, dy, dz, 0.0, slab_f[j, 2], slab_f[j, 0], slab_f[j, 1], t0,
-                                    best)
+                a, b = ray_box_from(axis, ox, oy, oz, dx, dy, dz, 0.0, slab_f[j, SL_RMAX], slab_f[j, SL_Z0],
+                                    slab_f[j, SL_Z1], t0, best)
                 if a > b:
                     continue
-                if slab_f[j, 3] > 0.5:  # straight sections: planes and slanted cones, closed form
-                    n = ruled_roots(seg, slab_i[j], obj_i[k, O_XS], obj_f[k, F_COS], obj_f[k, F_SIN],
-                                    ox, oy, oz, dx, dy, dz, a, b, roots)
+                if slab_f[j, SL_RULED] > 0.5:  # straight sections: planes and slanted cones, closed form
+                    n = ruled_roots(slab_f[j], obj_f[k, F_COS], obj_f[k, F_SIN], ox, oy, oz, dx, dy, dz, a, b, roots)
                 else:
                     n = swept_roots(seg, tab, slab_i[j], obj_i[k, O_XS], obj_i[k, O_NSEC], obj_f[k, F_COS],
                                     obj_f[k, F_SIN], ox, oy, oz, dx, dy, dz, a, b, obj_f[k, F_LEAF], roots, stack)
@@ -202,12 +203,12 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
                     best, best_k, best_part, pending = t, k, j, True
                     break
                 px, py = ox + t * dx, oy + t * dy
-                nx, ny, nz = object_normal(seg, slab_i, obj_i, obj_f, k, j, px, py, pz)
+                nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, j, px, py, pz)
                 if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last_obj, last_side):
                     best, best_k, best_part, pending = t, k, j, False
                     bnx, bny, bnz = nx, ny, nz
                     break
     if pending:
-        bnx, bny, bnz = object_normal(seg, slab_i, obj_i, obj_f, best_k, best_part, ox + best * dx,
+        bnx, bny, bnz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, best_k, best_part, ox + best * dx,
                                       oy + best * dy, oz + best * dz)
     return best, best_k, best_part, bnx, bny, bnz

@@ -29,10 +29,10 @@ def hits(seg, tab, slab_f, slab_i, obj_i, obj_f, o, d, medium, last, side, out_t
 
 
 @njit(**JIT_NRT)
-def normals(seg, slab_i, obj_i, obj_f, k, part, p, out):
+def normals(seg, slab_f, slab_i, obj_i, obj_f, k, part, p, out):
     """Oriented normals of object ``k[i]`` at points ``p[i]`` on its part ``part[i]``."""
     for i in range(p.shape[0]):
-        nx, ny, nz = object_normal(seg, slab_i, obj_i, obj_f, k[i], part[i], p[i, 0], p[i, 1], p[i, 2])
+        nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k[i], part[i], p[i, 0], p[i, 1], p[i, 2])
         out[i, 0], out[i, 1], out[i, 2] = nx, ny, nz
 
 

@@ -19,9 +19,14 @@ import math
 from numba import njit
 
 from .bands import F_WALL, band_roots
-from .outlines import RSQUARE, square_corner, xs_eval
+from .outlines import RSQUARE, rrect_sd, square_corner, xs_eval
 from .profile import S_R0, S_R1, S_Z0, S_Z1, wall_state
 from .roots import INLINE, JIT, quadratic, sort_small
+
+#: Columns of the slab table (``slab_f``): the slab's heights, its circumradius (mm), whether
+#: it is ruled (1.0) and, for a ruled slab, :func:`ruled_coefficients`.
+SL_Z0, SL_Z1, SL_RMAX, SL_RULED, SL_A0, SL_KA, SL_B0, SL_KB, SL_C0, SL_KC = range(10)
+SL_COLS = 10
 
 
 @njit(**JIT)
@@ -97,33 +102,19 @@ def _ruled_roots(cx0, cx1, cy0, cy1, r0, r1, sx, sy, px, py, pz, qx, qy, dz, zb,
 
 
 @njit(**JIT)
-def ruled_roots(seg, slab_seg, kind, cos_r, sin_r, ox, oy, oz, dx, dy, dz, lo, hi, out):
+def ruled_roots(sl, cos_r, sin_r, ox, oy, oz, dx, dy, dz, lo, hi, out):
     """Exact crossings (ascending) in ``[lo, hi]`` with a rounded-square or rounded-rectangle
-    wall in a slab where every section is a straight line: the half extents ``hx, hy`` and the
-    corner radius ``c`` of the outline are then linear in z, so the four sides are planes and
-    the four corners slanted circular cones, each a linear or quadratic equation in ``t``."""
+    wall in a ruled slab (``sl``, its row of the slab table: every section a straight line, so
+    the outline's half extents and corner radius are linear in z, ``SL_A0..SL_KC``): the four
+    sides are planes and the four corners slanted circular cones, each a linear or quadratic
+    equation in ``t``."""
     # from the slab entry, so that far origins lose no digits
     ox, oy, oz = ox + lo * dx, oy + lo * dy, oz + lo * dz
     base, hi, lo = lo, hi - lo, 0.0
     px, py = cos_r * ox + sin_r * oy, -sin_r * ox + cos_r * oy
     qx, qy = cos_r * dx + sin_r * dy, -sin_r * dx + cos_r * dy
-    # linear coefficients in z of the sections' radii: r(z) = r_a + r_b z
-    i0 = slab_seg[0]
-    i1 = slab_seg[1]
-    ka = (seg[i0, S_R1] - seg[i0, S_R0]) / (seg[i0, S_Z1] - seg[i0, S_Z0])
-    a0 = seg[i0, S_R0] - ka * seg[i0, S_Z0]
-    kb = (seg[i1, S_R1] - seg[i1, S_R0]) / (seg[i1, S_Z1] - seg[i1, S_Z0])
-    b0 = seg[i1, S_R0] - kb * seg[i1, S_Z0]
-    if kind == RSQUARE:  # u = a, v = b: a = b = u, c = q(u, v), h = p = u - q
-        c0, kc = square_corner(a0, b0), square_corner(ka, kb)
-        ha0, hka, hb0, hkb = a0 - c0, ka - kc, a0 - c0, ka - kc
-        ea0, eka, eb0, ekb = a0, ka, a0, ka
-    else:  # half_width, half_depth, corner
-        i2 = slab_seg[2]
-        kc = (seg[i2, S_R1] - seg[i2, S_R0]) / (seg[i2, S_Z1] - seg[i2, S_Z0])
-        c0 = seg[i2, S_R0] - kc * seg[i2, S_Z0]
-        ha0, hka, hb0, hkb = a0 - c0, ka - kc, b0 - c0, kb - kc
-        ea0, eka, eb0, ekb = a0, ka, b0, kb
+    ea0, eka, eb0, ekb, c0, kc = sl[SL_A0], sl[SL_KA], sl[SL_B0], sl[SL_KB], sl[SL_C0], sl[SL_KC]
+    ha0, hka, hb0, hkb = ea0 - c0, eka - kc, eb0 - c0, ekb - kc
     # as functions of t: f(z(t)) = f0 + fk (oz + t dz)
     zb = oz
     n = 0
@@ -152,3 +143,33 @@ def ruled_roots(seg, slab_seg, kind, cos_r, sin_r, ox, oy, oz, dx, dy, dz, lo, h
         out[i] += base
     sort_small(out, n)  # at most 12
     return n
+
+
+@njit(**JIT)
+def ruled_normal(sl, cos_r, sin_r, px, py, pz):
+    """:func:`swept_normal` in a ruled slab (``sl``, as :func:`ruled_roots`): the outline's
+    radii are linear in z, so the gradient's z part is their slopes times the outline's
+    derivatives in them (no section evaluated)."""
+    x, y = cos_r * px + sin_r * py, -sin_r * px + cos_r * py
+    ka, kb, kc = sl[SL_KA], sl[SL_KB], sl[SL_KC]
+    _, gx, gy, da, db, dc = rrect_sd(x, y, sl[SL_A0] + ka * pz, sl[SL_B0] + kb * pz, sl[SL_C0] + kc * pz)
+    gz = da * ka + db * kb + dc * kc
+    wx, wy = cos_r * gx - sin_r * gy, sin_r * gx + cos_r * gy
+    h = math.sqrt(wx * wx + wy * wy + gz * gz)
+    return wx / h, wy / h, gz / h
+
+
+def ruled_coefficients(kind, rows):
+    """``(A0, KA, B0, KB, C0, KC)``: the outline's half extents ``a = A0 + KA z``, ``b = B0 +
+    KB z`` and corner radius ``c = C0 + KC z`` (mm) in a slab whose sections are the straight
+    segment rows ``rows`` (``(seg row, ...)`` of :mod:`.profile`, one per section) of a rounded
+    square (sections ``u, v``) or rounded rectangle (half width, half depth, corner)."""
+    lines = []
+    for r in rows:
+        k = (r[S_R1] - r[S_R0]) / (r[S_Z1] - r[S_Z0])
+        lines.append((r[S_R0] - k * r[S_Z0], k))
+    (a0, ka), (b0, kb) = lines[0], lines[1]
+    if kind == RSQUARE:  # u = a = b, the corner q(u, v), linear in both
+        return a0, ka, a0, ka, square_corner(a0, b0), square_corner(ka, kb)
+    c0, kc = lines[2]
+    return a0, ka, b0, kb, c0, kc

@@ -66,6 +66,9 @@ NOISE_TARGET = adaptive.NOISE_TARGET
 #: Design fields the image depends on (an edit of any other field keeps the film).
 VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets",
                            "labels", "lights", "bumps", "cap"})
+#: An anti-aliasing wave is cut into tasks of at most about 1 / (BALANCE x threads) of its
+#: samples (:meth:`RenderJob._balanced`).
+BALANCE = 4
 #: Object-mask bits of all labels (engine.tracer.kernels.labels).
 _ALL_LABEL_BITS = np.int64(sum(1 << b for b in range(LABEL_BIT0, MAX_LABEL_BIT + 1)))
 
@@ -530,7 +533,10 @@ class RenderJob:
         t = self.tile  # which tiles have work (one pass over the mask, not one per tile)
         busy = np.logical_or.reduceat(np.logical_or.reduceat(mask, np.arange(0, self.height, t), 0),
                                       np.arange(0, self.width, t), 1)
-        futures = [pool.submit(run, tl) for tl in tiles if busy[tl[1] // t, tl[0] // t]]
+        tasks = [tl for tl in tiles if busy[tl[1] // t, tl[0] // t]]
+        if want is not None:
+            tasks = self._balanced(tasks, np.where(mask, want - film.aa_count, 0))
+        futures = [pool.submit(run, tl) for tl in tasks]
         first_error = None
         for f in futures:
             exc = f.exception()
@@ -543,6 +549,27 @@ class RenderJob:
             self._records[wave] = _WaveRecord.join(self._chunks)
         self._chunks = None
         self.wave_log.append((wave, pixels, samples, time.perf_counter() - t_wave))
+
+    def _balanced(self, tiles, work):
+        """An anti-aliasing wave's tasks: the busy ``tiles`` (``(x0, y0, x1, y1)``), a tile
+        holding more than ``1 / (BALANCE x threads)`` of the wave's samples (``work``, per pixel)
+        cut into quarters (down to 8 px), heaviest first (longest-processing-time order). Such a
+        wave's samples crowd into a few tiles, and the wave ends at a barrier: one worker's last
+        big tile would keep the others idle. The image does not change (samples are seeded by
+        pixel and sample)."""
+        share = float(work.sum()) / (BALANCE * self.threads)
+        out, stack = [], list(tiles)
+        while stack:
+            x0, y0, x1, y1 = stack.pop()
+            w = int(work[y0:y1, x0:x1].sum())
+            if w == 0:
+                continue
+            if w > share and x1 - x0 > 8 and y1 - y0 > 8:
+                xm, ym = (x0 + x1) // 2, (y0 + y1) // 2
+                stack += [(x0, y0, xm, ym), (xm, y0, x1, ym), (x0, ym, xm, y1), (xm, ym, x1, y1)]
+            else:
+                out.append((-w, (x0, y0, x1, y1)))
+        return [tl for _, tl in sorted(out)]
 
     def _record(self, rows, cols, first, count, res) -> _WaveRecord:
         """A wave chunk's record. Only samples of pixels with label hits are kept (``s0 = -2``:

@@ -139,7 +139,7 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
         # root, whose computed sign is rounding noise and would fool every sign test there
         t0 = START_FRACTION * obj_f[k, F_EDGE] if k == last_obj else 0.0
         lo, hi = ray_box_from(axis, ox, oy, oz, dx, dy, dz, 0.0, obj_f[k, F_RMAX], obj_f[k, F_ZMIN],
-                         obj_f[k, F_ZMAX], t0, best)
+                              obj_f[k, F_ZMAX], t0, best)
         if lo > hi:
             continue
         kind = obj_i[k, O_KIND]
@@ -162,8 +162,8 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
             if kind == REVOLVED:
                 if obj_i[k, O_ZSORT] != 0 and seg[j, S_ZMIN] > z_hi:
                     break
-                a, b = ray_box_from(axis, ox, oy, oz, dx, dy, dz, seg[j, S_RMIN], seg[j, S_RMAX], seg[j, S_ZMIN],
-                               seg[j, S_ZMAX], t0, best)
+                a, b = ray_box_from(axis, ox, oy, oz, dx, dy, dz, seg[j, S_RMIN], seg[j, S_RMAX],
+                                    seg[j, S_ZMIN], seg[j, S_ZMAX], t0, best)
                 if a > b:
                     continue
                 if seg[j, S_KIND] == LINE:  # the common case, without a call

@@ -95,14 +95,16 @@ def embree_scene(design, tol_mm=0.02):
 REPEATS = 7
 
 
-def _fastest(run, repeats=REPEATS):
-    """``(result, seconds)``: ``run()``'s result and its fastest thread CPU time over ``repeats``."""
-    best = np.inf
+def _fastest_interleaved(runs, repeats=REPEATS):
+    """The fastest thread CPU time (s) of each of ``runs`` (callables) over ``repeats`` rounds
+    that run each once in turn."""
+    best = [np.inf] * len(runs)
     for _ in range(repeats):
-        t0 = time.thread_time()
-        out = run()
-        best = min(best, time.thread_time() - t0)
-    return out, best
+        for k, run in enumerate(runs):
+            t0 = time.thread_time()
+            run()
+            best[k] = min(best[k], time.thread_time() - t0)
+    return best
 
 
 def frame_vs_embree(name, size, spp):
@@ -127,11 +129,9 @@ def frame_vs_embree(name, size, spp):
     o64, d64 = rays[:, :3].astype(float), rays[:, 3:].astype(float)
     d64 /= np.linalg.norm(d64, axis=1, keepdims=True)
     nearest_hits(ctx.geometry, o64[:2], d64[:2])
-    frame = emb = isect = np.inf
-    for _ in range(REPEATS):
-        frame = min(frame, _fastest(lambda: trace_pixels(ctx, cols, rows, 1, spp), 1)[1])
-        emb = min(emb, _fastest(lambda: scene.run(o32, d32, output=1), 1)[1])
-        isect = min(isect, _fastest(lambda: nearest_hits(ctx.geometry, o64, d64), 1)[1])  # fresh rays in air
+    frame, emb, isect = _fastest_interleaved((lambda: trace_pixels(ctx, cols, rows, 1, spp),
+                                              lambda: scene.run(o32, d32, output=1),
+                                              lambda: nearest_hits(ctx.geometry, o64, d64)))  # fresh rays in air
     return {"scene": name, "kind": design.shape.cross_section, "size": size, "spp": spp, "segments": n,
             "frame_s": frame, "embree_s": emb, "intersect_s": isect, "frame_over_embree": frame / emb,
             "intersect_over_embree": isect / emb, "ns_per_segment": 1e9 * frame / n, "triangles": tris}

@@ -51,9 +51,10 @@ WALLS = ((OUTER_WALL, "outer"), (INNER_WALL, "inner"))
 
 def _slab_rays(geom, seed, m, ruled=False):
     """For each swept wall's curved slab (its sections not all straight: band contraction; with
-    ``ruled``, each ruled slab instead), ``m`` random rays that enter the slab's box: yields ``(k, part, j, o, d, lo, hi)``, ``lo..hi``
-    the ray's interval in the box without its padding (where the kernel clamps the slab's
-    sections and the engine continues into the next ones)."""
+    ``ruled``, each ruled slab instead), ``m`` random rays that enter the slab's box: yields
+    ``(k, part, j, o, d, lo, hi)``, ``lo..hi`` the ray's interval in the box without its
+    padding (where the kernel clamps the slab's sections and the engine continues into the next
+    ones)."""
     rng = np.random.default_rng(seed)
     pad = 3e-9 * geom.scale_mm
     for k, part in WALLS:
@@ -144,7 +145,7 @@ def test_ruled_slabs_normals_are_the_walls_gradients(name):
     out = np.zeros(16)
     slanted = checked = 0
     for k, part, j, o, d, lo, hi in _slab_rays(geom, 13, 150, ruled=True):
-        kind, nsec, c, s, _ = _wall(geom, k)
+        _, _, c, s, _ = _wall(geom, k)
         for t in out[:ruled_roots(geom.slab_f[j], c, s, *o, *d, lo, hi, out)]:
             p = o + t * d
             n = np.array(ruled_normal(geom.slab_f[j], c, s, *p))

@@ -380,8 +380,8 @@ def segment_hits(seg, tab, i, ox, oy, oz, dx, dy, dz, tlo, thi, lo, hi, out, cri
         return helix_roots(seg, i, ox, oy, oz, dx, dy, dz, max(lo, tlo), min(hi, thi), out, MAX_ROOTS)
     else:
         cr, cz, ar, az = seg[i, S_CR], seg[i, S_CZ], seg[i, S_AR], seg[i, S_AZ]
-        if abs(cr) >= 1e-9 * ar and (cr < 0.0 or seg[i, S_RMIN] >= cr - 0.5 * SHEET_SLACK * ar):
-            # the arc lies on a sheet's part that is convex along rays: no quartic needed
+        convex = cr < 0.0 or seg[i, S_RMIN] >= cr - 0.5 * SHEET_SLACK * ar  # no quartic needed
+        if convex and abs(cr) >= 1e-9 * ar:  # (a spheroid keeps torus_roots' closed form)
             m = convex_sheet_roots(ox, oy, oz - cz, dx, dy, dz, abs(cr), ar, az, cr < 0.0, max(tlo, lo),
                                    min(thi, hi), out)
         else:

@@ -156,3 +156,38 @@ def test_ruled_slabs_normals_are_the_walls_gradients(name):
     assert checked > 100, checked
     if name == "curved rounded rectangle":  # its straight shoulder: radii falling with z
         assert slanted > 10, slanted
+
+
+@pytest.mark.parametrize("name", SHAPES)
+def test_ruled_slabs_cross_where_the_certified_bands_do(name):
+    """:func:`~engine.tracer.kernels.swept.ruled_roots` solves at most the cones of the corners
+    where a ray enters and leaves the outline's box (the slab's solid is convex): its crossings
+    are those of the general band search (:func:`swept_roots`, which knows nothing of that), for
+    rays from around the bottle and for rays leaving a point of the wall in any direction (the
+    start itself never found again), on flat sides, slanted shoulders and the round necks (an
+    outline that is all corner)."""
+    from engine.tracer.kernels.swept import ruled_roots
+
+    geom, _ = _geometry(SHAPES[name]())
+    out, ref, stack = np.zeros(16), np.zeros(16), np.zeros((64, 2))
+    rng = np.random.default_rng(17)
+    tol = 1e-7 * geom.scale_mm
+    counts = {"around": 0, "from the wall": 0}
+    for k, part, j, o, d, lo, hi in _slab_rays(geom, 17, 200, ruled=True):
+        kind, nsec, c, s, leaf = _wall(geom, k)
+        rays = [("around", o, d, lo, hi)]
+        n = ruled_roots(geom.slab_f[j], c, s, *o, *d, lo, hi, out)
+        if n:  # from the first crossing, any direction that stays in the slab's box for a while
+            p, e = o + out[0] * d, rng.normal(size=3)
+            e /= np.linalg.norm(e)
+            a, b = ray_box(*p, *e, 0.0, geom.slab_f[j, 2], geom.slab_f[j, 0], geom.slab_f[j, 1], 0.0, np.inf)
+            if a < b:
+                rays.append(("from the wall", p, e, max(a, tol), b))
+        for kind_of_ray, o_, d_, lo_, hi_ in rays:
+            n = ruled_roots(geom.slab_f[j], c, s, *o_, *d_, lo_, hi_, out)
+            m = swept_roots(geom.seg, geom.tab, geom.slab_i[j], kind, nsec, c, s, *o_, *d_, lo_, hi_, leaf, ref,
+                            stack)
+            assert n == m and np.allclose(out[:n], ref[:m], rtol=0.0, atol=tol), \
+                (name, j, kind_of_ray, out[:n], ref[:m])
+            counts[kind_of_ray] += n
+    assert min(counts.values()) > 100, counts

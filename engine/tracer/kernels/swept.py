@@ -106,8 +106,16 @@ def ruled_roots(sl, cos_r, sin_r, ox, oy, oz, dx, dy, dz, lo, hi, out):
     """Exact crossings (ascending) in ``[lo, hi]`` with a rounded-square or rounded-rectangle
     wall in a ruled slab (``sl``, its row of the slab table: every section a straight line, so
     the outline's half extents and corner radius are linear in z, ``SL_A0..SL_KC``): the four
-    sides are planes and the four corners slanted circular cones, each a linear or quadratic
-    equation in ``t``."""
+    sides are planes and the four corners slanted circular cones.
+
+    The slab's solid is convex (at each height a rectangle grown by a disc, both linear in z: a
+    Minkowski combination of its end outlines), so a ray crosses the wall at most twice. Its
+    interval in the outline's bounding box (the four side planes) comes first: an end of that
+    interval on a side's flat part is a crossing (where the box's face is the wall), an end in a
+    corner's quadrant asks that corner's cone (one quadratic), and a ray missing the box misses
+    the wall. Outside the corners' quadrants the box is inside the wall, and the parts of the
+    box outside the wall are the four corner pieces, which the wall's flat bands keep apart:
+    so the ray enters and leaves the wall in the quadrants where it enters and leaves the box."""
     # from the slab entry, so that far origins lose no digits
     ox, oy, oz = ox + lo * dx, oy + lo * dy, oz + lo * dz
     base, hi, lo = lo, hi - lo, 0.0
@@ -115,33 +123,41 @@ def ruled_roots(sl, cos_r, sin_r, ox, oy, oz, dx, dy, dz, lo, hi, out):
     qx, qy = cos_r * dx + sin_r * dy, -sin_r * dx + cos_r * dy
     ea0, eka, eb0, ekb, c0, kc = sl[SL_A0], sl[SL_KA], sl[SL_B0], sl[SL_KB], sl[SL_C0], sl[SL_KC]
     ha0, hka, hb0, hkb = ea0 - c0, eka - kc, eb0 - c0, ekb - kc
-    # as functions of t: f(z(t)) = f0 + fk (oz + t dz)
-    zb = oz
-    n = 0
-    # sides x = +-(ha + c) for |y| <= hb, y = +-(hb + c) for |x| <= ha
+    # the box: sides sgn x <= a(z) and sgn y <= b(z), each g0 + g1 t <= 0 along the ray
+    t_in, t_out = lo, hi
     for side in range(4):
-        for_x = side < 2
         sgn = 1.0 if side % 2 == 0 else -1.0
-        e0, ek = (ea0, eka) if for_x else (eb0, ekb)
-        h0, hk = (hb0, hkb) if for_x else (ha0, hka)
-        pc, qc = (px, qx) if for_x else (py, qy)
-        po, qo = (py, qy) if for_x else (px, qx)
-        # sgn (pc + t qc) = e0 + ek (oz + t dz)
-        den = sgn * qc - ek * dz
-        if den == 0.0:
-            continue
-        t = (e0 + ek * oz - sgn * pc) / den
-        if t >= lo and t <= hi and abs(po + t * qo) <= h0 + hk * (oz + t * dz) and n < out.shape[0]:
+        if side < 2:
+            g0, g1 = sgn * px - ea0 - eka * oz, sgn * qx - eka * dz
+        else:
+            g0, g1 = sgn * py - eb0 - ekb * oz, sgn * qy - ekb * dz
+        if g1 > 0.0:
+            t_out = min(t_out, -g0 / g1)
+        elif g1 < 0.0:
+            t_in = max(t_in, -g0 / g1)
+        elif g0 > 0.0:  # parallel to a side, outside it
+            return 0
+    if t_in > t_out:
+        return 0
+    n = 0
+    solved = -1  # the corner whose cone has been asked
+    for end in range(2):
+        t = t_in if end == 0 else t_out
+        x, y, z = px + t * qx, py + t * qy, oz + t * dz
+        hx, hy = ha0 + hka * z, hb0 + hkb * z
+        if abs(x) > hx and abs(y) > hy:  # in a corner's quadrant: its cone decides
+            corner = (1 if x > 0.0 else 0) | (2 if y > 0.0 else 0)
+            if corner != solved:
+                solved = corner
+                n = _ruled_roots(ha0 + hka * oz, hka * dz, hb0 + hkb * oz, hkb * dz, c0 + kc * oz, kc * dz,
+                                 1.0 if corner & 1 else -1.0, 1.0 if corner & 2 else -1.0,
+                                 px, py, oz, qx, qy, dz, oz, lo, hi, out, n)
+        elif (t > lo if end == 0 else t < hi) and n < out.shape[0]:  # the box's face is the wall
             out[n] = t
             n += 1
-    for corner in range(4):
-        sx = 1.0 if corner & 1 else -1.0
-        sy = 1.0 if corner & 2 else -1.0
-        n = _ruled_roots(ha0 + hka * oz, hka * dz, hb0 + hkb * oz, hkb * dz, c0 + kc * oz, kc * dz,
-                         sx, sy, px, py, oz, qx, qy, dz, zb, lo, hi, out, n)
     for i in range(n):
         out[i] += base
-    sort_small(out, n)  # at most 12
+    sort_small(out, n)  # at most 4
     return n
 
 

@@ -62,30 +62,14 @@ def swept_normal(seg, slab_seg, kind, nsec, cos_r, sin_r, px, py, pz):
 
 
 @njit(**INLINE)
-def _nonnegative(c0, c1, lo, hi):
-    """The part of ``[lo, hi]`` where ``c0 + c1 t >= 0`` (``lo > hi``: none)."""
-    if c1 > 0.0:
-        return max(lo, -c0 / c1), hi
-    if c1 < 0.0:
-        return lo, min(hi, -c0 / c1)
-    return (lo, hi) if c0 >= 0.0 else (1.0, -1.0)
-
-
-@njit(**INLINE)
-def _ruled_roots(cx0, cx1, cy0, cy1, r0, r1, sx, sy, px, py, pz, qx, qy, dz, zb, lo, hi, out, n):
+def _ruled_roots(cx0, cx1, cy0, cy1, r0, r1, sx, sy, px, py, qx, qy, lo, hi, out, n):
     """Crossings with one corner of a rounded-rectangle wall whose corner centre
     ``(sx hx(z), sy hy(z))`` and radius ``c(z)`` are linear in the height (a slanted circular
-    cone), kept where the point lies in that corner's quadrant; appended to ``out``."""
+    cone), kept where the point lies in that corner's quadrant; appended to ``out``. Asked only
+    for a corner the ray is in at an end of its box interval, so the quadratic is always solved."""
     # along the ray: hx = cx0 + cx1 t etc. (t measured from the ray origin)
     ux0, ux1 = px - sx * cx0, qx - sx * cx1
     uy0, uy1 = py - sy * cy0, qy - sy * cy1
-    # the quadrant test below is linear in t: where the ray never is in the quadrant (most
-    # corners of most rays), no quadratic (a hair of slack: the test after the roots decides)
-    slack = 1e-9 * (abs(lo) + abs(hi) + 1.0)
-    a, b = _nonnegative(sx * ux0, sx * ux1, lo - slack, hi + slack)
-    a, b = _nonnegative(sy * uy0, sy * uy1, a, b)
-    if a > b:
-        return n
     A = ux1 * ux1 + uy1 * uy1 - r1 * r1
     B = ux0 * ux1 + uy0 * uy1 - r0 * r1
     C = ux0 * ux0 + uy0 * uy0 - r0 * r0
@@ -151,7 +135,7 @@ def ruled_roots(sl, cos_r, sin_r, ox, oy, oz, dx, dy, dz, lo, hi, out):
                 solved = corner
                 n = _ruled_roots(ha0 + hka * oz, hka * dz, hb0 + hkb * oz, hkb * dz, c0 + kc * oz, kc * dz,
                                  1.0 if corner & 1 else -1.0, 1.0 if corner & 2 else -1.0,
-                                 px, py, oz, qx, qy, dz, oz, lo, hi, out, n)
+                                 px, py, qx, qy, lo, hi, out, n)
         elif (t > lo if end == 0 else t < hi) and n < out.shape[0]:  # the box's face is the wall
             out[n] = t
             n += 1

@@ -15,9 +15,10 @@ per pair of media). Each point is (wall time of the render, rel RMSE against the
 Mitsuba's time excludes loading its scene (reported apart), glassbench's includes compiling
 its scene. Each oracle scene is rendered ``--repeats`` times by each renderer (default 2),
 glassbench's settings and Mitsuba's sample counts alternating, and each point keeps its fastest
-run: the shared machine has slow phases of tens of seconds (both renderers' times move by
-±30 % between single runs), and one that fell on one renderer only would skew the ratio. Writes ``benchmarks/out/peer.csv`` and ``peer.png`` (log time against log error, a
-line per method and scene); prints per scene how many times faster glassbench reaches each of
+run: the shared machine has slow phases lasting minutes (both renderers' times move by ±30 %
+between single runs), and one that fell on one renderer only would skew the ratio. Writes
+``benchmarks/out/peer.csv`` and ``peer.png`` (log time against log error, a line per method
+and scene); prints per scene how many times faster glassbench reaches each of
 Mitsuba's errors, and last ``peer_speedup_min=X``: over the four scenes, the smallest ratio of
 Mitsuba's time at its most converged point to the time glassbench needs for the same error
 (on glassbench's Pareto front of time against error, interpolated in log-log between settings).

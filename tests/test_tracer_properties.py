@@ -59,24 +59,43 @@ def test_half_millimetre_wall_in_a_300_mm_bottle_has_no_leaks_and_no_acne():
     assert st.escaped_inside == 0 and st.mismatches == 0
 
 
-@pytest.mark.parametrize("offset", [1e-3, 1e-6, 1e-9, 1e-12, -1e-12, -1e-9])
-def test_grazing_rays_at_the_silhouette(offset):
-    """Rays tangent to the 38 mm cylinder, shifted by ``offset`` mm outwards (negative: into the
-    glass): they miss or hit consistently, never leak, and the furnace stays exact."""
-    design = tall(3.0)
-    g = render_geometry_for(design)
-    z = np.linspace(20.0, 190.0, 50)
-    o = np.stack([np.full_like(z, 38.0 + offset), np.full_like(z, -500.0), z], 1)
+def _grazing(design, x, z):
+    """Rays along +y from y = -500 mm at ``x`` mm and heights ``z``: their first hits ``(t, k)``,
+    after checking that in a white environment they return it exactly (clear glass and liquid:
+    no light lost or made) with no leaks and no medium mismatches."""
+    o = np.stack([np.full_like(z, x), np.full_like(z, -500.0), z], 1)
     d = np.tile([0.0, 1.0, 0.0], (len(z), 1))
-    t, k, _, _ = nearest_hits(g, o, d)
-    if offset > 0:
-        assert np.all(k < 0)
-    elif offset < -1e-10:
-        assert np.all(k == OUTER_WALL) and np.all(np.abs(t - 500.0) < 1e-3)
+    t, k, _, _ = nearest_hits(render_geometry_for(design), o, d)
     ctx = RenderContext.from_design(design, None, 8, 8, environment=WHITE)
     rad, counters = trace_rays(ctx, o, d)
     assert np.all(np.abs(rad - 1.0) < 1e-9)
     assert counters[1] == 0 and counters[2] == 0  # no leaks, no medium mismatches
+    return t, k
+
+
+def _scaled_image(make, s):
+    """The 24 x 32 image (2 samples, ``(32, 24, 3)``) and kernel counters of ``make(s)``, a design
+    ``s`` times the size, its absorption coefficients divided by ``s`` (the same optical depths)."""
+    from engine.tracer.context import trace_pixels
+
+    d = make(s)
+    d = dataclasses.replace(d, glass=Glass(ior=1.5, absorption=(0.01 / s, 0.0, 0.02 / s)),
+                            liquid=dataclasses.replace(d.liquid, absorption=(0.0, 0.01 / s, 0.0)))
+    ctx = RenderContext.from_design(d, None, 24, 32)
+    ys, xs = np.mgrid[0:32, 0:24]
+    res = trace_pixels(ctx, xs.ravel(), ys.ravel(), 1, 2)
+    return res.sums.reshape(32, 24, 3), res.counters
+
+
+@pytest.mark.parametrize("offset", [1e-3, 1e-6, 1e-9, 1e-12, -1e-12, -1e-9])
+def test_grazing_rays_at_the_silhouette(offset):
+    """Rays tangent to the 38 mm cylinder, shifted by ``offset`` mm outwards (negative: into the
+    glass): they miss or hit consistently, never leak, and the furnace stays exact."""
+    t, k = _grazing(tall(3.0), 38.0 + offset, np.linspace(20.0, 190.0, 50))
+    if offset > 0:
+        assert np.all(k < 0)
+    elif offset < -1e-10:
+        assert np.all(k == OUTER_WALL) and np.all(np.abs(t - 500.0) < 1e-3)
 
 
 def test_rays_along_the_axis_through_mouth_and_base():
@@ -117,18 +136,10 @@ def test_a_camera_ten_metres_away_sees_the_same_hits_as_a_near_one():
 def test_the_image_does_not_depend_on_the_bottle_scale(scale):
     """A bottle and camera scaled by 1/1000 and 1000 (a 0.3 mm and a 300 m bottle) render the
     same image as at 1x: exact float64 surfaces, tolerances relative to the bottle's size."""
-    def render(s):
-        d = tall(2.0, scale=s, fill=150.0)
-        d = dataclasses.replace(d, glass=Glass(ior=1.5, absorption=(0.01 / s, 0.0, 0.02 / s)),
-                                liquid=dataclasses.replace(d.liquid, absorption=(0.0, 0.01 / s, 0.0)))
-        ctx = RenderContext.from_design(d, None, 24, 32)
-        from engine.tracer.context import trace_pixels
-
-        ys, xs = np.mgrid[0:32, 0:24]
-        res = trace_pixels(ctx, xs.ravel(), ys.ravel(), 1, 2)
-        return res.sums.reshape(32, 24, 3), res.counters
-    ref, _ = render(1.0)
-    img, counters = render(scale)
+    def make(s):
+        return tall(2.0, scale=s, fill=150.0)
+    ref, _ = _scaled_image(make, 1.0)
+    img, counters = _scaled_image(make, scale)
     assert counters[1] == 0 and counters[2] == 0
     assert np.max(np.abs(img - ref)) < 1e-6 * ref.max()
 
@@ -156,20 +167,11 @@ def test_grazing_rays_along_a_flat_side_of_a_rounded_rectangle(offset):
     the glass, which they enter through the corner where the side begins): they miss or hit
     consistently, never leak, and the furnace stays exact. A ray parallel to a side is where
     the ruled slabs' box clip has no crossing with that side at all."""
-    design = rounded_rect(fill=70.0)
-    g = render_geometry_for(design)
-    z = np.linspace(10.0, 95.0, 40)
-    o = np.stack([np.full_like(z, 30.0 + offset), np.full_like(z, -500.0), z], 1)
-    d = np.tile([0.0, 1.0, 0.0], (len(z), 1))
-    t, k, _, _ = nearest_hits(g, o, d)
+    t, k = _grazing(rounded_rect(fill=70.0), 30.0 + offset, np.linspace(10.0, 95.0, 40))
     if offset > 0:
         assert np.all(k < 0)
     elif offset < -1e-10:  # the corner's cone, 0.13 mm before the side's flat part begins
         assert np.all(k == OUTER_WALL) and np.all(np.abs(t - (500.0 - 12.0)) < 1e-3)
-    ctx = RenderContext.from_design(design, None, 8, 8, environment=WHITE)
-    rad, counters = trace_rays(ctx, o, d)
-    assert np.all(np.abs(rad - 1.0) < 1e-9)
-    assert counters[1] == 0 and counters[2] == 0  # no leaks, no medium mismatches
 
 
 @pytest.mark.parametrize("scale", [1e-3, 1e3])
@@ -179,18 +181,10 @@ def test_a_rounded_rectangles_image_does_not_depend_on_its_scale(scale):
     pixels see light trapped by total internal reflection in the rounded corners, where after
     dozens of bounces (some reach the depth limit) the last digits steer the path: those agree to
     2e-4 of the peak (the kernels before the box clip: the same pixels, the same bound)."""
-    from engine.tracer.context import trace_pixels
-
-    def render(s):
-        d = rounded_rect(s, fill=70.0)
-        d = dataclasses.replace(d, glass=Glass(ior=1.5, absorption=(0.01 / s, 0.0, 0.02 / s)),
-                                liquid=dataclasses.replace(d.liquid, absorption=(0.0, 0.01 / s, 0.0)))
-        ctx = RenderContext.from_design(d, None, 24, 32)
-        ys, xs = np.mgrid[0:32, 0:24]
-        res = trace_pixels(ctx, xs.ravel(), ys.ravel(), 1, 2)
-        return res.sums.reshape(32, 24, 3), res.counters
-    ref, _ = render(1.0)
-    img, counters = render(scale)
+    def make(s):
+        return rounded_rect(s, fill=70.0)
+    ref, _ = _scaled_image(make, 1.0)
+    img, counters = _scaled_image(make, scale)
     assert counters[1] == 0 and counters[2] == 0
     diff = np.abs(img - ref).max(axis=-1) / ref.max()
     assert np.count_nonzero(diff > 1e-6) <= 4, np.argwhere(diff > 1e-6)  # of 768 pixels

@@ -166,7 +166,7 @@ def test_ruled_slabs_cross_where_the_certified_bands_do(name):
     rays from around the bottle and for rays leaving a point of the wall in any direction (the
     start itself never found again), on flat sides, slanted shoulders and the round necks (an
     outline that is all corner)."""
-    from engine.tracer.kernels.swept import ruled_roots
+    from engine.tracer.kernels.swept import SL_RMAX, SL_Z0, SL_Z1, ruled_roots
 
     geom, _ = _geometry(SHAPES[name]())
     out, ref, stack = np.zeros(16), np.zeros(16), np.zeros((64, 2))
@@ -180,7 +180,8 @@ def test_ruled_slabs_cross_where_the_certified_bands_do(name):
         if n:  # from the first crossing, any direction that stays in the slab's box for a while
             p, e = o + out[0] * d, rng.normal(size=3)
             e /= np.linalg.norm(e)
-            a, b = ray_box(*p, *e, 0.0, geom.slab_f[j, 2], geom.slab_f[j, 0], geom.slab_f[j, 1], 0.0, np.inf)
+            a, b = ray_box(*p, *e, 0.0, geom.slab_f[j, SL_RMAX], geom.slab_f[j, SL_Z0], geom.slab_f[j, SL_Z1], 0.0,
+                           np.inf)
             if a < b:
                 rays.append(("from the wall", p, e, max(a, tol), b))
         for kind_of_ray, o_, d_, lo_, hi_ in rays:

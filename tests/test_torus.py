@@ -4,7 +4,6 @@ from __future__ import annotations
 import json
 import math
 from collections import defaultdict
-from pathlib import Path
 
 import mpmath as mp
 import numpy as np

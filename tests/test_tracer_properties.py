@@ -3,7 +3,6 @@ rays, rays along the axis, far cameras, extreme scales, liquid at the shoulder a
 from __future__ import annotations
 
 import dataclasses
-import math
 import subprocess
 import sys
 from pathlib import Path
@@ -16,8 +15,7 @@ from engine.geometry.segments import Arc, Line
 from engine.geometry.shape import BottleShape
 from engine.model.design import Camera, Design, Glass, Liquid, RenderSettings
 from engine.tracer.context import RenderContext, nearest_hits, trace_rays
-from engine.tracer.render_objects import (BOTTOM, FREE_SURFACE, GLASS, INNER_BASE, INNER_WALL,
-                                          OUTER_WALL, RIM, render_geometry_for)
+from engine.tracer.render_objects import BOTTOM, FREE_SURFACE, INNER_BASE, OUTER_WALL, RIM, render_geometry_for
 from tests.test_tracer import WHITE, _furnace, simple_design
 
 ROOT = Path(__file__).resolve().parents[1]

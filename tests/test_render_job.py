@@ -196,3 +196,36 @@ def test_a_region_of_the_image_is_that_slice_of_the_whole():
         y0, y1, x0, x1 = region
         part = job.image(region)
         assert part.dtype == np.float32 and np.array_equal(part, whole[y0:y1, x0:x1])
+
+
+def test_the_film_adds_a_tiles_results_where_they_belong():
+    """The film's compiled accumulation against the same sums written out: centres stored,
+    anti-aliasing sums and counts added, object masks OR-ed, depths min-ed and capped at 255,
+    a scalar count applying to every pixel; pixels not listed untouched."""
+    from engine.tracer.context import PixelResult
+    from engine.tracer.film import NEVER, Film
+
+    rng = np.random.default_rng(3)
+    film = Film(5, 4, 2)
+    cols, rows = np.array([0, 4, 2]), np.array([3, 0, 1])
+
+    def result():
+        return PixelResult(rng.random((3, 3)), rng.random(3), rng.integers(0, 2 ** 63, 3).astype(np.uint64),
+                           rng.integers(0, 2 ** 40, 3), rng.integers(0, 400, (3, 2)), np.zeros(8, np.int64), 3)
+
+    c, a1, a2 = result(), result(), result()
+    film.add_centre(cols, rows, c)
+    film.add_aa(cols, rows, np.array([1, 2, 3]), a1)
+    film.add_aa(cols, rows, 4, a2)
+    np.testing.assert_array_equal(film.centre[rows, cols], c.sums)
+    np.testing.assert_array_equal(film.signature[rows, cols], c.signature)
+    np.testing.assert_allclose(film.aa_sum[rows, cols], a1.sums + a2.sums, rtol=1e-15)
+    np.testing.assert_allclose(film.aa_sumsq[rows, cols], a1.sumsq + a2.sumsq, rtol=1e-15)
+    np.testing.assert_array_equal(film.aa_count[rows, cols], [5, 6, 7])
+    np.testing.assert_array_equal(film.objects[rows, cols], c.objects | a1.objects | a2.objects)
+    np.testing.assert_array_equal(film.depth[rows, cols],
+                                  np.minimum(np.minimum(np.minimum(c.depth, a1.depth), a2.depth), NEVER))
+    untouched = np.ones((4, 5), bool)
+    untouched[rows, cols] = False
+    assert not film.has_centre[untouched].any() and not film.aa_count[untouched].any()
+    assert np.all(film.depth[untouched] == NEVER) and film.has_centre[rows, cols].all()

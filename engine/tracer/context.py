@@ -141,6 +141,13 @@ class PixelResult:
     label_record: tuple | None = None
 
 
+def _per_pixel(v, p: int) -> np.ndarray:
+    """A scalar or ``(p,)`` array of sample numbers as a fresh ``(p,)`` int64 array (a copy: a
+    read-only view would make the kernel compile a second time for its type)."""
+    a = np.asarray(v, np.int64)
+    return np.full(p, a, np.int64) if a.ndim == 0 else np.array(a.reshape(p))
+
+
 def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, record=None,
                  roulette: float = 0.0, record_labels: bool = False) -> PixelResult:
     """Trace samples ``first[p] .. first[p] + count[p] - 1`` of pixels ``(cols[p], rows[p])``.
@@ -156,9 +163,7 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
     cols = np.ascontiguousarray(cols, dtype=np.int64)
     rows = np.ascontiguousarray(rows, dtype=np.int64)
     p = len(cols)
-    # copies: a read-only view would make the kernel compile a second time for its type
-    first = np.array(np.broadcast_to(np.asarray(first, np.int64), (p,)))
-    count = np.array(np.broadcast_to(np.asarray(count, np.int64), (p,)))
+    first, count = _per_pixel(first, p), _per_pixel(count, p)
     sums = np.zeros((p, 3))
     sumsq = np.zeros(p)
     sig = np.zeros(p, np.uint64)

@@ -16,8 +16,17 @@ import threading
 
 import numpy as np
 
-#: Depth recorded for a material a pixel's tree never met.
-NEVER = 255
+from .kernels.film import NEVER, add_centres, add_samples
+
+
+def _c(a, dtype) -> np.ndarray:
+    """``a`` as a C-contiguous array of ``dtype`` (no copy when it already is one)."""
+    return np.ascontiguousarray(a, dtype=dtype)
+
+
+def _index(a) -> np.ndarray:
+    """Pixel coordinates as a flat int64 array."""
+    return _c(np.asarray(a).ravel(), np.int64)
 
 
 class Film:
@@ -39,25 +48,23 @@ class Film:
 
     # ----------------------------------------------------------------- accumulation
     def add_centre(self, cols, rows, result) -> None:
-        """Store centre samples (a :class:`~engine.tracer.context.PixelResult` of sample 0)."""
-        with self.lock:
-            self.centre[rows, cols] = result.sums
-            self.has_centre[rows, cols] = True
-            self.signature[rows, cols] = result.signature
-            self._records(cols, rows, result)
+        """Store centre samples (a :class:`~engine.tracer.context.PixelResult` of sample 0) of
+        distinct pixels ``(cols[p], rows[p])``."""
+        cols, rows = _index(cols), _index(rows)
+        with self.lock:  # (the kernel releases the GIL, not the lock)
+            add_centres(self.centre, self.has_centre, self.signature, self.objects, self.depth, cols, rows,
+                        _c(result.sums, np.float64), _c(result.signature, np.uint64), _c(result.objects, np.int64),
+                        _c(result.depth, np.int64))
 
     def add_aa(self, cols, rows, count, result) -> None:
-        """Add ``count[p]`` anti-aliasing samples per pixel (a ``PixelResult`` of samples >= 1)."""
+        """Add ``count[p]`` anti-aliasing samples to distinct pixels ``(cols[p], rows[p])`` (a
+        ``PixelResult`` of samples >= 1)."""
+        cols, rows = _index(cols), _index(rows)
+        count = _c(np.broadcast_to(np.asarray(count, np.int64), cols.shape), np.int64)
         with self.lock:
-            self.aa_sum[rows, cols] += result.sums
-            self.aa_sumsq[rows, cols] += result.sumsq
-            self.aa_count[rows, cols] += count
-            self._records(cols, rows, result)
-
-    def _records(self, cols, rows, result) -> None:
-        self.objects[rows, cols] |= result.objects
-        d = np.minimum(result.depth, NEVER).astype(np.uint8)
-        self.depth[rows, cols] = np.minimum(self.depth[rows, cols], d)
+            add_samples(self.aa_sum, self.aa_sumsq, self.aa_count, self.objects, self.depth, cols, rows, count,
+                        _c(result.sums, np.float64), _c(result.sumsq, np.float64), _c(result.objects, np.int64),
+                        _c(result.depth, np.int64))
 
     def set_preview(self, y0, y1, x0, x1, block) -> None:
         """Fill ``[y0, y1) x [x0, x1)`` of the preview layer (shown until centres arrive)."""

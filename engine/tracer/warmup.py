@@ -35,9 +35,13 @@ def warm_up() -> None:
 
         from .context import RenderContext, nearest_hits, trace_pixels, trace_rays
 
+        from .film import Film
+
         ctx = RenderContext.from_design(_tiny_design(), None, 8, 8)
-        trace_pixels(ctx, np.arange(4), np.arange(4), 0, 1)
-        trace_pixels(ctx, np.arange(4), np.arange(4), 1, 2, record=(np.zeros((64, 6), np.float32), np.zeros(1, np.int64)))
+        film = Film(8, 8, ctx.n_materials)
+        film.add_centre(np.arange(4), np.arange(4), trace_pixels(ctx, np.arange(4), np.arange(4), 0, 1))
+        film.add_aa(np.arange(4), np.arange(4), 2, trace_pixels(ctx, np.arange(4), np.arange(4), 1, 2,
+                                                                record=(np.zeros((64, 6), np.float32), np.zeros(1, np.int64))))
         nearest_hits(ctx.geometry, [[0.0, -100.0, 20.0]], [[0.0, 1.0, 0.0]])
         trace_rays(ctx, [[0.0, -100.0, 20.0]], [[0.0, 1.0, 0.0]])
         # the relabel's recomputation of label terms (the types a job passes it)

@@ -166,3 +166,75 @@ def test_kernel_environment_lookup_matches_the_spec_formula():
     got = np.array([env_lookup(tex, 1.0, 0.0, *di) for di in d])
     want = np.array([_spec_lookup(tex.astype(float), di) for di in d])
     assert np.max(np.abs(got - want)) < 1e-7
+
+
+def test_half_texels_keep_eleven_bits_and_scale_a_bright_map_by_a_power_of_two():
+    """The kernels' copy of a map: every texel within 2**-11 of its value (normal half floats;
+    the faintest within 2**-25 absolute); a map brighter than a half float holds is divided by a
+    power of two (exact) that ``factor`` gives back; non-finite texels are cleaned first."""
+    from engine.tracer.environment import HALF_MAX, half_texels
+
+    rng = np.random.default_rng(7)
+    tex = (10.0 ** rng.uniform(-9, 4, size=(32, 64, 3))).astype(np.float32)
+    bits, factor = half_texels(tex)
+    back = bits.view(np.float16).astype(np.float64) * factor
+    assert factor == 1.0 and bits.dtype == np.uint16 and not bits.flags.writeable
+    assert np.all(np.abs(back - tex) <= 2.0 ** -11 * tex + 2.0 ** -25)
+    assert np.abs(back - tex).max() > 0.0  # (it does round)
+    bright = tex.copy()
+    bright[3, 5] = (1e9, 5e4, 1.0)  # a sun: MAX_TEXEL
+    bits, factor = half_texels(bright)
+    back = bits.view(np.float16).astype(np.float64) * factor
+    assert factor == 2.0 ** math.ceil(math.log2(1e9 / HALF_MAX)) and np.all(np.isfinite(back))
+    assert np.all(np.abs(back - bright) <= 2.0 ** -11 * bright + 2.0 ** -25 * factor)
+    bad = tex.copy()
+    bad[0, 0] = (np.inf, np.nan, -1.0)
+    bits, factor = half_texels(bad)
+    assert np.all(np.isfinite(bits.view(np.float16))) and factor > 1.0  # +inf became MAX_TEXEL
+
+
+def test_half_texels_of_a_shared_map_are_made_once():
+    """The studio (read-only, shared) is converted once, whatever the number of renders; a
+    writable array, which may change, is converted each time."""
+    from engine.tracer.environment import half_texels
+
+    studio = studio_texels()
+    assert half_texels(studio)[0] is half_texels(studio)[0]
+    mine = np.array(studio)
+    first = half_texels(mine)[0]
+    mine[0, 0] = 5.0
+    assert half_texels(mine)[0] is not first and half_texels(mine)[0][0, 0, 0] == np.float16(5.0).view(np.uint16)
+
+
+def test_kernel_lookup_of_half_texels_is_the_float32_lookup_within_their_rounding():
+    """The render's lookup (half floats) against the float32 one and SPEC 3, seam and poles
+    included: bilinear weights are positive, so a lookup moves by at most 2**-11 of itself."""
+    from engine.tracer.environment import half_texels
+    from engine.tracer.kernels.sampling import env_lookup
+
+    rng = np.random.default_rng(8)
+    tex = (rng.random((64, 128, 3)) * 10).astype(np.float32)
+    bits, factor = half_texels(tex)
+    d = rng.normal(size=(3000, 3))
+    d[:4] = [[0, 0, 1], [0, 0, -1], [-1, 1e-13, 0], [-1, -1e-13, 0]]
+    d /= np.linalg.norm(d, axis=1, keepdims=True)
+    half = np.array([env_lookup(bits, 2.0 * factor, 0.0, *di) for di in d])
+    full = np.array([env_lookup(tex, 2.0, 0.0, *di) for di in d])
+    assert np.all(np.abs(half - full) <= 2.0 ** -11 * full + 1e-12)
+    rounded = bits.view(np.float16).astype(np.float64) * factor  # SPEC 3 on the rounded texels
+    want = 2.0 * np.array([_spec_lookup(rounded, di) for di in d])
+    assert np.max(np.abs(half - want)) < 1e-6
+
+
+def test_a_render_sees_a_bright_map_at_its_brightness():
+    """A map beyond half-float range (factor > 1) reaches the image at its true radiance: a
+    camera ray that meets no bottle returns the map's value in its direction."""
+    from engine.tracer.context import RenderContext, trace_rays
+    from tests.test_tracer import simple_design
+
+    tex = np.full((8, 16, 3), 2.0e6, np.float32)
+    tex[:, :, 1] = 3.0
+    ctx = RenderContext.from_design(simple_design(None), None, 8, 8, environment=EnvironmentMap(tex, 0.5))
+    assert ctx.env_params[2] > 1.0
+    rad, _ = trace_rays(ctx, [[0.0, -500.0, 900.0]], [[0.0, 0.0, 1.0]])
+    assert np.allclose(rad[0], [1.0e6, 1.5, 1.0e6], rtol=2.0 ** -11)

@@ -282,7 +282,10 @@ def test_labelled_render_has_no_leaks_or_mismatches(relabel_case):
 def test_design_without_labels_renders_as_before():
     """Bordeaux at 48 x 64, 4 spp, rendered before labels existed (tests/data; commit 50cb5c9^,
     re-rendered there with today's ``kernels/sampling.py``, ``adaptive.py`` and ``display.py``
-    when sample positions became Sobol and the centre joined the adaptive scatter): bit for bit."""
+    when sample positions became Sobol and the centre joined the adaptive scatter, with the
+    roulette rule of 05be126, and with the studio's texels rounded to half floats and back when
+    the kernels began to read half floats: that commit's float32 lookups then add the same
+    numbers): bit for bit."""
     from engine.files.project import load_project
     ref = np.load(os.path.join(os.path.dirname(__file__), "data", "bordeaux_nolabel_48x64_spp4.npy"))
     d, a = load_project(BORDEAUX)

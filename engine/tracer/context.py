@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .camera import PinholeCamera
-from .environment import EnvironmentMap, environment_from_design
+from .environment import EnvironmentMap, environment_from_design, half_texels
 from .kernels.integrator import (C_BUDGET, C_CUT_DEPTH, C_CUT_WEIGHT, C_LEAKS, C_MISMATCH, C_NODES,
                                  C_QUERIES, N_COUNTERS)
 from .kernels.sampling import C_COLS
@@ -51,7 +51,10 @@ class RenderContext:
 
     geometry: RenderGeometry
     scene: tuple
+    #: the environment's float32 texels (what the label and finish maps are made from)
     texels: np.ndarray
+    #: ``(scale, rotation rad, factor)``: the environment's scale and turn, and the factor of
+    #: the kernels' half-float copy of the map (:func:`engine.tracer.environment.half_texels`)
     env_params: np.ndarray
     camera: PinholeCamera
     cam: np.ndarray
@@ -67,6 +70,8 @@ class RenderContext:
     finish: tuple = field(repr=False, default=None)
     #: the closure's render rows (:class:`engine.tracer.finishes.CapTables`) or ``None``
     cap: object = field(repr=False, default=None)
+    #: the half-float bit patterns of ``texels`` the kernels look up (:meth:`from_design`)
+    lookup_texels: np.ndarray = field(repr=False, default=None)
 
     @classmethod
     def from_design(cls, design, assets=None, width=None, height=None, environment=None) -> "RenderContext":
@@ -82,11 +87,12 @@ class RenderContext:
         scene = scene_with_cap(scene_with_threads(scene_arrays(geom, design), design), cap, geom.fill_height)
         tex = np.ascontiguousarray(env.texels, dtype=np.float32)
         finish = finish_arrays(design, assets, geom, cap, scene, tex)
-        params = np.array([float(env.scale), math.radians(float(env.rotation_deg))])
+        half, factor = half_texels(tex)
+        params = np.array([float(env.scale), math.radians(float(env.rotation_deg)), factor])
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
         return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
                    float(design.render.min_weight), int(scene[7].shape[0]), level, env,
-                   label_arrays(design, assets, tex, geom.obj_i.shape[0]), finish, cap)
+                   label_arrays(design, assets, tex, geom.obj_i.shape[0]), finish, cap, half)
 
     def with_labels(self, design, assets=None) -> "RenderContext":
         """This context with the labels (and lights) of ``design``: geometry, media, camera and
@@ -178,7 +184,7 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
     finish = ctx.finish_tuple
     while True:
         labels = with_buffers(ctx.labels, samples, hits)
-        done = render_pixels(ctx.scene, ctx.texels, ctx.env_params, ctx.cam, cols, rows, first, count,
+        done = render_pixels(ctx.scene, ctx.lookup_texels, ctx.env_params, ctx.cam, cols, rows, first, count,
                              ctx.max_depth, ctx.min_weight, float(roulette), 0, MAX_NODES, sums, sumsq, sig, mask,
                              depth, counters, cancel, rec_rays, rec_n, labels, finish)
         if not samples or not labels[LB_HIT_N][1] or done < p:
@@ -235,6 +241,6 @@ def trace_rays(ctx: RenderContext, origins, directions):
     d = np.ascontiguousarray(np.asarray(directions, float).reshape(-1, 3))
     out = np.zeros((len(o), 3))
     counters = np.zeros(N_COUNTERS, np.int64)
-    radiance(ctx.scene, ctx.texels, ctx.env_params, o, d, ctx.max_depth, ctx.min_weight, MAX_NODES, out, counters,
+    radiance(ctx.scene, ctx.lookup_texels, ctx.env_params, o, d, ctx.max_depth, ctx.min_weight, MAX_NODES, out, counters,
               with_buffers(ctx.labels), ctx.finish_tuple)
     return out, counters

@@ -109,7 +109,8 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
         ``(seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f)`` arrays
         (:mod:`engine.tracer.render_objects`); ``media[m] = (ior, sigma_r, sigma_g, sigma_b)``
         with absorption in 1/mm.
-    tex, env_p : environment texels ``(H, W, 3)`` float32 and ``(scale, rotation rad)``.
+    tex, env_p : environment texels ``(H, W, 3)`` (half-float bit patterns, or float32) and
+        ``(scale, rotation rad, factor)``: radiance is ``scale * factor * texel``.
     o, d : the ray (mm, unit direction), starting in air.
     seed : uint64 seed of the sample (branches derive theirs from it).
     work : tuple of scratch arrays ``(stk_f, stk_i, stk_u, roots, crit, ivals, kids, order)``.
@@ -131,7 +132,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
     """
     seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
     stk_f, stk_i, stk_u, roots, crit, ivals, kids, order = work
-    scale, rot = env_p[0], env_p[1]
+    scale, rot = env_p[0] * env_p[2], env_p[1]  # the map's scale times its texels' factor
     cap = stk_f.shape[0]
     lr = lg = lb = 0.0
     ar = ag = ab = 0.0  # the labels' terms (kernels.labels module rule)

@@ -14,7 +14,9 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from llvmlite import ir
+from numba import njit, types
+from numba.extending import intrinsic, overload
 
 from .roots import INLINE, JIT
 
@@ -157,10 +159,35 @@ def atan2_poly(y, x):
     return -a if y < 0.0 else a
 
 
+@intrinsic
+def _half_to_float(typingctx, bits):
+    """The IEEE half-precision number whose bit pattern is the uint16 ``bits``, as float32
+    (one ``vcvtph2ps`` on an x86-64 with F16C; numba has no float16 type of its own)."""
+    def codegen(context, builder, signature, args):
+        return builder.fpext(builder.bitcast(args[0], ir.HalfType()), ir.FloatType())
+    return types.float32(types.uint16), codegen
+
+
+def texel(tex, j, i, c):
+    """Channel ``c`` of texel ``(j, i)``: float32 texels as they are, uint16 ones read as the
+    bit patterns of half floats (:func:`engine.tracer.environment.half_texels`)."""
+    v = tex[j, i, c]
+    return float(np.uint16(v).view(np.float16)) if tex.dtype == np.uint16 else float(v)
+
+
+@overload(texel, inline="always")
+def _texel(tex, j, i, c):
+    if tex.dtype == types.uint16:
+        return lambda tex, j, i, c: _half_to_float(tex[j, i, c])
+    return lambda tex, j, i, c: tex[j, i, c]
+
+
 @njit(**JIT)
 def env_lookup(tex, scale, rot, dx, dy, dz):
     """Radiance ``(r, g, b)`` arriving along unit direction ``d`` (SPEC 3, bilinear, u wraps,
-    rows clamped), times ``scale``; the map is turned by ``rot`` rad about +z."""
+    rows clamped), times ``scale``; the map is turned by ``rot`` rad about +z. ``tex`` is
+    ``(H, W, 3)`` float32 texels or the half-float bit patterns of
+    :func:`engine.tracer.environment.half_texels` (the render's map: half the memory traffic)."""
     h, w = tex.shape[0], tex.shape[1]
     u = (atan2_poly(dy, dx) - rot) * (0.5 / math.pi)
     u -= math.floor(u)
@@ -182,7 +209,10 @@ def env_lookup(tex, scale, rot, dx, dy, dz):
     w01 = fx * (1.0 - fy)
     w10 = (1.0 - fx) * fy
     w11 = fx * fy
-    r = (tex[j0, i0, 0] * w00 + tex[j0, i1, 0] * w01 + tex[j1, i0, 0] * w10 + tex[j1, i1, 0] * w11) * scale
-    g = (tex[j0, i0, 1] * w00 + tex[j0, i1, 1] * w01 + tex[j1, i0, 1] * w10 + tex[j1, i1, 1] * w11) * scale
-    b = (tex[j0, i0, 2] * w00 + tex[j0, i1, 2] * w01 + tex[j1, i0, 2] * w10 + tex[j1, i1, 2] * w11) * scale
+    r = (texel(tex, j0, i0, 0) * w00 + texel(tex, j0, i1, 0) * w01 + texel(tex, j1, i0, 0) * w10
+         + texel(tex, j1, i1, 0) * w11) * scale
+    g = (texel(tex, j0, i0, 1) * w00 + texel(tex, j0, i1, 1) * w01 + texel(tex, j1, i0, 1) * w10
+         + texel(tex, j1, i1, 1) * w11) * scale
+    b = (texel(tex, j0, i0, 2) * w00 + texel(tex, j0, i1, 2) * w01 + texel(tex, j1, i0, 2) * w10
+         + texel(tex, j1, i1, 2) * w11) * scale
     return r, g, b

@@ -238,3 +238,13 @@ def test_a_render_sees_a_bright_map_at_its_brightness():
     assert ctx.env_params[2] > 1.0
     rad, _ = trace_rays(ctx, [[0.0, -500.0, 900.0]], [[0.0, 0.0, 1.0]])
     assert np.allclose(rad[0], [1.0e6, 1.5, 1.0e6], rtol=2.0 ** -11)
+
+
+def test_without_half_float_conversion_the_kernels_read_float32(monkeypatch):
+    """A CPU that cannot convert half floats in one instruction gets the float32 texels."""
+    from engine.tracer import environment as E
+
+    monkeypatch.setattr(E, "_converts_halves", lambda: False)
+    tex = studio_texels()
+    got, factor = E.half_texels(tex)
+    assert got.dtype == np.float32 and factor == 1.0 and np.array_equal(got, tex)

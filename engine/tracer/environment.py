@@ -259,13 +259,33 @@ def _to_half(texels: np.ndarray) -> tuple:
 _HALF = _HalfCache()
 
 
+@lru_cache(maxsize=1)
+def _converts_halves() -> bool:
+    """Whether this CPU converts half floats in one instruction (x86-64 F16C, or ARM, where
+    half floats are native). Elsewhere LLVM would call a runtime helper that numba's linker
+    may not have: the kernels then read float32."""
+    import platform
+
+    import llvmlite.binding as ll
+
+    if platform.machine().lower() in ("aarch64", "arm64"):
+        return True
+    try:
+        return bool(ll.get_host_cpu_features().get("f16c", False))
+    except RuntimeError:  # (a CPU llvmlite cannot describe)
+        return False
+
+
 def half_texels(texels: np.ndarray) -> tuple:
     """The render kernels' copy of float32 texels ``(H, W, 3)`` (in ``[0, MAX_TEXEL]``): the bit
     patterns (uint16) of half floats holding ``texels / factor``, and ``factor``, a power of two
     (1 unless a texel exceeds :data:`HALF_MAX`). A lookup reads half the bytes (the map is
     random access for rays scattered by glass: 6 MB of float32 texels miss the caches, 3 MB
     miss them less). Each texel keeps 11 significant bits (relative error <= 2**-11), down to
-    ``factor * 2**-14``; below, an absolute error <= ``factor * 2**-25``."""
+    ``factor * 2**-14``; below, an absolute error <= ``factor * 2**-25``. On a CPU without
+    half-float conversion the float32 texels themselves, factor 1."""
+    if not _converts_halves():
+        return np.ascontiguousarray(texels, dtype=np.float32), 1.0
     return _HALF.get(texels)
 
 

@@ -192,8 +192,9 @@ def env_lookup(tex, scale, rot, dx, dy, dz):
     u = (atan2_poly(dy, dx) - rot) * (0.5 / math.pi)
     u -= math.floor(u)
     v = atan2_poly(math.sqrt(dx * dx + dy * dy), dz) * (1.0 / math.pi)  # acos(dz), even at the poles
-    x = u * w - 0.5
-    x -= w * math.floor(x / w)
+    x = u * w - 0.5  # in [-0.5, w - 0.5]: one wrap (no division)
+    if x < 0.0:
+        x += w
     y = v * (h - 1)
     i0 = int(x)
     fx = x - i0

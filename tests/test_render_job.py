@@ -229,3 +229,24 @@ def test_the_film_adds_a_tiles_results_where_they_belong():
     untouched[rows, cols] = False
     assert not film.has_centre[untouched].any() and not film.aa_count[untouched].any()
     assert np.all(film.depth[untouched] == NEVER) and film.has_centre[rows, cols].all()
+
+
+def test_the_film_refuses_pixels_outside_it_and_results_of_another_size():
+    """The compiled loops check no bounds: the film does, before them, and changes nothing."""
+    from engine.tracer.context import PixelResult
+    from engine.tracer.film import Film
+
+    film = Film(5, 4, 2)
+
+    def result(n, m=2):
+        return PixelResult(np.ones((n, 3)), np.ones(n), np.ones(n, np.uint64), np.ones(n, np.int64),
+                           np.zeros((n, m), np.int64), np.zeros(8, np.int64), n)
+
+    for cols, rows in (([5], [0]), ([0], [4]), ([-1], [0]), ([0, 1], [0])):
+        with pytest.raises(ValueError, match="film"):
+            film.add_centre(np.array(cols), np.array(rows), result(len(cols)))
+    with pytest.raises(ValueError, match="film"):
+        film.add_aa(np.array([0, 1]), np.array([0, 0]), 1, result(3))
+    with pytest.raises(ValueError, match="film"):
+        film.add_aa(np.array([0]), np.array([0]), 1, result(1, m=1))
+    assert not film.has_centre.any() and not film.aa_count.any()

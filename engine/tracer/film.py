@@ -29,6 +29,15 @@ def _index(a) -> np.ndarray:
     return _c(np.asarray(a).ravel(), np.int64)
 
 
+def _per_pixel(a, n: int, dtype, shape=()) -> np.ndarray:
+    """``a`` as a C-contiguous ``(n, *shape)`` array of ``dtype``; ``ValueError`` if it is not
+    that shape (the compiled loops check no bounds)."""
+    a = _c(a, dtype)
+    if a.shape != (n, *shape):
+        raise ValueError(f"film: {a.shape} values for {n} pixels, expected {(n, *shape)}")
+    return a
+
+
 class Film:
     """Accumulators for an image of ``width x height`` pixels and ``n_materials`` materials."""
 
@@ -50,21 +59,34 @@ class Film:
     def add_centre(self, cols, rows, result) -> None:
         """Store centre samples (a :class:`~engine.tracer.context.PixelResult` of sample 0) of
         distinct pixels ``(cols[p], rows[p])``."""
-        cols, rows = _index(cols), _index(rows)
+        cols, rows = self._pixels(cols, rows)
+        n, m = len(cols), self.depth.shape[2]
+        sums, sig = _per_pixel(result.sums, n, np.float64, (3,)), _per_pixel(result.signature, n, np.uint64)
+        objects, depth = _per_pixel(result.objects, n, np.int64), _per_pixel(result.depth, n, np.int64, (m,))
         with self.lock:  # (the kernel releases the GIL, not the lock)
             add_centres(self.centre, self.has_centre, self.signature, self.objects, self.depth, cols, rows,
-                        _c(result.sums, np.float64), _c(result.signature, np.uint64), _c(result.objects, np.int64),
-                        _c(result.depth, np.int64))
+                        sums, sig, objects, depth)
 
     def add_aa(self, cols, rows, count, result) -> None:
         """Add ``count[p]`` anti-aliasing samples to distinct pixels ``(cols[p], rows[p])`` (a
         ``PixelResult`` of samples >= 1)."""
-        cols, rows = _index(cols), _index(rows)
-        count = _c(np.broadcast_to(np.asarray(count, np.int64), cols.shape), np.int64)
+        cols, rows = self._pixels(cols, rows)
+        n, m = len(cols), self.depth.shape[2]
+        count = _per_pixel(np.broadcast_to(np.asarray(count, np.int64), cols.shape), n, np.int64)
+        sums, sumsq = _per_pixel(result.sums, n, np.float64, (3,)), _per_pixel(result.sumsq, n, np.float64)
+        objects, depth = _per_pixel(result.objects, n, np.int64), _per_pixel(result.depth, n, np.int64, (m,))
         with self.lock:
             add_samples(self.aa_sum, self.aa_sumsq, self.aa_count, self.objects, self.depth, cols, rows, count,
-                        _c(result.sums, np.float64), _c(result.sumsq, np.float64), _c(result.objects, np.int64),
-                        _c(result.depth, np.int64))
+                        sums, sumsq, objects, depth)
+
+    def _pixels(self, cols, rows) -> tuple:
+        """Flat int64 pixel coordinates, checked against the film's size (``ValueError``)."""
+        cols, rows = _index(cols), _index(rows)
+        if cols.shape != rows.shape:
+            raise ValueError(f"film: {cols.size} columns but {rows.size} rows")
+        if cols.size and (min(cols.min(), rows.min()) < 0 or cols.max() >= self.width or rows.max() >= self.height):
+            raise ValueError(f"film: a pixel outside the {self.width} x {self.height} image")
+        return cols, rows
 
     def set_preview(self, y0, y1, x0, x1, block) -> None:
         """Fill ``[y0, y1) x [x0, x1)`` of the preview layer (shown until centres arrive)."""

@@ -250,3 +250,18 @@ def test_the_film_refuses_pixels_outside_it_and_results_of_another_size():
     with pytest.raises(ValueError, match="film"):
         film.add_aa(np.array([0]), np.array([0]), 1, result(1, m=1))
     assert not film.has_centre.any() and not film.aa_count.any()
+
+
+def test_small_tiles_are_batched_in_order_until_a_task_is_worth_its_overhead():
+    """A preview wave's tiles (a few samples each) go in batches of at least MIN_TASK_SAMPLES,
+    in their order; a tile of that much work is a task of its own; no tile lost or repeated."""
+    work = np.zeros((64, 96), np.int64)
+    work[::8, ::8] = 1  # a preview: one centre per 8 x 8 block
+    work[32:48, 48:64] = job_module.MIN_TASK_SAMPLES  # one heavy tile
+    tiles = [(x, y, x + 16, y + 16) for y in range(0, 64, 16) for x in range(0, 96, 16)]
+    batches = job_module._batches(tiles, work)
+    assert [tl for b in batches for tl in b] == tiles
+    sums = [sum(int(work[y0:y1, x0:x1].sum()) for x0, y0, x1, y1 in b) for b in batches]
+    assert all(s >= job_module.MIN_TASK_SAMPLES for s in sums[:-1])
+    assert [(48, 32, 64, 48)] in batches or any(b[-1] == (48, 32, 64, 48) for b in batches)
+    assert len(batches) < len(tiles) // 4

@@ -38,6 +38,7 @@ label hits) are kept only for designs with labels.
 from __future__ import annotations
 
 import dataclasses
+import itertools
 import os
 import random
 import threading
@@ -480,7 +481,8 @@ class RenderJob:
 
     def _wave(self, pool, ctx, tiles, wave, mask, want, preview=None, roulette=0.0) -> None:
         """Trace the pixels of ``mask``: their centres (``want`` None) or anti-aliasing samples
-        up to ``want``; one task per tile, all finished before this returns."""
+        up to ``want``; one task per tile (small tiles batched, :func:`_batches`), all finished
+        before this returns."""
         if self._cancel.is_set():
             return
         film = self.film
@@ -492,23 +494,28 @@ class RenderJob:
         if self._reuse is not None:
             mask = self._replay(wave, mask, want, preview)
 
-        def run(tl):
-            x0, y0, x1, y1 = tl
+        def run(batch):
             if self._cancel.is_set():
                 return
-            ys, xs = np.nonzero(mask[y0:y1, x0:x1])
-            if not len(xs):
+            parts = []  # (tile, rows, cols) of the batch's tiles with work
+            for x0, y0, x1, y1 in batch:
+                ys, xs = np.nonzero(mask[y0:y1, x0:x1])
+                if len(xs):
+                    parts.append(((x0, y0, x1, y1), ys + y0, xs + x0))
+            if not parts:
                 return
-            rows, cols = ys + y0, xs + x0
+            rows = np.concatenate([p[1] for p in parts])
+            cols = np.concatenate([p[2] for p in parts])
             if want is None:
                 res = trace_pixels(ctx, cols, rows, 0, 1, cancel=self._cancel_flag, record_labels=recording)
                 if res.finished < len(cols):
                     return
                 film.add_centre(cols, rows, res)
                 if preview is not None:
-                    for c, r, v in zip(cols, rows, res.sums):
-                        by, bx = (r // preview) * preview, (c // preview) * preview
-                        film.set_preview(by, min(by + preview, y1), bx, min(bx + preview, x1), v)
+                    k = 0
+                    for tl, r, c in parts:
+                        self._paint_preview(c, r, res.sums[k:k + len(r)], preview, tl)
+                        k += len(r)
             else:
                 have = film.aa_count[rows, cols]
                 count = want[rows, cols] - have
@@ -528,15 +535,37 @@ class RenderJob:
                 if self.first_tile_seconds is None:
                     self.first_tile_seconds = time.perf_counter() - self._t0
             if self.on_tile is not None:
-                self.on_tile(self, Tile(x0, y0, x1, y1, wave))
+                for tl, _, _ in parts:
+                    if self._cancel.is_set():  # (a cancelled job stops reporting its batch)
+                        break
+                    self.on_tile(self, Tile(*tl, wave))
 
         t = self.tile  # which tiles have work (one pass over the mask, not one per tile)
         busy = np.logical_or.reduceat(np.logical_or.reduceat(mask, np.arange(0, self.height, t), 0),
                                       np.arange(0, self.width, t), 1)
         tasks = [tl for tl in tiles if busy[tl[1] // t, tl[0] // t]]
+        work = mask.astype(np.int64) if want is None else np.where(mask, want - film.aa_count, 0)
         if want is not None:
-            tasks = self._balanced(tasks, np.where(mask, want - film.aa_count, 0))
-        futures = [pool.submit(run, tl) for tl in tasks]
+            tasks = self._balanced(tasks, work)
+        tasks = _batches(tasks, work)
+        # one pulling loop per worker over the ordered tasks, not one future per tile: a wave of
+        # small tiles (the centres' 144 at 384 x 384) spent its first milliseconds submitting
+        # them, holding the GIL that a starting worker needs, and each finished future woke
+        # this thread
+        order = itertools.count()  # (its next() is atomic under the GIL)
+
+        def pull():
+            try:
+                while not self._cancel.is_set():
+                    i = next(order)
+                    if i >= len(tasks):
+                        return
+                    run(tasks[i])
+            except BaseException:
+                self.cancel()  # the other workers stop at their next tile
+                raise
+
+        futures = [pool.submit(pull) for _ in range(min(self.threads, len(tasks)))]
         first_error = None
         for f in futures:
             exc = f.exception()
@@ -599,32 +628,34 @@ class RenderJob:
         return _WaveRecord(rows * self.width + cols, np.asarray(first, np.int64), count, res.sums, res.sumsq,
                            res.signature, res.objects, res.depth, s0.astype(np.int64), smp_f, smp_i, hit_f, hit_i)
 
-    def _paint_preview(self, cols, rows, values, b) -> None:
-        """What the tiles' preview painting does (each centre over its ``b x b`` block, clipped
-        to its tile), for many centres at once."""
+    def _paint_preview(self, cols, rows, values, b, region=None) -> None:
+        """Paint each centre ``(cols[p], rows[p])`` (its radiance ``values[p]``) over its ``b x b``
+        block, clipped to its tile; ``region`` ``(x0, y0, x1, y1)``, tile-aligned, holds all the
+        centres (default: the whole image)."""
         film = self.film
-        if self.tile % b:
+        if self.tile % b:  # blocks may cross tiles: one block at a time
             for c, r, v in zip(cols, rows, values):
                 by, bx = (r // b) * b, (c // b) * b
                 x1 = min((c // self.tile + 1) * self.tile, self.width)  # the pixel's tile
                 y1 = min((r // self.tile + 1) * self.tile, self.height)
                 film.set_preview(by, min(by + b, y1), bx, min(bx + b, x1), v)
             return
-        # blocks then never cross a tile: paint whole blocks, cut at the image's edge
-        h, w = self.height, self.width
-        nby, nbx = -(-h // b), -(-w // b)
-        grid = np.zeros((nby, nbx, 3))
-        have = np.zeros((nby, nbx), bool)
-        grid[rows // b, cols // b] = values
-        have[rows // b, cols // b] = True
+        # blocks then never cross a tile: paint whole blocks, cut at the region's edge
+        x0, y0, x1, y1 = region if region is not None else (0, 0, self.width, self.height)
+        h, w = y1 - y0, x1 - x0
+        grid = np.zeros((-(-h // b), -(-w // b), 3))
+        have = np.zeros(grid.shape[:2], bool)
+        grid[(rows - y0) // b, (cols - x0) // b] = values
+        have[(rows - y0) // b, (cols - x0) // b] = True
         full = np.repeat(np.repeat(grid, b, 0), b, 1)[:h, :w]
+        target = film.preview[y0:y1, x0:x1]
         if have.all():  # the usual case: every block's centre
             with film.lock:
-                film.preview[...] = full
+                target[...] = full
             return
         on = np.repeat(np.repeat(have, b, 0), b, 1)[:h, :w]
         with film.lock:
-            film.preview[on] = full[on]
+            target[on] = full[on]
 
     def _replay(self, wave, mask, want, preview):
         """Relabel: put the previous job's results of this wave into the film for the pixels it
@@ -671,6 +702,29 @@ class RenderJob:
         if self.on_tile is not None:
             self.on_tile(self, Tile(0, 0, self.width, self.height, wave))
         return left
+
+
+#: A task traces at least this many samples (tiles are batched until it does): below it the
+#: Python around a tile's kernel call (~50 us) is more than its samples cost (a preview
+#: wave's tile holds 4-16 of them).
+MIN_TASK_SAMPLES = 512
+
+
+def _batches(tiles, work) -> list:
+    """Consecutive ``tiles`` (``(x0, y0, x1, y1)``) grouped into lists holding at least
+    :data:`MIN_TASK_SAMPLES` of the per-pixel ``work`` each (the last may hold less); order
+    kept, so a wave's heaviest tiles still go first."""
+    out, batch, total = [], [], 0
+    for tl in tiles:
+        x0, y0, x1, y1 = tl
+        batch.append(tl)
+        total += int(work[y0:y1, x0:x1].sum())
+        if total >= MIN_TASK_SAMPLES:
+            out.append(batch)
+            batch, total = [], 0
+    if batch:
+        out.append(batch)
+    return out
 
 
 def _lower_priority(nice: int) -> None:

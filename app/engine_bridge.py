@@ -202,11 +202,6 @@ def tracer_job_class():
 WINDOW_NOISE = {"noise_space": "display", "noise_target": tracer_job.adaptive.DISPLAY_NOISE}
 
 
-def tonemap_srgb8(image: np.ndarray) -> np.ndarray:
-    """Linear RGB float image -> sRGB uint8, the tracer's own tone map."""
-    return np.asarray(tracer_job.tonemap_srgb8(image))
-
-
 # ---------------------------------------------------------------------------- labels
 #: Steps of the march along a ray from the eye (about 0.3 mm apart for a 600 mm camera).
 SURFACE_MARCH_STEPS = 4000

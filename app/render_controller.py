@@ -21,7 +21,6 @@ from __future__ import annotations
 import os
 import time
 
-import numpy as np
 from PySide6.QtCore import QObject, Qt, QTimer, Signal
 
 from app import engine_bridge
@@ -244,8 +243,7 @@ class RenderController(QObject):
         generation = self.generation
         try:
             for tile in _latest_per_area(tiles):  # only the tiles' pixels: the film is locked meanwhile
-                region = np.asarray(job.image((tile.y0, tile.y1, tile.x0, tile.x1)))
-                rgb8 = np.ascontiguousarray(engine_bridge.tonemap_srgb8(region)[..., :3])
+                rgb8 = job.display((tile.y0, tile.y1, tile.x0, tile.x1))
                 self.tileReady.emit(generation, tile.x0, tile.y0, rgb8)
         except Exception as exc:  # why: a bad tile is reported, the job keeps running
             self.failed.emit(generation, f"tile: {exc}")

@@ -265,3 +265,26 @@ def test_small_tiles_are_batched_in_order_until_a_task_is_worth_its_overhead():
     assert all(s >= job_module.MIN_TASK_SAMPLES for s in sums[:-1])
     assert [(48, 32, 64, 48)] in batches or any(b[-1] == (48, 32, 64, 48) for b in batches)
     assert len(batches) < len(tiles) // 4
+
+
+def test_the_films_display_levels_are_the_tone_map_of_its_estimate_bit_for_bit():
+    """The window's tiles (compiled) against tonemap_srgb8 of Film.image: pixels with only a
+    preview, a centre, anti-aliasing samples, non-finite and negative values, highlights above
+    white and values at every level's threshold; a region cut at the image's edge."""
+    from engine.tracer.display import LEVEL_THRESHOLDS, tonemap_srgb8
+    from engine.tracer.film import Film
+
+    rng = np.random.default_rng(4)
+    film = Film(40, 30, 1)
+    film.preview[...] = rng.random((30, 40, 3)) * 1.5
+    film.centre[10:] = rng.random((20, 40, 3))
+    film.has_centre[10:] = True
+    film.aa_sum[20:] = rng.random((10, 40, 3)) * 3.0
+    film.aa_count[20:] = rng.integers(1, 4, (10, 40))
+    film.centre[12, :3] = [[np.nan, np.inf, -np.inf], [-1.0, 2.0, 0.5], [1e30, 0.0, 1e-9]]
+    t = LEVEL_THRESHOLDS.astype(np.float64)
+    film.centre[14:17, :, :] = np.stack([t[:120], np.nextafter(t[:120], 0), t[120:240]], 0).reshape(3, 40, 3)
+    for region in ((0, 30, 0, 40), (5, 25, 7, 33), (28, 45, 35, 60)):
+        want = tonemap_srgb8(film.image(region if region[1] <= 30 else (28, 30, 35, 40)))
+        np.testing.assert_array_equal(film.display(region), want)
+    assert film.display((0, 30, 0, 40)).dtype == np.uint8 and len(np.unique(film.display((14, 17, 0, 40)))) > 200

@@ -30,3 +30,23 @@ def display_slope(value) -> np.ndarray:
 def tonemap_srgb8(image) -> np.ndarray:
     """Display encoding of a linear image as ``uint8`` (H, W, 3): :func:`srgb_encode`, rounded."""
     return np.clip(np.round(srgb_encode(image) * 255.0), 0, 255).astype(np.uint8)
+
+
+def _level_thresholds() -> np.ndarray:
+    """For each display level 1..255 the smallest float32 radiance :func:`tonemap_srgb8` maps
+    to it or above (binary search over the bit patterns of non-negative float32, which order
+    as the values do): what the compiled encoder (:func:`engine.tracer.kernels.film.
+    encode_srgb8`) counts, so it gives this module's levels bit for bit."""
+    lo = np.zeros(255, np.int64)  # bit patterns: 0.0 maps to level 0, 1.0 to 255
+    hi = np.full(255, np.float32(1.0).view(np.int32), np.int64)
+    want = np.arange(1, 256)
+    while np.any(hi - lo > 1):
+        mid = (lo + hi) // 2
+        level = tonemap_srgb8(mid.astype(np.int32).view(np.float32)[:, None])[:, 0]
+        above = level >= want
+        hi, lo = np.where(above, mid, hi), np.where(above, lo, mid)
+    return hi.astype(np.int32).view(np.float32)
+
+
+#: :func:`_level_thresholds`, computed once.
+LEVEL_THRESHOLDS = _level_thresholds()

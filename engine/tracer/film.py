@@ -16,7 +16,8 @@ import threading
 
 import numpy as np
 
-from .kernels.film import NEVER, add_centres, add_samples
+from .display import LEVEL_THRESHOLDS
+from .kernels.film import NEVER, add_centres, add_samples, encode_srgb8, estimate
 
 
 def _c(a, dtype) -> np.ndarray:
@@ -107,6 +108,21 @@ class Film:
                            np.where(self.has_centre[ys, xs][..., None], self.centre[ys, xs], self.preview[ys, xs]))
         img = np.nan_to_num(img, nan=0.0, posinf=0.0, neginf=0.0)
         return np.clip(img, 0.0, np.finfo(np.float32).max).astype(np.float32)
+
+    def display(self, region) -> np.ndarray:
+        """The display levels (sRGB ``uint8`` ``(h, w, 3)``, :func:`engine.tracer.display.
+        tonemap_srgb8` of :meth:`image`, bit for bit) of ``region = (y0, y1, x0, x1)``: what the
+        window paints as tiles finish, in compiled loops that hold the lock (not the GIL) only
+        while the estimate is read."""
+        y0, y1, x0, x1 = (int(v) for v in region)
+        y0, x0 = max(y0, 0), max(x0, 0)
+        y1, x1 = max(min(y1, self.height), y0), max(min(x1, self.width), x0)
+        img = np.empty((y1 - y0, x1 - x0, 3), np.float32)
+        with self.lock:
+            estimate(self.centre, self.has_centre, self.aa_sum, self.aa_count, self.preview, y0, y1, x0, x1, img)
+        out = np.empty(img.shape, np.uint8)
+        encode_srgb8(img, LEVEL_THRESHOLDS, out)
+        return out
 
     def samples(self) -> np.ndarray:
         """Samples per pixel that make its value (the centre counts as one) ``(H, W)``."""

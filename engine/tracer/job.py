@@ -344,6 +344,12 @@ class RenderJob:
         or only ``region = (y0, y1, x0, x1)`` of it (pixels, half-open)."""
         return self.film.image(region)
 
+    def display(self, region) -> np.ndarray:
+        """sRGB display levels ``(h, w, 3)`` uint8 of ``region = (y0, y1, x0, x1)`` of the current
+        estimate (:func:`engine.tracer.display.tonemap_srgb8` of :meth:`image`): a finished tile
+        as the window paints it."""
+        return self.film.display(region)
+
     def sample_counts(self) -> np.ndarray:
         """Samples that make each pixel's value so far, ``(H, W)`` int (a copy)."""
         return self.film.samples()

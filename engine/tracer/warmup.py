@@ -42,6 +42,7 @@ def warm_up() -> None:
         film.add_centre(np.arange(4), np.arange(4), trace_pixels(ctx, np.arange(4), np.arange(4), 0, 1))
         film.add_aa(np.arange(4), np.arange(4), 2, trace_pixels(ctx, np.arange(4), np.arange(4), 1, 2,
                                                                 record=(np.zeros((64, 6), np.float32), np.zeros(1, np.int64))))
+        film.display((0, 8, 0, 8))  # (the window's tiles)
         nearest_hits(ctx.geometry, [[0.0, -100.0, 20.0]], [[0.0, 1.0, 0.0]])
         trace_rays(ctx, [[0.0, -100.0, 20.0]], [[0.0, 1.0, 0.0]])
         # the relabel's recomputation of label terms (the types a job passes it)

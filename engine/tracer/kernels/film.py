@@ -8,6 +8,7 @@ holds the film's lock. Pixels in one call are distinct (a tile's, or a relabel's
 """
 from __future__ import annotations
 
+import numpy as np
 from numba import njit
 
 from .roots import JIT
@@ -52,3 +53,44 @@ def add_samples(aa_sum, aa_sumsq, aa_count, objects, depth, cols, rows, count, s
         aa_sumsq[y, x] += sumsq[p]
         aa_count[y, x] += count[p]
     _records(objects, depth, cols, rows, mask, dep)
+
+
+@njit(**JIT)
+def estimate(centre, has_centre, aa_sum, aa_count, preview, y0, y1, x0, x1, out):
+    """The film's current estimate of pixels ``[y0, y1) x [x0, x1)`` into ``out`` (float32
+    ``(y1 - y0, x1 - x0, 3)``): the anti-aliasing mean, else the centre, else the preview;
+    NaN and infinities 0, values clipped to float32's range (:meth:`engine.tracer.film.Film.image`)."""
+    top = 3.4028234663852886e38  # float32's largest
+    for y in range(y0, y1):
+        for x in range(x0, x1):
+            n = aa_count[y, x]
+            for c in range(3):
+                if n > 0:
+                    v = aa_sum[y, x, c] / n
+                elif has_centre[y, x]:
+                    v = centre[y, x, c]
+                else:
+                    v = preview[y, x, c]
+                if v != v or v == np.inf or v == -np.inf:
+                    v = 0.0
+                out[y - y0, x - x0, c] = min(max(v, 0.0), top)
+
+
+@njit(**JIT)
+def encode_srgb8(image, thresholds, out):
+    """8-bit display levels of a float32 image: level ``k`` is the number of ``thresholds`` (the
+    smallest float32 value of each level 1..255, ascending) at or below the value, so it equals
+    :func:`engine.tracer.display.tonemap_srgb8` wherever that is monotone (everywhere); NaN is 0."""
+    for y in range(image.shape[0]):
+        for x in range(image.shape[1]):
+            for c in range(3):
+                v = image[y, x, c]
+                lo, hi = 0, thresholds.shape[0]
+                if v == v:
+                    while lo < hi:  # first threshold above v
+                        m = (lo + hi) // 2
+                        if thresholds[m] <= v:
+                            lo = m + 1
+                        else:
+                            hi = m
+                out[y, x, c] = lo

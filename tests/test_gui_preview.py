@@ -35,6 +35,14 @@ def test_tiles_arrive_and_the_render_converges(make_window, qtbot):
     assert w.render_progress.value() == 100
     pixels = {w.preview.pixel_rgb(x, y) for x in range(0, 48, 6) for y in range(0, 64, 6)}
     assert len(pixels) > 3, "the preview shows an image, not a flat fill"
+    # its own native window: its tiles are not composed with the OpenGL 3D view's window, and a
+    # grab of the window (README screenshots) still shows them
+    assert w.preview.testAttribute(Qt.WA_NativeWindow) and w.preview.winId() != w.winId()
+    grabbed = w.grab().toImage()
+    r = w.preview.rect()
+    seen = {grabbed.pixelColor(w.preview.mapTo(w, QPoint(x, y))).getRgb()
+            for x in range(r.width() // 4, 3 * r.width() // 4, 5) for y in range(r.height() // 4, 3 * r.height() // 4, 5)}
+    assert len(seen) > 3, "the window's grab shows the preview's image"
 
 
 def test_an_edit_cancels_the_running_job_and_stale_tiles_are_dropped(make_window, qtbot):

@@ -1,10 +1,13 @@
-"""A tile's per-pixel results into the film's image-sized arrays.
+"""A tile's per-pixel results into the film's image-sized arrays, and a region back out as
+display levels.
 
 Design rule: the film (:class:`engine.tracer.film.Film`) holds ``(H, W, ...)`` arrays; a worker
 hands it the results of a list of pixels. Written with numpy's fancy indexing this held the
 GIL for about a tenth of a millisecond per tile (seven scatter operations and their index
 arrays), long enough for the other worker to wait on it; these loops release it. The caller
-holds the film's lock. Pixels in one call are distinct (a tile's, or a relabel's).
+holds the film's lock and has checked the pixels' bounds. Pixels in one call are distinct (a
+tile's, or a relabel's). The window reads each finished tile back as sRGB levels
+(:func:`estimate`, :func:`encode_srgb8`), about 2000 tiles an edit on the GUI thread.
 """
 from __future__ import annotations
 

@@ -220,29 +220,29 @@ def _asset_texels(asset, assets) -> np.ndarray:
 HALF_MAX = 32768.0
 
 
-class _HalfCache:
-    """Half-float copies of texel arrays by identity (each kept alive with its copy, so its id
-    cannot be reused): the shared, read-only maps (the studio, :data:`DECODED`'s) are converted
-    once, not at every edit's render context (4-9 ms for 1024 x 512). A small LRU."""
+class ArrayCache:
+    """Values made from arrays (texel maps), by the array's identity: each array is kept alive
+    with its value, so its id cannot be reused; the ``size`` most recent; thread-safe. The maps
+    are shared and read-only (the studio, :data:`DECODED`'s), so what is made from one is made
+    once, not at every edit's render context."""
 
-    SIZE = 2
-
-    def __init__(self):
+    def __init__(self, size: int):
+        self.size = size
         self._lock = threading.Lock()
         self._items: OrderedDict[int, tuple] = OrderedDict()
 
-    def get(self, texels: np.ndarray) -> tuple:
+    def get(self, array: np.ndarray, build):
+        """``build(array)``, made on the first call for this array."""
         with self._lock:
-            hit = self._items.get(id(texels))
-            if hit is not None and hit[0] is texels:
-                self._items.move_to_end(id(texels))
+            hit = self._items.get(id(array))
+            if hit is not None and hit[0] is array:
+                self._items.move_to_end(id(array))
                 return hit[1]
-        value = _to_half(texels)
-        if not texels.flags.writeable:  # a writable array may change: never cached
-            with self._lock:
-                self._items[id(texels)] = (texels, value)
-                while len(self._items) > self.SIZE:
-                    self._items.popitem(last=False)
+        value = build(array)  # (outside the lock: different maps at once)
+        with self._lock:
+            self._items[id(array)] = (array, value)
+            while len(self._items) > self.size:
+                self._items.popitem(last=False)
         return value
 
 
@@ -256,7 +256,7 @@ def _to_half(texels: np.ndarray) -> tuple:
     return bits, factor
 
 
-_HALF = _HalfCache()
+_HALF = ArrayCache(2)  # (4-9 ms a conversion for 1024 x 512)
 
 
 @lru_cache(maxsize=1)
@@ -286,7 +286,9 @@ def half_texels(texels: np.ndarray) -> tuple:
     half-float conversion the float32 texels themselves, factor 1."""
     if not _converts_halves():
         return np.ascontiguousarray(texels, dtype=np.float32), 1.0
-    return _HALF.get(texels)
+    if texels.flags.writeable:  # an array that may change: never cached
+        return _to_half(texels)
+    return _HALF.get(texels, _to_half)
 
 
 def environment_from_design(environment, assets=None) -> EnvironmentMap:

@@ -97,32 +97,31 @@ class Film:
     # ----------------------------------------------------------------- reading
     def image(self, region=None) -> np.ndarray:
         """Current estimate float32 linear radiance: AA mean, else centre, else preview; always
-        finite and >= 0 (a copy). The whole ``(H, W, 3)`` image, or only ``region = (y0, y1, x0,
-        x1)`` (pixels, half-open): the window repaints finished tiles many times a second, and a
-        whole image each time held the film's lock, and the GUI thread, for 27 ms at 715 x 954."""
-        ys, xs = (slice(None), slice(None)) if region is None else (slice(region[0], region[1]),
-                                                                     slice(region[2], region[3]))
+        finite and >= 0 (a copy, read in compiled code under the lock). The whole ``(H, W, 3)``
+        image, or only ``region = (y0, y1, x0, x1)`` (pixels, half-open, cut at the image's
+        edges): the window repaints finished tiles many times a second."""
+        y0, y1, x0, x1 = self._region(region)
+        img = np.empty((y1 - y0, x1 - x0, 3), np.float32)
         with self.lock:
-            n = self.aa_count[ys, xs]
-            img = np.where((n > 0)[..., None], self.aa_sum[ys, xs] / np.maximum(n, 1)[..., None],
-                           np.where(self.has_centre[ys, xs][..., None], self.centre[ys, xs], self.preview[ys, xs]))
-        img = np.nan_to_num(img, nan=0.0, posinf=0.0, neginf=0.0)
-        return np.clip(img, 0.0, np.finfo(np.float32).max).astype(np.float32)
+            estimate(self.centre, self.has_centre, self.aa_sum, self.aa_count, self.preview, y0, y1, x0, x1, img)
+        return img
 
     def display(self, region) -> np.ndarray:
         """The display levels (sRGB ``uint8`` ``(h, w, 3)``, :func:`engine.tracer.display.
         tonemap_srgb8` of :meth:`image`, bit for bit) of ``region = (y0, y1, x0, x1)``: what the
-        window paints as tiles finish, in compiled loops that hold the lock (not the GIL) only
-        while the estimate is read."""
-        y0, y1, x0, x1 = (int(v) for v in region)
-        y0, x0 = max(y0, 0), max(x0, 0)
-        y1, x1 = max(min(y1, self.height), y0), max(min(x1, self.width), x0)
-        img = np.empty((y1 - y0, x1 - x0, 3), np.float32)
-        with self.lock:
-            estimate(self.centre, self.has_centre, self.aa_sum, self.aa_count, self.preview, y0, y1, x0, x1, img)
+        window paints as tiles finish, encoded in compiled code outside the lock."""
+        img = self.image(region)
         out = np.empty(img.shape, np.uint8)
         encode_srgb8(img, LEVEL_THRESHOLDS, out)
         return out
+
+    def _region(self, region) -> tuple:
+        """``(y0, y1, x0, x1)`` of ``region`` (the whole image for ``None``) cut to the image."""
+        if region is None:
+            return 0, self.height, 0, self.width
+        y0, y1, x0, x1 = (int(v) for v in region)
+        y0, x0 = min(max(y0, 0), self.height), min(max(x0, 0), self.width)
+        return y0, max(min(y1, self.height), y0), x0, max(min(x1, self.width), x0)
 
     def samples(self) -> np.ndarray:
         """Samples per pixel that make its value (the centre counts as one) ``(H, W)``."""

@@ -10,9 +10,10 @@ lit alike. Units: radiance as the environment's; directions unit vectors in the 
 from __future__ import annotations
 
 import math
-import threading
 
 import numpy as np
+
+from .environment import ArrayCache
 
 #: Rows x columns of the irradiance table (lat-long, the environment's convention): a cosine
 #: lobe is smooth, so 32 x 64 holds it to well under 1 %.
@@ -20,9 +21,7 @@ IRR_ROWS, IRR_COLS = 32, 64
 #: Bins the environment is reduced to before the convolution (energy-preserving box sums).
 _BIN_ROWS, _BIN_COLS = 48, 96
 
-_IRR_CACHE: dict = {}
-_IRR_LOCK = threading.Lock()
-_IRR_SIZE = 4
+_IRR = ArrayCache(4)
 
 
 def _directions(theta, phi):
@@ -66,17 +65,12 @@ def irradiance_table(texels: np.ndarray) -> np.ndarray:
     float32, a lat-long table in the environment's own convention (look it up like the map,
     with its scale and rotation): radiance a white Lambertian sheet with that normal sends back.
     Cached by the texel array's identity (environment maps are cached, so one per map)."""
-    key = id(texels)
-    with _IRR_LOCK:
-        hit = _IRR_CACHE.get(key)
-        if hit is not None and hit[0] is texels:
-            return hit[1]
+    return _IRR.get(texels, _read_only_irradiance)
+
+
+def _read_only_irradiance(texels: np.ndarray) -> np.ndarray:
     table = _irradiance(texels)
     table.setflags(write=False)
-    with _IRR_LOCK:
-        if len(_IRR_CACHE) >= _IRR_SIZE:
-            _IRR_CACHE.pop(next(iter(_IRR_CACHE)))
-        _IRR_CACHE[key] = (texels, table)
     return table
 
 

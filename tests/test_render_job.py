@@ -259,7 +259,7 @@ def test_small_tiles_are_batched_in_order_until_a_task_is_worth_its_overhead():
     work[::8, ::8] = 1  # a preview: one centre per 8 x 8 block
     work[32:48, 48:64] = job_module.MIN_TASK_SAMPLES  # one heavy tile
     tiles = [(x, y, x + 16, y + 16) for y in range(0, 64, 16) for x in range(0, 96, 16)]
-    batches = job_module._batches(tiles, work)
+    batches = job_module._batches(tiles, [int(work[y0:y1, x0:x1].sum()) for x0, y0, x1, y1 in tiles])
     assert [tl for b in batches for tl in b] == tiles
     sums = [sum(int(work[y0:y1, x0:x1].sum()) for x0, y0, x1, y1 in b) for b in batches]
     assert all(s >= job_module.MIN_TASK_SAMPLES for s in sums[:-1])

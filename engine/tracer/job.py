@@ -546,14 +546,17 @@ class RenderJob:
                         break
                     self.on_tile(self, Tile(*tl, wave))
 
-        t = self.tile  # which tiles have work (one pass over the mask, not one per tile)
-        busy = np.logical_or.reduceat(np.logical_or.reduceat(mask, np.arange(0, self.height, t), 0),
-                                      np.arange(0, self.width, t), 1)
-        tasks = [tl for tl in tiles if busy[tl[1] // t, tl[0] // t]]
+        # samples per tile (one pass over the image, not one per tile): which tiles have work,
+        # and what a batch of them holds
+        t = self.tile
         work = mask.astype(np.int64) if want is None else np.where(mask, want - film.aa_count, 0)
+        per_tile = np.add.reduceat(np.add.reduceat(work, np.arange(0, self.height, t), 0),
+                                   np.arange(0, self.width, t), 1)
+        weighted = [(tl, int(per_tile[tl[1] // t, tl[0] // t])) for tl in tiles]
+        weighted = [(tl, w) for tl, w in weighted if w > 0]
         if want is not None:
-            tasks = self._balanced(tasks, work)
-        tasks = _batches(tasks, work)
+            weighted = self._balanced(weighted, work)
+        tasks = _batches([tl for tl, _ in weighted], [w for _, w in weighted])
         # one pulling loop per worker over the ordered tasks, not one future per tile: a wave of
         # small tiles (the centres' 144 at 384 x 384) spent its first milliseconds submitting
         # them, holding the GIL that a starting worker needs, and each finished future woke
@@ -585,26 +588,26 @@ class RenderJob:
         self._chunks = None
         self.wave_log.append((wave, pixels, samples, time.perf_counter() - t_wave))
 
-    def _balanced(self, tiles, work):
-        """An anti-aliasing wave's tasks: the busy ``tiles`` (``(x0, y0, x1, y1)``), a tile
-        holding more than ``1 / (BALANCE x threads)`` of the wave's samples (``work``, per pixel)
-        cut into quarters (down to 8 px), heaviest first (longest-processing-time order). Such a
-        wave's samples crowd into a few tiles, and the wave ends at a barrier: one worker's last
-        big tile would keep the others idle. The image does not change (samples are seeded by
-        pixel and sample)."""
-        share = float(work.sum()) / (BALANCE * self.threads)
-        out, stack = [], list(tiles)
+    def _balanced(self, weighted, work):
+        """An anti-aliasing wave's tasks as ``(tile, samples)``: of the busy tiles ``weighted``
+        (``((x0, y0, x1, y1), samples)``), one holding more than ``1 / (BALANCE x threads)`` of the
+        wave's samples (``work``, per pixel) is cut into quarters (down to 8 px), heaviest first
+        (longest-processing-time order). Such a wave's samples crowd into a few tiles, and the
+        wave ends at a barrier: one worker's last big tile would keep the others idle. The image
+        does not change (samples are seeded by pixel and sample)."""
+        share = float(sum(w for _, w in weighted)) / (BALANCE * self.threads)
+        out, stack = [], list(weighted)
         while stack:
-            x0, y0, x1, y1 = stack.pop()
-            w = int(work[y0:y1, x0:x1].sum())
+            (x0, y0, x1, y1), w = stack.pop()
             if w == 0:
                 continue
             if w > share and x1 - x0 > 8 and y1 - y0 > 8:
                 xm, ym = (x0 + x1) // 2, (y0 + y1) // 2
-                stack += [(x0, y0, xm, ym), (xm, y0, x1, ym), (x0, ym, xm, y1), (xm, ym, x1, y1)]
+                for q in ((x0, y0, xm, ym), (xm, y0, x1, ym), (x0, ym, xm, y1), (xm, ym, x1, y1)):
+                    stack.append((q, int(work[q[1]:q[3], q[0]:q[2]].sum())))
             else:
                 out.append((-w, (x0, y0, x1, y1)))
-        return [tl for _, tl in sorted(out)]
+        return [(tl, -w) for w, tl in sorted(out)]
 
     def _record(self, rows, cols, first, count, res) -> _WaveRecord:
         """A wave chunk's record. Only samples of pixels with label hits are kept (``s0 = -2``:
@@ -716,15 +719,14 @@ class RenderJob:
 MIN_TASK_SAMPLES = 512
 
 
-def _batches(tiles, work) -> list:
-    """Consecutive ``tiles`` (``(x0, y0, x1, y1)``) grouped into lists holding at least
-    :data:`MIN_TASK_SAMPLES` of the per-pixel ``work`` each (the last may hold less); order
+def _batches(tiles, samples) -> list:
+    """Consecutive ``tiles`` (``(x0, y0, x1, y1)``, holding ``samples[i]`` samples each) grouped
+    into lists of at least :data:`MIN_TASK_SAMPLES` samples (the last may hold less); order
     kept, so a wave's heaviest tiles still go first."""
     out, batch, total = [], [], 0
-    for tl in tiles:
-        x0, y0, x1, y1 = tl
+    for tl, n in zip(tiles, samples):
         batch.append(tl)
-        total += int(work[y0:y1, x0:x1].sum())
+        total += n
         if total >= MIN_TASK_SAMPLES:
             out.append(batch)
             batch, total = [], 0

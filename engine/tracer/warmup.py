@@ -34,7 +34,6 @@ def warm_up() -> None:
         import numpy as np
 
         from .context import RenderContext, nearest_hits, trace_pixels, trace_rays
-
         from .film import Film
 
         ctx = RenderContext.from_design(_tiny_design(), None, 8, 8)

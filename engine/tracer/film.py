@@ -30,7 +30,7 @@ def _index(a) -> np.ndarray:
     return _c(np.asarray(a).ravel(), np.int64)
 
 
-def _per_pixel(a, n: int, dtype, shape=()) -> np.ndarray:
+def _shaped(a, n: int, dtype, shape=()) -> np.ndarray:
     """``a`` as a C-contiguous ``(n, *shape)`` array of ``dtype``; ``ValueError`` if it is not
     that shape (the compiled loops check no bounds)."""
     a = _c(a, dtype)
@@ -62,8 +62,8 @@ class Film:
         distinct pixels ``(cols[p], rows[p])``."""
         cols, rows = self._pixels(cols, rows)
         n, m = len(cols), self.depth.shape[2]
-        sums, sig = _per_pixel(result.sums, n, np.float64, (3,)), _per_pixel(result.signature, n, np.uint64)
-        objects, depth = _per_pixel(result.objects, n, np.int64), _per_pixel(result.depth, n, np.int64, (m,))
+        sums, sig = _shaped(result.sums, n, np.float64, (3,)), _shaped(result.signature, n, np.uint64)
+        objects, depth = _shaped(result.objects, n, np.int64), _shaped(result.depth, n, np.int64, (m,))
         with self.lock:  # (the kernel releases the GIL, not the lock)
             add_centres(self.centre, self.has_centre, self.signature, self.objects, self.depth, cols, rows,
                         sums, sig, objects, depth)
@@ -73,9 +73,9 @@ class Film:
         ``PixelResult`` of samples >= 1)."""
         cols, rows = self._pixels(cols, rows)
         n, m = len(cols), self.depth.shape[2]
-        count = _per_pixel(np.broadcast_to(np.asarray(count, np.int64), cols.shape), n, np.int64)
-        sums, sumsq = _per_pixel(result.sums, n, np.float64, (3,)), _per_pixel(result.sumsq, n, np.float64)
-        objects, depth = _per_pixel(result.objects, n, np.int64), _per_pixel(result.depth, n, np.int64, (m,))
+        count = _shaped(np.broadcast_to(np.asarray(count, np.int64), cols.shape), n, np.int64)
+        sums, sumsq = _shaped(result.sums, n, np.float64, (3,)), _shaped(result.sumsq, n, np.float64)
+        objects, depth = _shaped(result.objects, n, np.int64), _shaped(result.depth, n, np.int64, (m,))
         with self.lock:
             add_samples(self.aa_sum, self.aa_sumsq, self.aa_count, self.objects, self.depth, cols, rows, count,
                         sums, sumsq, objects, depth)

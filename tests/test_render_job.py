@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import engine.tracer.job as job_module
+from engine.tracer.adaptive import preview_block
 from engine.tracer.render_objects import render_geometry_for
 from engine.tracer.job import RenderJob, render_image, tonemap_srgb8
 from tests.test_tracer import simple_design
@@ -55,6 +56,28 @@ def test_preview_wave_fills_the_whole_image():
     assert job.wait(120) and job.cancelled
     img = seen["img"]
     assert img.shape == (32, 32, 3) and np.all(np.isfinite(img)) and np.all(img > 0)
+
+
+def test_on_wave_sees_the_film_after_each_whole_wave():
+    design = simple_design(40.0, width=32, height=32, spp=4)
+    seen = []
+
+    def on_wave(job, wave):
+        seen.append((wave, threading.current_thread().name, job.sample_counts(), job.image()))
+
+    job = RenderJob(design, threads=2, tile=16, on_wave=on_wave).start()
+    assert job.wait(120) and job.error is None
+    waves = [w for w, *_ in seen]
+    assert waves == list(range(len(waves))) and len(waves) == len(job.wave_log) >= 3
+    assert all(name == "RenderJob" for _, name, _, _ in seen)  # between waves, not on a worker
+    counts = [n for _, _, n, _ in seen]
+    b = preview_block(32, 32)
+    assert (counts[0] > 0).sum() == (32 // b) ** 2  # the preview: one centre per b x b block
+    assert counts[1].min() >= 1  # after the centres' wave every pixel has one
+    assert all(np.all(b >= a) for a, b in zip(counts, counts[1:]))
+    assert np.array_equal(counts[-1], job.sample_counts())
+    assert np.array_equal(seen[-1][3], job.image())  # the last wave's film is the result
+    assert all(np.all(np.isfinite(img)) for *_, img in seen)
 
 
 def test_cancel_stops_within_one_tile_per_thread():
@@ -162,6 +185,9 @@ def test_an_edit_of_nothing_rendered_keeps_the_film_and_a_visible_edit_does_not(
     third = RenderJob(tinted, threads=2, previous=first, changed={"glass"}).start()
     assert third.wait(120) and third.film is not first.film
     assert not np.array_equal(third.image(), first.image())
+    # the same design asked with another sampling: a new film, never the old one
+    finer = RenderJob(renamed, threads=2, previous=first, changed={"name"}, noise_target=first.noise_target / 4).start()
+    assert finer.wait(120) and finer.film is not first.film and finer.stats.rays_cast > first.stats.rays_cast
 
 
 def test_workers_run_niced_and_render_the_same_image():

@@ -11,8 +11,9 @@ threads, waves are separated by a barrier, and a pixel's samples are seeded by (
 so the image is bit-identical for any thread count and tile order. ``cancel()`` raises a flag
 the kernels poll between pixels: a job stops within one pixel's work.
 
-Threading contract: ``on_tile(job, tile)`` and ``on_done(job)`` run on worker threads; GUI code
-must marshal to its own thread. ``image()``, ``progress`` and ``sample_counts()`` may be read
+Threading contract: ``on_tile(job, tile)`` and ``on_done(job)`` run on worker threads,
+``on_wave(job, wave)`` on the job's own thread between waves; GUI code must marshal to its own
+thread. ``image()``, ``progress`` and ``sample_counts()`` may be read
 at any time. A job started with ``previous=`` and ``changed=`` (the design fields an edit
 changed) reuses the previous film when nothing it renders changed.
 
@@ -229,6 +230,10 @@ class RenderJob:
     on_tile, on_done : callable, optional
         ``on_tile(job, tile)`` after each tile, ``on_done(job)`` once when the job stops
         (finished, cancelled or failed); both on worker threads.
+    on_wave : callable, optional
+        ``on_wave(job, wave)`` on the job's thread after each wave that ran to its end, before
+        the next starts: the film then holds exactly the samples of waves ``0..wave`` (the
+        image a progressive view shows at that moment; benchmarks chart it against time).
     adaptive : bool
         Add the adaptive rounds after the uniform anti-aliasing rounds.
     noise_target : float
@@ -240,8 +245,9 @@ class RenderJob:
         :data:`~engine.tracer.adaptive.DISPLAY_NOISE`): see :func:`adaptive.noise_targets`.
     previous : RenderJob, optional; changed : set of str, optional
         The job this one replaces and the design fields that changed since: when none of
-        :data:`VISUAL_FIELDS` changed and the previous job finished at the same size, its film
-        is kept and this job is done at once.
+        :data:`VISUAL_FIELDS` changed and the previous job finished at the same size and
+        sampling (spp, adaptivity, noise target and space), its film is kept and this job is
+        done at once.
     worker_nice : int
         Niceness added to each worker thread (Linux; ignored elsewhere): the window passes a
         positive value so that, with every core rendering, the scheduler still prefers its GUI
@@ -249,7 +255,7 @@ class RenderJob:
     """
 
     def __init__(self, design, assets=None, *, width=None, height=None, spp=None, threads=None,
-                 tile=32, on_tile=None, on_done=None, adaptive=True, noise_target=NOISE_TARGET,
+                 tile=32, on_tile=None, on_done=None, on_wave=None, adaptive=True, noise_target=NOISE_TARGET,
                  noise_space="linear", previous=None, changed=None, worker_nice=0, _tile_shuffle_seed=None):
         self.design = design
         self.assets = assets
@@ -263,6 +269,7 @@ class RenderJob:
         self.tile = max(1, int(tile))
         self.on_tile = on_tile
         self.on_done = on_done
+        self.on_wave = on_wave
         self.adaptive = bool(adaptive)
         self.noise_target = float(noise_target)
         if noise_space not in NOISE_SPACES:  # (the argument ``adaptive`` hides the module here)
@@ -355,6 +362,11 @@ class RenderJob:
         return self.film.samples()
 
     # ------------------------------------------------------------------ internals
+    def _sampling(self) -> tuple:
+        """What decides which samples the job traces, besides the design: two jobs with equal
+        ``_sampling()`` of the same design trace the same samples."""
+        return self.width, self.height, self.spp, self.adaptive, self.noise_target, self.noise_space
+
     def _reusable(self) -> bool:
         prev = self._previous
         if prev is None or self._changed is None:
@@ -365,7 +377,7 @@ class RenderJob:
         if not _lights_shade(self.design) and not _lights_shade(prev.design):
             visual = visual - {"lights"}
         return (not visual and prev.done and prev.error is None and not prev.cancelled
-                and (prev.width, prev.height, prev.spp) == (self.width, self.height, self.spp))
+                and self._sampling() == prev._sampling())
 
     def _relabel_plan(self):
         """``(context, trace, recolour)`` when this job can relabel the previous one (module
@@ -374,8 +386,7 @@ class RenderJob:
         prev = self._previous
         if (prev is None or prev._records is None or prev._ctx is None or self._records is None
                 or not prev.done or prev.error is not None or prev.cancelled
-                or (prev.width, prev.height, prev.spp, prev.adaptive, prev.noise_target, prev.noise_space)
-                != (self.width, self.height, self.spp, self.adaptive, self.noise_target, self.noise_space)
+                or prev._sampling() != self._sampling()
                 or _without_labels(prev.design) != _without_labels(self.design)
                 or (prev.design.lights != self.design.lights and self.design.cap is not None)):
             return None  # (lights shade a closure's diffuse parts too: those pixels are not recorded)
@@ -587,6 +598,8 @@ class RenderJob:
             self._records[wave] = _WaveRecord.join(self._chunks)
         self._chunks = None
         self.wave_log.append((wave, pixels, samples, time.perf_counter() - t_wave))
+        if self.on_wave is not None and not self._cancel.is_set():
+            self.on_wave(self, wave)
 
     def _balanced(self, weighted, work):
         """An anti-aliasing wave's tasks as ``(tile, samples)``: of the busy tiles ``weighted``

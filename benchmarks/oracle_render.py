@@ -46,9 +46,10 @@ def reference_path(spec_path: str) -> str:
 
 def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
                 noise_target: float = ORACLE_NOISE_TARGET, tile: int = 64, adaptive: bool = True,
-                scene=None, **settings):
+                scene=None, progress=None, **settings):
     """Render a SPEC scene (or ``scene``, a ``(design, assets)`` pair made from one); returns
-    ``(image (H, W, 3) float32, seconds, job)``.
+    ``(image (H, W, 3) float32, seconds, job)``. With a list ``progress``, appends after each
+    wave ``(seconds, image, samples per pixel)`` of the film then (the copies' time counted in).
 
     ``settings`` may override ``RenderSettings`` fields (``max_depth``, ``min_weight``, ...);
     by default the oracle cut-offs above are used.
@@ -59,8 +60,12 @@ def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
     design, assets = spec_to_design(spec_path) if scene is None else scene
     settings = {"max_depth": ORACLE_MAX_DEPTH, "min_weight": ORACLE_MIN_WEIGHT, **settings}
     design = dataclasses.replace(design, render=dataclasses.replace(design.render, spp=int(spp), **settings))
+    def snapshot(job, wave):
+        progress.append((time.perf_counter() - t0, job.image(), job.sample_counts()))
+
     t0 = time.perf_counter()
-    job = RenderJob(design, assets, threads=threads, tile=tile, noise_target=noise_target, adaptive=adaptive).start()
+    job = RenderJob(design, assets, threads=threads, tile=tile, noise_target=noise_target, adaptive=adaptive,
+                    on_wave=None if progress is None else snapshot).start()
     job.wait()
     if job.error is not None:
         raise job.error

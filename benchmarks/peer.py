@@ -197,7 +197,9 @@ def draft_cut(target: float) -> float:
 GLASSBENCH_SETTINGS = (
     # (label, anti-aliasing samples, adaptive noise target or None, weight cut or None: the
     # oracle renders' ORACLE_MIN_WEIGHT)
-    ("centre only", 1, None, None), ("AA 4", 4, None, None), ("AA 16", 16, None, None), ("AA 64", 64, None, None),
+    # ("AA 1": every centre, then one stratified sample in each edge pixel, its value there;
+    # the centres alone are each setting's image after wave 1)
+    ("AA 1", 1, None, None), ("AA 4", 4, None, None), ("AA 16", 16, None, None), ("AA 64", 64, None, None),
     # a render setting of 4 samples with adaptive rounds: the front between 4 and 64 samples
     ("AA 4 adaptive 0.2", 4, 0.2, None), ("AA 4 adaptive 0.1", 4, 0.1, None), ("AA 4 adaptive 0.05", 4, 0.05, None),
     ("AA 4 adaptive 0.02", 4, 0.02, None), ("AA 4 adaptive 0.01", 4, 0.01, None),
@@ -211,7 +213,7 @@ GLASSBENCH_SETTINGS = (
       for n, t in ((4, 0.2), (4, 0.1), (4, 0.07), (4, 0.05), (2, 0.05), (2, 0.035))),
 )
 #: ``--quick``: the labels of the settings it renders.
-QUICK_SETTINGS = ("centre only", "AA 4", "AA 4 adaptive 0.2", "AA 4 adaptive 0.1", "AA 4 adaptive 0.05",
+QUICK_SETTINGS = ("AA 1", "AA 4", "AA 4 adaptive 0.2", "AA 4 adaptive 0.1", "AA 4 adaptive 0.05",
                   "AA 4 adaptive 0.02", "AA 2 adaptive 0.05", "adaptive 0.02", "adaptive 0.01",
                   "AA 4 adaptive 0.1 cut 0.02", "AA 2 adaptive 0.05 cut 0.01")
 

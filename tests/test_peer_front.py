@@ -27,3 +27,34 @@ def test_repeated_runs_keep_each_settings_fastest():
     second = [("AA 4", 0.7, 0.02, 1.5), ("AA 16", 2.4, 0.01, 3.5)]
     assert fastest_runs([first, second]) == [("AA 4", 0.7, 0.02, 1.5), ("AA 16", 2.0, 0.01, 3.5)]
     assert fastest_runs([first]) == first
+
+
+def test_glassbench_points_time_each_wave_of_each_setting():
+    """Every setting gives its finished render and its image after each earlier wave, timed
+    from the same start: the progressive points come before the finished one, with more
+    samples each, and a draft's cut is passed to the render (fewer segments, another image)."""
+    import dataclasses
+
+    import numpy as np
+
+    from benchmarks.oracle_render import render_spec
+    from benchmarks.oracle_spec import spec_to_design
+    from benchmarks.paths import ORACLE_SPECS
+    from benchmarks.peer import glassbench_points
+
+    spec = str(ORACLE_SPECS / "public_1.json")
+    design, assets = spec_to_design(spec)
+    design = dataclasses.replace(design, render=dataclasses.replace(design.render, width=40, height=40))
+    scene = (design, assets)
+    ref = render_spec(spec, 16, 1, noise_target=0.01, scene=scene)[0]
+    settings = (("AA 4 adaptive 0.1", 4, 0.1, None), ("draft", 4, 0.1, 0.05))
+    points, progressive = glassbench_points(spec, ref, settings, 1, scene=scene)
+    assert [p[0] for p in points] == ["AA 4 adaptive 0.1", "draft"]
+    for label, secs, err, mean in points:
+        waves = [p for p in progressive if p[0].startswith(label + " after wave ")]
+        assert [p[0] for p in waves] == [f"{label} after wave {k}" for k in range(len(waves))]
+        assert len(waves) >= 3  # preview, centres, anti-aliasing, then the adaptive rounds
+        times, means = [p[1] for p in waves] + [secs], [p[3] for p in waves] + [mean]
+        assert times == sorted(times) and means == sorted(means) and means[1] == 1.0
+        assert all(np.isfinite(p[2]) and p[2] > 0 for p in waves) and 0 < err < waves[0][2]
+    assert points[0][2] != points[1][2]  # the draft's cut changed the image

@@ -12,6 +12,9 @@ Every comparison is a ratio measured in the same run, on the same thread:
   Embree (embreex, one committed scene of the geometry engine's 0.02 mm tessellation) needs to
   intersect exactly the ray segments the frame traced (recorded in a second pass). Also the
   analytic intersection alone over Embree: per shape kind, which intersector is faster.
+  The same against Embree called one ray at a time from compiled code
+  (:mod:`benchmarks.embree_kernel`), as a tracer with Embree inside its kernels would call it:
+  reported beside, not in the printed figure.
 * **threads**: the same deterministic job (about two seconds on one thread) on 1 and 2 worker
   threads (images bit-identical).
 * **latency**: first finished tile over the whole job, and the bundled sample's time to converge.
@@ -62,9 +65,10 @@ def load_scene(name, **render):
     return design, assets
 
 
-def embree_scene(design, tol_mm=0.02):
+def embree_scene(design, tol_mm=0.02, with_mesh=False):
     """The raw-Embree peer: one committed embreex scene of the glass body (and the liquid's free
-    surface) tessellated by the geometry engine at ``tol_mm``; returns ``(scene, triangles)``."""
+    surface) tessellated by the geometry engine at ``tol_mm``; returns ``(scene, triangles)``,
+    and the ``(vertices, faces)`` with ``with_mesh``."""
     from embreex.mesh_construction import TriangleMesh
     from embreex.rtcore_scene import EmbreeScene
 
@@ -84,7 +88,7 @@ def embree_scene(design, tol_mm=0.02):
     scene = EmbreeScene()
     TriangleMesh(scene, v, f)
     scene.run(np.zeros((1, 3), np.float32), np.array([[0, 0, 1]], np.float32))  # commit
-    return scene, len(f)
+    return (scene, len(f), (v, f)) if with_mesh else (scene, len(f))
 
 
 #: Each timing of the frame/Embree comparison is the fastest of this many runs, for both sides,
@@ -112,6 +116,7 @@ def frame_vs_embree(name, size, spp):
     and against the analytic intersection alone, on the rays the frame traced; each the fastest
     of ``REPEATS`` runs, the three interleaved (a slow phase of the machine then slows all
     three, not one side of a ratio)."""
+    from benchmarks.embree_kernel import Embree4Scene
     from engine.tracer.context import RenderContext, nearest_hits, trace_pixels
 
     design, assets = load_scene(name)
@@ -124,17 +129,25 @@ def frame_vs_embree(name, size, spp):
     rec = (np.zeros((n, 6), np.float32), np.zeros(1, np.int64))
     trace_pixels(ctx, cols, rows, 1, spp, record=rec)
     rays = rec[0][:rec[1][0]]
-    scene, tris = embree_scene(design)
+    scene, tris, mesh = embree_scene(design, with_mesh=True)
     o32, d32 = np.ascontiguousarray(rays[:, :3]), np.ascontiguousarray(rays[:, 3:])
     o64, d64 = rays[:, :3].astype(float), rays[:, 3:].astype(float)
     d64 /= np.linalg.norm(d64, axis=1, keepdims=True)
     nearest_hits(ctx.geometry, o64[:2], d64[:2])
-    frame, emb, isect = _fastest_interleaved((lambda: trace_pixels(ctx, cols, rows, 1, spp),
-                                              lambda: scene.run(o32, d32, output=1),
-                                              lambda: nearest_hits(ctx.geometry, o64, d64)))  # fresh rays in air
+    per_ray = Embree4Scene(*mesh)  # the same triangles, one rtcIntersect1 a ray from numba
+    try:
+        per_ray.cast(o32[:2], d32[:2])
+        frame, emb, emb1, isect = _fastest_interleaved((lambda: trace_pixels(ctx, cols, rows, 1, spp),
+                                                        lambda: scene.run(o32, d32, output=1),
+                                                        lambda: per_ray.cast(o32, d32),
+                                                        lambda: nearest_hits(ctx.geometry, o64, d64)))  # fresh rays in air
+    finally:
+        per_ray.close()
     return {"scene": name, "kind": design.shape.cross_section, "size": size, "spp": spp, "segments": n,
             "frame_s": frame, "embree_s": emb, "intersect_s": isect, "frame_over_embree": frame / emb,
-            "intersect_over_embree": isect / emb, "ns_per_segment": 1e9 * frame / n, "triangles": tris}
+            "intersect_over_embree": isect / emb, "ns_per_segment": 1e9 * frame / n, "triangles": tris,
+            "embree_per_ray_s": emb1, "frame_over_embree_per_ray": frame / emb1,
+            "intersect_over_embree_per_ray": isect / emb1}
 
 
 def thread_speedup(name, size, spp, repeats=3):
@@ -304,6 +317,14 @@ def main(argv=None) -> int:
         print(f"  {name:9s} ({r['kind']}): {r['segments'] / 1e3:7.1f} k segments, frame {r['frame_s']:.3f} s "
               f"({r['ns_per_segment']:.0f} ns/segment), Embree {r['embree_s']:.3f} s on {r['triangles']} triangles: "
               f"frame/Embree {r['frame_over_embree']:.2f}, analytic intersection/Embree {r['intersect_over_embree']:.2f}")
+    print("the same against Embree called one ray at a time from compiled code (benchmarks.embree_kernel: "
+          "rtcIntersect1 from numba, no batch arrays; how an Embree tracer's kernels would call it):")
+    for r in fr:
+        print(f"  {r['scene']:9s}: {1e9 * r['embree_per_ray_s'] / r['segments']:.0f} ns/segment "
+              f"({r['embree_per_ray_s'] / r['embree_s']:.2f} of embreex's batch), frame/Embree "
+              f"{r['frame_over_embree_per_ray']:.2f}, analytic intersection/Embree {r['intersect_over_embree_per_ray']:.2f}")
+    print(f"worst frame over Embree called per ray: {max(r['frame_over_embree_per_ray'] for r in fr):.2f} "
+          "(frame_over_embree below is against embreex's batch, the stack's binding)")
     rows += [dict(section="frame", **r) for r in fr]
     # a job of at least a second on one thread: a shorter one (192 x 192, 2 spp: 0.15 s since
     # the kernels run without reference counting) measures the pool's start and the film's

@@ -52,12 +52,16 @@ KI_MEDIUM, KI_DEPTH, KI_LAST, KI_SIDE = range(4)
 
 
 @njit(**JIT)
-def _record(rec_rays, rec_n, ox, oy, oz, dx, dy, dz):
-    """Keep a copy of one intersection query (benchmarks time Embree on the same rays)."""
+def _record(rec_rays, rec_n, ox, oy, oz, dx, dy, dz, medium, last, side):
+    """Keep a copy of one intersection query (benchmarks time Embree on the same rays): origin
+    and direction, and with 9 columns the query's medium, the object it leaves and its side
+    (what the analytic search is asked with)."""
     i = rec_n[0]
     if i < rec_rays.shape[0]:
         rec_rays[i, 0], rec_rays[i, 1], rec_rays[i, 2] = ox, oy, oz
         rec_rays[i, 3], rec_rays[i, 4], rec_rays[i, 5] = dx, dy, dz
+        if rec_rays.shape[1] >= 9:
+            rec_rays[i, 6], rec_rays[i, 7], rec_rays[i, 8] = medium, last, side
         rec_n[0] = i + 1
 
 
@@ -162,7 +166,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
         nodes += 1
         counters[C_QUERIES] += 1
         if rec_rays.shape[0] > 0:
-            _record(rec_rays, rec_n, ox, oy, oz, dx, dy, dz)
+            _record(rec_rays, rec_n, ox, oy, oz, dx, dy, dz, medium, last, side)
         t, k, part, nx, ny, nz = nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz,
                                              medium, last, side, roots, crit, ivals)
         if k < 0:

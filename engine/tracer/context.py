@@ -162,8 +162,9 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
     :mod:`engine.tracer.kernels.sampling`). ``cancel`` is an int array of one element polled
     between pixels; ``record`` an optional ``(rays float32 (N, 6 or 9), count int64 (1,))``
     pair that receives every intersection query (benchmarks): origin and direction, and with
-    9 columns the medium, the object left and the side (:func:`nearest_hits`'s arguments); ``roulette`` > 0 makes branches lighter
-    than it play Russian roulette (unbiased; for the extra samples of noisy pixels);
+    9 columns the medium, the object left and the side (:func:`nearest_hits`'s arguments);
+    ``roulette`` > 0 makes branches lighter than it play Russian roulette (unbiased; for the
+    extra samples of noisy pixels);
     ``record_labels`` keeps the label terms of every sample (``PixelResult.label_record``, for
     a relabel; only with labels). Releases the GIL while tracing.
     """

@@ -13,9 +13,9 @@ the kernels poll between pixels: a job stops within one pixel's work.
 
 Threading contract: ``on_tile(job, tile)`` and ``on_done(job)`` run on worker threads,
 ``on_wave(job, wave)`` on the job's own thread between waves; GUI code must marshal to its own
-thread. ``image()``, ``progress`` and ``sample_counts()`` may be read
-at any time. A job started with ``previous=`` and ``changed=`` (the design fields an edit
-changed) reuses the previous film when nothing it renders changed.
+thread. ``image()``, ``progress`` and ``sample_counts()`` may be read at any time. A job
+started with ``previous=`` and ``changed=`` (the design fields an edit changed) reuses the
+previous film when nothing it renders changed and it asks the same sampling.
 
 Relabel: when only labels, lights (without a closure: they light its diffuse parts too) or
 label images changed (every other field of the design equal, same size and sampling), the job

@@ -60,7 +60,8 @@ def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
     design, assets = spec_to_design(spec_path) if scene is None else scene
     settings = {"max_depth": ORACLE_MAX_DEPTH, "min_weight": ORACLE_MIN_WEIGHT, **settings}
     design = dataclasses.replace(design, render=dataclasses.replace(design.render, spp=int(spp), **settings))
-    def snapshot(job, wave):
+
+    def snapshot(job, wave):  # (t0 is set below, before the job starts)
         progress.append((time.perf_counter() - t0, job.image(), job.sample_counts()))
 
     t0 = time.perf_counter()

@@ -196,7 +196,7 @@ def draft_cut(target: float) -> float:
 
 GLASSBENCH_SETTINGS = (
     # (label, anti-aliasing samples, adaptive noise target or None, weight cut or None: the
-    # oracle renders' ORACLE_MIN_WEIGHT)
+    # oracle renders' own, render_spec's default)
     # ("AA 1": every centre, then one stratified sample in each edge pixel, its value there;
     # the centres alone are each setting's image after wave 1)
     ("AA 1", 1, None, None), ("AA 4", 4, None, None), ("AA 16", 16, None, None), ("AA 64", 64, None, None),
@@ -227,7 +227,7 @@ def glassbench_points(spec_path, ref, settings, threads, scene=None):
     timed from the job's start like the finished render, the copy of the image included:
     what a designer watching the render sees at that moment, and as real a setting as the
     finished one (a render asking that much stops there)."""
-    from benchmarks.oracle_render import ORACLE_MIN_WEIGHT, render_spec, rel_rmse
+    from benchmarks.oracle_render import render_spec, rel_rmse
 
     render_spec(spec_path, 1, threads, adaptive=False, scene=scene)  # kernels loaded, environment decoded
     pts, prog = [], []
@@ -235,7 +235,7 @@ def glassbench_points(spec_path, ref, settings, threads, scene=None):
         waves = []
         img, secs, job = render_spec(spec_path, spp, threads, noise_target=target or 1.0,
                                      adaptive=target is not None, scene=scene, progress=waves,
-                                     min_weight=cut or ORACLE_MIN_WEIGHT)
+                                     **({} if cut is None else {"min_weight": cut}))
         pts.append((label, secs, rel_rmse(img, ref), float(job.sample_counts().mean())))
         print(f"    glassbench {label:14s}: {secs:7.2f} s, rel RMSE {pts[-1][2]:.4f} "
               f"(mean {pts[-1][3]:.2f} samples/px)")

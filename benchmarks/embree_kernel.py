@@ -7,6 +7,11 @@ conversions. This module builds an Embree 4 scene through ``ctypes`` on the ``li
 embreex ships, and casts rays from a numba kernel that releases the GIL, so both ways are
 measured on the same rays and the same triangles.
 
+On it, :class:`EmbreeSearch` is the whole nearest-hit search an Embree tracer would run inside
+its kernels (Embree's hit, the triangle's part, the exact root near it, the tracer's acceptance
+rules, a fallback), on every surface or only on some, so that the analytic search can be
+weighed against it per shape kind on the queries a frame really asks.
+
 Units: whatever the vertices are in (mm here); hits are ``t`` along unit directions, float32
 as Embree computes them. Benchmarks only: the engine does not use it.
 """
@@ -19,7 +24,12 @@ import os
 import numpy as np
 from numba import njit
 
-from engine.tracer.kernels.intersect import (F_COS, F_LEAF, F_SIN, O_KIND, O_NSEC, O_XS, REVOLVED, SL_RULED,
+from engine.tracer.kernels.profile import S_RMAX, S_RMIN, S_ZMAX, S_ZMIN
+from engine.tracer.kernels.revolved import ray_axis, ray_box_from
+from engine.tracer.kernels.swept import SL_RMAX, SL_Z0, SL_Z1
+from engine.tracer.kernels.intersect import (F_COS, F_EDGE, F_ZMAX, F_ZMIN, F_LEAF, F_PNZ, F_SIN, O_BACK_HI, O_BACK_LO, O_COUNT, O_FIRST,
+                                             O_FRONT_HI, O_FRONT_LO, O_KIND, O_NSEC, O_XS, PLANE, REVOLVED, SL_RULED,
+                                             START_FRACTION, _accept, _plane_hit, nearest_hit,
                                              object_normal, ruled_roots, segment_hits, swept_roots)
 
 #: Embree 4 enums (rtcore_geometry.h, rtcore_buffer.h, rtcore_common.h)
@@ -126,39 +136,181 @@ def cast(scene, o, d, tnear, out_t, out_prim, buf):
         out_prim[i] = buf[_W_PRIM]
 
 
-def refine_onto_parts(geometry, o, d, t_mesh, objects, parts, delta):
-    """The exact crossings (mm) near mesh hits: for each ray ``o[i] + t d[i]`` (float64, unit),
-    the first root of the render object ``objects[i]``'s part ``parts[i]`` (segment or slab
-    row) within ``delta`` mm of ``t_mesh[i]``, found by the tracer's own root solvers; inf where
-    there is none (or no mesh hit, or a plane). Benchmarks time it as the refinement step of
-    an Embree tracer given the part its triangle belongs to (here: the analytic answer's part,
-    so a lower bound: an Embree tracer would also map the triangle to the part, and query again
-    where the root is not there)."""
-    g = geometry
-    out = np.full(len(o), np.inf)
-    _refine(g.seg, g.tab, g.slab_f, g.slab_i, g.obj_i, g.obj_f, np.ascontiguousarray(o, float),
-            np.ascontiguousarray(d, float), np.ascontiguousarray(t_mesh, float),
-            np.ascontiguousarray(objects, np.int64), np.ascontiguousarray(parts, np.int64), float(delta), out,
-            np.zeros(16), np.zeros(5), np.zeros((64, 2)))
-    return out
+def triangle_parts(geometry, vertices, faces, tol=0.02):
+    """``(object (M,), part (M,))``: the render object and part (segment or slab row; -1 on a
+    plane) whose exact surface each triangle of a mesh made at tolerance ``tol`` (mm)
+    approximates, found by the tracer's own search: a probe ray from ``5 tol`` off the
+    triangle's centroid back across it, along and against its normal, in every medium; the
+    crossing nearest the centroid (within ``2.5 tol``) names the part. ``-1, -1`` where none
+    does (the search then falls back to the analytic one). What an Embree tracer would store
+    beside its mesh."""
+    probe_mm, tol_mm = 5.0 * tol, 2.5 * tol
+    from engine.tracer.context import nearest_hits
+
+    v = np.asarray(vertices, float)[np.asarray(faces)]
+    c = v.mean(axis=1)
+    n = np.cross(v[:, 1] - v[:, 0], v[:, 2] - v[:, 0])
+    n /= np.maximum(np.linalg.norm(n, axis=1, keepdims=True), 1e-300)
+    obj_i = geometry.obj_i
+    media = int(max(obj_i[:, O_FRONT_LO].max(), obj_i[:, O_BACK_LO].max(), obj_i[:, O_FRONT_HI].max(),
+                    obj_i[:, O_BACK_HI].max())) + 1
+    best = np.full(len(c), np.inf)
+    obj, part = np.full(len(c), -1, np.int64), np.full(len(c), -1, np.int64)
+    for m in range(media):
+        for s in (1.0, -1.0):
+            t, k, j, _ = nearest_hits(geometry, c - s * probe_mm * n, s * n, m)
+            off = np.abs(t - probe_mm)
+            better = (off < best) & (off <= tol_mm) & (k >= 0)
+            best[better], obj[better], part[better] = off[better], k[better], j[better]
+    return obj, part
 
 
-@njit(nogil=True)
-def _refine(seg, tab, slab_f, slab_i, obj_i, obj_f, o, d, te, k, part, delta, out, roots, crit, stack):
+class EmbreeSearch:
+    """The nearest-hit search of an Embree tracer, complete, on every surface or on some.
+
+    Embree's hit on the chordal mesh (past ``tnear`` mm of the ray's start, where a ray leaving
+    a surface meets that surface's own triangles), the triangle's part (:func:`triangle_parts`)
+    and then its neighbours on the same object refined onto their exact roots within ``bracket``
+    mm of it by the tracer's solvers, the tracer's acceptance rules (medium, the side a ray left
+    by); where that yields no hit (no part, no root in the bracket, a hit the rules refuse, or a
+    miss by a ray that cannot leave its medium without a crossing), the analytic search again.
+    What it cannot see is a crossing the mesh misses (a grazing ray past the chords, a hit
+    within ``tnear``): it then answers a later one, which the benchmark counts against the
+    analytic answers.
+
+    Per surface: given masks over segment rows, slab rows and objects (planes), only those
+    parts are meshed; the others keep the analytic search (on a copy of the tables where the
+    meshed parts' boxes are empty, so it never visits them), asked first; Embree is then asked
+    only up to its answer (plus the bracket) and the nearer wins. Without masks every part is
+    meshed and the analytic search runs only as the fallback.
+    """
+
+    def __init__(self, geometry, vertices, faces, tnear=0.05, bracket=0.05, tol=0.02, masks=None):
+        g = geometry
+        self.geometry, self.tnear, self.bracket = g, float(tnear), float(bracket)
+        tri_obj, tri_part = triangle_parts(g, vertices, faces, tol)
+        self.seg, self.slab_f, self.obj_i = g.seg, g.slab_f, g.obj_i
+        self.rest = masks is not None
+        if self.rest:
+            seg_mask, slab_mask, plane_mask = masks
+            okind = np.where(tri_obj >= 0, g.obj_i[np.maximum(tri_obj, 0), O_KIND], -1)
+            keep = (okind == REVOLVED) & seg_mask[np.clip(tri_part, 0, len(g.seg) - 1)]
+            if len(g.slab_f):
+                keep |= (okind != REVOLVED) & (okind != PLANE) & slab_mask[np.clip(tri_part, 0, len(g.slab_f) - 1)]
+            keep |= (okind == PLANE) & plane_mask[np.maximum(tri_obj, 0)]
+            keep &= tri_obj >= 0
+            faces, tri_obj, tri_part = np.asarray(faces)[keep], tri_obj[keep], tri_part[keep]
+            # the analytic side's tables: meshed parts get empty boxes, meshed planes no medium
+            self.seg = g.seg.copy()
+            self.seg[seg_mask, S_RMIN], self.seg[seg_mask, S_RMAX] = 1.0, -1.0
+            self.slab_f = g.slab_f.copy()
+            if len(self.slab_f):
+                self.slab_f[slab_mask, SL_RMAX] = -1.0
+            self.obj_i = g.obj_i.copy()
+            for c in (O_FRONT_LO, O_BACK_LO, O_FRONT_HI, O_BACK_HI):
+                self.obj_i[plane_mask, c] = -7
+        self.triangles = len(faces)
+        self.tri_obj, self.tri_part = np.ascontiguousarray(tri_obj), np.ascontiguousarray(tri_part)
+        self.scene = Embree4Scene(vertices, faces) if len(faces) else None
+
+    def close(self):
+        if self.scene is not None:
+            self.scene.close()
+            self.scene = None
+
+    def hits(self, o, d, medium, last, side):
+        """``(t, object, part, fell_back)`` of rays ``o + t d`` (float64, unit ``d``; each in
+        ``medium``, leaving ``last`` by ``side`` as :func:`engine.tracer.context.nearest_hits`)."""
+        g = self.geometry
+        n = len(o)
+        out_t, out_k, out_j = np.empty(n), np.empty(n, np.int64), np.empty(n, np.int64)
+        fell = np.zeros(n, np.bool_)
+        handle = self.scene.handle if self.scene is not None else 0
+        scratch = self.scene.scratch if self.scene is not None else np.zeros(_WORDS, np.uint32)
+        _search(handle, scratch, self.tri_obj, self.tri_part, g.seg, self.seg, g.tab, g.slab_f, self.slab_f, g.slab_i,
+                g.obj_i, self.obj_i, g.obj_f, self.rest, np.ascontiguousarray(o, float), np.ascontiguousarray(d, float),
+                np.ascontiguousarray(medium, np.int64), np.ascontiguousarray(last, np.int64),
+                np.ascontiguousarray(side, np.int64), self.tnear, self.bracket, out_t, out_k, out_j, fell,
+                np.zeros(16), np.zeros(5), np.zeros((64, 2)))
+        return out_t, out_k, out_j, fell
+
+
+@njit(nogil=True, error_model="numpy")
+def _part_roots(seg, tab, slab_f, slab_i, obj_i, obj_f, k, j, ox, oy, oz, dx, dy, dz, a, b, roots, crit, stack):
+    """Crossings of part ``j`` of object ``k`` in ``[a, b]`` (the tracer's solvers), within the
+    part's own box as :func:`~engine.tracer.kernels.intersect.nearest_hit` asks them."""
+    axis = ray_axis(ox, oy, dx, dy, dz)
+    if obj_i[k, O_KIND] == REVOLVED:
+        lo, hi = ray_box_from(axis, ox, oy, oz, dx, dy, dz, seg[j, S_RMIN], seg[j, S_RMAX], seg[j, S_ZMIN],
+                              seg[j, S_ZMAX], a, b)
+        if lo > hi:
+            return 0
+        return segment_hits(seg, tab, j, ox, oy, oz, dx, dy, dz, a, b, lo, hi, roots, crit, stack)
+    a, b = ray_box_from(axis, ox, oy, oz, dx, dy, dz, 0.0, slab_f[j, SL_RMAX], slab_f[j, SL_Z0], slab_f[j, SL_Z1], a, b)
+    if a > b:
+        return 0
+    if slab_f[j, SL_RULED] > 0.5:
+        return ruled_roots(slab_f[j], obj_f[k, F_COS], obj_f[k, F_SIN], ox, oy, oz, dx, dy, dz, a, b, roots)
+    return swept_roots(seg, tab, slab_i[j], obj_i[k, O_XS], obj_i[k, O_NSEC], obj_f[k, F_COS], obj_f[k, F_SIN],
+                       ox, oy, oz, dx, dy, dz, a, b, obj_f[k, F_LEAF], roots, stack)
+
+
+@njit(nogil=True, error_model="numpy")
+def _search(scene, buf, tri_obj, tri_part, seg, seg_rest, tab, slab_f, slab_rest, slab_i, obj_i, obj_rest, obj_f, rest,
+            o, d, medium, last, side, tnear, bracket, out_t, out_k, out_j, fell, roots, crit, stack):
+    f = buf.view(np.float32)
+    addr = buf.ctypes.data
     for i in range(o.shape[0]):
-        kk, j = k[i], part[i]
-        if kk < 0 or not np.isfinite(te[i]) or (obj_i[kk, O_KIND] != REVOLVED and j < 0):
-            continue
         ox, oy, oz, dx, dy, dz = o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2]
-        a, b = max(te[i] - delta, 0.0), te[i] + delta
-        if obj_i[kk, O_KIND] == REVOLVED:
-            n = segment_hits(seg, tab, j, ox, oy, oz, dx, dy, dz, a, b, a, b, roots, crit, stack)
-        elif slab_f[j, SL_RULED] > 0.5:
-            n = ruled_roots(slab_f[j], obj_f[kk, F_COS], obj_f[kk, F_SIN], ox, oy, oz, dx, dy, dz, a, b, roots)
-        else:
-            n = swept_roots(seg, tab, slab_i[j], obj_i[kk, O_XS], obj_i[kk, O_NSEC], obj_f[kk, F_COS],
-                            obj_f[kk, F_SIN], ox, oy, oz, dx, dy, dz, a, b, obj_f[kk, F_LEAF], roots, stack)
-        if n > 0:  # the normal too: a hit is a point and its normal
-            t = roots[0]
-            nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, kk, j, ox + t * dx, oy + t * dy, oz + t * dz)
-            out[i] = t if nx * nx + ny * ny + nz * nz > 0.0 else np.inf
+        best, best_k, best_j = np.inf, -1, -1
+        if rest:  # the surfaces kept analytic first
+            best, best_k, best_j, _, _, _ = nearest_hit(seg_rest, tab, slab_rest, slab_i, obj_rest, obj_f, ox, oy, oz,
+                                                        dx, dy, dz, medium[i], last[i], side[i], roots, crit, stack)
+        decided = True
+        if scene != 0:
+            f[0], f[1], f[2], f[3] = ox, oy, oz, tnear
+            f[4], f[5], f[6], f[7] = dx, dy, dz, 0.0
+            f[_W_TFAR] = best + bracket
+            buf[_W_MASK], buf[_W_MASK + 1], buf[_W_MASK + 2] = _INVALID_ID, 0, 0
+            buf[_W_PRIM], buf[_W_GEOM] = _INVALID_ID, _INVALID_ID
+            _INTERSECT1(scene, addr, 0)
+            if buf[_W_GEOM] != _INVALID_ID:
+                te = np.float64(f[_W_TFAR])
+                p = buf[_W_PRIM]
+                k, j = tri_obj[p], tri_part[p]
+                found = False
+                if k >= 0:
+                    t0 = START_FRACTION * obj_f[k, F_EDGE] if k == last[i] else 0.0
+                    a, b = max(te - bracket, t0), min(te + bracket, best)
+                    if obj_i[k, O_KIND] == PLANE:
+                        t = _plane_hit(obj_i, obj_f, k, ox, oy, oz, dx, dy, dz, a, b)
+                        if t < best and _accept(obj_i, obj_f, k, t, 0.0, 0.0, obj_f[k, F_PNZ], dx, dy, dz, oz + t * dz,
+                                                medium[i], last[i], side[i]):
+                            best, best_k, best_j, found = t, k, -1, True
+                    else:
+                        first, count = obj_i[k, O_FIRST], obj_i[k, O_COUNT]
+                        for step in range(3):  # the triangle's own part, then those either side
+                            jj = j if step == 0 else (j - 1 if step == 1 else j + 1)
+                            if found or jj < first or jj >= first + count:
+                                continue
+                            n = _part_roots(seg, tab, slab_f, slab_i, obj_i, obj_f, k, jj, ox, oy, oz, dx, dy, dz,
+                                            a, min(b, best), roots, crit, stack)
+                            for q in range(n):
+                                t = roots[q]
+                                pz = oz + t * dz
+                                if not (t > t0 and t < best) or pz < obj_f[k, F_ZMIN] or pz > obj_f[k, F_ZMAX]:
+                                    continue
+                                nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, jj, ox + t * dx,
+                                                           oy + t * dy, pz)
+                                if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium[i], last[i], side[i]):
+                                    best, best_k, best_j, found = t, k, jj, True
+                                    break
+                if not found and te < best - bracket:
+                    decided = False  # the mesh is crossed clearly before the answer, the surface is not
+        if best_k < 0 and medium[i] != 0:
+            decided = False  # the ray cannot leave its medium without a crossing
+        if not decided:
+            fell[i] = True
+            best, best_k, best_j, _, _, _ = nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy,
+                                                        dz, medium[i], last[i], side[i], roots, crit, stack)
+        out_t[i], out_k[i], out_j[i] = best, best_k, best_j

@@ -14,8 +14,11 @@ Every comparison is a ratio measured in the same run, on the same thread:
   analytic intersection alone over Embree (the frame's queries, each in its medium).
   The same against Embree called one ray at a time from compiled code
   (:mod:`benchmarks.embree_kernel`), as a tracer with Embree inside its kernels would call it:
-  reported beside, not in the printed figure; and Embree + refinement onto the exact surfaces
-  (a lower bound) against the analytic search, per shape kind, on the frame's own queries.
+  reported beside, not in the printed figure.
+* **Embree + refinement / analytic search**: an Embree tracer's whole nearest-hit search
+  (:class:`benchmarks.embree_kernel.EmbreeSearch`) against the analytic one, on the frame's own
+  queries, at three mesh tolerances and per surface; with the queries it answers differently
+  (a crossing its mesh hides) and what a geometry edit would pay to build its mesh.
 * **threads**: the same deterministic job (about two seconds on one thread) on 1 and 2 worker
   threads (images bit-identical).
 * **latency**: first finished tile over the whole job, and the bundled sample's time to converge.
@@ -112,12 +115,11 @@ def _fastest_interleaved(runs, repeats=REPEATS):
     return best
 
 
-#: Embree + refinement (:func:`frame_vs_embree`): Embree's hit is searched past this distance
-#: (mm) from the ray's start (the 0.02 mm mesh's own surface lies within it: a ray leaving the
-#: exact surface meets that surface's triangles again just ahead), and the exact root within
-#: this bracket (mm) of it
-REFINE_TNEAR_MM = 0.05
-REFINE_BRACKET_MM = 0.05
+#: Embree + refinement (:func:`embree_methods`): the mesh tolerances (mm) it is measured at, each
+#: with the distance (mm) from the ray's start Embree's hit is searched past (a ray leaving a
+#: surface meets that surface's own triangles again within the chordal error) and the bracket
+#: (mm) about Embree's hit the exact root is searched in
+EMBREE_TOLERANCES = ((0.1, 0.25, 0.25), (0.02, 0.05, 0.05), (0.005, 0.02, 0.02))
 
 
 def frame_vs_embree(name, size, spp):
@@ -125,7 +127,7 @@ def frame_vs_embree(name, size, spp):
     and against the analytic intersection alone, on the rays the frame traced; each the fastest
     of ``REPEATS`` runs, the three interleaved (a slow phase of the machine then slows all
     three, not one side of a ratio)."""
-    from benchmarks.embree_kernel import Embree4Scene, refine_onto_parts
+    from benchmarks.embree_kernel import Embree4Scene
     from engine.tracer.context import RenderContext, nearest_hits, trace_pixels
 
     design, assets = load_scene(name)
@@ -146,32 +148,59 @@ def frame_vs_embree(name, size, spp):
     def analytic():  # the frame's own queries: each in its medium, leaving its object
         return nearest_hits(ctx.geometry, o64, d64, medium, last, side)
 
-    t_exact, objects, parts, _ = analytic()
     per_ray = Embree4Scene(*mesh)  # the same triangles, one rtcIntersect1 a ray from numba
     try:
-        # Embree + refinement, a lower bound: past a hair of the ray's start (its own surface
-        # is a root there), then the exact root of the part the analytic answer names within
-        # REFINE_BRACKET_MM of Embree's t
-        t_mesh = per_ray.cast(o32, d32, tnear=REFINE_TNEAR_MM)[0]
-
-        def refine():
-            return refine_onto_parts(ctx.geometry, o64, d64, t_mesh, objects, parts, REFINE_BRACKET_MM)
-
-        frame, emb, emb1, near, isect, ref = _fastest_interleaved(
+        frame, emb, emb1, isect = _fastest_interleaved(
             (lambda: trace_pixels(ctx, cols, rows, 1, spp), lambda: scene.run(o32, d32, output=1),
-             lambda: per_ray.cast(o32, d32), lambda: per_ray.cast(o32, d32, tnear=REFINE_TNEAR_MM),
-             analytic, refine))
-        hit = np.isfinite(t_exact)
-        found = refine()
-        refined = float(np.mean(np.abs(found[hit] - t_exact[hit]) <= 1e-6 * np.maximum(1.0, t_exact[hit])))
+             lambda: per_ray.cast(o32, d32), analytic))
     finally:
         per_ray.close()
+    methods = embree_methods(design, ctx.geometry, (o64, d64, medium, last, side), analytic)
     return {"scene": name, "kind": design.shape.cross_section, "size": size, "spp": spp, "segments": n,
             "frame_s": frame, "embree_s": emb, "intersect_s": isect, "frame_over_embree": frame / emb,
             "intersect_over_embree": isect / emb, "ns_per_segment": 1e9 * frame / n, "triangles": tris,
             "embree_per_ray_s": emb1, "frame_over_embree_per_ray": frame / emb1,
-            "intersect_over_embree_per_ray": isect / emb1, "embree_refined_s": near + ref,
-            "embree_refined_over_analytic": (near + ref) / isect, "refined_fraction": refined}
+            "intersect_over_embree_per_ray": isect / emb1, "embree_methods": methods}
+
+
+def embree_methods(design, geometry, queries, analytic):
+    """Embree + refinement against the analytic search on a frame's own ``queries`` (origins,
+    unit directions, medium, object left, side left; mm): complete (:class:`~benchmarks.
+    embree_kernel.EmbreeSearch`: triangle to part, bracket, fallback) at each of
+    ``EMBREE_TOLERANCES``, and per surface at 0.02 mm (only the kinds where the complete search
+    can come out faster meshed: elliptical and offset arcs, swept slabs that are not ruled,
+    planes; the rest analytic). Each: time over the analytic search's (interleaved, fastest of
+    5), the share of queries that fell back, the share whose answer differs from the exact
+    search's and how many of those are *earlier* (a crossing the analytic search would have
+    missed: none is expected), and what an edit of the geometry would pay first (tessellate,
+    map the triangles to parts, build the BVH; s, wall time of one build)."""
+    from benchmarks.embree_kernel import EmbreeSearch
+    from engine.tracer.kernels.intersect import PLANE
+    from engine.tracer.kernels.profile import ELLIPSE, OFFSET, S_KIND
+    from engine.tracer.kernels.swept import SL_RULED
+
+    t_ex, k_ex, _, _ = analytic()
+    g = geometry
+    masks = (np.isin(g.seg[:, S_KIND].astype(int), (ELLIPSE, OFFSET)), g.slab_f[:, SL_RULED] <= 0.5,
+             g.obj_i[:, 0] == PLANE)
+    out = []
+    for label, (tol, tnear, bracket), m in ([("Embree + refinement", e, None) for e in EMBREE_TOLERANCES]
+                                            + [("per surface", EMBREE_TOLERANCES[1], masks)]):
+        start = time.perf_counter()
+        _, _, mesh = embree_scene(design, tol, with_mesh=True)
+        search = EmbreeSearch(g, *mesh, tnear=tnear, bracket=bracket, tol=tol, masks=m)
+        build = time.perf_counter() - start
+        try:
+            t, k, _, fell = search.hits(*queries)
+            with np.errstate(invalid="ignore"):  # inf - inf where both miss
+                same = (k == k_ex) & ((np.abs(t - t_ex) <= 1e-6 * np.maximum(1.0, np.abs(t_ex))) | (t == t_ex))
+            ana, mine = _fastest_interleaved((analytic, lambda: search.hits(*queries)), 5)
+        finally:
+            search.close()
+        out.append({"method": label, "tol_mm": tol, "over_analytic": mine / ana, "fallback": float(fell.mean()),
+                    "differ": float(1.0 - same.mean()), "earlier": int(np.sum(~same & (t < t_ex * (1 - 1e-6)))),
+                    "meshed_triangles": search.triangles, "build_s": build})
+    return out
 
 
 def thread_speedup(name, size, spp, repeats=3):
@@ -349,12 +378,20 @@ def main(argv=None) -> int:
               f"{r['frame_over_embree_per_ray']:.2f}, analytic intersection/Embree {r['intersect_over_embree_per_ray']:.2f}")
     print(f"worst frame over Embree called per ray: {max(r['frame_over_embree_per_ray'] for r in fr):.2f} "
           "(frame_over_embree below is against embreex's batch, the stack's binding)")
-    print(f"Embree + refinement against the analytic search on the frame's own queries (a lower bound: Embree per ray "
-          f"past {REFINE_TNEAR_MM} mm, then the exact root of the part the analytic answer names within "
-          f"{REFINE_BRACKET_MM} mm of its hit; where that misses, a tracer would query again):")
+    print("Embree + refinement against the analytic search on the frame's own queries (complete: Embree per ray, "
+          "triangle -> part, exact root in a bracket, the tracer's acceptance, the analytic search where that "
+          "fails; time over the analytic search's, queries answered differently, of which earlier than the "
+          "exact answer):")
     for r in fr:
-        print(f"  {r['scene']:9s} ({r['kind']}): {r['embree_refined_over_analytic']:.2f} of the analytic search's time, "
-              f"the exact hit found for {100 * r['refined_fraction']:.1f} % of the queries")
+        parts = [f"mesh {m['tol_mm']} mm {m['over_analytic']:.2f}" if m["method"] != "per surface" else
+                 f"per surface ({m['meshed_triangles']} triangles meshed) {m['over_analytic']:.2f}"
+                 for m in r["embree_methods"]]
+        parts = [f"{p} ({100 * m['differ']:.3f} % differ, {m['earlier']} earlier; built in {m['build_s']:.2f} s)"
+                 for p, m in zip(parts, r["embree_methods"])]
+        print(f"  {r['scene']:9s} ({r['kind']}): " + "; ".join(parts))
+    rows += [dict(section="embree", scene=r["scene"], kind=r["kind"], **m) for r in fr for m in r["embree_methods"]]
+    for r in fr:
+        del r["embree_methods"]
     rows += [dict(section="frame", **r) for r in fr]
     # a job of at least a second on one thread: a shorter one (192 x 192, 2 spp: 0.15 s since
     # the kernels run without reference counting) measures the pool's start and the film's

@@ -53,35 +53,73 @@ def test_it_finds_what_embreex_finds_on_a_bottle():
     assert np.allclose(t[hit], want["tfar"][hit], rtol=1e-5) and np.array_equal(prim[hit], want["primID"][hit])
 
 
-def test_refinement_lands_on_the_exact_hits_of_the_tracers_own_queries():
-    """The recorded queries of a frame (each with its medium and the object it leaves), Embree's
-    hit past a hair, then the exact root of the analytic answer's part near it: the tracer's
-    own hits, to the last digits, for most queries."""
-    from benchmarks.embree_kernel import refine_onto_parts
-    from benchmarks.tracer import embree_scene
-    from engine.tracer.context import RenderContext, nearest_hits, trace_pixels
-    from tests.test_tracer import simple_design
+def _frame_queries(design, size=24):
+    """The recorded queries of a small frame: origins, unit directions (float64), medium, object
+    left, side left."""
+    from engine.tracer.context import RenderContext, trace_pixels
 
-    design = simple_design(40.0)
-    ctx = RenderContext.from_design(design, None, 24, 24)
-    ys, xs = np.mgrid[0:24, 0:24]
+    ctx = RenderContext.from_design(design, None, size, size)
+    ys, xs = np.mgrid[0:size, 0:size]
     rec = (np.zeros((200_000, 9), np.float32), np.zeros(1, np.int64))
     trace_pixels(ctx, xs.ravel(), ys.ravel(), 1, 1, record=rec)
     rays = rec[0][:rec[1][0]]
-    assert len(rays) > 1000 and set(np.unique(rays[:, 6])) > {0.0}  # queries inside glass too
     o, d = rays[:, :3].astype(float), rays[:, 3:6].astype(float)
     d /= np.linalg.norm(d, axis=1, keepdims=True)
-    medium, last, side = (np.ascontiguousarray(rays[:, c].astype(np.int64)) for c in (6, 7, 8))
-    t, k, part, _ = nearest_hits(ctx.geometry, o, d, medium, last, side)
-    _, _, mesh = embree_scene(design, with_mesh=True)
-    scene = Embree4Scene(*mesh)
+    return ctx.geometry, (o, d, *(np.ascontiguousarray(rays[:, c].astype(np.int64)) for c in (6, 7, 8)))
+
+
+@pytest.mark.parametrize("square", [False, True])
+def test_embree_search_answers_the_tracers_queries_as_the_exact_search_does(square):
+    """The complete Embree + refinement search (triangle -> part, bracket, acceptance, fallback)
+    on a frame's own queries, round and rounded square: the same answer as the analytic search
+    for nearly every query, never an earlier one (an earlier accepted crossing would be one the
+    exact search missed, or a false root of the refinement: a root outside its part's box was
+    one, before the part's box was asked), and a later one only where the mesh hides a crossing."""
+    from benchmarks.embree_kernel import EmbreeSearch, triangle_parts
+    from benchmarks.tracer import embree_scene, load_scene
+    from engine.tracer.context import nearest_hits
+    from tests.test_tracer import simple_design
+
+    design = load_scene("square")[0] if square else simple_design(40.0)
+    geometry, queries = _frame_queries(design)
+    assert len(queries[0]) > 1000 and set(np.unique(queries[2])) > {0}  # queries inside glass too
+    t_ex, k_ex, _, _ = nearest_hits(geometry, *queries)
+    _, _, mesh = embree_scene(design, 0.02, with_mesh=True)
+    obj, part = triangle_parts(geometry, *mesh, 0.02)
+    assert np.all(obj >= 0)  # every triangle names its part
+    search = EmbreeSearch(geometry, *mesh, tnear=0.05, bracket=0.05, tol=0.02)
     try:
-        t_mesh = scene.cast(rays[:, :3], rays[:, 3:6], tnear=0.05)[0]
+        t, k, _, fell = search.hits(*queries)
     finally:
-        scene.close()
-    found = refine_onto_parts(ctx.geometry, o, d, t_mesh, k, part, 0.05)
-    hit, got = np.isfinite(t), np.isfinite(found)
-    assert not np.any(got & ~hit)
-    same = np.abs(found[hit] - t[hit]) <= 1e-9 * np.maximum(1.0, t[hit])
-    assert same.mean() > 0.8  # 89 % measured; an Embree tracer would query the rest again
-    assert np.array_equal(same, got[hit])  # a root found is the tracer's own
+        search.close()
+    with np.errstate(invalid="ignore"):  # inf - inf where both miss
+        same = (k == k_ex) & ((np.abs(t - t_ex) <= 1e-6 * np.maximum(1.0, np.abs(t_ex))) | (t == t_ex))
+    assert same.mean() > 0.995
+    assert not np.any(~same & (t < t_ex * (1 - 1e-6)))
+    assert fell.mean() < 0.1
+
+
+def test_per_surface_search_with_nothing_meshed_is_the_exact_search():
+    from benchmarks.embree_kernel import EmbreeSearch
+    from benchmarks.tracer import embree_scene
+    from engine.tracer.context import nearest_hits
+    from tests.test_tracer import simple_design
+
+    design = simple_design(40.0)
+    geometry, queries = _frame_queries(design, 16)
+    _, _, mesh = embree_scene(design, 0.05, with_mesh=True)
+    g = geometry
+    none = EmbreeSearch(g, *mesh, tol=0.05, masks=(np.zeros(len(g.seg), bool), np.zeros(len(g.slab_f), bool),
+                                                   np.zeros(len(g.obj_i), bool)))
+    every = EmbreeSearch(g, *mesh, tol=0.05, masks=(np.ones(len(g.seg), bool), np.ones(len(g.slab_f), bool),
+                                                    np.ones(len(g.obj_i), bool)))
+    try:
+        assert none.triangles == 0 and every.triangles == len(mesh[1])
+        t_ex, k_ex, j_ex, _ = nearest_hits(geometry, *queries)
+        t, k, j, fell = none.hits(*queries)
+        assert np.array_equal(t, t_ex) and np.array_equal(k, k_ex) and not fell.any()
+        t, k, j, fell = every.hits(*queries)
+        assert np.mean(k == k_ex) > 0.99  # everything meshed: Embree answers
+    finally:
+        none.close()
+        every.close()

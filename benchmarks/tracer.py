@@ -384,7 +384,8 @@ def main(argv=None) -> int:
     for r in fr:
         print(f"  {r['scene']:9s}: {1e9 * r['embree_per_ray_s'] / r['segments']:.0f} ns/segment "
               f"({r['embree_per_ray_s'] / r['embree_s']:.2f} of embreex's batch), frame/Embree "
-              f"{r['frame_over_embree_per_ray']:.2f}, analytic intersection/Embree {r['intersect_over_embree_per_ray']:.2f}; "
+              f"{r['frame_over_embree_per_ray']:.2f}, analytic intersection/Embree "
+              f"{r['intersect_over_embree_per_ray']:.2f}; "
               f"cast past {START_OFFSET_MM} mm as a mesh tracer casts (from the start {100 * r['self_hits']:.0f} % of "
               f"the casts end within 0.01 mm, on the start's own triangles): frame/Embree "
               f"{r['frame_over_embree_offset']:.2f}")

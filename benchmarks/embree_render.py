@@ -16,9 +16,10 @@ never sees them; the first run compiles them all, some minutes).
 Before anything is compiled it rebinds ``nearest_hit`` in the integrator and label kernels, and
 each :class:`~engine.tracer.context.RenderContext` gets two rows appended to its offset table
 ``tab`` (no segment row points past its own rows): the Embree scene's handle and the addresses
-of its triangle -> (object, part) tables, then ``tnear``, the bracket and a marker. Embree is
-called by name through an intrinsic (the library loaded for the JIT's linker), so the compiled
-kernels stay cacheable; the ray-hit record lives on the calling thread's stack.
+of its triangle -> (object, part) tables, then ``tnear``, the bracket and a marker. The cast and
+the refinement are :mod:`benchmarks.embree_kernel`'s (:func:`~benchmarks.embree_kernel.cast1`
+calls Embree by name, so the compiled kernels stay cacheable; its ray-hit record lives on the
+calling thread's stack).
 
 Units: mm. Benchmarks only.
 """
@@ -36,12 +37,10 @@ import time
 import numpy as np
 from llvmlite import ir
 from numba import njit, types
-from numba.core import cgutils
 from numba.extending import intrinsic
 
-from benchmarks.embree_kernel import _part_roots
-from engine.tracer.kernels.intersect import (F_EDGE, F_PNZ, F_ZMAX, F_ZMIN, O_COUNT, O_FIRST, O_KIND, PLANE,
-                                             START_FRACTION, _accept, _plane_hit, nearest_hit, object_normal)
+from benchmarks.embree_kernel import cast1, refine_hit
+from engine.tracer.kernels.intersect import nearest_hit
 from engine.tracer.kernels.roots import JIT
 
 #: the marker in the appended row that says the table carries an Embree scene
@@ -61,64 +60,6 @@ def cache_dir() -> str:
         with open(os.path.join(os.path.dirname(os.path.abspath(__file__)), name), "rb") as fh:
             h.update(fh.read())
     return os.path.join(CACHE_ROOT, h.hexdigest()[:16])
-#: RTCRayHit as 32-bit words, as in :mod:`benchmarks.embree_kernel`
-_W_TFAR, _W_MASK, _W_PRIM, _W_GEOM, _WORDS = 8, 9, 17, 18, 32
-_INVALID_ID = 0xFFFFFFFF
-
-
-def _load_embree():
-    """Make libembree4 (the copy embreex ships) visible to the JIT's linker, so that compiled
-    kernels name ``rtcIntersect1`` instead of embedding an address (which would not cache)."""
-    import embreex
-    import llvmlite.binding as llb
-
-    here = os.path.dirname(embreex.__file__)
-    found = sorted(glob.glob(os.path.join(here, "..", "embreex.libs", "libembree4*.so*")))
-    if not found:
-        raise RuntimeError(f"no libembree4 beside embreex in {os.path.dirname(here)}")
-    llb.load_library_permanently(found[0])
-
-
-_load_embree()
-
-
-@intrinsic
-def _rtc_intersect1(typingctx, scene, rayhit):
-    """``rtcIntersect1(scene, rayhit, NULL)``: ``scene`` an address, ``rayhit`` float32*."""
-    sig = types.void(types.uintp, types.CPointer(types.float32))
-
-    def codegen(context, builder, signature, args):
-        i8p = ir.IntType(8).as_pointer()
-        fn = cgutils.get_or_insert_function(builder.module, ir.FunctionType(ir.VoidType(), [i8p, i8p, i8p]),
-                                            "rtcIntersect1")
-        builder.call(fn, [builder.inttoptr(args[0], i8p), builder.bitcast(args[1], i8p), ir.Constant(i8p, None)])
-        return context.get_dummy_value()
-
-    return sig, codegen
-
-
-@intrinsic
-def _rayhit(typingctx):
-    """A 16-byte aligned record of 32 floats on the calling function's stack."""
-    sig = types.CPointer(types.float32)()
-
-    def codegen(context, builder, signature, args):
-        arr = cgutils.alloca_once(builder, ir.ArrayType(ir.FloatType(), _WORDS))
-        arr.align = 16
-        return builder.bitcast(arr, ir.FloatType().as_pointer())
-
-    return sig, codegen
-
-
-@intrinsic
-def _as_words(typingctx, ptr):
-    """The same record as uint32 words."""
-    sig = types.CPointer(types.uint32)(ptr)
-
-    def codegen(context, builder, signature, args):
-        return builder.bitcast(args[0], ir.IntType(32).as_pointer())
-
-    return sig, codegen
 
 
 @intrinsic
@@ -130,23 +71,6 @@ def _int64s_at(typingctx, address):
         return builder.inttoptr(args[0], ir.IntType(64).as_pointer())
 
     return sig, codegen
-
-
-@njit(**JIT)
-def _part_crossing(seg, tab, slab_f, slab_i, obj_i, obj_f, k, j, ox, oy, oz, dx, dy, dz, a, b, t0, medium, last,
-                   side, roots, crit, stack):
-    """The first crossing of part ``j`` of object ``k`` in ``[a, b]`` the tracer accepts:
-    ``(t, nx, ny, nz)``, ``t = inf`` for none."""
-    n = _part_roots(seg, tab, slab_f, slab_i, obj_i, obj_f, k, j, ox, oy, oz, dx, dy, dz, a, b, roots, crit, stack)
-    for q in range(n):
-        t = roots[q]
-        pz = oz + t * dz
-        if not (t > t0 and t < b) or pz < obj_f[k, F_ZMIN] or pz > obj_f[k, F_ZMAX]:
-            continue
-        nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, j, ox + t * dx, oy + t * dy, pz)
-        if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last, side):
-            return t, nx, ny, nz
-    return np.inf, 0.0, 0.0, 0.0
 
 
 @njit(**JIT)
@@ -162,39 +86,15 @@ def embree_nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, d
     tri_obj = _int64s_at(np.uintp(tab[n_tab - 2, 1]))
     tri_part = _int64s_at(np.uintp(tab[n_tab - 2, 2]))
     tnear, bracket = tab[n_tab - 1, 0], tab[n_tab - 1, 1]
-    f = _rayhit()
-    w = _as_words(f)
-    f[0], f[1], f[2], f[3] = ox, oy, oz, tnear
-    f[4], f[5], f[6], f[7] = dx, dy, dz, 0.0
-    f[_W_TFAR] = np.inf
-    w[_W_MASK], w[_W_MASK + 1], w[_W_MASK + 2] = _INVALID_ID, 0, 0
-    w[_W_PRIM], w[_W_GEOM] = _INVALID_ID, _INVALID_ID
-    _rtc_intersect1(np.uintp(tab[n_tab - 2, 0]), f)
-    if w[_W_GEOM] == _INVALID_ID:
+    te, p = cast1(np.uintp(tab[n_tab - 2, 0]), ox, oy, oz, dx, dy, dz, tnear, np.inf)
+    if p < 0:
         if medium == 0:  # in air a miss is a miss; elsewhere the mesh let the ray through
             return np.inf, -1, -1, 0.0, 0.0, 0.0
     else:
-        te = np.float64(f[_W_TFAR])
-        k, j = tri_obj[w[_W_PRIM]], tri_part[w[_W_PRIM]]
+        t, k, j, nx, ny, nz = refine_hit(tri_obj[p], tri_part[p], te, seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy,
+                                         oz, dx, dy, dz, medium, last, side, bracket, np.inf, roots, crit, stack)
         if k >= 0:
-            t0 = START_FRACTION * obj_f[k, F_EDGE] if k == last else 0.0
-            a, b = max(te - bracket, t0), te + bracket
-            if obj_i[k, O_KIND] == PLANE:
-                t = _plane_hit(obj_i, obj_f, k, ox, oy, oz, dx, dy, dz, a, b)
-                nz = obj_f[k, F_PNZ]
-                if t < np.inf and _accept(obj_i, obj_f, k, t, 0.0, 0.0, nz, dx, dy, dz, oz + t * dz, medium, last,
-                                          side):
-                    return t, k, -1, 0.0, 0.0, nz
-            else:
-                first, count = obj_i[k, O_FIRST], obj_i[k, O_COUNT]
-                for step in range(3):  # the triangle's own part, then those either side
-                    jj = j if step == 0 else (j - 1 if step == 1 else j + 1)
-                    if jj < first or jj >= first + count:
-                        continue
-                    t, nx, ny, nz = _part_crossing(seg, tab, slab_f, slab_i, obj_i, obj_f, k, jj, ox, oy, oz, dx,
-                                                   dy, dz, a, b, t0, medium, last, side, roots, crit, stack)
-                    if t < np.inf:
-                        return t, k, jj, nx, ny, nz
+            return t, k, j, nx, ny, nz
     return nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, medium, last, side,
                        roots, crit, stack)
 
@@ -289,18 +189,17 @@ def main(argv=None) -> int:
     with open(a.job, "rb") as fh:
         spec_path, settings, tol, tnear, bracket, threads = pickle.load(fh)
     hook = install(tol, tnear, bracket)
-    from benchmarks.oracle_render import render_spec
+    from benchmarks.oracle_render import render_setting, render_spec
     from benchmarks.oracle_spec import spec_to_design
 
     scene = spec_to_design(spec_path)
     # kernels loaded, environment decoded, mesh built (as the engine's geometry, once)
     render_spec(spec_path, 1, threads, adaptive=False, scene=scene)
     results = []
-    for label, spp, target, cut in settings:
+    for setting in settings:
         waves = []
-        img, secs, _ = render_spec(spec_path, spp, threads, noise_target=target or 1.0, adaptive=target is not None,
-                                   scene=scene, progress=waves, **({} if cut is None else {"min_weight": cut}))
-        results.append((label, secs, img, waves, hook.build_s))
+        img, secs, _ = render_setting(spec_path, setting, threads, scene=scene, progress=waves)
+        results.append((setting[0], secs, img, waves, hook.build_s))
     with open(a.out, "wb") as fh:
         pickle.dump(results, fh)
     return 0

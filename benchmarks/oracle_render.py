@@ -73,6 +73,15 @@ def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
     return job.image(), time.perf_counter() - t0, job
 
 
+def render_setting(spec_path: str, setting, threads=None, *, scene=None, progress=None):
+    """:func:`render_spec` at a benchmark setting ``(label, spp, noise target or None, ray tree
+    cut or None)`` (``benchmarks.peer.SETTINGS``): adaptive rounds only with a target, the cut
+    as ``min_weight`` where given (else the oracle default). Returns what render_spec does."""
+    _, spp, target, cut = setting
+    return render_spec(spec_path, spp, threads, noise_target=target or 1.0, adaptive=target is not None,
+                       scene=scene, progress=progress, **({} if cut is None else {"min_weight": cut}))
+
+
 def main(argv=None) -> int:
     """Command line: render, save (EXR linear / PNG tone-mapped), print time and rel RMSE."""
     p = argparse.ArgumentParser(prog="python -m benchmarks.oracle render")

@@ -255,15 +255,14 @@ def glassbench_points(spec_path, ref, settings, threads, scene=None):
     timed from the job's start like the finished render, the copy of the image included:
     what a designer watching the render sees at that moment, and as real a setting as the
     finished one (a render asking that much stops there)."""
-    from benchmarks.oracle_render import render_spec, rel_rmse
+    from benchmarks.oracle_render import rel_rmse, render_setting, render_spec
 
     render_spec(spec_path, 1, threads, adaptive=False, scene=scene)  # kernels loaded, environment decoded
     pts, prog = [], []
-    for label, spp, target, cut in settings:
+    for setting in settings:
+        label = setting[0]
         waves = []
-        img, secs, job = render_spec(spec_path, spp, threads, noise_target=target or 1.0,
-                                     adaptive=target is not None, scene=scene, progress=waves,
-                                     **({} if cut is None else {"min_weight": cut}))
+        img, secs, job = render_setting(spec_path, setting, threads, scene=scene, progress=waves)
         pts.append((label, secs, rel_rmse(img, ref), float(job.sample_counts().mean())))
         print(f"    glassbench {label:14s}: {secs:7.2f} s, rel RMSE {pts[-1][2]:.4f} "
               f"(mean {pts[-1][3]:.2f} samples/px)")

@@ -218,6 +218,88 @@ def test_convex_sheet_solver_agrees_with_the_quartic_on_the_shared_cases():
             assert near(t, got) or not outer or touch, (case["category"], got, quartic)
 
 
+
+def _on_hole_side(o, d, t, R, b):
+    """Whether the ray's point at ``t`` lies on the side of the tube facing the axis, within the
+    heights :func:`hole_sheet_roots` serves."""
+    from engine.tracer.kernels.roots import HOLE_POLE
+
+    p = o + t * d
+    return math.hypot(p[0], p[1]) <= R and abs(p[2] / b) <= HOLE_POLE
+
+
+@pytest.mark.parametrize("kind", [k for k in KINDS if k != "inner_sheet"])
+def test_hole_sheet_solver_matches_50_digit_references_on_its_side(kind):
+    """The solver of arcs on the side of their tube facing the axis (waists, shoulders into a
+    neck) finds every root there and reports nothing else."""
+    from engine.tracer.kernels.roots import hole_sheet_roots
+
+    rng = np.random.default_rng(KINDS.index(kind) + 700)
+    out = np.zeros(4)
+    for _ in range(16):
+        o, d, R, a, b, tau, _ = _seeded_case(kind, rng)
+        hits = out[:hole_sheet_roots(*o, *d, R, a, b, tau, np.inf, out)]
+        required, allowed = _reference(o, d, R, a, b, tau)
+        for t in required:
+            if _on_hole_side(o, d, t, R, b):
+                assert np.min(np.abs(hits - t), initial=np.inf) <= TOL_TUBE * a, (kind, t, hits)
+        for t in hits:
+            assert math.hypot(*(o + t * d)[:2]) <= R * (1 + 1e-9), (kind, t)
+            assert min((abs(t - x) for x in required + allowed), default=np.inf) <= TOL_TUBE * a, \
+                (kind, t, required, allowed)
+        assert np.all(np.diff(hits) > 0)
+
+
+def test_hole_sheet_solver_agrees_with_the_quartic_on_the_shared_cases():
+    """On the shared hard cases (near-double roots, rays along and across the axis, far and
+    thin tori) every root the hole-side solver reports is one of the quartic's, and it reports
+    every root of its side the quartic finds, except a touch."""
+    from engine.tracer.kernels.roots import hole_sheet_roots, torus_roots
+
+    out, crit, mine = np.zeros(4), np.zeros(5), np.zeros(4)
+    for case in json.loads(CASES.read_text())["cases"]:
+        o, d = np.array(case["origin"]), np.array(case["direction"])
+        R, a, b, tau = case["R"], case["a"], case["b"], case["tau"]
+        quartic = list(out[:torus_roots(*o, *d, R, a, b, False, tau, out, crit)])
+        got = list(mine[:hole_sheet_roots(*o, *d, R, a, b, tau, np.inf, mine)])
+        near = lambda t, ts: min((abs(t - x) for x in ts), default=np.inf) <= TOL_TUBE * a
+        for t in got:
+            assert near(t, quartic), (case["category"], got, quartic)
+        for t in quartic:
+            touch = near(t, [x for x in quartic if x != t])
+            assert near(t, got) or not _on_hole_side(o, d, t, R, b) or touch, (case["category"], got, quartic)
+
+
+@pytest.mark.parametrize("R, a, b", [(40.0, 7.0, 7.0), (69.09, 57.59, 57.59), (12.0, 3.0, 9.0)])
+def test_hole_sheet_solver_where_its_pieces_degenerate(R, a, b):
+    """Rays exactly through the axis (a kink of the distance from it), level rays (no split of
+    convexity), vertical rays and rays nearly along the axis, against the quartic: the roots of
+    the side facing the axis, to 1e-9 tube radii."""
+    from engine.tracer.kernels.roots import hole_sheet_roots, torus_roots
+
+    rng = np.random.default_rng(11)
+    out, crit, mine = np.zeros(4), np.zeros(5), np.zeros(4)
+    rays = []
+    for _ in range(60):
+        z0, ang = rng.uniform(-0.9, 0.9) * b, rng.uniform(0, 2 * np.pi)
+        tilt = rng.choice([0.0, rng.uniform(-1, 1), 1e-9])
+        d = _unit(np.array([math.cos(ang), math.sin(ang), tilt]))
+        rays.append((-3 * R * d + [0.0, 0.0, z0], d))  # through the axis (level when tilt = 0)
+        rays.append((np.array([R - a * rng.uniform(0.3, 0.95), 0.0, 3 * b]),
+                     _unit(np.array([rng.choice([0.0, 1e-7]), 0.0, -1.0]))))  # along the axis
+    found = 0
+    for o, d in rays:
+        quartic = list(out[:torus_roots(*o, *d, R, a, b, False, 0.0, out, crit)])
+        got = list(mine[:hole_sheet_roots(*o, *d, R, a, b, 0.0, np.inf, mine)])
+        near = lambda t, ts: min((abs(t - x) for x in ts), default=np.inf) <= 1e-9 * a
+        for t in quartic:
+            assert near(t, got) or not _on_hole_side(o, d, t, R, b), (o, d, got, quartic)
+        for t in got:  # (and a hair beyond HOLE_POLE, where the window ends)
+            assert near(t, quartic) and math.hypot(*(o + t * d)[:2]) <= R, (o, d, got, quartic)
+        found += len(got)
+    assert found > 200
+
+
 def test_per_ray_tori_in_one_call_match_single_calls():
     cases = json.loads(CASES.read_text())["cases"][::7]
     col = lambda key: np.array([c[key] for c in cases], dtype=float)

@@ -6,8 +6,11 @@ meridian segment in its own (r, z) plane, in mm. Lines are cones
 spheroids, both restricted to the segment's extent: an arc on the outer side of its tube
 (convex shoulders, heels, bulbs; every point at least its centre's radius from the axis)
 through :func:`~engine.tracer.kernels.roots.convex_sheet_roots`, which needs no quartic
-(measured on public_4, 0.82x the frame's time), any other through
-:func:`~engine.tracer.kernels.roots.torus_roots`; the inner wall of an ellipse arc (its
+(measured on public_4, 0.82x the frame's time), an arc on the side of its tube facing the axis
+(waists, shoulders running into a neck) through
+:func:`~engine.tracer.kernels.roots.hole_sheet_roots`, which needs none either (0.94-0.97x),
+and an arc reaching its tube's pole through :func:`~engine.tracer.kernels.roots.torus_roots`;
+the inner wall of an ellipse arc (its
 exact offset, a degree-8 curve) is found piece by piece along its monotone table
 (:func:`offset_roots`). Every segment is first culled by its revolved bounding box (two
 cylinders, two planes), which is exact and conservative; the ray's share of that test
@@ -26,10 +29,10 @@ from .bands import annulus_bands, subtract
 from .outlines import disc_interval
 from .helix import MAX_ROOTS, helix_normal, helix_roots, helix_v
 from .profile import (HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR, S_KIND, S_LEN, S_R0,
-                      S_R1, S_RMAX, S_RMIN, S_SIDE, S_SWEEP, S_ZMAX, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1,
+                      S_R1, S_RMAX, S_RMIN, S_SIDE, S_SWEEP, S_ZMAX, S_ZMIN, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1,
                       TWO_PI, _offset_at, in_sweep, offset_at_between, offset_point, offset_rz)
-from .roots import (INLINE, JIT, SHEET_SLACK, cone_roots, convex_sheet_roots, hypot2, illinois_done, illinois_point,
-                    illinois_update, sort_small, torus_roots)
+from .roots import (HOLE_POLE, INLINE, JIT, SHEET_SLACK, cone_roots, convex_sheet_roots, hole_sheet_roots, hypot2,
+                    illinois_done, illinois_point, illinois_update, sort_small, torus_roots)
 
 #: Band contraction on an offset arc stops at this fraction of the segment's length: only a
 #: pair of crossings closer than that can be missed (a graze of well under 1e-6 mm).
@@ -381,9 +384,12 @@ def segment_hits(seg, tab, i, ox, oy, oz, dx, dy, dz, tlo, thi, lo, hi, out, cri
     else:
         cr, cz, ar, az = seg[i, S_CR], seg[i, S_CZ], seg[i, S_AR], seg[i, S_AZ]
         convex = cr < 0.0 or seg[i, S_RMIN] >= cr - 0.5 * SHEET_SLACK * ar  # no quartic needed
+        clear = max(abs(seg[i, S_ZMIN] - cz), abs(seg[i, S_ZMAX] - cz)) <= HOLE_POLE * az  # of the poles
         if convex and abs(cr) >= 1e-9 * ar:  # (a spheroid keeps torus_roots' closed form)
             m = convex_sheet_roots(ox, oy, oz - cz, dx, dy, dz, abs(cr), ar, az, cr < 0.0, max(tlo, lo),
                                    min(thi, hi), out)
+        elif cr >= 1e-9 * ar and clear:  # on the side of its tube facing the axis
+            m = hole_sheet_roots(ox, oy, oz - cz, dx, dy, dz, cr, ar, az, max(tlo, lo), min(thi, hi), out)
         else:
             m = torus_roots(ox, oy, oz - cz, dx, dy, dz, abs(cr), ar, az, cr < 0.0, max(tlo, lo), out, crit,
                             min(thi, hi))

@@ -337,6 +337,18 @@ def torus_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, out, crit, tmax=np
 
 
 @njit(**INLINE)
+def _scaled_window(speed, s0, B, q2, tmin, tmax):
+    """``(lo, hi)``: the ray's window ``tmin < t <= tmax`` (mm) in the tube frame's scaled
+    distances from the closest approach (:func:`_tube_frame`), cut to the torus's bounding
+    sphere and widened a hair, so that roots at its ends stay inside; empty unless lo < hi."""
+    half = math.sqrt(max(B * B - q2, 0.0)) * (1.0 + 1e-9) + 1e-12 * B
+    u_lo = max(-half, tmin * speed - s0) if math.isfinite(tmin) else -half
+    u_hi = min(half, tmax * speed - s0) if math.isfinite(tmax) else half
+    pad = 1e-9 * (abs(u_lo) + abs(u_hi) + B)
+    return u_lo - pad, u_hi + pad
+
+
+@njit(**INLINE)
 def _convex_factor(qx, qy, qz, Dx, Dy, Dz, Rn, inner, u):
     """``(g, dg/du, size)`` of the unit-tube torus factor that is convex along every ray, at scaled
     distance ``u`` from the closest approach: the mirror sheet's ``(rho + Rn)^2 + z^2 - 1``
@@ -352,12 +364,26 @@ def _convex_factor(qx, qy, qz, Dx, Dy, Dz, Rn, inner, u):
     return (d - 1.0) * (d + 1.0) + z * z, 2.0 * d * drho + 2.0 * z * Dz, rho * abs(d) + d * d + z * z + 1.0
 
 
+@njit(**INLINE)
+def _sheet_eval(hole, f, u):
+    """``(g, dg/du, size)`` of a factor convex along the ray's piece being solved, at scaled
+    distance ``u``: the torus sheet's of :func:`_convex_factor` (frame ``f = (qx, qy, qz, Dx, Dy,
+    Dz, Rn, inner)``) or, for the side of the tube facing the axis (``hole``), ``c psi`` of
+    :func:`_hole_factor` (frame ``f = (E, m2, off, zc, Dz, Rn, c, 1)``); ``|g|`` below
+    ``8e-16 size`` is rounding."""
+    if hole:
+        psi, dpsi, size = _hole_factor(f[0], f[1], f[2], f[3], f[4], f[5], u, f[7])
+        return f[6] * psi, f[6] * dpsi, 0.5 * size
+    return _convex_factor(f[0], f[1], f[2], f[3], f[4], f[5], f[6], f[7] > 0.0, u)
+
+
 @njit(**JIT)
-def _convex_root(qx, qy, qz, Dx, Dy, Dz, Rn, inner, lo, hi, g_lo, g_hi, s_lo, s_hi):
-    """The single root in ``[lo, hi]`` of a convex factor (:func:`_convex_factor`) whose values
+def _sheet_root(hole, f, lo, hi, g_lo, g_hi, s_lo, s_hi):
+    """The single root in ``[lo, hi]`` of a convex factor (:func:`_sheet_eval`) whose values
     ``g_lo, g_hi`` have opposite signs: Newton from the positive end, which a convex function's
     tangents never carry past the root, inside the bracket (Illinois false position if
     rounding does)."""
+    Rn = f[6] if not hole else f[5]
     x, s = (lo, s_lo) if g_lo > 0.0 else (hi, s_hi)
     g = g_lo if g_lo > 0.0 else g_hi
     f_lo, f_hi = g_lo, g_hi
@@ -370,13 +396,38 @@ def _convex_root(qx, qy, qz, Dx, Dy, Dz, Rn, inner, lo, hi, g_lo, g_hi, s_lo, s_
         if abs(xn - x) <= tol:
             return xn
         x = xn
-        g, s, size = _convex_factor(qx, qy, qz, Dx, Dy, Dz, Rn, inner, x)
+        g, s, size = _sheet_eval(hole, f, x)
         if abs(g) <= 8e-16 * size or illinois_done(lo, hi, g):
             return x
         lo, hi, f_lo, f_hi, last = illinois_update(lo, hi, f_lo, f_hi, x, g, last)
         if hi - lo <= tol:
             return x
     return x
+
+
+@njit(**JIT)
+def _sheet_pair(hole, f, a_, b_, ga, gb, sa, sb, B):
+    """``(n, u0, u1)``: the pair of roots (``n = 2``) or none (``n = 0``) of a convex factor
+    (:func:`_sheet_eval`) positive at both ends of ``[a_, b_]`` (slopes ``sa, sb``; ``B`` the
+    scale of the distances): a pair only if its minimum dips below zero, which cutting planes
+    from the tangents find or rule out (a tangent touch, a double root, is not reported)."""
+    for _ in range(_MAX_ITER):
+        if sa >= 0.0 or sb <= 0.0 or not b_ - a_ > 4e-16 * (abs(a_) + abs(b_) + B):
+            break  # monotone on [a_, b_], or the minimum pinned to a touch: no crossing
+        m = (gb - ga + sa * a_ - sb * b_) / (sa - sb)  # where the end tangents meet
+        if not (m > a_ and m < b_):
+            m = 0.5 * (a_ + b_)
+        if ga + sa * (m - a_) > 0.0:
+            break  # the tangents' lower bound stays above zero
+        gm, sm, _ = _sheet_eval(hole, f, m)
+        if gm < 0.0:
+            return (2, _sheet_root(hole, f, a_, m, ga, gm, sa, sm),
+                    _sheet_root(hole, f, m, b_, gm, gb, sm, sb))
+        if sm > 0.0:
+            b_, gb, sb = m, gm, sm
+        else:
+            a_, ga, sa = m, gm, sm
+    return 0, np.nan, np.nan
 
 
 @njit(**JIT)
@@ -396,40 +447,19 @@ def convex_sheet_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, tmax, out):
     qx, qy, qz, Dx, Dy, Dz, speed, s0, Rn, B, q2 = _tube_frame(ox, oy, oz, dx, dy, dz, R, a, b)
     if q2 >= B * B * (1.0 + 1e-12):
         return 0
-    half = math.sqrt(max(B * B - q2, 0.0)) * (1.0 + 1e-9) + 1e-12 * B
-    u_lo = max(-half, tmin * speed - s0) if math.isfinite(tmin) else -half
-    u_hi = min(half, tmax * speed - s0) if math.isfinite(tmax) else half
-    pad = 1e-9 * (abs(u_lo) + abs(u_hi) + B)  # (roots at the window's ends stay inside it)
-    lo, hi = u_lo - pad, u_hi + pad
+    lo, hi = _scaled_window(speed, s0, B, q2, tmin, tmax)
     if not hi > lo:
         return 0
-    g_lo, s_lo, _ = _convex_factor(qx, qy, qz, Dx, Dy, Dz, Rn, inner, lo)
-    g_hi, s_hi, _ = _convex_factor(qx, qy, qz, Dx, Dy, Dz, Rn, inner, hi)
+    f = (qx, qy, qz, Dx, Dy, Dz, Rn, 1.0 if inner else 0.0)
+    g_lo, s_lo, _ = _sheet_eval(False, f, lo)
+    g_hi, s_hi, _ = _sheet_eval(False, f, hi)
     n_u = 0
     u0 = u1 = 0.0
     if (g_lo > 0.0) != (g_hi > 0.0):
-        u0 = _convex_root(qx, qy, qz, Dx, Dy, Dz, Rn, inner, lo, hi, g_lo, g_hi, s_lo, s_hi)
+        u0 = _sheet_root(False, f, lo, hi, g_lo, g_hi, s_lo, s_hi)
         n_u = 1
     elif g_lo > 0.0:  # both ends outside: a pair of roots only if the minimum is below zero
-        a_, b_, ga, gb, sa, sb = lo, hi, g_lo, g_hi, s_lo, s_hi
-        for _ in range(_MAX_ITER):
-            if sa >= 0.0 or sb <= 0.0 or not b_ - a_ > 4e-16 * (abs(a_) + abs(b_) + B):
-                break  # monotone on [a_, b_], or the minimum pinned to a touch: no crossing
-            m = (gb - ga + sa * a_ - sb * b_) / (sa - sb)  # where the end tangents meet
-            if not (m > a_ and m < b_):
-                m = 0.5 * (a_ + b_)
-            if ga + sa * (m - a_) > 0.0:
-                break  # the tangents' lower bound stays above zero
-            gm, sm, _ = _convex_factor(qx, qy, qz, Dx, Dy, Dz, Rn, inner, m)
-            if gm < 0.0:
-                u0 = _convex_root(qx, qy, qz, Dx, Dy, Dz, Rn, inner, a_, m, ga, gm, sa, sm)
-                u1 = _convex_root(qx, qy, qz, Dx, Dy, Dz, Rn, inner, m, b_, gm, gb, sm, sb)
-                n_u = 2
-                break
-            if sm > 0.0:
-                b_, gb, sb = m, gm, sm
-            else:
-                a_, ga, sa = m, gm, sm
+        n_u, u0, u1 = _sheet_pair(False, f, lo, hi, g_lo, g_hi, s_lo, s_hi, B)
     n = 0
     for j in range(n_u):
         u = u0 if j == 0 else u1
@@ -443,6 +473,133 @@ def convex_sheet_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, tmax, out):
             n += 1
     return n
 
+
+#: :func:`hole_sheet_roots` serves arcs whose heights keep within this fraction of the tube's
+#: half-height (scaled ``|z| <= HOLE_POLE``): nearer its poles ``sqrt(1 - z^2)`` turns
+#: infinitely steep along a ray, and such arcs keep :func:`torus_roots`.
+HOLE_POLE = 0.999
+
+
+@njit(**INLINE)
+def _hole_factor(E, m2, off, zc, Dz, Rn, v, side):
+    """``(psi, dpsi/dv, size)`` at scaled distance ``v`` along the ray from a point ``off``
+    before its closest approach to the axis (horizontal speed squared ``E``, squared distance
+    from the axis there ``m2``; height ``zc`` at ``v = 0``), where
+    ``psi = rho + sqrt(1 - z^2) - Rn`` vanishes exactly on the side of the unit tube facing the
+    axis (``rho <= Rn``, ``|z| <= 1``): negative nearer the axis, positive inside the tube and
+    beyond. ``rho = sqrt(E (v + off)^2 + m2)`` loses no digits near the axis; on the axis
+    itself (``m2 = 0, v = -off``, a kink) the slope is taken on ``side`` (+1 or -1). ``size``
+    bounds the terms ``psi`` adds."""
+    h = v + off
+    rho = math.sqrt(E * h * h + m2)
+    z = zc + v * Dz
+    w = math.sqrt(max((1.0 - z) * (1.0 + z), 0.0))
+    drho = E * h / rho if rho > 0.0 else side * math.sqrt(E)
+    dw = -z * Dz / w if w > 0.0 else -math.copysign(1e300, z * Dz)
+    return rho + w - Rn, drho + dw, rho + w + Rn
+
+
+@njit(**JIT)
+def _hole_piece(E, m2, off, zc, Dz, Rn, c, lo, hi):
+    """``(n, v0, v1)``: the roots (ascending) in ``[lo, hi]`` of ``psi`` (:func:`_hole_factor`)
+    where ``c psi`` is convex (``c = +1`` or ``-1``). A convex function has at most two roots:
+    ends of opposite signs hold one; both positive hide a pair only if the minimum dips below
+    zero, which cutting planes from the ends' tangents find or rule out (a touch, a double
+    root, is not reported); both negative hold none. A root exactly at ``lo`` counts, one at
+    ``hi`` belongs to the next piece."""
+    f = (E, m2, off, zc, Dz, Rn, c, 1.0)
+    p, s, _ = _hole_factor(E, m2, off, zc, Dz, Rn, lo, 1.0)  # at the ends, the slope inside the piece
+    ga, sa = c * p, c * s
+    p, s, _ = _hole_factor(E, m2, off, zc, Dz, Rn, hi, -1.0)
+    gb, sb = c * p, c * s
+    if ga == 0.0:
+        return 1, lo, np.nan
+    if gb != 0.0 and (ga > 0.0) != (gb > 0.0):
+        return 1, _sheet_root(True, f, lo, hi, ga, gb, sa, sb), np.nan
+    if not (ga > 0.0 and gb > 0.0):
+        return 0, np.nan, np.nan
+    return _sheet_pair(True, f, lo, hi, ga, gb, sa, sb, Rn + 1.0)
+
+
+@njit(**JIT)
+def hole_sheet_roots(ox, oy, oz, dx, dy, dz, R, a, b, tmin, tmax, out):
+    """Hit distances (mm, ascending, ``tmin < t <= tmax``) of the ray ``o + t d`` (unit ``d``)
+    with the side of the torus's tube that faces its axis (``hypot(x, y) <= R``), where concave
+    arcs lie (waists, shoulders running into a neck). Torus and units as :func:`torus_roots`
+    (``R >= 1e-9 a``); returns how many roots it wrote into ``out[0:4]``. Meant for windows
+    that keep clear of the tube's poles (:data:`HOLE_POLE`: the window is cut off a little beyond
+    it); tangent touches are not reported.
+
+    On that side ``rho = R - sqrt(1 - z^2)`` in the unit-tube frame, so its residual
+    ``psi = rho + sqrt(1 - z^2) - R`` along the ray is a convex function plus a concave one,
+    and ``psi''`` has the sign of ``Q = kappa (1 - z^2) - rho^2``, ``kappa = (X^2 / Dz^2)^(2/3)``
+    (``X`` the horizontal cross product of the ray's point and direction): a quadratic in the
+    distance, convex between its roots (a ray through the axis: its double root at the kink of
+    ``rho`` there). They cut the window into at most three pieces of fixed convexity, each with
+    at most two roots found as :func:`convex_sheet_roots` finds them. Distances are counted
+    from that closest approach (or the window's end nearest it), where the quadratic's terms
+    carry no cancellation. No cubic, no quartic, no trigonometry.
+    """
+    qx, qy, qz, Dx, Dy, Dz, speed, s0, Rn, B, q2 = _tube_frame(ox, oy, oz, dx, dy, dz, R, a, b)
+    if q2 >= B * B * (1.0 + 1e-12):
+        return 0
+    lo, hi = _scaled_window(speed, s0, B, q2, tmin, tmax)
+    # distances from the point of the window nearest the ray's closest approach to the axis (a
+    # vertical ray: its foot, at q), which is ``off`` before that approach
+    E = Dx * Dx + Dy * Dy
+    X = qx * Dy - qy * Dx
+    ua, m2 = 0.0, qx * qx + qy * qy
+    if E > 0.0:
+        ua, m2 = -(qx * Dx + qy * Dy) / E, X * X / E
+    uc = min(max(ua, lo), hi)
+    off = uc - ua
+    zc = qz + uc * Dz
+    lo, hi = lo - uc, hi - uc
+    # clear of the poles (the arcs served end by HOLE_POLE; a vertical tangent at |z| = 1
+    # would stall the cutting planes)
+    z_cap = 0.5 * (1.0 + HOLE_POLE)
+    if Dz != 0.0:
+        za, zb = (-z_cap - zc) / Dz, (z_cap - zc) / Dz
+        lo, hi = max(lo, min(za, zb)), min(hi, max(za, zb))
+    elif abs(zc) >= z_cap:
+        return 0
+    if not hi > lo:
+        return 0
+    # the pieces' ends: psi'' changes sign at the roots of Q (none when the ray is level,
+    # Dz = 0: then rho alone curves, psi is convex). A ray through the axis (X = 0) makes Q
+    # -rho^2, whose double root is the kink of rho there (an end, v = 0 exactly).
+    p1 = p2 = np.nan
+    kappa = np.inf
+    if Dz != 0.0:
+        r = _cbrt(abs(X) / abs(Dz))
+        kappa = (r * r) * (r * r)
+    if math.isfinite(kappa):
+        _, p1, p2 = quadratic(-(kappa * Dz * Dz + E), -(kappa * zc * Dz + E * off),
+                              kappa * (1.0 - zc) * (1.0 + zc) - (E * off * off + m2))
+    p1 = p1 if lo < p1 < hi else np.inf  # the ends inside (lo, hi), ascending
+    p2 = p2 if lo < p2 < hi else np.inf
+    if p1 > p2:
+        p1, p2 = p2, p1
+    n = 0
+    a_ = lo
+    for j in range(3):
+        b_ = min(p1 if j == 0 else (p2 if j == 1 else hi), hi)
+        if not b_ > a_:
+            continue
+        c = 1.0
+        if math.isfinite(kappa):  # the sign of Q (of psi'') in the middle of the piece
+            vm = 0.5 * (a_ + b_)
+            z = zc + vm * Dz
+            if kappa * (1.0 - z) * (1.0 + z) - (E * (vm + off) ** 2 + m2) < 0.0:
+                c = -1.0
+        m, v0, v1 = _hole_piece(E, m2, off, zc, Dz, Rn, c, a_, b_)
+        for k in range(m):
+            tt = (s0 + uc + (v0 if k == 0 else v1)) / speed
+            if tt > tmin and tt <= tmax and n < 4 and (n == 0 or tt > out[n - 1]):
+                out[n] = tt
+                n += 1
+        a_ = b_
+    return n
 
 @njit(**INLINE)
 def cone_roots(ox, oy, oz, dx, dy, dz, r0, z0, r1, z1, tmin, out):

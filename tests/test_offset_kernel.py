@@ -13,7 +13,7 @@ from numba import njit
 
 from engine.intersect import offset_arc_parameter, revolved_hits
 from engine.tracer.kernels.profile import S_RMAX, S_RMIN, S_ZMAX, S_ZMIN
-from engine.tracer.kernels.revolved import ray_box, segment_hits, segment_normal
+from engine.tracer.kernels.revolved import PARAM_SLOT, ray_box, segment_hits, segment_normal
 from engine.tracer.render_objects import _segment_row
 from tests.test_revolved import SEGMENTS, _random_rays
 
@@ -28,15 +28,21 @@ def _row(name, wall=True):
 
 
 @njit(cache=False)
+def _ray_roots(seg, tab, ox, oy, oz, dx, dy, dz, roots, crit, stack):
+    """Roots of row 0 along the ray as the tracer asks for them (inside the row's box)."""
+    a, b = ray_box(ox, oy, oz, dx, dy, dz, seg[0, S_RMIN], seg[0, S_RMAX], seg[0, S_ZMIN], seg[0, S_ZMAX],
+                   0.0, np.inf)
+    if a > b:
+        return 0
+    return segment_hits(seg, tab, 0, ox, oy, oz, dx, dy, dz, 0.0, np.inf, a, b, roots, crit, stack)
+
+
+@njit(cache=False)
 def _kernel_hits(seg, tab, o, d, out):
     roots, crit, stack = np.zeros(16), np.zeros(5), np.zeros((64, 2))
     for q in range(o.shape[0]):
         ox, oy, oz, dx, dy, dz = o[q, 0], o[q, 1], o[q, 2], d[q, 0], d[q, 1], d[q, 2]
-        a, b = ray_box(ox, oy, oz, dx, dy, dz, seg[0, S_RMIN], seg[0, S_RMAX], seg[0, S_ZMIN], seg[0, S_ZMAX],
-                       0.0, np.inf)
-        if a > b:
-            continue
-        n = segment_hits(seg, tab, 0, ox, oy, oz, dx, dy, dz, 0.0, np.inf, a, b, roots, crit, stack)
+        n = _ray_roots(seg, tab, ox, oy, oz, dx, dy, dz, roots, crit, stack)
         for j in range(min(n, out.shape[1])):
             out[q, j] = roots[j]
 
@@ -105,6 +111,42 @@ def test_kernel_normals_are_the_curve_normals(name):
     n = normal(sg.base, t)  # the offset's normal is its base's
     want = np.column_stack([n[:, 0] * np.cos(phi), n[:, 0] * np.sin(phi), n[:, 1]])
     assert np.abs(got - want).max() < 1e-9
+
+
+@njit(cache=False)
+def _hit_normals(seg, tab, o, d, out):
+    """Per ray and hit: the normal from the root solve's base angle, the normal solved again
+    from the hit point, and whether the angle was known (columns 0-2, 3-5, 6)."""
+    roots, crit, stack = np.zeros(16), np.zeros(5), np.zeros((64, 2))
+    m = 0
+    for q in range(o.shape[0]):
+        ox, oy, oz, dx, dy, dz = o[q, 0], o[q, 1], o[q, 2], d[q, 0], d[q, 1], d[q, 2]
+        n = _ray_roots(seg, tab, ox, oy, oz, dx, dy, dz, roots, crit, stack)
+        for j in range(n):
+            if m == out.shape[0]:
+                return m
+            px, py, pz = ox + roots[j] * dx, oy + roots[j] * dy, oz + roots[j] * dz
+            s = roots[PARAM_SLOT + j]
+            out[m, 0], out[m, 1], out[m, 2] = segment_normal(seg, 0, px, py, pz, s)
+            out[m, 3], out[m, 4], out[m, 5] = segment_normal(seg, 0, px, py, pz)
+            out[m, 6] = 1.0 if np.isfinite(s) else 0.0
+            m += 1
+    return m
+
+
+@pytest.mark.parametrize("name", OFFSETS)
+def test_a_hits_base_angle_from_its_root_solve_gives_its_normal(name):
+    """The root solve hands on each hit's base angle (:data:`PARAM_SLOT`), so the hit's normal
+    needs no second solve: it is the normal solved from the point, and almost always known."""
+    seg, tab = _row(name)
+    o, d = _random_rays(SEGMENTS[name], np.random.default_rng(9), 2000)
+    out = np.zeros((4000, 7))
+    m = _hit_normals(seg, tab, o, d, out)
+    out = out[:m]
+    assert m > 500
+    assert out[:, 6].mean() > 0.95
+    known = out[:, 6] > 0
+    assert np.abs(out[known, :3] - out[known, 3:6]).max() < 1e-9
 
 
 def test_rays_along_and_near_the_axis_meet_an_offset_dome_once():

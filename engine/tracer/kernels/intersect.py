@@ -23,8 +23,8 @@ from numba import njit
 
 from .helix import helix_roots
 from .outlines import outline_sd
-from .profile import HELIX, LINE, S_KIND, S_R0, S_R1, S_RMAX, S_RMIN, S_Z0, S_Z1, S_ZMAX, S_ZMIN
-from .revolved import ray_axis, ray_box_from, segment_hits, segment_normal
+from .profile import HELIX, LINE, OFFSET, S_KIND, S_R0, S_R1, S_RMAX, S_RMIN, S_Z0, S_Z1, S_ZMAX, S_ZMIN
+from .revolved import PARAM_SLOT, ray_axis, ray_box_from, segment_hits, segment_normal
 from .roots import INLINE, JIT, cone_roots
 from .swept import SL_RMAX, SL_RULED, SL_Z0, SL_Z1, ruled_normal, ruled_roots, swept_normal, swept_roots
 
@@ -51,15 +51,16 @@ def object_media(obj_i, obj_f, k, z):
 
 
 @njit(**JIT)
-def object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, part, px, py, pz):
+def object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, part, px, py, pz, param=np.nan):
     """Oriented unit normal of object ``k`` at its point ``p``; ``part`` is the segment row
-    (revolved) or slab row (swept) the hit was found on."""
+    (revolved) or slab row (swept) the hit was found on, ``param`` the point's base angle on an
+    offset arc when its root solve knows it (else ``nan``)."""
     kind = obj_i[k, O_KIND]
     sgn = obj_f[k, F_NSIGN]
     if kind == PLANE:
         return 0.0, 0.0, obj_f[k, F_PNZ]
     if kind == REVOLVED:
-        nx, ny, nz = segment_normal(seg, part, px, py, pz)
+        nx, ny, nz = segment_normal(seg, part, px, py, pz, param)
     elif slab_f[part, SL_RULED] > 0.5:
         nx, ny, nz = ruled_normal(slab_f[part], obj_f[k, F_COS], obj_f[k, F_SIN], px, py, pz)
     else:
@@ -126,6 +127,7 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
     """
     best = np.inf
     best_k, best_part = -1, -1
+    best_param = np.nan  # the best crossing's base angle on an offset arc (its normal's)
     bnx, bny, bnz = 0.0, 0.0, 0.0
     pending = False  # the best crossing's normal is still to compute
     axis = ray_axis(ox, oy, dx, dy, dz)
@@ -157,6 +159,7 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
                 if _accept(obj_i, obj_f, k, t, 0.0, 0.0, nz, dx, dy, dz, pz, medium, last_obj, last_side):
                     best, best_k, best_part, pending = t, k, -1, False
                     bnx, bny, bnz = 0.0, 0.0, nz
+                    best_param = np.nan
             continue
         first, count = obj_i[k, O_FIRST], obj_i[k, O_COUNT]
         j0, j1 = first, first + count
@@ -196,6 +199,7 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
                 else:
                     n = swept_roots(seg, tab, slab_i[j], obj_i[k, O_XS], obj_i[k, O_NSEC], obj_f[k, F_COS],
                                     obj_f[k, F_SIN], ox, oy, oz, dx, dy, dz, a, b, obj_f[k, F_LEAF], roots, stack)
+            offset = kind == REVOLVED and seg[j, S_KIND] == OFFSET
             for q in range(n):
                 t = roots[q]
                 if not (t > t0 and t < best):
@@ -203,18 +207,19 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
                 pz = oz + t * dz
                 if pz < obj_f[k, F_ZMIN] or pz > obj_f[k, F_ZMAX]:
                     continue
+                param = roots[PARAM_SLOT + q] if offset else np.nan
                 if k != last_obj and t >= obj_f[k, F_EDGE]:
                     # _accept takes any such crossing whatever its normal: the normal waits
                     # until the nearest is known (a nearer object or slab often replaces it)
-                    best, best_k, best_part, pending = t, k, j, True
+                    best, best_k, best_part, pending, best_param = t, k, j, True, param
                     break
                 px, py = ox + t * dx, oy + t * dy
-                nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, j, px, py, pz)
+                nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, j, px, py, pz, param)
                 if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last_obj, last_side):
                     best, best_k, best_part, pending = t, k, j, False
                     bnx, bny, bnz = nx, ny, nz
                     break
     if pending:
         bnx, bny, bnz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, best_k, best_part, ox + best * dx,
-                                      oy + best * dy, oz + best * dz)
+                                      oy + best * dy, oz + best * dz, best_param)
     return best, best_k, best_part, bnx, bny, bnz

@@ -32,11 +32,15 @@ from .profile import (HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ,
                       S_R1, S_RMAX, S_RMIN, S_SIDE, S_SWEEP, S_ZMAX, S_ZMIN, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1,
                       TWO_PI, _offset_at, in_sweep, offset_at_between, offset_point, offset_rz)
 from .roots import (HOLE_POLE, INLINE, JIT, SHEET_SLACK, cone_roots, convex_sheet_roots, hole_sheet_roots, hypot2,
-                    illinois_done, illinois_point, illinois_update, sort_small, torus_roots)
+                    illinois_done, illinois_point, illinois_update, torus_roots)
 
 #: Band contraction on an offset arc stops at this fraction of the segment's length: only a
 #: pair of crossings closer than that can be missed (a graze of well under 1e-6 mm).
 OFFSET_LEAF = 1e-5
+#: :func:`offset_roots` writes the base angle of its root ``q`` at ``out[PARAM_SLOT + q]`` (nan
+#: where it is not known), so a hit's normal needs no second solve for it (a tenth of an offset
+#: wall's cost); it reports at most this many roots, and ``out`` has twice as many slots.
+PARAM_SLOT = 8
 
 
 @njit(**INLINE)
@@ -112,9 +116,10 @@ def _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, t):
 
 @njit(**JIT)
 def _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, t, s):
-    """The crossing in ``[a, b]`` by Newton on the 2-D system ``(rho(t), z(t)) = (R(s), Z(s))``
-    in the ray distance ``t`` and the curve's base angle ``s`` (one curve evaluation per step),
-    from the guess ``(t, s)``; ``nan`` when an iterate leaves the bracket or the piece."""
+    """The crossing ``(t, s)`` in ``[a, b]`` by Newton on the 2-D system
+    ``(rho(t), z(t)) = (R(s), Z(s))`` in the ray distance ``t`` and the curve's base angle ``s``
+    (one curve evaluation per step), from the guess ``(t, s)``; ``t`` is ``nan`` when an iterate
+    leaves the bracket or the piece."""
     a0, sw = seg[i, S_A0], seg[i, S_SWEEP]
     s_lo, s_hi = a0 + min(x0, x1) * sw, a0 + max(x0, x1) * sw
     if s_lo > s_hi:
@@ -128,16 +133,16 @@ def _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, t, s):
         drho = (x * dx + y * dy) / rho if rho > 0.0 else 0.0
         det = -drho * dZ + dR * dz  # [[drho, -dR], [dz, -dZ]]
         if det == 0.0:
-            return np.nan
+            return np.nan, s
         dt = (-dZ * g1 + dR * g2) / det
         ds = (-dz * g1 + drho * g2) / det
         t -= dt
         s -= ds
         if not (t >= a and t <= b and s >= s_lo - slack and s <= s_hi + slack):
-            return np.nan
+            return np.nan, s
         if abs(dt) <= 1e-14 * (abs(t) + 1.0):
-            return t
-    return np.nan
+            return t, s
+    return np.nan, s
 
 
 @njit(**INLINE)
@@ -192,28 +197,29 @@ def _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz,
     mm), whose residual changes sign there: Newton from where the ray crosses the middle of
     the piece's band (linear in the distances ``va, vb`` of the ends from the chord), the
     curve's parameter from the chord's fraction there; Illinois false position on the curve
-    if Newton leaves the bracket (slower, sure)."""
+    if Newton leaves the bracket (slower, sure). Returns ``(t, s)``, the root and its base
+    angle (``nan`` after false position)."""
     pr, pz = tab[k, 0], tab[k, 1]
     er, ez = -nz, nr
-    root = np.nan
+    root, s = np.nan, np.nan
     if length > 0.0:
         mid = 0.5 * band if math.isfinite(band) else 0.0
         t = a if va == vb else a + (b - a) * min(1.0, max(0.0, (mid - va) / (vb - va)))
         x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
         u = min(1.0, max(0.0, ((math.sqrt(x * x + y * y) - pr) * er + (z - pz) * ez) / length))
         s = seg[i, S_A0] + (tab[k, 2] + u * (tab[k + 1, 2] - tab[k, 2])) * seg[i, S_SWEEP]
-        root = _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, t, s)
+        root, s = _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, t, s)
     if not math.isfinite(root):
         fa = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a)
         fb = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, b)
-        root = _illinois_piece(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb)
-    return root
+        root, s = _illinois_piece(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb), np.nan
+    return root, s
 
 
 @njit(**JIT)
 def _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, dx, dy, dz, a, b, out, n):
     """The crossings of table piece ``k`` (rows ``k, k + 1``) inside ``[a, b]``, appended to
-    ``out`` when they lie on the piece.
+    ``out`` when they lie on the piece (their base angles at :data:`PARAM_SLOT` on).
 
     The residual's sign at a point comes from the piece's band beside its chord when the point
     lies outside it (no curve to solve: most ends, the band being micrometres wide), else from
@@ -242,10 +248,11 @@ def _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, d
     if fb == 0.0:
         fb = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, b)
     roots_lo, roots_hi = np.nan, np.nan
+    s_lo = s_hi = np.nan
     if fa == 0.0:
         roots_lo = a
     elif (fa > 0.0) != (fb > 0.0) and fb != 0.0:
-        roots_lo = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx, dy, dz, a, b,
+        roots_lo, s_lo = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx, dy, dz, a, b,
                                 va, vb)
     elif fb != 0.0:  # one sign at both ends: a pair only if the ray dips to the other side
         tm = _chord_extreme(nr, nz, ox, oy, dx, dy, dz, a, b)
@@ -257,19 +264,20 @@ def _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, d
             if fm == 0.0:
                 fm = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, tm)
             if fm != 0.0 and (fm > 0.0) != (fa > 0.0):
-                roots_lo = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx, dy, dz,
-                                        a, tm, va, vm)
-                roots_hi = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx, dy, dz,
-                                        tm, b, vm, vb)
+                roots_lo, s_lo = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx,
+                                              dy, dz, a, tm, va, vm)
+                roots_hi, s_hi = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx,
+                                              dy, dz, tm, b, vm, vb)
     for j in range(2):
         root = roots_lo if j == 0 else roots_hi
         if not math.isfinite(root):
             continue
         px, py, qz = ox + root * dx, oy + root * dy, oz + root * dz
         rho = math.sqrt(px * px + py * py)
-        if r0 - pad <= rho <= r1 + pad and z0 - pad <= qz <= z1 + pad and n < out.shape[0]:
+        if r0 - pad <= rho <= r1 + pad and z0 - pad <= qz <= z1 + pad and n < PARAM_SLOT:
             if n == 0 or abs(root - out[n - 1]) > 1e-12 * (abs(root) + 1.0):
                 out[n] = root
+                out[PARAM_SLOT + n] = s_lo if j == 0 else s_hi
                 n += 1
     return n
 
@@ -353,7 +361,9 @@ def offset_roots(seg, tab, i, ox, oy, oz, dx, dy, dz, lo, hi, out):
     residual changes sign where the ray crosses the piece (read from the piece's band beside
     its chord where the ray's end lies outside it, :func:`_piece_root`); that crossing is
     solved by Newton in the ray distance and the curve's parameter. Only a pair of crossings
-    of one short piece (a graze within its band, a few micrometres) can be missed."""
+    of one short piece (a graze within its band, a few micrometres) can be missed. At most
+    :data:`PARAM_SLOT` roots; their base angles (rad, ``nan`` where unknown) follow from
+    ``out[PARAM_SLOT]`` on, in the same order."""
     axis = int(seg[i, S_AXIS])
     if axis == 0:  # a base: [lo, hi] is already within its heights, the key is the radius
         n = _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, lo, hi, out, 0)
@@ -364,7 +374,14 @@ def offset_roots(seg, tab, i, ox, oy, oz, dx, dy, dz, lo, hi, out):
             n = _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, l0, h0, out, n)
         if l1 <= h1:
             n = _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, l1, h1, out, n)
-    sort_small(out, n)  # pieces come in table order, not ray order
+    # pieces come in table order, not ray order: sort the roots, their angles alongside
+    for j in range(1, n):
+        v, w = out[j], out[PARAM_SLOT + j]
+        q = j - 1
+        while q >= 0 and out[q] > v:
+            out[q + 1], out[PARAM_SLOT + q + 1] = out[q], out[PARAM_SLOT + q]
+            q -= 1
+        out[q + 1], out[PARAM_SLOT + q + 1] = v, w
     return n
 
 
@@ -420,9 +437,10 @@ def segment_hits(seg, tab, i, ox, oy, oz, dx, dy, dz, tlo, thi, lo, hi, out, cri
 
 
 @njit(**JIT)
-def segment_normal(seg, i, px, py, pz):
+def segment_normal(seg, i, px, py, pz, param=np.nan):
     """Outward unit normal (world, ``n = (T_z, -T_r)`` revolved) of segment row ``i`` at the
-    point ``p`` (mm) on it."""
+    point ``p`` (mm) on it; ``param`` is the point's base angle on an offset arc when known
+    (:func:`offset_roots`), else ``nan`` (solved for from ``p``)."""
     rho = hypot2(px, py)
     if rho > 0.0:
         ex, ey = px / rho, py / rho
@@ -436,8 +454,10 @@ def segment_normal(seg, i, px, py, pz):
         L = hypot2(dr, dz)
         nr, nz = dz / L, -dr / L
     elif kind == OFFSET:
-        axis = int(seg[i, S_AXIS])
-        s = _offset_at(seg, i, axis, pz if axis == 1 else rho)
+        s = param
+        if not math.isfinite(s):
+            axis = int(seg[i, S_AXIS])
+            s = _offset_at(seg, i, axis, pz if axis == 1 else rho)
         _, _, tr, tz = offset_point(seg, i, s)
         nr, nz = tz, -tr
     else:

@@ -125,13 +125,12 @@ def _offset_at(seg, i, axis, value):
 
 
 @njit(**JIT)
-def offset_at_between(seg, i, axis, value, x0, x1):
+def offset_at_between(seg, i, axis, value, x0, x1, f_lo, f_hi):
     """Base angle where offset arc ``i`` has coordinate ``axis`` equal to ``value``, searched
-    between parameter fractions ``x0 < x1`` (clamped to them), from the linear guess
-    (:func:`_offset_solve`); a tight bracket (a table step) takes 2-3 steps."""
-    a0, sw = seg[i, S_A0], seg[i, S_SWEEP]
-    f_lo = _offset_coord(seg, i, axis, a0 + x0 * sw)[0] - value
-    f_hi = _offset_coord(seg, i, axis, a0 + x1 * sw)[0] - value
+    between parameter fractions ``x0 < x1`` (clamped to them), whose residuals (coordinate
+    minus ``value``) are ``f_lo, f_hi`` (a table piece's rows: no curve evaluation for them),
+    from the linear guess (:func:`_offset_solve`); a tight bracket (a table step) takes 2-3
+    steps."""
     return _offset_solve(seg, i, axis, value, x0, x1, f_lo, f_hi, np.nan)
 
 

@@ -104,14 +104,18 @@ def ray_box(ox, oy, oz, dx, dy, dz, rmin, rmax, zmin, zmax, tlo, thi):
 
 
 @njit(**JIT)
-def _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, t):
-    """Residual of offset arc row ``i`` at ray distance ``t``, its curve solved between the
-    parameter fractions ``x0, x1`` of one table piece: wall ``rho - r(z)``, base ``z - z(rho)``."""
+def _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, t):
+    """Residual of offset arc row ``i`` at ray distance ``t``, its curve solved on table piece
+    ``k`` (rows ``k, k + 1``, whose key coordinates bracket the solve without evaluating the
+    curve there): wall ``rho - r(z)``, base ``z - z(rho)``."""
     x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
     rho = math.sqrt(x * x + y * y)
+    ka, kb = (k, k + 1) if tab[k, 2] <= tab[k + 1, 2] else (k + 1, k)  # rising in the parameter
+    value = z if axis == 1 else rho
+    s = offset_at_between(seg, i, axis, value, tab[ka, 2], tab[kb, 2], tab[ka, axis] - value, tab[kb, axis] - value)
     if axis == 1:
-        return rho - offset_point(seg, i, offset_at_between(seg, i, 1, z, x0, x1))[0]
-    return z - offset_point(seg, i, offset_at_between(seg, i, 0, rho, x0, x1))[1]
+        return rho - offset_point(seg, i, s)[0]
+    return z - offset_point(seg, i, s)[1]
 
 
 @njit(**JIT)
@@ -210,9 +214,9 @@ def _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz,
         s = seg[i, S_A0] + (tab[k, 2] + u * (tab[k + 1, 2] - tab[k, 2])) * seg[i, S_SWEEP]
         root, s = _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, t, s)
     if not math.isfinite(root):
-        fa = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a)
-        fb = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, b)
-        root, s = _illinois_piece(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb), np.nan
+        fa = _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, a)
+        fb = _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, b)
+        root, s = _illinois_piece(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, a, b, fa, fb), np.nan
     return root, s
 
 
@@ -244,9 +248,9 @@ def _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, d
     fa = _band_side(va, band, eps, sgn_pos) if use_band else 0.0
     fb = _band_side(vb, band, eps, sgn_pos) if use_band else 0.0
     if fa == 0.0:
-        fa = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a)
+        fa = _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, a)
     if fb == 0.0:
-        fb = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, b)
+        fb = _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, b)
     roots_lo, roots_hi = np.nan, np.nan
     s_lo = s_hi = np.nan
     if fa == 0.0:
@@ -262,7 +266,7 @@ def _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, d
             if fm != 0.0 and (fm > 0.0) == (fa > 0.0):
                 return n
             if fm == 0.0:
-                fm = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, tm)
+                fm = _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, tm)
             if fm != 0.0 and (fm > 0.0) != (fa > 0.0):
                 roots_lo, s_lo = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx,
                                               dy, dz, a, tm, va, vm)
@@ -283,7 +287,7 @@ def _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, d
 
 
 @njit(**JIT)
-def _illinois_piece(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
+def _illinois_piece(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
     """The crossing in ``[a, b]`` of the piece's exact residual by Illinois false position
     (``a`` itself when the residual does not change sign there, a rounding-level case)."""
     if fa == 0.0 or (fa > 0.0) == (fb > 0.0):
@@ -292,7 +296,7 @@ def _illinois_piece(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
     root = a
     for _ in range(100):
         root = illinois_point(a, b, fa, fb)
-        fr = _piece_f(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, root)
+        fr = _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, root)
         if illinois_done(a, b, fr):
             break
         a, b, fa, fb, last = illinois_update(a, b, fa, fb, root, fr, last)

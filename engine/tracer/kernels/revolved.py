@@ -10,9 +10,8 @@ through :func:`~engine.tracer.kernels.roots.convex_sheet_roots`, which needs no 
 (waists, shoulders running into a neck) through
 :func:`~engine.tracer.kernels.roots.hole_sheet_roots`, which needs none either (0.94-0.97x),
 and an arc reaching its tube's pole through :func:`~engine.tracer.kernels.roots.torus_roots`;
-the inner wall of an ellipse arc (its
-exact offset, a degree-8 curve) is found piece by piece along its monotone table
-(:func:`offset_roots`). Every segment is first culled by its revolved bounding box (two
+the inner wall of an ellipse arc (its exact offset, a degree-8 curve) is found piece by piece
+along its monotone table (:func:`offset_roots`). Every segment is first culled by its revolved bounding box (two
 cylinders, two planes), which is exact and conservative; the ray's share of that test
 (:func:`ray_axis`) is computed once per ray.
 Normals are the segment's outward meridian normal ``n = (T_z, -T_r)`` revolved to world space.
@@ -32,14 +31,14 @@ from .profile import (HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ,
                       S_R1, S_RMAX, S_RMIN, S_SIDE, S_SWEEP, S_ZMAX, S_ZMIN, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1,
                       TWO_PI, _offset_at, in_sweep, offset_at_between, offset_point, offset_rz)
 from .roots import (HOLE_POLE, INLINE, JIT, SHEET_SLACK, cone_roots, convex_sheet_roots, hole_sheet_roots, hypot2,
-                    illinois_done, illinois_point, illinois_update, torus_roots)
+                    illinois_done, illinois_point, illinois_update, sort_small, torus_roots)
 
 #: Band contraction on an offset arc stops at this fraction of the segment's length: only a
 #: pair of crossings closer than that can be missed (a graze of well under 1e-6 mm).
 OFFSET_LEAF = 1e-5
 #: :func:`offset_roots` writes the base angle of its root ``q`` at ``out[PARAM_SLOT + q]`` (nan
-#: where it is not known), so a hit's normal needs no second solve for it (a tenth of an offset
-#: wall's cost); it reports at most this many roots, and ``out`` has twice as many slots.
+#: where it is not known), so a hit's normal needs no second solve for it (public_4's frame
+#: 0.92-0.94x); it reports at most this many roots, and ``out`` has twice as many slots.
 PARAM_SLOT = 8
 
 
@@ -378,14 +377,7 @@ def offset_roots(seg, tab, i, ox, oy, oz, dx, dy, dz, lo, hi, out):
             n = _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, l0, h0, out, n)
         if l1 <= h1:
             n = _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, l1, h1, out, n)
-    # pieces come in table order, not ray order: sort the roots, their angles alongside
-    for j in range(1, n):
-        v, w = out[j], out[PARAM_SLOT + j]
-        q = j - 1
-        while q >= 0 and out[q] > v:
-            out[q + 1], out[PARAM_SLOT + q + 1] = out[q], out[PARAM_SLOT + q]
-            q -= 1
-        out[q + 1], out[PARAM_SLOT + q + 1] = v, w
+    sort_small(out, n, PARAM_SLOT)  # pieces come in table order, not ray order (angles alongside)
     return n
 
 

@@ -82,15 +82,21 @@ def illinois_update(a, b, fa, fb, x, fx, last):
 
 
 @njit(**INLINE)
-def sort_small(out, n):
-    """Sort ``out[:n]`` ascending in place (insertion sort: n is a handful of roots)."""
+def sort_small(out, n, slot=0):
+    """Sort ``out[:n]`` ascending in place (insertion sort: n is a handful of roots); with
+    ``slot > 0`` each ``out[slot + j]`` (a value that belongs to root ``j``) moves with it."""
     for i in range(1, n):
         v = out[i]
+        c = out[slot + i] if slot > 0 else 0.0
         j = i - 1
         while j >= 0 and out[j] > v:
             out[j + 1] = out[j]
+            if slot > 0:
+                out[slot + j + 1] = out[slot + j]
             j -= 1
         out[j + 1] = v
+        if slot > 0:
+            out[slot + j + 1] = c
 
 
 @njit(**INLINE)

@@ -30,10 +30,10 @@ from numba.extending import intrinsic
 from engine.tracer.kernels.intersect import (F_COS, F_EDGE, F_LEAF, F_PNZ, F_SIN, F_ZMAX, F_ZMIN, O_BACK_HI,
                                              O_BACK_LO, O_COUNT, O_FIRST, O_FRONT_HI, O_FRONT_LO, O_KIND,
                                              O_NSEC, O_XS, PLANE, REVOLVED, SL_RULED, START_FRACTION,
-                                             nearest_hit, object_normal, ruled_roots, segment_hits,
+                                             nearest_hit, object_normal, root_param, ruled_roots, segment_hits,
                                              swept_roots, _accept, _plane_hit)
-from engine.tracer.kernels.profile import OFFSET, S_KIND, S_RMAX, S_RMIN, S_ZMAX, S_ZMIN
-from engine.tracer.kernels.revolved import PARAM_SLOT, ray_axis, ray_box_from
+from engine.tracer.kernels.profile import S_RMAX, S_RMIN, S_ZMAX, S_ZMIN
+from engine.tracer.kernels.revolved import ray_axis, ray_box_from
 from engine.tracer.kernels.swept import SL_RMAX, SL_Z0, SL_Z1
 
 #: Embree 4 enums (rtcore_geometry.h, rtcore_buffer.h, rtcore_common.h)
@@ -324,16 +324,6 @@ def _part_roots(seg, tab, slab_f, slab_i, obj_i, obj_f, k, j, ox, oy, oz, dx, dy
                        ox, oy, oz, dx, dy, dz, a, b, obj_f[k, F_LEAF], roots, stack)
 
 
-@njit(nogil=True, error_model="numpy", inline="always")
-def _root_param(seg, obj_i, k, j, roots, q):
-    """Root ``q``'s base angle on part ``j`` of object ``k`` when its solve knows it (an offset
-    arc's, :data:`~engine.tracer.kernels.revolved.PARAM_SLOT`), else nan: its normal's, as the
-    tracer's own search passes it."""
-    if obj_i[k, O_KIND] == REVOLVED and seg[j, S_KIND] == OFFSET:
-        return roots[PARAM_SLOT + q]
-    return np.nan
-
-
 @njit(nogil=True, error_model="numpy")
 def refine_hit(k, j, te, seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, medium, last, side, bracket,
                best, roots, crit, stack):
@@ -365,7 +355,7 @@ def refine_hit(k, j, te, seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx,
                     if not (t > t0 and t < b) or pz < obj_f[k, F_ZMIN] or pz > obj_f[k, F_ZMAX]:
                         continue
                     nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, jj, ox + t * dx, oy + t * dy, pz,
-                                               _root_param(seg, obj_i, k, jj, roots, q))
+                                               root_param(seg, obj_i, k, jj, roots, q))
                     if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last, side):
                         rt, rk, rj, rnx, rny, rnz = t, k, jj, nx, ny, nz
                         break
@@ -410,7 +400,7 @@ def _search(scene, tri_obj, tri_part, seg, seg_rest, tab, slab_f, slab_rest, sla
                                 if not (t > t0 and t < best) or pz < obj_f[k, F_ZMIN] or pz > obj_f[k, F_ZMAX]:
                                     continue
                                 nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, jj, ox + t * dx,
-                                                           oy + t * dy, pz, _root_param(seg, obj_i, k, jj, roots, q))
+                                                           oy + t * dy, pz, root_param(seg, obj_i, k, jj, roots, q))
                                 if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium[i], last[i], side[i]):
                                     best, best_k, best_j, found = t, k, jj, True
                                     break

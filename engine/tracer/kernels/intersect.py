@@ -69,6 +69,16 @@ def object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, part, px, py, pz, param=
     return sgn * nx, sgn * ny, sgn * nz
 
 
+@njit(**INLINE)
+def root_param(seg, obj_i, k, part, roots, q):
+    """Root ``q``'s base angle (rad) on ``part`` of object ``k`` when its solve knows it (an
+    offset arc's, written beside the roots at :data:`~.revolved.PARAM_SLOT`), else ``nan``:
+    what :func:`object_normal` takes to skip solving for it again."""
+    if obj_i[k, O_KIND] == REVOLVED and seg[part, S_KIND] == OFFSET:
+        return roots[PARAM_SLOT + q]
+    return np.nan
+
+
 @njit(**JIT)
 def _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last_obj, last_side):
     """Whether a crossing at ``t`` with oriented normal ``n`` is a true next hit (module doc)."""
@@ -199,7 +209,6 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
                 else:
                     n = swept_roots(seg, tab, slab_i[j], obj_i[k, O_XS], obj_i[k, O_NSEC], obj_f[k, F_COS],
                                     obj_f[k, F_SIN], ox, oy, oz, dx, dy, dz, a, b, obj_f[k, F_LEAF], roots, stack)
-            offset = kind == REVOLVED and seg[j, S_KIND] == OFFSET
             for q in range(n):
                 t = roots[q]
                 if not (t > t0 and t < best):
@@ -207,7 +216,7 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
                 pz = oz + t * dz
                 if pz < obj_f[k, F_ZMIN] or pz > obj_f[k, F_ZMAX]:
                     continue
-                param = roots[PARAM_SLOT + q] if offset else np.nan
+                param = root_param(seg, obj_i, k, j, roots, q)
                 if k != last_obj and t >= obj_f[k, F_EDGE]:
                     # _accept takes any such crossing whatever its normal: the normal waits
                     # until the nearest is known (a nearer object or slab often replaces it)

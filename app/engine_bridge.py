@@ -14,8 +14,10 @@ import numpy as np
 
 from engine.geometry import offset, tessellate, validate
 
-from engine.files import atomic, dxf_import, mesh_export, project
-from engine.model import advice, check, fill, orbit, trade
+from engine.files import dxf_import, mesh_export, project
+from engine.io import atomic
+from engine.model import advice, check, fill, orbit
+from engine.operations import check as design_check, trade
 from engine.model.design import Design
 from engine.errors import GlassbenchError
 from engine.model.scene import ALL_CHANGES, Scene, changed_fields  # noqa: F401 - for the window
@@ -45,7 +47,7 @@ def validate_shape(shape: BottleShape) -> None:
 def check_design(design: Design, assets) -> None:
     """Raise :class:`ProjectError` for what a project may not hold (ranges, missing assets,
     invalid geometry): the same rules as saving and loading."""
-    project.check_design(design, assets)
+    design_check.check_design(design, assets)
 
 
 def check_values(design: Design) -> None:
@@ -83,7 +85,7 @@ def inner_sections(shape: BottleShape) -> dict:
 
 # ----------------------------------------------------------------------- trade numbers
 def trade_numbers(design: Design) -> dict:
-    """The design's trade numbers (:func:`engine.model.trade.trade_numbers`: ml, mm, cm^3, g),
+    """The design's trade numbers (:func:`engine.operations.trade.trade_numbers`: ml, mm, cm^3, g),
     with ``None`` where one cannot be computed for the design being edited."""
     return trade.trade_numbers(design, tolerant=True)
 
@@ -123,7 +125,7 @@ def save_project(path: str, design: Design, assets: dict, keep_backup: bool = Tr
 
 def replace_file_atomically(path: str, suffix: str = ""):
     """Context manager yielding a temporary path; on success it replaces ``path`` whole
-    (:func:`engine.files.atomic.replacing`): for image exports."""
+    (:func:`engine.io.atomic.replacing`): for image exports."""
     return atomic.replacing(path, suffix=suffix)
 
 
@@ -203,35 +205,12 @@ WINDOW_NOISE = {"noise_space": "display", "noise_target": tracer_job.adaptive.DI
 
 
 # ---------------------------------------------------------------------------- labels
-#: Steps of the march along a ray from the eye (about 0.3 mm apart for a 600 mm camera).
-SURFACE_MARCH_STEPS = 4000
-
-
 def surface_point(design: Design, u: float, v: float):
     """``(z_mm, angle_deg)`` where the camera ray through image point ``(u, v)`` (0..1 of the
-    image's width and height, y down) first meets the bottle's outer wall, or ``None`` when it
-    misses. The wall is taken as the first section turned about the axis (exact for a round
-    bottle; for a non-round one the first section's radius stands for all), and found by
-    marching along the ray (:data:`SURFACE_MARCH_STEPS` steps): a drop point, not a render."""
-    from engine.geometry.chain import radius_at
-    from engine.tracer.camera import PinholeCamera
-    w, h = design.render.width, design.render.height
-    cam = PinholeCamera.from_design(design.camera, w, h)
-    origin, direction = (a[0] for a in cam.rays(np.array([u * w]), np.array([v * h])))
-    reach = float(np.linalg.norm(np.subtract(design.camera.eye, design.camera.target))) + \
-        2.0 * float(design.shape.z_top)
-    t = np.linspace(0.0, reach, SURFACE_MARCH_STEPS)
-    p = origin[None, :] + t[:, None] * direction[None, :]
+    image's width and height, y down) first meets the bottle's outer wall, or ``None``: the
+    tracer's own exact search (:func:`engine.tracer.picking.wall_point`)."""
+    from engine.tracer.picking import wall_point
     try:
-        with np.errstate(invalid="ignore"):
-            radius = radius_at(design.shape.primary.segments, p[:, 2])
-    except (GlassbenchError, ValueError, ArithmeticError, IndexError):
-        return None  # a section the march cannot read (the caller places the label itself)
-    with np.errstate(invalid="ignore"):
-        inside = (np.hypot(p[:, 0], p[:, 1]) <= radius) & (p[:, 2] > 0.0) & \
-            (p[:, 2] < design.shape.z_top)
-    hits = np.flatnonzero(inside)
-    if hits.size == 0:
-        return None
-    x, y, z = p[hits[0]]
-    return float(z), float(np.degrees(np.arctan2(y, x)))
+        return wall_point(design, u, v)
+    except (GlassbenchError, ValueError, ArithmeticError):
+        return None  # a design the tracer cannot build: the caller places the label itself

@@ -221,7 +221,7 @@ def thread_relief_vs_true(w, h, spp, repeats):
     """The thread drawn both ways in the same view: the relief's mean absolute error against
     the true helical geometry over the neck's pixels (relative to their mean radiance), the
     plain neck's, and each frame's CPU time (best of ``repeats``)."""
-    from engine.appearance.bump_tables import thread_drawings
+    from engine.appearance.bands import thread_drawings
     from engine.tracer.context import RenderContext, trace_pixels
     true, relief, plain = thread_designs()
     assert thread_drawings(true)[0].mode == "true" and thread_drawings(relief)[0].mode == "relief"

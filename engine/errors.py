@@ -64,3 +64,8 @@ class ProjectError(GlassbenchError):
 class DesignError(ProjectError, ValueError):
     """A design value outside its physics or its limits (:mod:`engine.limits`); the message
     names the field. A ``ProjectError``, since a project may not hold it either."""
+
+
+class InputFileError(GlassbenchError, ValueError):
+    """A file handed to glassbench (an image, a job file) that it will not read: not a regular
+    file, or larger than its kind may be (:func:`engine.io.read.read_bounded`)."""

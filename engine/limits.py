@@ -14,8 +14,11 @@ from __future__ import annotations
 
 import math
 import numbers
+import re
+from dataclasses import dataclass
+from typing import Mapping
 
-from .errors import DesignError, shown
+from .errors import DesignError, ProjectError, shown
 
 # ------------------------------------------------------------------------------ text and lists
 #: Longest string anywhere in a design (name and notes included), in characters.
@@ -164,3 +167,45 @@ def check_image_size(width: int, height: int, spp: int, where: str = "design.ren
     if width * height > MAX_PIXELS:
         raise DesignError(f"{where}width x {where}height = {width} x {height} is more than "
                           f"{MAX_PIXELS} pixels")
+
+
+#: Asset names: plain file names (spaces and non-ASCII letters allowed) of at most 128
+#: characters: no folder separators, colons or control characters, no leading dot.
+ASSET_NAME = re.compile(r"^[^/\\:.\x00-\x1f\x7f][^/\\:\x00-\x1f\x7f]{0,127}\Z")
+
+
+@dataclass(frozen=True)
+class Limits:
+    """Size limits of a project archive (bytes unless named otherwise), applied when it is
+    written and when it is read; the design's own limits are in :mod:`engine.limits`.
+
+    ``archive_bytes`` the file; ``members`` entries in it; ``json_bytes`` ``project.json``;
+    ``asset_bytes`` one asset; ``total_bytes`` everything unpacked; ``json_depth`` nesting of
+    ``project.json``; ``unpack_ratio``: beyond ``json_bytes``, the members may unpack to at most
+    this many times the archive's size (a small file cannot claim much memory).
+    """
+
+    archive_bytes: int = 512 << 20
+    members: int = 256
+    json_bytes: int = 16 << 20
+    asset_bytes: int = 256 << 20
+    total_bytes: int = 512 << 20
+    json_depth: int = 64
+    unpack_ratio: int = 100
+
+
+DEFAULT_LIMITS = Limits()
+
+
+def check_assets(assets: Mapping[str, bytes], limits: Limits = DEFAULT_LIMITS) -> None:
+    """Raise ``ProjectError`` unless ``assets`` could be stored: at most ``limits.members - 1``
+    of them, plain file names (:data:`ASSET_NAME`), bytes of at most ``limits.asset_bytes``."""
+    if len(assets) >= limits.members:
+        raise ProjectError(f"a project holds at most {limits.members - 1} assets")
+    for name, data in assets.items():
+        if not isinstance(name, str) or not ASSET_NAME.match(name):
+            raise ProjectError(f"asset name {shown(name)} is not a plain file name")
+        if not isinstance(data, (bytes, bytearray, memoryview)):
+            raise ProjectError(f"asset {shown(name)} must be bytes, got {type(data).__name__}")
+        if len(data) > limits.asset_bytes:
+            raise ProjectError(f"asset {shown(name)} is larger than {limits.asset_bytes} bytes")

@@ -31,8 +31,9 @@ from make_samples import RENDER, bordeaux, bordeaux_section, jar, round_shape  #
 
 from engine.appearance.closure_shapes import default_cap  # noqa: E402
 from engine.appearance.tile_defaults import add_image_tile, new_tile  # noqa: E402
-from engine.cli import framing_camera  # noqa: E402
-from engine.files.project import check_design, save_project  # noqa: E402
+from engine.cli.project import framing_camera  # noqa: E402
+from engine.files.project import save_project  # noqa: E402
+from engine.operations.check import check_design  # noqa: E402
 from engine.model.design import Design, Glass, Liquid  # noqa: E402
 
 

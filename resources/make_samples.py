@@ -22,10 +22,11 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
 from engine.geometry import capacity# noqa: E402
-from engine.cli import framing_camera  # noqa: E402
+from engine.cli.project import framing_camera  # noqa: E402
 from engine.model.design import Design, Glass, Liquid, RenderSettings  # noqa: E402
 from engine.files.dxf_import import section_to_dxf  # noqa: E402
-from engine.files.project import check_design, save_project  # noqa: E402
+from engine.files.project import save_project  # noqa: E402
+from engine.operations.check import check_design  # noqa: E402
 from engine.geometry.section import Section  # noqa: E402
 from engine.geometry.segments import Arc, Line  # noqa: E402
 from engine.geometry.shape import BottleShape  # noqa: E402

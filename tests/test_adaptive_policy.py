@@ -6,7 +6,7 @@ import pytest
 
 from engine.tracer import adaptive
 from engine.tracer.film import Film
-from engine.tracer.display import srgb_encode
+from engine.color import srgb_encode
 from engine.tracer.job import tonemap_srgb8
 
 

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from engine import cli
-from engine.batch.images import read_image
+from engine.files.images import read_image
 from engine.batch.jobfile import read_job
 from engine.batch.manifest import Manifest
 from engine.batch.run import run_batch

@@ -9,7 +9,7 @@ import math
 import numpy as np
 import pytest
 
-from engine.appearance.bump_tables import tile_params
+from engine.tracer.tables.bump_rows import tile_params
 from engine.model.design import BumpTile
 from engine.tracer.kernels import bumps as K
 
@@ -51,7 +51,7 @@ def smooth_height_png(w=64, h=48) -> bytes:
 
 def map_params(wrap=True):
     """A relief-map tile (through the real texture builder) of :func:`smooth_height_png`."""
-    from engine.appearance.relief_image import relief_texture
+    from engine.tracer.tables.relief_textures import relief_texture
     tile = BumpTile(kind="height_map", repeat=3, depth=0.5, asset="m.png",
                     width_deg=120.0 if wrap else 60.0)
     tex, mode = relief_texture("m.png", smooth_height_png(), tile.kind, 0.0, tile_u=wrap)

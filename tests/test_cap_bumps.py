@@ -11,7 +11,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from engine.appearance.bump_tables import bump_tables, cap_band
+from engine.appearance.bands import cap_band
+from engine.tracer.tables.bump_rows import bump_tables
 from engine.appearance.cap_surfaces import cap_surface
 from engine.appearance.closure_shapes import default_cap
 from engine.appearance.closures import closure_geometry

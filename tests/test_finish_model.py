@@ -12,7 +12,8 @@ import pytest
 
 from engine.errors import DesignError, ProjectError
 from engine.files.migrate_finishes import migrate_1_to_2
-from engine.files.project import check_design, load_project, load_project_bytes, save_project
+from engine.files.project import load_project, load_project_bytes, save_project
+from engine.operations.check import check_design
 from engine.files.serialize import CURRENT_FORMAT, MIGRATIONS, design_to_dict
 from engine.model.check import check_values
 from engine.model.design import BUMP_KINDS, BumpTile, Cap, Design

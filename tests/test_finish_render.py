@@ -16,7 +16,7 @@ from engine.appearance.relief_image import ReliefImageError
 from engine.appearance.tile_defaults import new_tile
 from engine.files.project import load_project
 from engine.model.design import BumpTile, Cap, Design, Light, Liquid
-from engine.tracer import finishes
+from engine.tracer.tables import finishes
 from engine.tracer.context import RenderContext, nearest_hits, trace_pixels, trace_rays
 from engine.tracer.environment import EnvironmentMap
 from engine.tracer.ggx_albedo import albedo_tables, conductor_average, dielectric_average
@@ -376,7 +376,7 @@ def _rim_hit(d):
     from engine.tracer.kernels.finish import finish_hit
     from engine.tracer.kernels.intersect import O_MAT
     from engine.tracer.kernels.queries import hits
-    from engine.tracer.labels import with_buffers
+    from engine.tracer.tables.labels import with_buffers
     ctx = RenderContext.from_design(d, None, 8, 8)
     seg, tab, slab_f, slab_i, obj_i, obj_f = ctx.scene[:6]
     o, dr = np.array([[-15.0, 0.0, ctx.cap.z_min - 1.0]]), np.array([[0.0, 0.0, 1.0]])

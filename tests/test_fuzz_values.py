@@ -13,7 +13,8 @@ from hypothesis import strategies as st
 
 from engine import cli, limits
 from engine.errors import DesignError, MAX_MESSAGE_CHARS, ProjectError
-from engine.files.project import check_design, save_project
+from engine.files.project import save_project
+from engine.operations.check import check_design
 from engine.geometry import capacity
 from engine.model import fill
 from engine.model.check import check_values

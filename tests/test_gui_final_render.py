@@ -10,9 +10,9 @@ import pytest
 from PySide6.QtCore import Qt
 
 from app.final_render import format_seconds
-from engine.batch.images import read_image
+from engine.files.images import read_image
 from engine.files.project import load_project
-from engine.tracer.cli_render import save_image
+from engine.files.images import save_image
 from engine.tracer.job import render_image
 
 pytestmark = pytest.mark.usefixtures("no_leaks")

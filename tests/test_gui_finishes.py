@@ -134,7 +134,7 @@ def test_the_new_tabs_fit_the_side_dock_without_squeezing(make_window, qtbot):
 
 
 def test_a_tile_moved_onto_the_cap_follows_its_skirt_and_is_refused_without_a_cap(make_window):
-    from engine.appearance.bump_tables import cap_band
+    from engine.appearance.bands import cap_band
     w = make_window()
     panel = w.bumps_panel
     words.select_key(panel.add_kind, "knurl")

@@ -9,13 +9,14 @@ import math
 import numpy as np
 import pytest
 
-from engine.appearance.decal import (TOLERANCE, back_coordinates, decal_st, label_decal,
-                                     pack_decals)
+from engine.appearance.decal import TOLERANCE, back_coordinates, label_decal
 from engine.appearance.dieline import flat_shape
 from engine.appearance.frame import Placement, label_frame
 from engine.appearance.surface import surface_coordinates
 from engine.files.project import load_project
 from engine.model.design import Label
+from engine.tracer.kernels.labels import decal_lookup
+from engine.tracer.tables.labels import pack_decals
 from tests.label_helpers import SQUARE, cone_shape, cylinder_shape, prism_shape
 
 
@@ -128,26 +129,23 @@ def test_a_point_off_the_label_is_nan_even_inside_the_footprint():
     theta = np.linspace(decal.theta0, decal.theta1, 9)
     s, _ = decal.lookup(theta, np.full(9, decal.h0))
     assert np.isnan(s[0]) or np.isnan(s[-1])
-    assert math.isnan(decal_st(rows, nodes, 0, decal.theta0 - 0.1, decal.h0)[0])
+    assert math.isnan(decal_lookup(rows, nodes, 0, decal.theta0 - 0.1, decal.h0)[0])
 
 
-def test_the_packed_lookup_matches_the_reference_and_compiles_with_numba():
-    import numba
+def test_the_compiled_lookup_of_the_packed_rows_matches_the_reference():
     design, _ = load_project(SQUARE)
     decals = [label_decal(cylinder_shape(), Label(z_mm=100.0, height_mm=50.0, width_mm=70.0)),
               label_decal(design.shape, Label(z_mm=80.0, angle_deg=30.0, height_mm=80.0, width_mm=90.0))]
     rows, nodes = pack_decals(decals)
     assert rows.dtype == np.float64 and nodes.dtype == np.float32 and nodes.shape[1] == 2
-    jit = numba.njit(cache=False)(decal_st)
     rng = np.random.default_rng(3)
     for k, d in enumerate(decals):
         theta = rng.uniform(d.theta0 - 0.2, d.theta1 + 0.2, 500)
         h = rng.uniform(d.h0 - 5, d.h1 + 5, 500)
         ref_s, ref_t = d.lookup(theta, h)
-        for fn in (decal_st, jit):
-            got = np.array([fn(rows, nodes, k, a, b) for a, b in zip(theta, h)])
-            assert np.allclose(got[:, 0], ref_s, equal_nan=True, atol=1e-6)
-            assert np.allclose(got[:, 1], ref_t, equal_nan=True, atol=1e-6)
+        got = np.array([decal_lookup(rows, nodes, k, a, b) for a, b in zip(theta, h)])
+        assert np.allclose(got[:, 0], ref_s, equal_nan=True, atol=1e-6)
+        assert np.allclose(got[:, 1], ref_t, equal_nan=True, atol=1e-6)
 
 
 def test_surface_coordinates_are_the_tracers_convention():

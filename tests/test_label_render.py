@@ -8,9 +8,9 @@ import os
 import numpy as np
 import pytest
 
-from engine.appearance import compiled as C
-from engine.appearance.images import srgb_to_linear
-from engine.appearance.presets import FINISH_CODES, FOIL_OPTICS
+from engine.tracer.tables import labels as C
+from engine.color import srgb_to_linear
+from engine.appearance.presets import FOIL_OPTICS
 from engine.appearance.sample import png_bytes
 from engine.model.design import FinishRegion, Label, LabelSide
 from engine.tracer.context import RenderContext, trace_rays
@@ -66,15 +66,12 @@ def front_rays(xz):
     return o, np.tile([0.0, 1.0, 0.0], (len(xz), 1))
 
 
-def test_kernel_columns_agree_with_the_appearance_tables():
-    assert (KL._L_DIFFUSE, KL._L_SPECULAR, KL._L_TRANSMISSION) == (C.L_DIFFUSE, C.L_SPECULAR, C.L_TRANSMISSION)
-    assert (KL._L_FRONT_R, KL._L_BACK_R, KL._L_FRONT_TEX, KL._L_BACK_TEX) == (
-        C.L_FRONT_R, C.L_BACK_R, C.L_FRONT_TEX, C.L_BACK_TEX)
-    assert (KL._L_REGION_MAP, KL._L_REGION0) == (C.L_REGION_MAP, C.L_REGION0)
-    assert (KL._F_KIND, KL._F_DEPTH, KL._F_GLOSS, KL._F_N, KL._F_K, KL._F_UNDER) == (
-        C.F_KIND, C.F_DEPTH, C.F_GLOSS, C.F_N, C.F_K, C.F_UNDER)
-    assert FINISH_CODES == {"gold_foil": KL.GOLD_FOIL, "silver_foil": KL.SILVER_FOIL, "clear_vinyl": KL.CLEAR_VINYL,
-                            "clear_vinyl_white": KL.CLEAR_VINYL_WHITE, "emboss": KL.EMBOSS, "varnish": KL.VARNISH}
+def test_every_finish_kind_has_a_kernel_code_and_the_rows_carry_it():
+    from engine.model.design import FINISH_KINDS
+    assert set(KL.FINISH_CODES) == set(FINISH_KINDS)
+    assert len(set(KL.FINISH_CODES.values())) == len(FINISH_KINDS) and 0 not in KL.FINISH_CODES.values()
+    row = C._finish_row(FinishRegion(finish="silver_foil"))
+    assert row[KL.LF_KIND] == KL.SILVER_FOIL and tuple(row[KL.LF_N:KL.LF_N + 3]) == FOIL_OPTICS["silver_foil"][0]
 
 
 def test_furnace_paper_sends_back_its_albedo():
@@ -306,7 +303,7 @@ def test_labelled_sample_renders_from_the_command_line(tmp_path):
 def test_label_record_overflow_traces_again_with_room(monkeypatch, relabel_case):
     """A recording call with too little room for hits traces again with more: same results,
     every hit kept (the record's ranges cover all of them)."""
-    import engine.tracer.labels as TL
+    import engine.tracer.tables.labels as TL
     from engine.tracer.context import trace_pixels
     d, assets, _ = relabel_case
     ctx = RenderContext.from_design(d, assets, KW["width"], KW["height"])

@@ -1,4 +1,5 @@
-"""The layers of the code: no import circles between modules, widgets never import the
+"""The layers of the code: packages import only the layers below them (so no two packages import
+each other, lazily or not), no import circles between modules, widgets never import the
 application shell, and the geometry and camera maths the panels use live in the engine."""
 from __future__ import annotations
 
@@ -72,6 +73,62 @@ def _cycle(graph: dict[str, set[str]]) -> list[str] | None:
 
 def test_no_module_imports_itself_through_others():
     assert _cycle(_graph()) is None, f"import circle: {' -> '.join(_cycle(_graph()))}"
+
+
+#: The packages from the bottom up (docs/ARCHITECTURE.md draws them): a package may import its
+#: own modules and the packages of the layers below its own, never one of its own layer or above.
+LAYERS = (
+    ("engine.errors",),
+    ("engine.limits", "engine.color", "engine.io"),
+    ("engine.geometry",),
+    ("engine.intersect", "engine.model"),
+    ("engine.appearance",),
+    ("engine.operations",),
+    ("engine.files", "engine.tracer"),
+    ("engine.batch",),
+    ("engine.cli",),
+    ("widgets",),
+    ("app",),
+)
+
+
+def _package(module: str) -> str | None:
+    """The layered package a module belongs to (``engine`` itself, the root, is none)."""
+    for layer in LAYERS:
+        for pkg in layer:
+            if module == pkg or module.startswith(pkg + "."):
+                return pkg
+    return None
+
+
+def _level(pkg: str) -> int:
+    return next(i for i, layer in enumerate(LAYERS) if pkg in layer)
+
+
+def _wrong_way(graph: dict[str, set[str]]) -> list[str]:
+    """Every import from a package to one of its own layer or above, as ``module -> module``."""
+    out = []
+    for mod, deps in graph.items():
+        a = _package(mod)
+        for dep in deps:
+            b = _package(dep)
+            if a and b and a != b and _level(b) >= _level(a):
+                out.append(f"{mod} -> {dep}")
+    return sorted(out)
+
+
+def test_packages_import_only_the_layers_below_them():
+    graph = _graph()
+    assert {_package(m) for m in graph if m != "engine"} == {p for layer in LAYERS for p in layer}, \
+        "a package is missing from LAYERS (or LAYERS names one that is gone)"
+    assert _wrong_way(graph) == []
+
+
+def test_the_layer_check_refuses_an_import_upwards_and_sideways():
+    graph = {"engine.model.design": {"engine.appearance.frame"}, "engine.files.project": {"engine.tracer.job"},
+             "engine.tracer.job": {"engine.model.design"}}
+    assert _wrong_way(graph) == ["engine.files.project -> engine.tracer.job",
+                                 "engine.model.design -> engine.appearance.frame"]
 
 
 def test_the_cycle_finder_finds_a_circle():

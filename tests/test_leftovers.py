@@ -16,7 +16,7 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from engine.errors import ProjectError
-from engine.files import atomic
+from engine.io import atomic
 from engine.files.project import load_project, save_project
 from tests.test_fuzz_files import cylinder_design
 
@@ -27,7 +27,7 @@ FUZZ = settings(max_examples=60, deadline=None,
 KILLED_SAVE = r"""
 import os, signal, sys, zipfile, dataclasses
 sys.path.insert(0, sys.argv[3])
-from engine.files import atomic
+from engine.io import atomic
 from engine.files.project import save_project
 from tests.test_fuzz_files import cylinder_design
 steps, k = [0], int(sys.argv[2])
@@ -136,7 +136,7 @@ def test_a_failed_write_whose_cleanup_also_fails_is_one_project_error(tmp_path, 
 
 
 def test_a_failed_image_write_keeps_the_previous_image(tmp_path):
-    from engine.tracer.cli_render import save_image
+    from engine.cli.render import save_image
     path = tmp_path / "render.png"
     save_image(path, np.full((4, 4, 3), 0.5, np.float32))
     before = path.read_bytes()

@@ -159,7 +159,7 @@ def test_tonemap_is_clamped_srgb():
 def test_render_command_writes_png_and_exr(tmp_path, capsys):
     from engine.tracer.environment import read_radiance_image
     from engine.files.project import save_project
-    from engine.tracer.cli_render import render_command
+    from engine.cli.render import render_command
 
     proj = tmp_path / "b.glassbench"
     save_project(proj, simple_design(40.0))
@@ -297,7 +297,7 @@ def test_the_films_display_levels_are_the_tone_map_of_its_estimate_bit_for_bit()
     """The window's tiles (compiled) against tonemap_srgb8 of Film.image: pixels with only a
     preview, a centre, anti-aliasing samples, non-finite and negative values, highlights above
     white and values at every level's threshold; a region cut at the image's edge."""
-    from engine.tracer.display import LEVEL_THRESHOLDS, tonemap_srgb8
+    from engine.color import LEVEL_THRESHOLDS, tonemap_srgb8
     from engine.tracer.film import Film
 
     rng = np.random.default_rng(4)

@@ -57,9 +57,9 @@ def _mirror_mean(mirror, mirror_avg, alpha, cos_i, u, mat_f):
 
 
 def _conductor_row(n, k, tint=(1.0, 1.0, 1.0)):
-    """A conductor's ``mat_f`` row as :func:`engine.tracer.finishes.material_row` makes it."""
+    """A conductor's ``mat_f`` row as :func:`engine.tracer.tables.finishes.material_row` makes it."""
     from engine.appearance.closure_parts import ClosureMaterial
-    from engine.tracer.finishes import material_row
+    from engine.tracer.tables.finishes import material_row
     _, row = material_row(ClosureMaterial("conductor", tuple(n), tuple(k), tuple(tint)))
     return row.reshape(1, MAT_COLS)
 

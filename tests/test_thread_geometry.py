@@ -13,7 +13,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from engine.appearance.bump_tables import band_coordinates, thread_drawings, tile_params
+from engine.appearance.bands import band_coordinates, thread_drawings
+from engine.tracer.tables.bump_rows import tile_params
 from engine.appearance.threads import WALL_FRACTION, thread_rendering
 from engine.appearance.tile_defaults import new_tile
 from engine.errors import DesignError

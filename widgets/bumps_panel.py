@@ -6,14 +6,13 @@ relief image), one undoable step each, checked by the engine (a relief image tha
 used is refused with its message). New tiles and kind changes start from
 :func:`engine.appearance.tile_defaults.new_tile`, the numbers ``glassbench bump add`` uses;
 images go through :func:`~engine.appearance.tile_defaults.add_image_tile`, which checks them
-first. The picture is :func:`engine.appearance.swatch.swatch_rgb` of the selected tile, drawn
+first. The picture is :func:`engine.tracer.swatch.swatch_rgb` of the selected tile, drawn
 again after each change of the design's tiles. A thread says how it is drawn (relief or true
-geometry, :func:`engine.appearance.bump_tables.thread_drawings`) and why, under its choice.
+geometry, :func:`engine.appearance.bands.thread_drawings`) and why, under its choice.
 """
 from __future__ import annotations
 
 import dataclasses
-import os
 
 import numpy as np
 from PySide6.QtCore import QSignalBlocker, Qt, Signal
@@ -22,9 +21,12 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QFileDialog, QFormLayout, Q
                                QHBoxLayout, QLabel, QLineEdit, QListWidget, QPushButton,
                                QVBoxLayout, QWidget)
 
-from engine.appearance import swatch, tile_defaults
-from engine.appearance.bump_tables import thread_drawings
+from engine.appearance import tile_defaults
+from engine.tracer import swatch
+from engine.appearance.bands import thread_drawings
 from engine.errors import GlassbenchError
+from engine.io.read import read_bounded
+from engine.limits import MAX_ARTWORK_BYTES
 from engine.model.design import BUMP_KINDS, BUMP_SURFACES, IMAGE_BUMPS
 from widgets import edit_fields as ef
 from widgets.labels_panel import IMAGE_FILTER, assets_in_use
@@ -58,7 +60,7 @@ def default_cap_band(design) -> tuple[float, float] | None:
     """Where a tile moved onto the cap goes (mm above the lower edge of its straight skirt):
     the skirt less a sixth at each end (clear of the rounded edges); ``None`` without a cap
     or a straight skirt."""
-    from engine.appearance.bump_tables import cap_band
+    from engine.appearance.bands import cap_band
     band = cap_band(design, 0.0, 1e9) if design.cap is not None else None
     if band is None:
         return None
@@ -226,12 +228,7 @@ class BumpsPanel(QWidget):
         if not path:
             return None
         try:
-            size = os.path.getsize(path)
-            from engine.limits import MAX_ARTWORK_BYTES
-            if size > MAX_ARTWORK_BYTES:
-                raise OSError(f"{os.path.basename(path)} is {size} bytes, larger than a relief image may be")
-            with open(path, "rb") as fh:
-                data = fh.read()
+            data = read_bounded(path, MAX_ARTWORK_BYTES, "relief image")
             tile, name = tile_defaults.add_image_tile(self.editor.design, self.editor.scene.assets, kind,
                                                       path, data, z0, z1, **given)
         except (GlassbenchError, OSError, ValueError) as exc:

@@ -14,7 +14,9 @@ from PySide6.QtCore import QSignalBlocker, Signal
 from PySide6.QtWidgets import (QComboBox, QFileDialog, QFormLayout, QGroupBox,
                                QPushButton, QSpinBox, QVBoxLayout, QWidget)
 
-from engine.files.project import DEFAULT_LIMITS
+from engine.errors import GlassbenchError
+from engine.io.read import read_bounded
+from engine.limits import DEFAULT_LIMITS
 from engine.model.orbit import camera_to_orbit, orbit_to_camera
 from widgets import edit_fields, words
 
@@ -119,12 +121,8 @@ class CameraPanel(QWidget):
         if not path:
             return False
         try:
-            size = Path(path).stat().st_size
-            if size > DEFAULT_LIMITS.asset_bytes:  # refuse before reading it all into memory
-                raise OSError(f"{Path(path).name} is {size} bytes; an embedded image may have "
-                              f"at most {DEFAULT_LIMITS.asset_bytes}")
-            data = Path(path).read_bytes()
-        except OSError as exc:
+            data = read_bounded(path, DEFAULT_LIMITS.asset_bytes, "environment image")
+        except (OSError, GlassbenchError) as exc:
             self.env_load.setToolTip(str(exc))
             return False
         name = Path(path).name

@@ -3,7 +3,7 @@ button for linear-RGB model colours, a picture from a numpy array, and the list-
 
 Design rule: the model stores colours as linear RGB (0..1); designers see and pick sRGB. The
 conversion happens here, once, with the engine's own curves
-(:func:`engine.appearance.images.linear_to_srgb` / ``srgb_to_linear``), so a colour shown,
+(:func:`engine.color.linear_to_srgb` / ``srgb_to_linear``), so a colour shown,
 picked and stored is the same colour everywhere.
 """
 from __future__ import annotations
@@ -12,7 +12,7 @@ import numpy as np
 from PySide6.QtGui import QColor, QImage
 from PySide6.QtWidgets import QColorDialog, QComboBox, QDoubleSpinBox, QPushButton, QSpinBox
 
-from engine.appearance.images import linear_to_srgb, srgb_to_linear
+from engine.color import linear_to_srgb, srgb_to_linear
 
 
 def spin(lo, hi, decimals=1, step=1.0, suffix="", tip="") -> QDoubleSpinBox:

@@ -32,7 +32,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QFileDialog, QFormLayout, Q
 from engine.appearance import images, presets, report
 from engine.appearance.cap_surfaces import cap_surface
 from engine.appearance.regions import region_map
-from engine.appearance.label_cli import asset_name, camera_azimuth_deg, describe
+from engine.cli.labels import asset_name, camera_azimuth_deg, describe
 from engine.appearance.frame import Placement, label_frame
 from engine.errors import GlassbenchError
 from engine.model.design import FINISH_KINDS, Label, LabelSide

@@ -16,7 +16,7 @@ follows the cap when the neck changes:
 
 Each is also a band ``[v0, v1]`` of the part's arc length ``v`` (mm from the chain's start,
 the tracer's ``segment_v``), so the kernels tell the top from the underside and the skirt from
-the inside of the shell. :func:`place_rows` is the kernels' place table of every label (wall
+the inside of the shell. :func:`engine.tracer.tables.labels.place_rows` is the kernels' place table of every label (wall
 labels included); :func:`surface_decal` the decal of a skirt print. Units mm, degrees.
 """
 from __future__ import annotations
@@ -35,11 +35,6 @@ from .decal import Decal
 
 #: The surfaces of a closure a label may be printed on.
 CAP_SURFACES = ("cap-top", "cap-skirt")
-#: Columns of a place row (the kernels' ``_P_*``, engine.tracer.kernels.labels).
-P_SURFACE, P_OBJECT, P_V0, P_V1, P_CX, P_CY, P_BX, P_BY = range(8)
-P_COLS = 8
-#: Surface codes of a place row (the kernels' ``WALL``, ``CAP_TOP``, ``CAP_SKIRT``).
-SURFACE_CODES = {"wall": 0, "cap-top": 1, "cap-skirt": 2}
 _FLAT = 1e-9
 
 
@@ -144,7 +139,7 @@ def check_cap_label(design, label, where: str = "the label") -> None:
 def surface_decal(design, label) -> Decal:
     """The decal of a print on the closure: a skirt print's exact 2 x 2 grid over ``(theta,
     z)`` (``s`` linear in the azimuth, ``t`` in the height); a top print's lookup is affine in
-    ``(x, y)`` (:func:`place_rows`), so its decal is an empty 2 x 2 grid that is never read."""
+    ``(x, y)`` (:func:`engine.tracer.tables.labels.place_rows`), so its decal is an empty 2 x 2 grid that is never read."""
     zero = np.zeros((2, 2), np.float32)
     if label.surface == "cap-top":
         st = np.zeros((2, 2, 2), np.float32)
@@ -161,24 +156,3 @@ def surface_decal(design, label) -> Decal:
     for a in (st, zero):
         a.setflags(write=False)
     return Decal(theta0, theta1, h0, h1, st, zero, "rectangle", 0.0)
-
-
-def place_rows(design, first_cap_object: int) -> tuple[np.ndarray, int]:
-    """``(rows (n, P_COLS), objects)``: each label's place row (module rule; a wall label lies
-    on object 0 over all of it) and the bit mask of the render objects labels lie on; the
-    closure's parts are objects ``first_cap_object + part``."""
-    rows = np.zeros((len(design.labels), P_COLS))
-    objects = 0
-    for k, label in enumerate(design.labels):
-        row = rows[k]
-        row[P_SURFACE] = SURFACE_CODES[label.surface]
-        row[P_V0], row[P_V1] = -np.inf, np.inf
-        if label.surface != "wall":
-            surf = cap_surface(design, label.surface)
-            row[P_OBJECT] = first_cap_object + surf.part
-            row[P_V0], row[P_V1] = surf.v0, surf.v1
-            a = math.radians(label.angle_deg)
-            row[P_CX], row[P_CY], row[P_BX], row[P_BY] = label.cap_x_mm, label.cap_y_mm, math.cos(a), math.sin(a)
-        objects |= 1 << int(row[P_OBJECT])
-    rows.setflags(write=False)
-    return rows, objects

@@ -1,4 +1,4 @@
-"""The tracer's table per label: footprint in ``(theta, h)``, an ``(s, t)`` grid, the strain.
+"""A label's decal: its footprint in ``(theta, h)``, an ``(s, t)`` grid over it, the strain.
 
 Design rule: a :class:`Decal` is what a kernel needs to know where a hit on the outer wall
 falls on a label's artwork, with no geometry of its own: the footprint ``[theta0, theta1] x
@@ -19,14 +19,14 @@ Nodes outside the label carry the map's continuation (``s`` or ``t`` outside [0,
 NaN, so cells across an edge interpolate it exactly and the edge is sharp. The grid is made as
 fine as the map needs (up to :data:`engine.limits.MAX_DECAL_NODES` a side): bilinear error at
 every cell centre and edge midpoint at most :data:`TOLERANCE`, a quarter texel of a
-4096-texel label. :func:`decal_st` is that lookup on the packed arrays of
-:func:`pack_decals`, in plain scalar Python that numba compiles unchanged; :meth:`Decal.lookup`
-is the same, vectorised, for tests and tools. The back face is seen from inside, so its
+4096-texel label. The tracer packs decals into its rows
+(:func:`engine.tracer.tables.labels.pack_decals`) and looks them up compiled
+(:func:`engine.tracer.kernels.labels.decal_lookup`); :meth:`Decal.lookup` is the same lookup,
+vectorised, for tests and tools. The back face is seen from inside, so its
 artwork coordinates are :func:`back_coordinates`.
 """
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 from functools import lru_cache
 
@@ -40,9 +40,6 @@ from .frame import TWO_PI, Placement, label_frame
 TOLERANCE = 0.25 / 4096
 #: Nodes a side a decal starts from (and keeps, for its strain map, where the map is linear).
 MIN_NODES = 17
-#: Columns of the rows of :func:`pack_decals`.
-D_THETA0, D_THETA1, D_H0, D_H1, D_NT, D_NH, D_OFFSET = range(7)
-D_COLS = 7
 
 
 @dataclass(frozen=True, eq=False)
@@ -145,42 +142,3 @@ def placement_decal(shape, p: Placement) -> Decal:
 def label_decal(shape, label) -> Decal:
     """The :class:`Decal` of ``label`` (an ``engine.model.design.Label``) on ``shape``."""
     return placement_decal(shape, Placement.of(label))
-
-
-def pack_decals(decals):
-    """Decals as two flat arrays for the kernels: ``rows`` float64 ``(n, D_COLS)`` (columns
-    ``D_THETA0 .. D_OFFSET``; ``D_NT``/``D_NH`` node counts, ``D_OFFSET`` the first node) and
-    ``nodes`` float32 ``(N, 2)``; node ``(i, j)`` of decal ``k`` is ``nodes[offset + i * nt + j]``."""
-    rows = np.zeros((len(decals), D_COLS))
-    parts, offset = [], 0
-    for k, d in enumerate(decals):
-        nh, nt = d.shape
-        rows[k] = (d.theta0, d.theta1, d.h0, d.h1, nt, nh, offset)
-        parts.append(d.st.reshape(-1, 2))
-        offset += nh * nt
-    nodes = np.concatenate(parts) if parts else np.zeros((0, 2), np.float32)
-    return rows, np.ascontiguousarray(nodes, dtype=np.float32)
-
-
-def decal_st(rows, nodes, k, theta, h):
-    """``(s, t)`` of surface point ``(theta, h)`` on decal ``k`` of :func:`pack_decals`, or
-    ``(nan, nan)`` off that label: the module's lookup, scalar, numba-compatible."""
-    t0, t1, h0, h1 = rows[k, D_THETA0], rows[k, D_THETA1], rows[k, D_H0], rows[k, D_H1]
-    nt, nh, off = int(rows[k, D_NT]), int(rows[k, D_NH]), int(rows[k, D_OFFSET])
-    d = (theta - t0) % (2.0 * math.pi)
-    fx = d / (t1 - t0) * (nt - 1)
-    fy = (h - h0) / (h1 - h0) * (nh - 1)
-    if not (0.0 <= fx <= nt - 1 and 0.0 <= fy <= nh - 1):
-        return math.nan, math.nan
-    j = min(int(fx), nt - 2)
-    i = min(int(fy), nh - 2)
-    ax, ay = fx - j, fy - i
-    a = off + i * nt + j
-    b = a + nt
-    s = ((nodes[a, 0] * (1 - ax) + nodes[a + 1, 0] * ax) * (1 - ay)
-         + (nodes[b, 0] * (1 - ax) + nodes[b + 1, 0] * ax) * ay)
-    t = ((nodes[a, 1] * (1 - ax) + nodes[a + 1, 1] * ax) * (1 - ay)
-         + (nodes[b, 1] * (1 - ax) + nodes[b + 1, 1] * ax) * ay)
-    if 0.0 <= s <= 1.0 and 0.0 <= t <= 1.0:
-        return s, t
-    return math.nan, math.nan

@@ -5,7 +5,7 @@ page in millimetres (y up): the cut line (a rectangle, an annular sector drawn a
 the outline polygon), its dimensions, the numbered places of its warnings, a 10 mm scale bar
 and a caption. :func:`write_dieline` renders it by the file's extension (SVG by hand, PDF
 through matplotlib's PDF backend, DXF through ezdxf with ``$INSUNITS`` = mm), always 1:1, and
-writes atomically (:mod:`engine.files.atomic`): a failed write leaves the previous file. Layers
+writes atomically (:mod:`engine.io.atomic`): a failed write leaves the previous file. Layers
 (DXF) / classes (SVG): ``cut``, ``dimension``, ``warning``, ``text``.
 """
 from __future__ import annotations
@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..errors import GlassbenchError, shown
-from ..files import atomic
+from ..io import atomic
 
 FORMATS = (".svg", ".pdf", ".dxf")
 #: Page margin around the shape (mm) and text height (mm).

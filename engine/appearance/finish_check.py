@@ -1,6 +1,6 @@
 """What a project's bump tiles and closure need beyond their values: images and a fit.
 
-Design rule: :func:`check_finishes` runs inside :func:`engine.files.project.check_design`
+Design rule: :func:`check_finishes` runs inside :func:`engine.operations.check.check_design`
 (on load, before every save, for the window's edits of tiles and cap), after the shape has been
 validated. It refuses a relief tile whose image is missing, too large, corrupt or holds NaN
 (:mod:`.relief_image`, cached by content so an edit does not decode again) and a closure that

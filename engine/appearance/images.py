@@ -23,8 +23,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from .. import limits as L
+from ..color import linear_to_srgb, srgb_to_linear
 from ..errors import GlassbenchError, bounded, shown
-from ..files.bytes_file import bytes_as_file
+from ..io.bytes_file import bytes_as_file
+from ..io.read import read_bounded
 
 #: Leading bytes of the formats artwork may have, and the extension OpenImageIO is told.
 MAGIC = ((b"\x89PNG\r\n\x1a\n", ".png"), (b"\xff\xd8\xff", ".jpg"), (b"II*\x00", ".tif"),
@@ -62,12 +64,8 @@ def read_image_file(path) -> bytes:
     """The bytes of an image file, read no further than :data:`engine.limits.MAX_ARTWORK_BYTES`
     and checked with :func:`probe_image`; ``ArtworkError`` (or ``OSError``) otherwise."""
     path = os.fspath(path)
-    name = os.path.basename(path)
-    with open(path, "rb") as fh:
-        data = fh.read(L.MAX_ARTWORK_BYTES + 1)
-    if len(data) > L.MAX_ARTWORK_BYTES:
-        raise ArtworkError(f"{name} is larger than {L.MAX_ARTWORK_BYTES >> 20} MiB")
-    probe_image(data, name)
+    data = read_bounded(path, L.MAX_ARTWORK_BYTES, "image")
+    probe_image(data, os.path.basename(path))
     return data
 
 
@@ -224,18 +222,6 @@ def to_linear_rgba(px: np.ndarray, alpha_channel: int, is_float: bool, name: str
         out[:, :, :3] = srgb_to_linear(np.clip(rgb, 0.0, 1.0))
     out[:, :, 3] = a
     return out
-
-
-def srgb_to_linear(v):
-    """The sRGB decoding curve (IEC 61966-2-1) on values in [0, 1]."""
-    v = np.asarray(v, np.float32)
-    return np.where(v <= 0.04045, v / 12.92, ((v + 0.055) / 1.055) ** 2.4).astype(np.float32)
-
-
-def linear_to_srgb(v):
-    """The sRGB encoding curve on linear values in [0, 1]."""
-    v = np.clip(np.asarray(v, np.float32), 0.0, 1.0)
-    return np.where(v <= 0.0031308, v * 12.92, 1.055 * v ** (1 / 2.4) - 0.055).astype(np.float32)
 
 
 DECODED = _Decoded()

@@ -1,7 +1,7 @@
 """Whether each label lies on the glass: on the outer wall, at most once around the girth.
 
 Design rule: :func:`check_label_placement` is the geometric half of checking labels, run by
-:func:`engine.files.project.check_design` (so on every save, load and panel edit) after the
+:func:`engine.operations.check.check_design` (so on every save, load and panel edit) after the
 shape itself is valid. It builds each label's :class:`~engine.appearance.frame.LabelFrame`
 (cached by value, so a drag re-checks only the label that moved) and refuses, with one line
 naming the label and the numbers, a label whose patch leaves the outer wall (below the

@@ -5,14 +5,14 @@ the metal foils per RGB channel at 660, 549 and 451 nm (the Johnson & Christy 19
 1.88, 2.26 and 2.75 eV), for the tracer's conductor Fresnel term. :data:`SHEET_PRESETS` are
 coefficient sets of a whole label (``diffuse``, ``specular``, ``transmission``), and
 :data:`FINISH_PRESETS` finish regions waiting for their keys or mask: the panel offers both by
-name, ``glassbench label add`` uses the default sheet. :data:`FINISH_CODES` numbers the finish
-kinds for the kernels (0 is plain paper, so a region map value is a finish row + 1).
+name, ``glassbench label add`` uses the default sheet. The kernels number the finish kinds
+(:data:`engine.tracer.kernels.labels.FINISH_CODES`).
 """
 from __future__ import annotations
 
 import dataclasses
 
-from ..model.design import FINISH_KINDS, FinishRegion
+from ..model.design import FinishRegion
 
 #: ``(n (r, g, b), k (r, g, b))`` of each metal foil (Johnson & Christy 1972).
 FOIL_OPTICS = {
@@ -24,8 +24,6 @@ FILM_IOR = 1.54
 COAT_IOR = 1.5
 #: Reflectance (linear RGB) of the white underprint of ``clear_vinyl_white``.
 WHITE_UNDERPRINT = (0.85, 0.85, 0.85)
-#: Finish kinds numbered from 1 (0: no finish region, plain paper).
-FINISH_CODES = {kind: i + 1 for i, kind in enumerate(FINISH_KINDS)}
 
 #: Whole-sheet coefficient sets: ``(diffuse, specular, transmission)``.
 SHEET_PRESETS = {

@@ -19,7 +19,8 @@ from collections import OrderedDict
 
 import numpy as np
 
-from .images import asset_image, linear_to_srgb
+from ..color import linear_to_srgb
+from .images import asset_image
 
 _LOCK = threading.Lock()
 _MAPS: OrderedDict = OrderedDict()

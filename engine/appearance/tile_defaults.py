@@ -17,7 +17,7 @@ import re
 from ..errors import DesignError, shown
 from ..model.design import IMAGE_BUMPS, BumpTile
 from .relief_image import check_relief_image
-from .threads import nearest_finish, parse_finish
+from ..model.thread_finishes import nearest_finish, parse_finish
 
 #: Typical spacing (mm around the girth) of one repeat, and the depth (mm), per kind.
 SPACING_MM = {"knurl": 2.0, "stipple": 3.0, "diamond": 8.0}
@@ -32,7 +32,7 @@ def band_radius(design, z0: float, z1: float, on: str = "bottle") -> float:
     """Outer radius (mm) of the bottle at the middle of the band (its mouth radius if the band
     is outside the wall); with ``on="cap"`` the radius of the cap's straight skirt, else of
     the whole closure."""
-    from .bump_tables import band_coordinates, cap_band
+    from .bands import band_coordinates, cap_band
     from .closures import closure_geometry
     if on == "cap" and design.cap is not None:
         band = cap_band(design, 0.0, 1e9)

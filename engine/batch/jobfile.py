@@ -44,6 +44,11 @@ FORMATS = ("png", "exr", "tif")
 SAFE_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.+-]{0,63}\Z")
 TOP_KEYS = ("output", "width", "height", "spp", "format", "alpha", "turntable", "cameras", "projects")
 LIMITS = {"width": 16384, "height": 16384, "spp": 1 << 20, "turntable": 3600}
+#: Variants one job may hold (over all its projects), and frames (variants times views): a job
+#: past them is refused before any project is loaded or any override applied, so ``--check``
+#: answers at once whatever the file asks.
+MAX_VARIANTS = 1000
+MAX_FRAMES = 20000
 
 
 @dataclass(frozen=True, eq=False)
@@ -124,6 +129,10 @@ def read_job(path: str | os.PathLike, output: str | None = None) -> BatchJob:
         raise tree.error(("alpha",), f"alpha must be true or false, got {alpha!r}")
     views = job_views(tree, data, sizes["turntable"],
                       lambda where, name: _check_name(tree, where, name, "camera"))
+    count = _variant_count(tree, data)
+    if count * len(views) > MAX_FRAMES:
+        raise tree.error(("projects",), f"{count} variants times {len(views)} views is {count * len(views)} "
+                                        f"frames; a job may render at most {MAX_FRAMES} (split it)")
     variants = _variants(tree, data, base)
     return BatchJob(os.path.abspath(os.path.join(base, out)), variants, views, sizes["width"],
                     sizes["height"], sizes["spp"], fmt, alpha)
@@ -136,6 +145,21 @@ def _whole(tree, data, key):
     if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= LIMITS[key]:
         raise tree.error((key,), f"{key} must be a whole number in 1..{LIMITS[key]}, got {v!r}")
     return v
+
+
+def _variant_count(tree: SourceTree, data: dict) -> int:
+    """How many variants the job's projects ask for (a project without any is one), counted
+    before anything is loaded; :class:`JobError` past :data:`MAX_VARIANTS`."""
+    projects = data.get("projects")
+    if not isinstance(projects, list):
+        return 1
+    count = 0
+    for proj in projects:
+        tables = proj.get("variants", [{}]) if isinstance(proj, dict) else [{}]
+        count += len(tables) if isinstance(tables, list) else 1
+        if count > MAX_VARIANTS:
+            raise tree.error(("projects",), f"more than {MAX_VARIANTS} variants in one job (split it)")
+    return count
 
 
 def _variants(tree: SourceTree, data: dict, base: str) -> tuple:

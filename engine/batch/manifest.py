@@ -14,7 +14,7 @@ import hashlib
 import json
 import os
 
-from .images import write_bytes_atomic
+from ..files.images import write_bytes
 
 MANIFEST_NAME = "manifest.json"
 MANIFEST_VERSION = 1
@@ -84,4 +84,4 @@ class Manifest:
 
     def save(self) -> None:
         doc = {"version": MANIFEST_VERSION, "frames": dict(sorted(self.frames.items()))}
-        write_bytes_atomic(self.path, json.dumps(doc, indent=1).encode("utf-8"))
+        write_bytes(self.path, json.dumps(doc, indent=1).encode("utf-8"))

@@ -26,7 +26,8 @@ import difflib
 import math
 import os
 
-from ..errors import GlassbenchError
+from ..errors import GlassbenchError, InputFileError
+from ..io.read import read_bounded
 from ..model.design import Camera, Liquid
 
 OVERRIDE_KEYS = ("glass_tint", "liquid_color", "fill_height_mm", "fill_ml", "empty", "labels",
@@ -135,12 +136,11 @@ def _apply_labels(design, assets, value, base_dir, fail):
 
 def _read_artwork(path, fail):
     try:
-        with open(path, "rb") as fh:
-            data = fh.read(MAX_ARTWORK_BYTES + 1)
+        data = read_bounded(path, MAX_ARTWORK_BYTES, "artwork")
     except OSError as exc:
         raise fail(f"cannot read {path}: {exc.strerror or exc}") from None
-    if len(data) > MAX_ARTWORK_BYTES:
-        raise fail(f"{path} is larger than {MAX_ARTWORK_BYTES} bytes")
+    except InputFileError as exc:
+        raise fail(str(exc)) from None
     for magic, ext in IMAGE_MAGIC.items():
         if data.startswith(magic):
             break
@@ -192,7 +192,7 @@ def camera_problem(cam: Camera) -> str | None:
 
 def check_variant_design(design, assets, tree, key_path: tuple) -> None:
     """Refuse a variant the project format would refuse (ranges, assets, geometry)."""
-    from ..files.project import check_design
+    from ..operations.check import check_design
     try:
         check_design(design, assets)
     except (GlassbenchError, ValueError) as exc:

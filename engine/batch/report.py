@@ -14,8 +14,8 @@ import io
 import json
 import os
 
-from ..model.trade import NUMBER_KEYS, trade_numbers
-from .images import display_rgb8, write_bytes_atomic
+from ..operations.trade import NUMBER_KEYS, trade_numbers
+from ..files.images import display_rgb8, write_bytes
 
 CONTACT_SHEET = "contact_sheet.png"
 SUMMARY_CSV = "summary.csv"
@@ -56,7 +56,7 @@ def contact_sheet(job, frames, path: str, title: str = "") -> None:
         draw.text((x, y + th + 16), _fit(frame.view.name, tw, font), fill=(160, 160, 165), font=font)
     buf = io.BytesIO()
     sheet.save(buf, format="PNG")
-    write_bytes_atomic(path, buf.getvalue())
+    write_bytes(path, buf.getvalue())
 
 
 def _fit(text: str, width: int, font) -> str:
@@ -95,7 +95,7 @@ def write_summary(job, manifest, folder: str) -> tuple[str, str]:
     doc = {"output": job.output, "format": job.format, "alpha": job.alpha,
            "views": [v.name for v in job.views], "variants": rows}
     json_path = os.path.join(folder, SUMMARY_JSON)
-    write_bytes_atomic(json_path, json.dumps(doc, indent=1, allow_nan=False).encode("utf-8"))
+    write_bytes(json_path, json.dumps(doc, indent=1, allow_nan=False).encode("utf-8"))
     buf = io.StringIO()
     cols = ["variant", "project", *NUMBER_KEYS, "glass_absorption_per_mm", "liquid_absorption_per_mm",
             "overrides", "frames", "render_seconds"]
@@ -110,6 +110,6 @@ def write_summary(job, manifest, folder: str) -> tuple[str, str]:
             flat[k] = "" if row[k] is None else f"{row[k]:.3f}"
         writer.writerow(flat)
     csv_path = os.path.join(folder, SUMMARY_CSV)
-    write_bytes_atomic(csv_path, buf.getvalue().encode("utf-8"))
+    write_bytes(csv_path, buf.getvalue().encode("utf-8"))
     return csv_path, json_path
 

@@ -14,7 +14,7 @@ import time
 from dataclasses import dataclass, field
 
 from .execute import open_client, run_frames
-from .images import write_image
+from ..files.images import save_image
 from .manifest import Manifest, asset_digests, frame_hash
 from .progress import BatchProgress
 from .report import CONTACT_SHEET, contact_sheet, write_summary
@@ -75,7 +75,7 @@ def run_batch(job, *, client=None, scheduler: str | None = None, workers: int | 
         inside(job.output, f.relpath)  # again: a folder made just now must not be a link out
 
     def on_result(frame, result):
-        write_image(targets[frame.relpath], result["rgb"], result["alpha"])
+        save_image(targets[frame.relpath], result["rgb"], result["alpha"])
         manifest.record(frame.relpath, inputs[frame.relpath], variant=frame.variant.name,
                         view=frame.view.name, seconds=round(result["seconds"], 4),
                         worker=result["worker"])

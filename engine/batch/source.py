@@ -17,7 +17,8 @@ import re
 import tomllib
 from dataclasses import dataclass, field
 
-from ..errors import GlassbenchError
+from ..errors import GlassbenchError, InputFileError
+from ..io.read import read_bounded
 
 #: Largest job file read (bytes): a job lists projects and overrides, never image data.
 MAX_JOB_BYTES = 4 << 20
@@ -57,10 +58,10 @@ def read_source(path: str | os.PathLike) -> SourceTree:
     ext = os.path.splitext(path)[1].lower()
     if ext not in (".toml", ".json"):
         raise JobError(f"{path}: a job file must end in .toml or .json")
-    with open(path, "rb") as fh:
-        raw = fh.read(MAX_JOB_BYTES + 1)
-    if len(raw) > MAX_JOB_BYTES:
-        raise JobError(f"{path}: larger than {MAX_JOB_BYTES} bytes; not a job file")
+    try:
+        raw = read_bounded(path, MAX_JOB_BYTES, "job file")
+    except InputFileError as exc:
+        raise JobError(f"{path}: {exc}; not a job file") from None
     try:
         text = raw.decode("utf-8")
     except UnicodeDecodeError as exc:

@@ -39,7 +39,7 @@ class FinalRender:
     width, height, spp : int
         Pixels and samples per pixel (>= 1).
     alpha : bool
-        Add the bottle's coverage as an alpha channel (:mod:`engine.batch.alpha`).
+        Add the bottle's coverage as an alpha channel (:func:`engine.tracer.picking.coverage`).
     threads : int, optional
         Tracer threads (default: the tracer's choice).
     on_progress, on_done : callable, optional
@@ -124,12 +124,12 @@ class FinalRender:
             elif job.cancelled:
                 self.state = "cancelled"
             else:
-                from .images import write_image
+                from ..files.images import save_image
                 cov = None
                 if self.alpha:
-                    from .alpha import coverage
+                    from ..tracer.picking import coverage
                     cov = coverage(self.design, self.width, self.height)
-                write_image(self.path, job.image(), cov)
+                save_image(self.path, job.image(), cov)
                 self.state = "written"
         except Exception as exc:  # reported to the caller, never lost
             self.error, self.state = exc, "failed"

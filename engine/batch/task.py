@@ -32,7 +32,7 @@ def render_frame(payload, camera, render, alpha: bool, threads: int, topic: str 
     render : engine.model.design.RenderSettings
         Size (pixels) and samples per pixel of the frame.
     alpha : bool
-        Also compute the bottle's coverage (:func:`engine.batch.alpha.coverage`).
+        Also compute the bottle's coverage (:func:`engine.tracer.picking.coverage`).
     threads : int
         Tracer threads for this frame (the worker's Dask threads times this should not
         exceed its cores).
@@ -54,7 +54,7 @@ def render_frame(payload, camera, render, alpha: bool, threads: int, topic: str 
     rgb = render_image(design, assets, threads=max(1, int(threads)), on_tile=report.tile)
     cov = None
     if alpha:
-        from .alpha import coverage
+        from ..tracer.picking import coverage
         cov = coverage(design, render.width, render.height)
     seconds = time.perf_counter() - t0
     report.send(1.0)

@@ -26,7 +26,8 @@ from __future__ import annotations
 import math
 import os
 
-from ..errors import GlassbenchError, bounded
+from ..errors import GlassbenchError, InputFileError, bounded
+from ..io.read import read_bounded
 from ..geometry.section import Section
 from ..geometry.segments import Arc, EllipseArc, Line
 from ..geometry.validate import ANGLE_TOL_RAD
@@ -58,12 +59,10 @@ def section_from_dxf(path: str | os.PathLike) -> Section:
     import ezdxf
     path = os.fspath(path)
     try:
-        size = os.path.getsize(path)
-        if size > MAX_DXF_BYTES:
-            raise DxfImportError(f"DXF {path} is {size} bytes (limit {MAX_DXF_BYTES}): "
-                                 f"not a bottle section")
-        with open(path, "rb") as fh:
-            declares_units = b"$INSUNITS" in fh.read()
+        try:
+            declares_units = b"$INSUNITS" in read_bounded(path, MAX_DXF_BYTES, "DXF")
+        except InputFileError as exc:
+            raise DxfImportError(f"{exc}: not a bottle section") from None
         doc = ezdxf.readfile(path)
     except DxfImportError:
         raise

@@ -5,7 +5,7 @@ the format follows the file suffix. Positions are welded (crease copies merged) 
 closed, consistently oriented surface; formats that carry normals keep the exact per-part normals
 (OBJ by separate normal indices; PLY and glTF by one vertex per part, same positions). STL, OBJ
 and PLY are in millimetres; glTF is in metres, as its specification requires. Files are written
-to a temporary name and renamed (:func:`engine.files.atomic.replacing`), so a failed export never
+to a temporary name and renamed (:func:`engine.io.atomic.replacing`), so a failed export never
 leaves half a file.
 """
 from __future__ import annotations
@@ -18,7 +18,7 @@ from pathlib import Path
 import numpy as np
 
 from ..geometry.tessellate import Mesh, tessellate_body
-from .atomic import replacing
+from ..io.atomic import replacing
 
 FORMATS = (".stl", ".obj", ".ply", ".gltf", ".glb")
 

@@ -47,7 +47,7 @@ def _placement(shape) -> dict:
         ends = [seg[k] for seg in section for k in ("p0", "p1")]
         radii = [float(p[0]) for p in ends if float(p[1]) >= 0.2 * z_top and float(p[0]) > 0]
         r_min = min(radii)
-    except (KeyError, TypeError, ValueError, IndexError, StopIteration, AttributeError):
+    except (KeyError, TypeError, ValueError, IndexError, StopIteration, AttributeError, OverflowError):
         return {"z_mm": 1.0, "angle_deg": -90.0, "height_mm": 1.0, "width_mm": 1.0}
     return {"z_mm": 0.35 * z_top, "angle_deg": -90.0, "height_mm": max(1.0, 0.2 * z_top),
             "width_mm": max(1.0, min(0.2 * z_top, 0.5 * r_min))}

@@ -26,54 +26,26 @@ import stat
 import struct
 import zipfile
 import zlib
-from dataclasses import dataclass
 from typing import Mapping
 
-from ..appearance.finish_check import check_finishes
-from ..appearance.placement import check_label_placement
-from ..geometry.validate import body_profile
-from ..model.check import check_values
+from ..limits import ASSET_NAME, DEFAULT_LIMITS, Limits, check_assets  # noqa: F401 - the archive's bounds
 from ..model.design import Design
-from ..model.fill import check_fill
-from ..errors import GlassbenchError, ProjectError, shown
-from . import atomic, jsontext
+from ..operations.check import check_design
+from ..errors import InputFileError, ProjectError
+from ..io.read import read_bounded
+from ..io import atomic
+from . import jsontext
 from .serialize import design_from_document, design_to_dict, document_from_design
 
 SUFFIX = ".glassbench"
 PROJECT_MEMBER = "project.json"
 ASSET_DIR = "assets/"
 GENERATOR = "glassbench 0.1.0"
-#: Asset names: plain file names (spaces and non-ASCII letters allowed) of at most 128
-#: characters: no folder separators, colons or control characters, no leading dot.
-ASSET_NAME = re.compile(r"^[^/\\:.\x00-\x1f\x7f][^/\\:\x00-\x1f\x7f]{0,127}\Z")
-
-
-@dataclass(frozen=True)
-class Limits:
-    """Size limits of a project archive (bytes unless named otherwise), applied when it is
-    written and when it is read; the design's own limits are in :mod:`engine.limits`.
-
-    ``archive_bytes`` the file; ``members`` entries in it; ``json_bytes`` ``project.json``;
-    ``asset_bytes`` one asset; ``total_bytes`` everything unpacked; ``json_depth`` nesting of
-    ``project.json``; ``unpack_ratio``: beyond ``json_bytes``, the members may unpack to at most
-    this many times the archive's size (a small file cannot claim much memory).
-    """
-
-    archive_bytes: int = 512 << 20
-    members: int = 256
-    json_bytes: int = 16 << 20
-    asset_bytes: int = 256 << 20
-    total_bytes: int = 512 << 20
-    json_depth: int = 64
-    unpack_ratio: int = 100
-
-
-DEFAULT_LIMITS = Limits()
 
 
 def save_project(path: str | os.PathLike, design: Design,
                  assets: Mapping[str, bytes] | None = None, keep_backup: bool = True) -> None:
-    """Write ``design`` and ``assets`` to ``path`` atomically (:mod:`engine.files.atomic`).
+    """Write ``design`` and ``assets`` to ``path`` atomically (:mod:`engine.io.atomic`).
 
     With ``keep_backup`` the file it replaces is kept as ``path.bak`` (``NAME.glassbench.bak``)
     with that file's permission bits; a symbolic link at ``path`` is followed and stays a link;
@@ -132,16 +104,11 @@ def load_project(path: str | os.PathLike, limits: Limits = DEFAULT_LIMITS
     """
     path = os.fspath(path)
     try:
-        size = os.path.getsize(path)
+        blob = read_bounded(path, limits.archive_bytes, "project")
     except OSError as exc:
         raise ProjectError(f"cannot open {path}: {exc.strerror or exc}") from None
-    if size > limits.archive_bytes:
-        raise ProjectError(f"{path} is {size} bytes, larger than any project should be")
-    try:
-        with open(path, "rb") as fh:
-            blob = fh.read(size + 1)  # not archive_bytes: read(n) allocates n bytes at once
-    except OSError as exc:
-        raise ProjectError(f"cannot read {path}: {exc.strerror or exc}") from None
+    except InputFileError as exc:
+        raise ProjectError(f"{exc}: not a project") from None
     try:
         return load_project_bytes(blob, limits)
     except ProjectError as exc:
@@ -268,53 +235,3 @@ def parse_json(raw: bytes, limits: Limits = DEFAULT_LIMITS) -> object:
     return jsontext.parse_json(raw, limits.json_depth)
 
 
-def check_design(design: Design, assets: Mapping[str, bytes]) -> None:
-    """Check what the value types cannot: ranges, sizes, asset references, geometry, fill level.
-
-    The same check runs before a project is written and after it is read. In order: the
-    values (:func:`engine.model.check.check_values`, the limits of :mod:`engine.limits`), the
-    assets (:func:`check_assets`) and those named by the environment and labels, the geometry
-    (:func:`engine.geometry.validate.validate_shape`), the liquid level
-    (:func:`engine.model.fill.check_fill`), the labels on the wall
-    (:func:`engine.appearance.placement.check_label_placement`; artwork images are checked
-    when they are imported and decoded, :mod:`engine.appearance.images`), the relief images
-    and the closure's fit (:func:`engine.appearance.finish_check.check_finishes`). Raises
-    ``ProjectError`` (a ``DesignError`` for a value); ``SectionError`` / ``WallError`` from
-    validation are wrapped with their message kept.
-    """
-    check_values(design)
-    check_assets(assets)
-    refs = [("environment", design.environment.asset)] + [
-        (f"labels[{i}]", name) for i, lab in enumerate(design.labels) for name in lab.asset_names()]
-    for where, name in refs:
-        if name is not None and name not in assets:
-            raise ProjectError(f"design.{where} names asset {shown(name)}, which the project lacks")
-    validate_design_shape(design)
-    check_fill(design.shape, design.liquid)
-    check_label_placement(design)
-    check_finishes(design, assets)
-
-
-def check_assets(assets: Mapping[str, bytes], limits: Limits = DEFAULT_LIMITS) -> None:
-    """Raise ``ProjectError`` unless ``assets`` could be stored: at most ``limits.members - 1``
-    of them, plain file names (:data:`ASSET_NAME`), bytes of at most ``limits.asset_bytes``."""
-    if len(assets) >= limits.members:
-        raise ProjectError(f"a project holds at most {limits.members - 1} assets")
-    for name, data in assets.items():
-        if not isinstance(name, str) or not ASSET_NAME.match(name):
-            raise ProjectError(f"asset name {shown(name)} is not a plain file name")
-        if not isinstance(data, (bytes, bytearray, memoryview)):
-            raise ProjectError(f"asset {shown(name)} must be bytes, got {type(data).__name__}")
-        if len(data) > limits.asset_bytes:
-            raise ProjectError(f"asset {shown(name)} is larger than {limits.asset_bytes} bytes")
-
-
-def validate_design_shape(design: Design) -> None:
-    """Run :func:`engine.geometry.validate.validate_shape` (through the cached
-    :func:`~engine.geometry.validate.body_profile`), wrapping its errors in ``ProjectError``."""
-    try:
-        body_profile(design.shape)  # validates; the profile is kept for the fill check
-    except GlassbenchError as exc:
-        raise ProjectError(f"invalid bottle shape: {exc}") from None
-    except (ValueError, ArithmeticError) as exc:
-        raise ProjectError(f"invalid bottle shape: {exc}") from None

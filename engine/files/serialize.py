@@ -93,7 +93,15 @@ def migrate_document(doc: object) -> dict:
     if version < 0:
         raise ProjectError(f"format_version {version} is not a glassbench format")
     while version < CURRENT_FORMAT:
-        doc = MIGRATIONS[version](doc)
+        try:
+            doc = MIGRATIONS[version](doc)
+        except (ArithmeticError, TypeError, ValueError, KeyError, IndexError, AttributeError) as exc:
+            # why: a migration reads the old layout before the strict decoder has checked it;
+            # whatever a hostile old file makes it trip on is still one clear line
+            if isinstance(exc, ProjectError):
+                raise
+            raise ProjectError(f"this format-{version} project cannot be brought up to date: its "
+                               f"design is malformed ({type(exc).__name__})") from None
         version += 1
     _object(doc, "project.json", ("format_version", "design"), ("generator",))
     if "generator" in doc:

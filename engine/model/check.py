@@ -4,7 +4,7 @@ Design rule: :func:`check_values` is the one check of the numbers, texts and lis
 :class:`~engine.model.design.Design` holds, run before a project is written, after it is read
 and before a panel's edit is accepted. It is cheap (linear in the design's size, no geometry):
 section validity and the fill level need the geometry and are checked by
-:func:`engine.files.project.check_design`, which calls this first. Every error is a
+:func:`engine.operations.check.check_design`, which calls this first. Every error is a
 :class:`engine.errors.DesignError` naming the field by its path in the project file
 (``design.camera.fov_y_deg``) and showing the value and its range, bounded in length.
 """

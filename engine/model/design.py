@@ -210,7 +210,7 @@ class BumpTile:
     about the axis. ``depth`` (mm, >= 0) is the relief's size: cut kinds (``knurl``,
     ``flutes``, ``facets``, ``diamond``) go into the glass, raised kinds (``stipple``,
     ``thread``, image kinds) stand out of it, and ``inverted`` swaps the two (a debossed logo,
-    pressed lugs). Meaning of the shape fields per kind (``engine.appearance.bump_tables``):
+    pressed lugs). Meaning of the shape fields per kind (``engine.tracer.tables.bump_rows``):
 
     ``pitch`` (mm)
         vertical period: knurl and stipple rows (0: square cells), thread pitch (0: from the

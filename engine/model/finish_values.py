@@ -5,13 +5,14 @@ this is cheap enough for every edit and names the field by its path in the proje
 (``design.bumps[2].depth``). What needs the shape or the embedded images (a relief image that
 is corrupt, too large or holds NaN; a thread standard the neck cannot carry) is checked by
 :func:`engine.appearance.finish_check.check_finish_assets`, called from
-:func:`engine.files.project.check_design`.
+:func:`engine.operations.check.check_design`.
 """
 from __future__ import annotations
 
 from .. import limits as L
 from ..errors import DesignError, shown
 from .design import BUMP_KINDS, BUMP_SURFACES, CAP_KINDS, CAP_MATERIALS, IMAGE_BUMPS, THREAD_GEOMETRY
+from .thread_finishes import parse_finish
 
 _TURN = (-L.MAX_TURN_DEG, L.MAX_TURN_DEG)
 
@@ -57,7 +58,6 @@ def check_bump_values(tile, where: str) -> None:
         raise DesignError(f"{where}.geometry {shown(tile.geometry)} is not one of "
                           f"{', '.join(THREAD_GEOMETRY)}")
     if tile.kind == "thread" and tile.finish:
-        from ..appearance.threads import parse_finish
         parse_finish(tile.finish, f"{where}.finish")
 
 

@@ -6,7 +6,7 @@ coefficients, colours, finish kinds and their parameters, region sources with wh
 and names unique within the design (batch overrides and the command line name labels). Whether
 a label lies on the glass (on the outer wall, at most once around) needs the geometry and is
 :func:`engine.appearance.placement.check_label_placement`, run by
-:func:`engine.files.project.check_design`. Every error is a :class:`engine.errors.DesignError`
+:func:`engine.operations.check.check_design`. Every error is a :class:`engine.errors.DesignError`
 naming the field by its path in the project file (``design.labels[0].width_mm``).
 """
 from __future__ import annotations

@@ -1,6 +1,6 @@
 """The progressive glass tracer: render geometry, Whitted wavefront integrator, tiled jobs.
 
 Public entry points: :class:`engine.tracer.job.RenderJob`, :func:`engine.tracer.job.render_image`,
-:func:`engine.tracer.job.tonemap_srgb8` and :func:`engine.tracer.cli_render.render_command`.
+:func:`engine.tracer.job.tonemap_srgb8` and :func:`engine.cli.render.render_command`.
 Import them from their modules; this package file stays light so importing ``engine`` is cheap.
 """

@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from .display import display_slope
+from ..color import display_slope
 
 #: First anti-aliasing round: samples every edge pixel gets.
 FIRST_AA = 4
@@ -24,7 +24,7 @@ ADAPTIVE_FACTOR = 16
 #: Default target: per-pixel standard error below this fraction of the design's reference level.
 NOISE_TARGET = 0.01
 #: The window's target: per-pixel standard error below this many display units (sRGB, 0..1)
-#: once tone-mapped (:func:`engine.tracer.display.tonemap_srgb8`). Measured on the bundled sample
+#: once tone-mapped (:func:`engine.color.tonemap_srgb8`). Measured on the bundled sample
 #: at the window's 715x954 against a render with 256 samples per edge pixel: 0.22 display levels
 #: (of 255) RMS in 3.8 s, where ``NOISE_TARGET`` in linear radiance gives 0.14 levels in 5.4 s
 #: (it also spends samples on highlights the display clips): both far below a visible step.

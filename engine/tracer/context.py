@@ -21,8 +21,8 @@ from .kernels.integrator import (C_BUDGET, C_CUT_DEPTH, C_CUT_WEIGHT, C_LEAKS, C
 from .kernels.sampling import C_COLS
 from .kernels.tile import render_pixels
 from .kernels.labels import LB_HIT_F, LB_HIT_I, LB_HIT_N, LB_SMP_F, LB_SMP_I
-from .labels import empty_label_arrays, label_arrays, with_buffers
-from .finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
+from .tables.labels import empty_label_arrays, label_arrays, with_buffers
+from .tables.finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays
 from .thread_geometry import scene_with_threads
 
@@ -30,6 +30,16 @@ from .thread_geometry import scene_with_threads
 #: environment (bounds the time of a sample; light trapped by total internal reflection in a
 #: thick base is what reaches it).
 MAX_NODES = 1 << 14
+
+
+def scene_tables(design):
+    """``(geometry, cap tables, scene tuple)`` of ``design``: the render objects of the bottle
+    (cached by shape and fill), its true threads and its closure, as the kernels search them.
+    What a render, the coverage of a final render's alpha and picking all intersect."""
+    geom = render_geometry_for(design)
+    cap = cap_tables_for(design, geom)
+    scene = scene_with_cap(scene_with_threads(scene_arrays(geom, design), design), cap, geom.fill_height)
+    return geom, cap, scene
 
 
 def camera_array(camera: PinholeCamera) -> np.ndarray:
@@ -63,12 +73,12 @@ class RenderContext:
     n_materials: int
     reference_level: float
     environment: EnvironmentMap = field(repr=False, default=None)
-    #: the label tables (:func:`engine.tracer.labels.label_arrays`); a label edit replaces only
+    #: the label tables (:func:`engine.tracer.tables.labels.label_arrays`); a label edit replaces only
     #: this field (:meth:`with_labels`)
     labels: tuple = field(repr=False, default_factory=empty_label_arrays)
     #: the finish tuple of :mod:`engine.tracer.kernels.finish` (relief rows, cap irradiance)
     finish: tuple = field(repr=False, default=None)
-    #: the closure's render rows (:class:`engine.tracer.finishes.CapTables`) or ``None``
+    #: the closure's render rows (:class:`engine.tracer.tables.finishes.CapTables`) or ``None``
     cap: object = field(repr=False, default=None)
     #: the half-float bit patterns of ``texels`` the kernels look up (:meth:`from_design`)
     lookup_texels: np.ndarray = field(repr=False, default=None)
@@ -80,11 +90,9 @@ class RenderContext:
         the geometry engine's errors for an invalid shape."""
         w = int(width or design.render.width)
         h = int(height or design.render.height)
-        geom = render_geometry_for(design)
+        geom, cap, scene = scene_tables(design)
         env = environment if environment is not None else environment_from_design(design.environment, assets)
         cam = PinholeCamera.from_design(design.camera, w, h)
-        cap = cap_tables_for(design, geom)
-        scene = scene_with_cap(scene_with_threads(scene_arrays(geom, design), design), cap, geom.fill_height)
         tex = np.ascontiguousarray(env.texels, dtype=np.float32)
         finish = finish_arrays(design, assets, geom, cap, scene, tex)
         half, factor = half_texels(tex)
@@ -202,8 +210,10 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
 
 
 # --------------------------------------------------------------------------- ray queries
-def nearest_hits(geometry: RenderGeometry, origins, directions, medium=0, last=-1, side=0):
-    """Nearest true hits of rays (mm, unit directions) against the render objects.
+def nearest_hits(geometry, origins, directions, medium=0, last=-1, side=0):
+    """Nearest true hits of rays (mm, unit directions) against the render objects of
+    ``geometry``: a :class:`RenderGeometry` (the bottle) or a scene tuple of
+    :func:`scene_tables` (the bottle with its threads and closure).
 
     ``medium`` is the medium each ray travels in, ``last``/``side`` the object it just left and
     the sign of ``d . n`` it left with (``-1``/``0`` for a fresh ray); all broadcast.
@@ -217,8 +227,9 @@ def nearest_hits(geometry: RenderGeometry, origins, directions, medium=0, last=-
     n = len(o)
     b = lambda v: np.ascontiguousarray(np.broadcast_to(np.asarray(v, np.int64), (n,)))
     t, k, part, nrm = np.empty(n), np.empty(n, np.int64), np.empty(n, np.int64), np.empty((n, 3))
-    hits(geometry.seg, geometry.tab, geometry.slab_f, geometry.slab_i, geometry.obj_i, geometry.obj_f,
-         o, d, b(medium), b(last), b(side), t, k, part, nrm)
+    tables = geometry[:6] if isinstance(geometry, tuple) else (
+        geometry.seg, geometry.tab, geometry.slab_f, geometry.slab_i, geometry.obj_i, geometry.obj_f)
+    hits(*tables, o, d, b(medium), b(last), b(side), t, k, part, nrm)
     return t, k, part, nrm
 
 

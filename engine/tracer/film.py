@@ -16,7 +16,7 @@ import threading
 
 import numpy as np
 
-from .display import LEVEL_THRESHOLDS
+from ..color import LEVEL_THRESHOLDS
 from .kernels.film import NEVER, add_centres, add_samples, encode_srgb8, estimate
 
 
@@ -107,7 +107,7 @@ class Film:
         return img
 
     def display(self, region) -> np.ndarray:
-        """The display levels (sRGB ``uint8`` ``(h, w, 3)``, :func:`engine.tracer.display.
+        """The display levels (sRGB ``uint8`` ``(h, w, 3)``, :func:`engine.color.
         tonemap_srgb8` of :meth:`image`, bit for bit) of ``region = (y0, y1, x0, x1)``: what the
         window paints as tiles finish, encoded in compiled code outside the lock."""
         img = self.image(region)

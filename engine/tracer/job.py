@@ -53,16 +53,13 @@ from . import adaptive
 from .adaptive import NOISE_SPACES
 from ..appearance.frame import Placement
 from .context import PixelResult, RenderContext, TraceStats, trace_pixels
-from .display import tonemap_srgb8  # noqa: F401 - the encoding the callers of a job use
+from ..color import tonemap_srgb8  # noqa: F401 - the encoding the callers of a job use
 from .film import Film
 from .kernels.integrator import N_COUNTERS
-from ..appearance.cap_surfaces import P_OBJECT
-from ..appearance.compiled import L_FRONT_TEX, L_REGION_MAP
 from ..model.design import LabelSide
-from .kernels.labels import (H_COLS, LABEL_BIT0, LB_CODES, LB_F, LB_OBJECTS, LB_PLACE, LB_REGION_I, LB_TEX_I,
-                             LB_TEXELS,
-                             MAX_LABEL_BIT, replay_samples)
-from .labels import with_buffers
+from .kernels.labels import (H_COLS, L_FRONT_TEX, L_REGION_MAP, LABEL_BIT0, LB_CODES, LB_F, LB_OBJECTS, LB_PLACE,
+                             LB_REGION_I, LB_TEX_I, LB_TEXELS, MAX_LABEL_BIT, P_OBJECT, replay_samples)
+from .tables.labels import with_buffers
 
 NOISE_TARGET = adaptive.NOISE_TARGET
 #: Design fields the image depends on (an edit of any other field keeps the film).
@@ -353,7 +350,7 @@ class RenderJob:
 
     def display(self, region) -> np.ndarray:
         """sRGB display levels ``(h, w, 3)`` uint8 of ``region = (y0, y1, x0, x1)`` of the current
-        estimate (:func:`engine.tracer.display.tonemap_srgb8` of :meth:`image`): a finished tile
+        estimate (:func:`engine.color.tonemap_srgb8` of :meth:`image`): a finished tile
         as the window paints it."""
         return self.film.display(region)
 

@@ -23,7 +23,7 @@ closure part   revolved (closed       away from the part's material      air | a
 =============  =====================  ================================  ================
 
 Closure parts come after the bottle's objects, from their own cached tables
-(:mod:`engine.tracer.finishes`).
+(:mod:`engine.tracer.tables.finishes`).
 
 The geometry tables depend only on ``(shape, fill height)`` and are cached by value, so camera,
 colour or IOR edits never rebuild them; media and materials are rebuilt from the design (a few
@@ -453,7 +453,7 @@ def media_table(design) -> np.ndarray:
 
 def material_tables(design):
     """``(mat_i, mat_f)`` of the bottle: one material, the smooth dielectric interface (a
-    closure's materials follow it, :mod:`engine.tracer.finishes`)."""
+    closure's materials follow it, :mod:`engine.tracer.tables.finishes`)."""
     mat_i = np.zeros((1, 4), np.int64)
     mat_i[0, 0] = SMOOTH_DIELECTRIC
     return mat_i, np.zeros((1, MAT_COLS))

@@ -1,13 +1,13 @@
 """Threads drawn as true geometry: the outer wall's straight neck piece becomes a HELIX row.
 
-Design rule: a thread tile that :func:`engine.appearance.bump_tables.thread_drawings` draws as
+Design rule: a thread tile that :func:`engine.appearance.bands.thread_drawings` draws as
 true geometry changes one row of the scene's segment table, nothing else: the outer wall's
 line row under its band turns into a ``HELIX`` row (:mod:`engine.tracer.kernels.helix`) with
-the tile's own relief parameters (the very row :func:`~engine.appearance.bump_tables.tile_params`
+the tile's own relief parameters (the very row :func:`~engine.tracer.tables.bump_rows.tile_params`
 gives the bump), its bounds and the outer wall's radius bound widened by the ridge. The outer
 wall stays one object with its media and material, its rows keep their numbers (labels, caps
 and finishes index them unchanged), and the bump rows of that tile are left out of the finish
-tuple (:func:`~engine.appearance.bump_tables.bump_tables`): the thread is never counted twice.
+tuple (:func:`~engine.tracer.tables.bump_rows.bump_tables`): the thread is never counted twice.
 The geometry cache (by shape and fill) is untouched; this runs per render context on a copy.
 Units mm.
 """
@@ -15,7 +15,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..appearance.bump_tables import band_coordinates, thread_drawings, tile_params
+from ..appearance.bands import band_coordinates, thread_drawings
+from .tables.bump_rows import tile_params
 from ..appearance.closures import finish_of
 from .kernels import bumps as B
 from .kernels import intersect as K

@@ -46,7 +46,7 @@ def warm_up() -> None:
         trace_rays(ctx, [[0.0, -100.0, 20.0]], [[0.0, 1.0, 0.0]])
         # the relabel's recomputation of label terms (the types a job passes it)
         from .kernels.labels import H_COLS, replay_samples
-        from .labels import with_buffers
+        from .tables.labels import with_buffers
 
         none = np.zeros(0, np.int64)
         replay_samples(with_buffers(ctx.labels), none, none, np.zeros((0, 3)), np.zeros((0, 2), np.int64),

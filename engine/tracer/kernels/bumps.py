@@ -5,7 +5,7 @@ no state) compute the relief's height field and its derivatives analytically, so
 magnified 100x stays smooth and every normal is continuous across tile seams and the 360 deg
 wrap (ridges, groove bottoms and facet edges are rounded by smooth minima and smooth triangle
 waves, never by a kink). One row ``p`` (float64, ``P_COLS``) describes one tile; kinds and
-columns are the constants below, filled by :mod:`engine.appearance.bump_tables`.
+columns are the constants below, filled by :mod:`engine.tracer.tables.bump_rows`.
 
 Conventions (units mm):
 

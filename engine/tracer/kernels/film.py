@@ -83,7 +83,7 @@ def estimate(centre, has_centre, aa_sum, aa_count, preview, y0, y1, x0, x1, out)
 def encode_srgb8(image, thresholds, out):
     """8-bit display levels of a float32 image: level ``k`` is the number of ``thresholds`` (the
     smallest float32 value of each level 1..255, ascending) at or below the value, so it equals
-    :func:`engine.tracer.display.tonemap_srgb8` wherever that is monotone (everywhere); NaN is 0."""
+    :func:`engine.color.tonemap_srgb8` wherever that is monotone (everywhere); NaN is 0."""
     for y in range(image.shape[0]):
         for x in range(image.shape[1]):
             for c in range(3):

@@ -32,7 +32,7 @@ did. :func:`finish_hit` writes the branch's children itself:
   coat's exit Fresnel (a small over-estimate that stays below 1 in a white furnace without
   lights).
 
-The finish tuple (:mod:`engine.tracer.finishes`): ``(obj_rows (n_obj, 2) int64 first/count
+The finish tuple (:mod:`engine.tracer.tables.finishes`): ``(obj_rows (n_obj, 2) int64 first/count
 of each object's rows, kinds (n,) int64, params (n, P_COLS), atlas (m, 3) float32, irradiance
 (h, w, 3) float32, lights (L, 6) float64 direction towards the light (unit) and RGB
 irradiance, then glass (2, N_X, N_ALPHA, N_MU), mirror (N_ALPHA, N_MU) and mirror_avg

@@ -121,7 +121,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
     depth_rec : int64 array ``(n_materials,)``: the shallowest depth at which the tree met each
         material is min-ed into it.
     labels : tuple
-        The label tables (:func:`engine.tracer.labels.label_arrays`; empty without labels): a
+        The label tables (:func:`engine.tracer.tables.labels.label_arrays`; empty without labels): a
         hit under a label on the object it lies on (the outer wall, object 0, or a closure
         part: ``labels[LB_OBJECTS]`` holds their bits) is the label's (:mod:`.labels`), its
         shading normal bent by the object's relief, and the labels consulted set their bits

@@ -8,8 +8,8 @@ hit back (``nk = -1``: no label there, or a clear part of one; the object's own 
 follows) or answers for it: children written into ``kids`` (coat or foil mirror branches, and on
 the wall the glass's two branches scaled by the uncovered fraction ``1 - alpha``) and the
 radiance the lit diffuse sheet sends back at once. The label tables are the tuple ``lab`` of
-:func:`engine.tracer.labels.label_arrays` (columns of :mod:`engine.appearance.compiled`,
-:mod:`engine.appearance.decal` and :mod:`engine.appearance.cap_surfaces`); a design without
+:func:`engine.tracer.tables.labels.label_arrays` (their columns are the ``D_``, ``L_``, ``LF_``
+and ``P_`` layouts below); a design without
 labels passes empty tables and costs one length test per hit.
 
 Relief. The caller passes the shading normal the object's relief bends the geometric one to
@@ -35,7 +35,7 @@ centres at half-integers), region codes at the nearest texel.
 
 Sheet model (mm, radiance in the environment's units). ``Irr(n)`` is the environment's
 cosine-convolved irradiance divided by pi (a lat-long table prefiltered once per
-environment, :mod:`engine.tracer.labels`; exactly 1 everywhere in a white furnace), looked up by
+environment, :mod:`engine.tracer.tables.labels`; exactly 1 everywhere in a white furnace), looked up by
 normal; it ignores the bottle's own occlusion (a distant-environment approximation).
 
 * seen from outside (the ray in air): a coat reflects ``Rc`` (the label's ``specular`` at
@@ -87,10 +87,10 @@ from .revolved import segment_v
 from .roots import INLINE, JIT
 from .sampling import env_lookup
 
-# the tuple of label tables (engine.tracer.labels.label_arrays)
+# the tuple of label tables (engine.tracer.tables.labels.label_arrays)
 (LB_ROWS, LB_NODES, LB_F, LB_TEXELS, LB_TEX_I, LB_CODES, LB_REGION_I, LB_FINISH, LB_SIZE, LB_IRR,
  LB_LIGHTS, LB_PLACE, LB_OBJECTS) = range(13)
-# ... then the per-call record buffers (engine.tracer.labels.with_buffers; empty: not recording):
+# ... then the per-call record buffers (engine.tracer.tables.labels.with_buffers; empty: not recording):
 # hits (float64 (cap, H_COLS), int64 (cap, 2)), their count and overflow flag (int64 (2,)), the
 # current sample's radiance without label terms (float64 (3,)), and per sample of the call its
 # radiance without label terms (float64 (S, 3)) and its hits' range (int64 (S, 2))
@@ -100,21 +100,33 @@ LB_HIT_F, LB_HIT_I, LB_HIT_N, LB_REST, LB_SMP_F, LB_SMP_I = range(13, 19)
 H_WR, H_WG, H_WB, H_ALPHA, H_P, H_Q, H_S, H_T = 0, 1, 2, 3, 4, 7, 10, 11
 H_COLS = 12
 H_LABEL, H_FACE = 0, 1
-# columns of engine.appearance.decal.pack_decals rows and of engine.appearance.compiled tables
-# (repeated here as literals because a kernel must not import the appearance package: its
-# source is not part of the kernel cache key; tests check they agree)
-_D_THETA0, _D_THETA1, _D_H0, _D_H1, _D_NT, _D_NH, _D_OFFSET = range(7)
-(_L_DIFFUSE, _L_SPECULAR, _L_TRANSMISSION, _L_FRONT_R, _L_BACK_R, _L_FRONT_TEX, _L_BACK_TEX,
- _L_REGION_MAP, _L_REGION0) = 0, 1, 2, 3, 6, 9, 10, 11, 12
-_F_KIND, _F_DEPTH, _F_GLOSS, _F_N, _F_K, _F_UNDER = 0, 1, 2, 3, 6, 9
-#: Columns of a label's place row (engine.appearance.cap_surfaces.place_rows): its surface
-#: (:data:`WALL`, :data:`CAP_TOP`, :data:`CAP_SKIRT`), the render object it lies on, the band
-#: of the object's arc length ``v`` it may cover (mm; the whole object for the wall), and for a
-#: cap-top print its centre (mm) and the unit direction from its top edge to its bottom edge.
-_P_SURFACE, _P_OBJECT, _P_V0, _P_V1, _P_CX, _P_CY, _P_BX, _P_BY = range(8)
+# The layouts of the label tables, owned here and filled by engine.tracer.tables.labels.
+#: Columns of a decal row (:func:`engine.tracer.tables.labels.pack_decals`): the footprint in
+#: ``(theta, h)``, the grid's node counts and its first node.
+D_THETA0, D_THETA1, D_H0, D_H1, D_NT, D_NH, D_OFFSET = range(7)
+D_COLS = 7
+#: Columns of a label row: coefficients, front and back plain colours (linear RGB), texture rows
+#: of front and back (-1: plain), region map row (-1: none), first finish row and count.
+(L_DIFFUSE, L_SPECULAR, L_TRANSMISSION, L_FRONT_R, L_FRONT_G, L_FRONT_B, L_BACK_R, L_BACK_G,
+ L_BACK_B, L_FRONT_TEX, L_BACK_TEX, L_REGION_MAP, L_REGION0, L_NREGIONS) = range(14)
+L_COLS = 14
+#: Columns of a finish-region row: kind code (:data:`FINISH_CODES`), relief (mm), gloss,
+#: conductor ``n`` and ``k`` per RGB (foils; 0 otherwise), underprint reflectance per RGB.
+LF_KIND, LF_DEPTH, LF_GLOSS, LF_N, LF_K, LF_UNDER = 0, 1, 2, 3, 6, 9
+LF_COLS = 12
+#: Columns of a label's place row: its surface (:data:`WALL`, :data:`CAP_TOP`,
+#: :data:`CAP_SKIRT`), the render object it lies on, the band of the object's arc length ``v``
+#: it may cover (mm; the whole object for the wall), and for a cap-top print its centre (mm)
+#: and the unit direction from its top edge to its bottom edge.
+P_SURFACE, P_OBJECT, P_V0, P_V1, P_CX, P_CY, P_BX, P_BY = range(8)
+P_COLS = 8
 WALL, CAP_TOP, CAP_SKIRT = 0, 1, 2
-#: Finish kind codes (engine.appearance.presets.FINISH_CODES; 0: plain paper).
+#: Surface codes of a place row by ``Label.surface``.
+SURFACE_CODES = {"wall": WALL, "cap-top": CAP_TOP, "cap-skirt": CAP_SKIRT}
+#: Finish kind codes (0: plain paper), and by ``FinishRegion.finish``.
 GOLD_FOIL, SILVER_FOIL, CLEAR_VINYL, CLEAR_VINYL_WHITE, EMBOSS, VARNISH = 1, 2, 3, 4, 5, 6
+FINISH_CODES = {"gold_foil": GOLD_FOIL, "silver_foil": SILVER_FOIL, "clear_vinyl": CLEAR_VINYL,
+                "clear_vinyl_white": CLEAR_VINYL_WHITE, "emboss": EMBOSS, "varnish": VARNISH}
 #: Index of the paper's coat and of varnish (engine.appearance.presets.COAT_IOR).
 COAT_IOR = 1.5
 #: First bit of the labels in a sample's object mask (objects use the bits below).
@@ -135,10 +147,10 @@ def label_bit(k):
 def decal_lookup(rows, nodes, k, theta, h):
     """``(s, t)`` of surface point ``(theta, h)`` on label ``k``'s decal, ``(nan, nan)`` off the
     label: the lookup of :mod:`engine.appearance.decal` (module rule there), compiled."""
-    t0 = rows[k, _D_THETA0]
-    nt, nh, first = int(rows[k, _D_NT]), int(rows[k, _D_NH]), int(rows[k, _D_OFFSET])
-    fx = ((theta - t0) % (2.0 * math.pi)) / (rows[k, _D_THETA1] - t0) * (nt - 1)
-    fy = (h - rows[k, _D_H0]) / (rows[k, _D_H1] - rows[k, _D_H0]) * (nh - 1)
+    t0 = rows[k, D_THETA0]
+    nt, nh, first = int(rows[k, D_NT]), int(rows[k, D_NH]), int(rows[k, D_OFFSET])
+    fx = ((theta - t0) % (2.0 * math.pi)) / (rows[k, D_THETA1] - t0) * (nt - 1)
+    fy = (h - rows[k, D_H0]) / (rows[k, D_H1] - rows[k, D_H0]) * (nh - 1)
     if not (fx >= 0.0 and fx <= nt - 1 and fy >= 0.0 and fy <= nh - 1):
         return math.nan, math.nan
     j, i = min(int(fx), nt - 2), min(int(fy), nh - 2)
@@ -236,8 +248,8 @@ def _top_st(lab, k, px, py):
     ``t`` grows along the place row's unit direction ``b``, ``s`` along ``(-b_y, b_x)``, to the
     right of a reader looking down with the print's bottom edge towards them)."""
     pl = lab[LB_PLACE][k]
-    x, y = px - pl[_P_CX], py - pl[_P_CY]
-    bx, by = pl[_P_BX], pl[_P_BY]
+    x, y = px - pl[P_CX], py - pl[P_CY]
+    bx, by = pl[P_BX], pl[P_BY]
     return 0.5 + (-by * x + bx * y) / lab[LB_SIZE][k, 0], 0.5 + (bx * x + by * y) / lab[LB_SIZE][k, 1]
 
 
@@ -249,9 +261,9 @@ def find_label(lab, obj, theta, h, v, px, py):
     rows, lf, place = lab[LB_ROWS], lab[LB_F], lab[LB_PLACE]
     bits = np.int64(0)
     for k in range(rows.shape[0] - 1, -1, -1):
-        if int(place[k, _P_OBJECT]) != obj or not (v >= place[k, _P_V0] and v <= place[k, _P_V1]):
+        if int(place[k, P_OBJECT]) != obj or not (v >= place[k, P_V0] and v <= place[k, P_V1]):
             continue
-        if int(place[k, _P_SURFACE]) == CAP_TOP:
+        if int(place[k, P_SURFACE]) == CAP_TOP:
             s, t = _top_st(lab, k, px, py)
             if not (s >= 0.0 and s <= 1.0 and t >= 0.0 and t <= 1.0):
                 continue
@@ -261,14 +273,14 @@ def find_label(lab, obj, theta, h, v, px, py):
                 continue
         bits |= label_bit(k)
         alpha = 1.0
-        m = int(lf[k, _L_FRONT_TEX])
+        m = int(lf[k, L_FRONT_TEX])
         if m >= 0:
             alpha = texel(lab, m, s, t)[3]
         code = 0
-        q = int(lf[k, _L_REGION_MAP])
+        q = int(lf[k, L_REGION_MAP])
         if q >= 0:
             code = _code_at(lab, q, s, t)
-            if code > 0 and int(lab[LB_FINISH][int(lf[k, _L_REGION0]) + code - 1, _F_KIND]) == CLEAR_VINYL:
+            if code > 0 and int(lab[LB_FINISH][int(lf[k, L_REGION0]) + code - 1, LF_KIND]) == CLEAR_VINYL:
                 alpha = 0.0
         if alpha > 0.0:
             return k, s, t, min(alpha, 1.0), code, bits
@@ -371,8 +383,8 @@ def _emboss_normal(lab, k, q, code, depth, s, t, px, py, nx, ny, nz):
     gt = (_indicator(lab, q, code, s, t + dt) - _indicator(lab, q, code, s, t - dt)) / (2.0 * dt)
     gu = depth * gs / lab[LB_SIZE][k, 0]  # dH / d(arc length around), s grows with azimuth
     gv = depth * gt / lab[LB_SIZE][k, 1]  # dH / d(slant down the wall), t grows downwards
-    if int(lab[LB_PLACE][k, _P_SURFACE]) == CAP_TOP:  # s and t grow along fixed directions
-        bx, by = lab[LB_PLACE][k, _P_BX], lab[LB_PLACE][k, _P_BY]
+    if int(lab[LB_PLACE][k, P_SURFACE]) == CAP_TOP:  # s and t grow along fixed directions
+        bx, by = lab[LB_PLACE][k, P_BX], lab[LB_PLACE][k, P_BY]
         ux, uy, uz, vx, vy, vz = -by, bx, 0.0, bx, by, 0.0
     else:
         rho = math.sqrt(px * px + py * py)
@@ -382,7 +394,7 @@ def _emboss_normal(lab, k, q, code, depth, s, t, px, py, nx, ny, nz):
     a = ux * nx + uy * ny + uz * nz
     ux, uy, uz = ux - a * nx, uy - a * ny, uz - a * nz
     hu = math.sqrt(ux * ux + uy * uy + uz * uz)
-    if int(lab[LB_PLACE][k, _P_SURFACE]) == CAP_TOP:
+    if int(lab[LB_PLACE][k, P_SURFACE]) == CAP_TOP:
         a = vx * nx + vy * ny + vz * nz
         vx, vy, vz = vx - a * nx, vy - a * ny, vz - a * nz
     hv = math.sqrt(vx * vx + vy * vy + vz * vz)
@@ -406,11 +418,11 @@ def face_colour(lab, k, face, s_face, t):
     """Linear RGB of face ``face`` (0 front, 1 back) of label ``k`` at that face's artwork
     coordinates (the texel, else the plain colour)."""
     lf = lab[LB_F]
-    m = int(lf[k, _L_FRONT_TEX]) if face == 0 else int(lf[k, _L_BACK_TEX])
+    m = int(lf[k, L_FRONT_TEX]) if face == 0 else int(lf[k, L_BACK_TEX])
     if m >= 0:
         r, g, b, _ = texel(lab, m, s_face, t)
         return r, g, b
-    col = _L_FRONT_R if face == 0 else _L_BACK_R
+    col = L_FRONT_R if face == 0 else L_BACK_R
     return lf[k, col], lf[k, col + 1], lf[k, col + 2]
 
 
@@ -503,16 +515,16 @@ def label_hit(lab, scene, env_p, obj, part, px, py, pz, nx, ny, nz, bx, by, bz, 
     outside = inc == AIR
     kind, frow = 0, -1
     if code > 0:
-        frow = int(lf[k, _L_REGION0]) + code - 1
-        kind = int(lab[LB_FINISH][frow, _F_KIND])
-    diff, trans = lf[k, _L_DIFFUSE], lf[k, _L_TRANSMISSION]
+        frow = int(lf[k, L_REGION0]) + code - 1
+        kind = int(lab[LB_FINISH][frow, LF_KIND])
+    diff, trans = lf[k, L_DIFFUSE], lf[k, L_TRANSMISSION]
     face = 0 if outside else 1
     s_face = s if outside else 1.0 - s  # back_coordinates
     cr, cg, cb = face_colour(lab, k, face, s_face, t)
     # shading normal (outward): the surface's relief, then an embossed region's
     sx, sy, sz = bx, by, bz
     if outside and kind == EMBOSS:
-        sx, sy, sz = _emboss_normal(lab, k, int(lf[k, _L_REGION_MAP]), code, lab[LB_FINISH][frow, _F_DEPTH],
+        sx, sy, sz = _emboss_normal(lab, k, int(lf[k, L_REGION_MAP]), code, lab[LB_FINISH][frow, LF_DEPTH],
                                     s, t, px, py, bx, by, bz)
     # irradiance / pi on the outer (o*) and the inner (i*) side: environment, then lights
     or_, og, ob = env_lookup(irr, scale, rot, sx, sy, sz)
@@ -531,10 +543,10 @@ def label_hit(lab, scene, env_p, obj, part, px, py, pz, nx, ny, nz, bx, by, bz, 
         cos_i = max(-(dx * sx + dy * sy + dz * sz), 1e-6)
         if kind == GOLD_FOIL or kind == SILVER_FOIL:
             f = lab[LB_FINISH][frow]
-            g = f[_F_GLOSS]
-            rr = fresnel_conductor(cos_i, f[_F_N], f[_F_K])
-            rg = fresnel_conductor(cos_i, f[_F_N + 1], f[_F_K + 1])
-            rb = fresnel_conductor(cos_i, f[_F_N + 2], f[_F_K + 2])
+            g = f[LF_GLOSS]
+            rr = fresnel_conductor(cos_i, f[LF_N], f[LF_K])
+            rg = fresnel_conductor(cos_i, f[LF_N + 1], f[LF_K + 1])
+            rb = fresnel_conductor(cos_i, f[LF_N + 2], f[LF_K + 2])
             _mirror_kid(kids, 0, dx, dy, dz, sx, sy, sz, nx, ny, nz, alpha * g * rr, alpha * g * rg, alpha * g * rb)
             nk = 1
             # the rough part of the foil: a lobe as wide as the hemisphere
@@ -542,9 +554,9 @@ def label_hit(lab, scene, env_p, obj, part, px, py, pz, nx, ny, nz, bx, by, bz, 
         else:
             r0, _ = fresnel_dielectric(1.0, COAT_IOR)
             rf, _ = fresnel_dielectric(cos_i, COAT_IOR)
-            rc = min(1.0, lf[k, _L_SPECULAR] * rf / r0)
+            rc = min(1.0, lf[k, L_SPECULAR] * rf / r0)
             if kind == VARNISH:
-                rc += lab[LB_FINISH][frow, _F_GLOSS] * rf * (1.0 - rc)
+                rc += lab[LB_FINISH][frow, LF_GLOSS] * rf * (1.0 - rc)
             if rc > 0.0:
                 _mirror_kid(kids, 0, dx, dy, dz, sx, sy, sz, nx, ny, nz, alpha * rc, alpha * rc, alpha * rc)
                 nk = 1
@@ -554,7 +566,7 @@ def label_hit(lab, scene, env_p, obj, part, px, py, pz, nx, ny, nz, bx, by, bz, 
             pb = base * (diff * ob + trans * ib)
             if kind == CLEAR_VINYL_WHITE:  # the ink over the white underprint
                 f = lab[LB_FINISH][frow]
-                pr, pg, pb = pr * f[_F_UNDER], pg * f[_F_UNDER + 1], pb * f[_F_UNDER + 2]
+                pr, pg, pb = pr * f[LF_UNDER], pg * f[LF_UNDER + 1], pb * f[LF_UNDER + 2]
     else:  # the back face, seen through the glass: the ray ends on the paper
         pr, pg, pb = diff * ir + trans * or_, diff * ig + trans * og, diff * ib + trans * ob
     er, eg, eb = _emit(alpha, pr, cr, qr), _emit(alpha, pg, cg, qg), _emit(alpha, pb, cb, qb)

@@ -27,17 +27,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..appearance.closure_parts import cap_material
-from ..appearance.closures import finish_of
-from .kernels import intersect as K
-from .kernels import profile as R
-from .kernels.bumps import FROSTED, P_ALPHA, P_COLS, P_V0, P_V1
-from .kernels.labels import LABEL_BIT0
-from .ggx_albedo import albedo_tables, conductor_average, dielectric_average
-from .lighting import irradiance_table, light_table
-from .kernels.materials import CONDUCTOR, MAT_COLS, MF_ALBEDO, MF_COAT_IOR, MF_K, MF_N, MF_TINT, PLASTIC
-from .kernels.microfacet import MF_FAVG
-from .render_objects import AIR, BOTTOM, LIQUID, OUTER_WALL, _chain_bbox, _Tables, cached
+from ...appearance.closure_parts import cap_material
+from ...appearance.closures import finish_of
+from ..kernels import intersect as K
+from ..kernels import profile as R
+from ..kernels.bumps import FROSTED, P_ALPHA, P_COLS, P_V0, P_V1
+from ..kernels.labels import LABEL_BIT0
+from ..ggx_albedo import albedo_tables, conductor_average, dielectric_average
+from ..lighting import irradiance_table, light_table
+from ..kernels.materials import CONDUCTOR, MAT_COLS, MF_ALBEDO, MF_COAT_IOR, MF_K, MF_N, MF_TINT, PLASTIC
+from ..kernels.microfacet import MF_FAVG
+from ..render_objects import AIR, BOTTOM, LIQUID, OUTER_WALL, _chain_bbox, _Tables, cached
 
 #: Objects the kernels' int64 object masks can tell apart (the bits above are the labels').
 MAX_OBJECTS = LABEL_BIT0
@@ -85,7 +85,7 @@ def material_row(material):
 def build_cap_tables(cap, finish, edge: float) -> CapTables:
     """Compile ``cap`` sized from ``finish`` (:class:`~engine.appearance.closures.Finish`) into
     render rows; ``edge`` is the bottle's edge distance (mm, ``F_EDGE``)."""
-    from ..appearance.closure_shapes import closure_parts
+    from ...appearance.closure_shapes import closure_parts
     parts = closure_parts(cap, finish, cap_material(cap))
     tab = _Tables()
     mats_i, mats_f = [], []
@@ -174,7 +174,7 @@ def finish_arrays(design, assets, geom, cap: CapTables | None, scene: tuple, tex
     n_obj = scene[4].shape[0]
     if not design.bumps and cap is None:
         return empty_finish(n_obj)
-    from ..appearance.bump_tables import BOTTLE, bump_tables
+    from .bump_rows import BOTTLE, bump_tables
     bt = bump_tables(design, assets)
     n_bottle = geom.obj_i.shape[0]
     bottle_objs = [OUTER_WALL]

@@ -2,17 +2,18 @@
 
 Design rule: :mod:`engine.cli` owns the program; this module adds two subparsers and their
 handlers. Each handler loads the project, makes the one change, runs the project's own check
-(:func:`engine.files.project.check_design`) and saves atomically (the previous file kept as
+(:func:`engine.operations.check.check_design`) and saves atomically (the previous file kept as
 ``.bak``), so a refused change leaves the file untouched. Errors reach ``engine.cli.main``,
 which prints one line and exits with status 2.
 """
 from __future__ import annotations
 
 import dataclasses
-import os
 
+from ..color import hex_to_linear
 from ..errors import shown
-from ..limits import BUMP_REPEAT_RANGE, GGX_ALPHA_RANGE, MAX_BUMP_DEPTH_MM, MAX_EXTENT_MM, check_range
+from ..io.read import read_bounded
+from ..limits import MAX_ARTWORK_BYTES, BUMP_REPEAT_RANGE, GGX_ALPHA_RANGE, MAX_BUMP_DEPTH_MM, MAX_EXTENT_MM, check_range
 from ..model.design import BUMP_KINDS, BUMP_SURFACES, CAP_KINDS, CAP_MATERIALS, THREAD_GEOMETRY
 
 CAP_CHOICES = CAP_KINDS + ("none",)
@@ -58,18 +59,15 @@ def add_parsers(sub) -> None:
 
 def srgb_hex_to_linear(text: str) -> tuple[float, float, float]:
     """``'#RRGGBB'`` (or ``RRGGBB``) in sRGB to linear RGB in 0..1; ``ValueError`` otherwise."""
-    s = text.strip().lstrip("#")
-    if len(s) != 6 or any(c not in "0123456789abcdefABCDEF" for c in s):
+    rgb = hex_to_linear(text)
+    if rgb is None:
         raise ValueError(f"--colour {shown(text)} is not a colour like '#c8a040'")
-    out = []
-    for i in (0, 2, 4):
-        c = int(s[i:i + 2], 16) / 255.0
-        out.append(c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4)
-    return tuple(round(c, 6) for c in out)
+    return rgb
 
 
 def _save(path, design, assets) -> None:
-    from ..files.project import check_design, save_project
+    from ..files.project import save_project
+    from ..operations.check import check_design
     check_design(design, assets)
     save_project(path, design, assets)
 
@@ -77,8 +75,8 @@ def _save(path, design, assets) -> None:
 def cmd_cap(args) -> int:
     """``cap PROJECT set KIND [--colour HEX] [--material M] [--height MM] [--count N]``."""
     from ..files.project import load_project
-    from .closure_shapes import default_cap
-    from .closures import closure_trade
+    from ..appearance.closure_shapes import default_cap
+    from ..appearance.closures import closure_trade
     design, assets = load_project(args.project)
     if args.kind == "none":
         _save(args.project, dataclasses.replace(design, cap=None), assets)
@@ -112,7 +110,7 @@ def cmd_bump(args) -> int:
     from ..files.project import load_project
     design, assets = load_project(args.project)
     if args.action == "list":
-        from .bump_tables import thread_drawings
+        from ..appearance.bands import thread_drawings
         for i, (t, drawing) in enumerate(zip(design.bumps, thread_drawings(design))):
             where = "" if t.on == "bottle" else (" on the cap" if design.cap is not None else
                                                  " on the cap (no cap: not drawn)")
@@ -140,7 +138,7 @@ def cmd_bump(args) -> int:
 
 def _check_cap_band(design, kind: str, z0: float, z1: float, CliError) -> None:
     """Refuse a tile on the cap that could not be drawn: no cap, a thread, a band off the skirt."""
-    from .cap_surfaces import cap_surface
+    from ..appearance.cap_surfaces import cap_surface
     if kind == "thread":
         raise CliError("a thread belongs to the glass finish, not to the cap (drop --on cap)")
     if design.cap is None:
@@ -152,7 +150,7 @@ def _check_cap_band(design, kind: str, z0: float, z1: float, CliError) -> None:
 
 
 def _new_tile(args, design, assets, CliError):
-    from .tile_defaults import add_image_tile, new_tile
+    from ..appearance.tile_defaults import add_image_tile, new_tile
     what = args.what or ""
     if args.z0 is None or args.z1 is None:
         raise CliError("bump add needs the band's heights: --z0 MM --z1 MM")
@@ -172,12 +170,7 @@ def _new_tile(args, design, assets, CliError):
         _check_cap_band(design, what, args.z0, args.z1, CliError)
     if what.startswith("image:"):
         path = what[len("image:"):]
-        from ..files.project import DEFAULT_LIMITS
-        size = os.path.getsize(path)
-        if size > DEFAULT_LIMITS.asset_bytes:
-            raise CliError(f"{shown(path)} is {size} bytes, larger than any relief image should be")
-        with open(path, "rb") as fh:
-            data = fh.read()
+        data = read_bounded(path, MAX_ARTWORK_BYTES, "relief image")
         tile, name = add_image_tile(design, assets, MAP_MODES[args.map], path, data, args.z0,
                                     args.z1, **given)
         assets[name] = data

@@ -8,24 +8,22 @@ thread is laid out from its standard (:func:`engine.appearance.threads.thread_la
 :func:`bump_tables` does this for a whole design: the tiles on the bottle's outer surface
 (bands placed by height, converted to the section's arc length ``v``), the closure's own
 reliefs, and the designer's tiles on the cap (bands placed by height above the lower edge of
-its straight skirt, :func:`cap_band`), with one float32 atlas holding every relief image.
-A thread drawn as true geometry (:func:`thread_drawings`) gets no relief row: the tracer
+its straight skirt, :func:`engine.appearance.bands.cap_band`), with one float32 atlas holding every relief image.
+A thread drawn as true geometry (:func:`engine.appearance.bands.thread_drawings`) gets no relief row: the tracer
 raises it as glass. Units mm.
 """
 from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
-from ..geometry.chain import locate, radius_at
-from ..geometry.validate import body_profile
-from ..model.design import IMAGE_BUMPS
-from ..tracer.kernels import bumps as K
-from .relief_image import relief_texture
-from .threads import thread_layout, thread_rendering
+from ...model.design import IMAGE_BUMPS
+from ..kernels import bumps as K
+from .relief_textures import relief_texture
+from ...appearance.bands import band_coordinates, cap_band, thread_drawings
+from ...appearance.threads import thread_layout
 
 KERNEL_KINDS = {"knurl": K.KNURL, "stipple": K.STIPPLE, "flutes": K.FLUTES, "facets": K.FACETS,
                 "diamond": K.DIAMOND, "thread": K.THREAD, "frosted": K.FROSTED,
@@ -50,99 +48,6 @@ class BumpTables:
     atlas: np.ndarray
     surfaces: tuple[str, ...]
     names: tuple[str, ...]
-
-
-def band_coordinates(design, z0: float, z1: float):
-    """``(v0, v1, radius)`` of the band of heights ``z0..z1`` on the outer wall: ``v`` as the
-    tracer measures it (round bottles: arc length from the axis along the outer section;
-    otherwise the height) and the reference radius (the wall's radius at mid-band, of the
-    first section). ``None`` for a band outside the wall (clipped to it otherwise)."""
-    prof = body_profile(design.shape)
-    wall = prof.sections[0].outer_wall
-    lo, hi = max(z0, wall[0].p0[1]), min(z1, wall[-1].p1[1])
-    if not hi - lo > 1e-6:
-        return None
-    radius = float(radius_at(wall, 0.5 * (lo + hi)))
-    if design.shape.cross_section != "round":
-        return float(lo), float(hi), radius
-    base = sum(sg.length for sg in prof.sections[0].outer_base)
-    starts = np.concatenate([[0.0], np.cumsum([sg.length for sg in wall])])
-    idx, t = locate(wall, np.array([lo, hi]))
-    v = base + starts[idx] + t * np.array([wall[i].length for i in idx])
-    return float(v[0]), float(v[1]), radius
-
-
-def thread_drawings(design) -> tuple:
-    """How each of ``design``'s bump tiles that is a thread is drawn: a tuple as long as
-    ``design.bumps``, a :class:`~engine.appearance.threads.ThreadRendering` for a thread and
-    ``None`` for any other tile. The rule is :func:`~engine.appearance.threads.thread_rendering`;
-    this adds what it needs from the shape: the wall's thickness at mid-band and whether true
-    geometry can be built there (a round neck, a raised ridge, its band on one straight piece
-    of the outer wall that no earlier true thread uses, room for its turns). Cached by
-    ``(shape, bumps)``."""
-    return _thread_drawings(design.shape, design.bumps)
-
-
-@lru_cache(maxsize=32)
-def _thread_drawings(shape, bumps) -> tuple:
-    from ..geometry.segments import Line
-    from ..model.design import Design
-    from .closures import finish_of
-    design = Design(shape=shape, bumps=bumps)
-    prof = body_profile(shape)
-    wall, inner = prof.sections[0].outer_wall, prof.sections[0].inner_wall
-    neck = 2.0 * finish_of(design).r_neck
-    taken, out = set(), []
-    for tile in bumps:
-        if tile.kind != "thread" or tile.on != "bottle":
-            out.append(None)
-            continue
-        lo, hi = max(tile.z0, wall[0].p0[1]), min(tile.z1, wall[-1].p1[1])
-        mid = 0.5 * (lo + hi)
-        thick = float(radius_at(wall, mid) - radius_at(inner, mid)) if hi > lo else math.nan
-        piece = next((j for j, sg in enumerate(wall) if isinstance(sg, Line) and sg.p1[1] > sg.p0[1]
-                      and sg.p0[1] <= lo + 1e-9 and sg.p1[1] >= hi - 1e-9), None)
-        band = band_coordinates(design, tile.z0, tile.z1)
-        turns = thread_layout(tile, band[1] - band[0], neck).turns if band is not None else 0.0
-        if shape.cross_section != "round":
-            obstacle = "a round neck"
-        elif band is None:
-            obstacle = "its band on the wall"
-        elif tile.inverted or not tile.depth > 0.0:
-            obstacle = "a raised ridge (not an inverted or flat thread)"
-        elif piece is None:
-            obstacle = "its band on one straight piece of the neck"
-        elif not turns > 0.0:
-            obstacle = "room on its band for part of a turn"
-        elif piece in taken:
-            obstacle = "a straight piece no other true thread uses"
-        else:
-            obstacle = ""
-        drawing = thread_rendering(tile.geometry, tile.depth, thick, obstacle, lo, hi)
-        if drawing.mode == "true":
-            taken.add(piece)
-        out.append(drawing)
-    return tuple(out)
-
-
-def cap_band(design, z0: float, z1: float):
-    """``(part name, v0, v1, radius)``: where the band of heights ``z0..z1`` (mm above the
-    lower edge of the closure's straight skirt, as a skirt print is placed:
-    :func:`engine.appearance.cap_surfaces.cap_surface`) lies on the skirt, as the tracer
-    measures ``v`` on that part (arc length along its chain); ``None`` without a cap, for a
-    closure without a straight skirt (a crown), or where the band misses the skirt."""
-    from ..errors import DesignError
-    from .cap_surfaces import cap_surface
-    from .closures import closure_geometry
-    try:
-        skirt = cap_surface(design, "cap-skirt")
-    except DesignError:
-        return None
-    a, b = max(z0, 0.0), min(z1, skirt.height_mm)
-    if not b - a > 1e-6:
-        return None
-    part = closure_geometry(design).parts[skirt.part]
-    return part.name, skirt.v0 + a, skirt.v0 + b, skirt.radius
 
 
 def tile_params(tile, v0: float, v1: float, radius: float, neck_diameter: float = 0.0,
@@ -202,7 +107,7 @@ def bump_tables(design, assets) -> BumpTables:
     """:class:`BumpTables` of ``design``: its bump tiles on the bottle's outer surface (bands
     outside the wall left out), then its closure's reliefs. Relief images are decoded from
     ``assets`` (name -> bytes; cached by content)."""
-    from .closures import closure_geometry, finish_of
+    from ...appearance.closures import closure_geometry, finish_of
     kinds, rows, surfaces, names, atlas = [], [], [], [], []
     count = 0
     neck = 2.0 * finish_of(design).r_neck

@@ -2,7 +2,7 @@
 
 Design rule: the sweep is the *same* relief the bump draws: every vertex height comes from the
 compiled kernel (:func:`engine.tracer.kernels.bumps.relief_grid`) on the same parameter row
-(:func:`engine.appearance.bump_tables.tile_params`), the row the tracer's true thread
+(:func:`engine.tracer.tables.bump_rows.tile_params`), the row the tracer's true thread
 (:mod:`engine.tracer.kernels.helix`) is raised from too, so the mesh, the relief and the
 tracer's geometry are one thread. The ridge's cross-section (its profile across the pitch, standing ``h`` off the
 neck) is closed by a base :data:`EMBED_MM` inside the glass, swept along each start's helix
@@ -17,8 +17,9 @@ import math
 import numpy as np
 
 from ..geometry.validate import body_profile
-from ..tracer.kernels import bumps as K
-from .bump_tables import band_coordinates, tile_params
+from .kernels import bumps as K
+from ..appearance.bands import band_coordinates
+from .tables.bump_rows import tile_params
 
 #: How far the swept solid reaches into the neck's glass below the surface (mm).
 EMBED_MM = 0.3

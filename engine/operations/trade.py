@@ -15,7 +15,7 @@ import contextlib
 
 from ..errors import GlassbenchError
 from ..geometry import capacity
-from . import fill
+from ..model import fill
 
 #: The keys of :func:`trade_numbers` that are numbers (``name`` is the design's name).
 NUMBER_KEYS = ("brimful_ml", "fill_ml", "fill_height_mm", "fill_point_below_top_mm",

@@ -20,8 +20,9 @@ import sys
 from .. import limits as L
 from ..errors import GlassbenchError, shown
 from ..model.design import LABEL_SURFACES, Label, LabelSide
-from .images import image_extension, read_image_file, srgb_to_linear
-from .presets import DEFAULT_SHEET, SHEET_PRESETS
+from ..appearance.images import image_extension, read_image_file
+from ..color import hex_to_linear
+from ..appearance.presets import DEFAULT_SHEET, SHEET_PRESETS
 
 
 class LabelCliError(GlassbenchError, ValueError):
@@ -72,7 +73,7 @@ def _warn(command: str, report) -> None:
 def cmd_labels(args) -> int:
     """``labels PROJECT [--json]``: area (mm^2), die-line, largest strain and warnings."""
     from ..files.project import load_project
-    from .report import label_report
+    from ..appearance.report import label_report
     design, _ = load_project(args.project)
     reports = [label_report(design, i) for i in range(len(design.labels))]
     for r in reports:
@@ -119,8 +120,8 @@ def find_label(design, key: str) -> int:
 def cmd_dieline(args) -> int:
     """``dieline PROJECT LABEL -o OUT``: the flat shape with dimensions, 1:1."""
     from ..files.project import load_project
-    from .report import label_report
-    from .dieline_files import FORMATS, write_dieline
+    from ..appearance.report import label_report
+    from ..appearance.dieline_files import FORMATS, write_dieline
     if os.path.splitext(args.output)[1].lower() not in FORMATS:
         raise LabelCliError(f"the die-line must end in .svg, .pdf or .dxf, got {shown(args.output, 200)}")
     design, _ = load_project(args.project)
@@ -134,8 +135,7 @@ def cmd_dieline(args) -> int:
 def parse_colour(text: str):
     """Linear RGB of ``#rrggbb`` (sRGB) or ``r,g,b`` (linear, 0..1), or ``None`` if neither."""
     if re.fullmatch(r"#[0-9a-fA-F]{6}", text):
-        srgb = [int(text[i:i + 2], 16) / 255.0 for i in (1, 3, 5)]
-        return tuple(float(v) for v in srgb_to_linear(srgb))
+        return hex_to_linear(text)
     parts = text.split(",")
     if len(parts) == 3:
         try:
@@ -168,8 +168,9 @@ def camera_azimuth_deg(camera) -> float:
 
 def cmd_label(args) -> int:
     """``label PROJECT add IMAGE ...`` / ``label PROJECT remove LABEL``; saves the project."""
-    from ..files.project import check_design, load_project, save_project
-    from .cap_surfaces import cap_surface
+    from ..files.project import load_project, save_project
+    from ..operations.check import check_design
+    from ..appearance.cap_surfaces import cap_surface
     if args.action == "remove":
         design, assets = load_project(args.project)
         i = find_label(design, args.name)
@@ -218,7 +219,7 @@ def cmd_label(args) -> int:
                   cap_y_mm=args.y)
     new = dataclasses.replace(design, labels=design.labels + (label,))
     check_design(new, assets)
-    from .report import label_report
+    from ..appearance.report import label_report
     report = label_report(new, len(new.labels) - 1)
     _warn("label", report)
     save_project(args.project, new, assets)

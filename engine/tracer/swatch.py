@@ -2,7 +2,7 @@
 
 Design rule: the swatch shows the relief field itself, not a render: the same compiled height
 and slopes the tracer uses (:func:`engine.tracer.kernels.bumps.relief_grid`, on the same row
-from :func:`engine.appearance.bump_tables.tile_params`) over a flat patch of the band, lit by
+from :func:`engine.tracer.tables.bump_rows.tile_params`) over a flat patch of the band, lit by
 one light with numpy (diffuse plus a highlight), so a parameter edit shows at once. The patch
 spans about three repeats around and the matching height of the band (an image tile: one
 copy, letterboxed), top of the picture at the top of the band; relief too gentle to see at
@@ -15,10 +15,11 @@ import math
 
 import numpy as np
 
+from ..color import tonemap_srgb8
 from ..model.design import IMAGE_BUMPS
-from ..tracer.kernels import bumps as K
-from .bump_tables import tile_params, tiles_around
-from .relief_image import relief_texture
+from .kernels import bumps as K
+from .tables.bump_rows import tile_params, tiles_around
+from .tables.relief_textures import relief_texture
 
 LIGHT = np.array([-0.45, 0.55, 0.70]) / np.linalg.norm([-0.45, 0.55, 0.70])
 GLASS_RGB = np.array([0.62, 0.74, 0.78])
@@ -37,16 +38,10 @@ def _shade(nx, ny, nz, spec_power=40.0):
     return (0.18 + 0.62 * ndl)[..., None] * GLASS_RGB + 0.6 * spec[..., None]
 
 
-def _to_srgb8(rgb: np.ndarray) -> np.ndarray:
-    c = np.clip(rgb, 0.0, 1.0)
-    c = np.where(c <= 0.0031308, 12.92 * c, 1.055 * c ** (1 / 2.4) - 0.055)
-    return np.round(c * 255.0).astype(np.uint8)
-
-
 def swatch_rgb(tile, assets=None, size: tuple[int, int] = (96, 96), radius: float = 30.0) -> np.ndarray:
     """The swatch of ``tile`` (see the module rule) ``size = (width, height)`` pixels; the
     tile is laid on a band of its own height at ``radius`` mm. Raises like
-    :func:`~engine.appearance.relief_image.relief_texture` for an unusable image."""
+    :func:`~engine.tracer.tables.relief_textures.relief_texture` for an unusable image."""
     w, h = int(size[0]), int(size[1])
     band = max(tile.z1 - tile.z0, 1e-3)
     texture, atlas = None, np.zeros((1, 3), np.float32)
@@ -60,7 +55,7 @@ def swatch_rgb(tile, assets=None, size: tuple[int, int] = (96, 96), radius: floa
         d2 = ((x - 0.35 * w) / w) ** 2 + ((y - 0.35 * h) / h) ** 2
         spread = 0.02 + 0.5 * tile.alpha
         glow = np.exp(-d2 / (2.0 * spread * spread))
-        return _to_srgb8((0.25 + 0.35 * glow)[..., None] * GLASS_RGB + 0.45 * glow[..., None])
+        return tonemap_srgb8((0.25 + 0.35 * glow)[..., None] * GLASS_RGB + 0.45 * glow[..., None])
     period = 2.0 * math.pi * radius / p[K.P_REPEAT]
     if kind == K.MAP:
         span = min(p[K.P_SPAN], 2.0 * math.pi / p[K.P_REPEAT]) * radius
@@ -85,4 +80,4 @@ def swatch_rgb(tile, assets=None, size: tuple[int, int] = (96, 96), radius: floa
     rgb = _shade(-hu / norm, -hv / norm, 1.0 / norm)
     inside = ((uu >= u_start) & (uu <= u_start + across) & (vv >= v_start) & (vv <= v_start + up))
     rgb[~inside] = 0.12
-    return _to_srgb8(rgb)
+    return tonemap_srgb8(rgb)

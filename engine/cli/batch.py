@@ -8,7 +8,7 @@ and prints where everything went. Errors reach ``engine.cli.main``, which prints
 """
 from __future__ import annotations
 
-from .jobfile import FORMATS, read_job, turntable_job
+from ..batch.jobfile import FORMATS, read_job, turntable_job
 
 
 def add_parsers(sub) -> None:
@@ -61,9 +61,9 @@ def cmd_turntable(args) -> int:
 
 
 def _run(job, args) -> int:
-    from .progress import BatchProgress, TerminalProgress
-    from .run import run_batch
-    from .source import JobError
+    from ..batch.progress import BatchProgress, TerminalProgress
+    from ..batch.run import run_batch
+    from ..batch.source import JobError
     for name in ("workers", "threads"):
         v = getattr(args, name)
         if v is not None and not 1 <= v <= 1024:

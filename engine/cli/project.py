@@ -1,0 +1,108 @@
+"""``glassbench info | export-mesh | new``: a project's trade numbers, its glass as a mesh, a
+project from a DXF section.
+
+Design rule: small functions over the engine's public API (:mod:`engine.cli` rule); units mm.
+"""
+from __future__ import annotations
+
+import json
+import math
+from pathlib import Path
+
+from .. import limits
+from ..errors import CliError, ProjectError, shown
+from ..geometry.shape import BottleShape
+from ..model.design import Camera, Design, RenderSettings
+from ..operations.trade import format_table, trade_numbers
+
+
+def add_parsers(sub) -> None:
+    """The subparsers of ``info``, ``export-mesh`` and ``new``."""
+    info = sub.add_parser("info", help="capacity, glass volume and size of a project")
+    info.add_argument("project")
+    info.add_argument("--json", action="store_true", help="print one JSON object")
+    mesh = sub.add_parser("export-mesh", help="write the bottle as STL/OBJ/PLY/glTF")
+    mesh.add_argument("project")
+    mesh.add_argument("out")
+    mesh.add_argument("--tol", type=float, default=0.05, help="chordal tolerance (mm)")
+    new = sub.add_parser("new", help="create a project from a DXF section")
+    new.add_argument("--from-dxf", required=True, metavar="FILE.dxf")
+    new.add_argument("out", metavar="OUT.glassbench")
+    new.add_argument("--wall", type=float, default=3.0, help="wall thickness (mm)")
+    new.add_argument("--base", type=float, default=6.0, help="base thickness (mm)")
+    new.add_argument("--name", default=None)
+
+
+def cmd_info(args) -> int:
+    """``info PROJECT [--json]``: trade numbers (ml, mm, cm^3, g) as a table or JSON."""
+    from ..files.project import load_project
+    design, _ = load_project(args.project)
+    numbers = trade_numbers(design)
+    if args.json:
+        print(json.dumps(numbers, indent=2, allow_nan=False))
+    else:
+        print(format_table(numbers))
+    return 0
+
+
+# --------------------------------------------------------------------------- export-mesh
+
+def cmd_export_mesh(args) -> int:
+    """``export-mesh PROJECT OUT [--tol MM]``: the glass body as a mesh (format from OUT's suffix)."""
+    from ..files.project import load_project
+    limits.check_range("--tol", args.tol, (limits.MIN_TOL_MM, limits.MAX_TOL_MM), "mm")
+    design, _ = load_project(args.project)
+    try:
+        from ..files.mesh_export import export_mesh
+    except ImportError as exc:
+        raise CliError(f"mesh export is not available in this build ({exc})") from None
+    export_mesh(design.shape, args.out, args.tol)
+    print(f"wrote {args.out}")
+    return 0
+
+
+# ----------------------------------------------------------------------------------- new
+
+def framing_camera(shape: BottleShape, width: int, height: int, fov_y_deg: float = 28.0) -> Camera:
+    """A camera (mm) looking at the bottle from the front (-y), slightly above its middle,
+    far enough that the whole bottle fills about 85 % of the frame (``width`` x ``height`` px)."""
+    z_top = shape.z_top
+    r_max = max_radius(shape)
+    t = math.tan(math.radians(fov_y_deg) / 2)
+    aspect = width / height
+    # Distance so that half the height (plus margin) fits vertically and the radius horizontally.
+    dist = max(0.59 * z_top / t, 1.18 * r_max / (t * aspect)) + r_max
+    target = (0.0, 0.0, 0.5 * z_top)
+    eye = (0.0, -dist, 0.5 * z_top + 0.12 * dist)
+    return Camera(eye=eye, target=target, up=(0.0, 0.0, 1.0), fov_y_deg=fov_y_deg)
+
+
+def max_radius(shape: BottleShape) -> float:
+    """Largest distance (mm) of the outer surface from the axis (half the maximum diameter)."""
+    from ..geometry import capacity
+    return 0.5 * float(capacity.max_diameter_mm(shape))
+
+
+def cmd_new(args) -> int:
+    """``new --from-dxf FILE.dxf OUT.glassbench``: a round bottle (wall/base in mm) from a DXF
+    section, framed by a camera; refuses to write an invalid design."""
+    from ..files.dxf_import import section_from_dxf
+    from ..files.project import SUFFIX, save_project
+    from ..operations.check import check_design
+    if not args.out.endswith(SUFFIX):
+        raise CliError(f"the project file name must end in {SUFFIX}: {shown(args.out, 200)}")
+    for flag in ("wall", "base"):
+        limits.check_range(f"--{flag}", getattr(args, flag), (0.0, limits.MAX_EXTENT_MM), "mm")
+    section = section_from_dxf(args.from_dxf)
+    shape = BottleShape("round", (("profile", section),), args.wall, args.base)
+    render = RenderSettings(width=360, height=480)
+    name = args.name or Path(args.from_dxf).stem
+    design = Design(shape=shape, camera=framing_camera(shape, render.width, render.height),
+                    render=render, name=name)
+    try:
+        check_design(design, {})
+    except ProjectError as exc:
+        raise CliError(f"{args.from_dxf}: {exc}") from None
+    save_project(args.out, design, {})
+    print(f"wrote {args.out}")
+    return 0

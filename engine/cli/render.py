@@ -1,0 +1,84 @@
+"""``glassbench render PROJECT -o OUT.png|exr|tif [--alpha]``: render a project file headless.
+
+Design rule: loads the project, runs a :class:`engine.tracer.job.RenderJob` with its progress on
+stderr, adds the bottle's coverage as alpha when asked (:func:`engine.tracer.picking.coverage`,
+as the final-render dialog and ``turntable --alpha`` do) and writes the image through the one
+image writer (:func:`engine.files.images.save_image`: EXR linear float32, PNG and TIFF sRGB
+8-bit), atomically.
+"""
+from __future__ import annotations
+
+import os
+import sys
+import time
+
+from .. import limits
+from ..errors import CliError, shown
+from ..files.images import IMAGE_SUFFIXES, save_image
+from ..limits import check_image_size
+from ..tracer.job import RenderJob
+
+
+def add_parsers(sub) -> None:
+    """The subparser of ``render``."""
+    render = sub.add_parser("render", help="render a project to PNG/EXR/TIFF")
+    render.add_argument("project")
+    render.add_argument("-o", "--output", required=True, metavar="OUT.png|exr|tif")
+    render.add_argument("--width", type=int, default=None)
+    render.add_argument("--height", type=int, default=None)
+    render.add_argument("--spp", type=int, default=None)
+    render.add_argument("--alpha", action="store_true",
+                        help="add the bottle's coverage (glass and closure) as an alpha channel")
+
+
+def cmd_render(args) -> int:
+    """``render PROJECT -o OUT [--width W] [--height H] [--spp N] [--alpha]``."""
+    if os.path.splitext(args.output)[1].lower() not in IMAGE_SUFFIXES:
+        raise CliError(f"the output must end in .png, .exr or .tif, got {shown(args.output, 200)}")
+    for name, bounds in (("width", limits.WIDTH_RANGE), ("height", limits.HEIGHT_RANGE),
+                         ("spp", limits.SPP_RANGE)):
+        v = getattr(args, name)
+        if v is not None:
+            limits.check_range(f"--{name}", v, bounds, integer=True)
+    render_command(args.project, args.output, args.width, args.height, args.spp, alpha=args.alpha)
+    print(f"wrote {args.output}")
+    return 0
+
+
+def render_command(project_path, out_path, width=None, height=None, spp=None, threads=None,
+                   progress=True, alpha=False) -> int:
+    """Render a ``.glassbench`` project to ``out_path``; returns the exit status (0 = written).
+
+    ``width``, ``height`` (pixels) and ``spp`` override the project's render settings; ``alpha``
+    adds the coverage as alpha. With ``progress`` a percentage line is updated on stderr; the
+    time taken is printed on stdout. Raises ``engine.errors.ProjectError`` for an unreadable
+    project and ``ValueError`` for a bad output name; a failing render re-raises the worker's
+    exception.
+    """
+    from ..files.project import load_project
+
+    if os.path.splitext(os.fspath(out_path))[1].lower() not in IMAGE_SUFFIXES:
+        raise ValueError(f"the output must end in .png, .exr or .tif, got {out_path!r}")
+    design, assets = load_project(project_path)
+    # The overrides combine with the project's own size: check what will really be rendered.
+    check_image_size(width or design.render.width, height or design.render.height,
+                     spp or design.render.spp, where="image ")
+    t0 = time.perf_counter()
+    job = RenderJob(design, assets, width=width, height=height, spp=spp, threads=threads, tile=64)
+    job.start()
+    while not job.wait(0.25):
+        if progress:
+            print(f"\rrendering {job.width}x{job.height} at {job.spp} spp: {100 * job.progress:5.1f} %",
+                  end="", file=sys.stderr, flush=True)
+    if progress:
+        print(file=sys.stderr)
+    if job.error is not None:
+        raise job.error
+    cov = None
+    if alpha:
+        from ..tracer.picking import coverage
+        cov = coverage(design, job.width, job.height)
+    secs = time.perf_counter() - t0
+    save_image(out_path, job.image(), cov)
+    print(f"rendered {job.width}x{job.height}, {job.spp} spp, in {secs:.2f} s")
+    return 0

@@ -56,4 +56,4 @@ def test_an_environment_image_too_large_to_embed_is_refused_before_it_is_read(ma
     w.camera_panel.choose_environment_file = lambda: str(big)
     before = w.scene.design
     assert not w.camera_panel.load_environment()
-    assert w.scene.design == before and "at most 1024" in w.camera_panel.env_load.toolTip()
+    assert w.scene.design == before and "larger than 1024" in w.camera_panel.env_load.toolTip()

@@ -24,7 +24,7 @@ import numpy as np
 
 from .. import limits as L
 from ..color import linear_to_srgb, srgb_to_linear
-from ..errors import GlassbenchError, bounded, shown
+from ..errors import GlassbenchError, InputFileError, bounded, shown
 from ..io.bytes_file import bytes_as_file
 from ..io.read import read_bounded
 
@@ -64,7 +64,10 @@ def read_image_file(path) -> bytes:
     """The bytes of an image file, read no further than :data:`engine.limits.MAX_ARTWORK_BYTES`
     and checked with :func:`probe_image`; ``ArtworkError`` (or ``OSError``) otherwise."""
     path = os.fspath(path)
-    data = read_bounded(path, L.MAX_ARTWORK_BYTES, "image")
+    try:
+        data = read_bounded(path, L.MAX_ARTWORK_BYTES, "image")
+    except InputFileError as exc:
+        raise ArtworkError(str(exc)) from None
     probe_image(data, os.path.basename(path))
     return data
 

@@ -27,6 +27,7 @@ from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
+from engine.tracer.kernels.records import Geometry, Scratch
 from engine.tracer.kernels.intersect import (F_COS, F_EDGE, F_LEAF, F_PNZ, F_SIN, F_ZMAX, F_ZMIN, O_BACK_HI,
                                              O_BACK_LO, O_COUNT, O_FIRST, O_FRONT_HI, O_FRONT_LO, O_KIND,
                                              O_NSEC, O_XS, PLANE, REVOLVED, SL_RULED, START_FRACTION,
@@ -369,8 +370,9 @@ def _search(scene, tri_obj, tri_part, seg, seg_rest, tab, slab_f, slab_rest, sla
         ox, oy, oz, dx, dy, dz = o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2]
         best, best_k, best_j = np.inf, -1, -1
         if rest:  # the surfaces kept analytic first
-            best, best_k, best_j, _, _, _ = nearest_hit(seg_rest, tab, slab_rest, slab_i, obj_rest, obj_f, ox, oy, oz,
-                                                        dx, dy, dz, medium[i], last[i], side[i], roots, crit, stack)
+            best, best_k, best_j, _, _, _ = nearest_hit(Geometry(seg_rest, tab, slab_rest, slab_i, obj_rest, obj_f),
+                                                        ox, oy, oz, dx, dy, dz, medium[i], last[i], side[i],
+                                                        Scratch(roots, crit, stack))
         decided = True
         if scene != 0:
             te, p = cast1(scene, ox, oy, oz, dx, dy, dz, tnear, best + bracket)
@@ -410,6 +412,7 @@ def _search(scene, tri_obj, tri_part, seg, seg_rest, tab, slab_f, slab_rest, sla
             decided = False  # the ray cannot leave its medium without a crossing
         if not decided:
             fell[i] = True
-            best, best_k, best_j, _, _, _ = nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy,
-                                                        dz, medium[i], last[i], side[i], roots, crit, stack)
+            best, best_k, best_j, _, _, _ = nearest_hit(Geometry(seg, tab, slab_f, slab_i, obj_i, obj_f), ox, oy, oz,
+                                                        dx, dy, dz, medium[i], last[i], side[i],
+                                                        Scratch(roots, crit, stack))
         out_t[i], out_k[i], out_j[i] = best, best_k, best_j

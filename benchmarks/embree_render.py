@@ -41,7 +41,8 @@ from numba.extending import intrinsic
 
 from benchmarks.embree_kernel import cast1, refine_hit
 from engine.tracer.kernels.intersect import nearest_hit
-from engine.tracer.kernels.roots import JIT
+from engine.tracer.kernels.records import Hit
+from engine.tracer.kernels.jit import JIT
 
 #: the marker in the appended row that says the table carries an Embree scene
 MARKER = 271828.0
@@ -74,14 +75,14 @@ def _int64s_at(typingctx, address):
 
 
 @njit(**JIT)
-def embree_nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, medium, last, side,
-                       roots, crit, stack):
+def embree_nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last, side, scratch):
     """:func:`~engine.tracer.kernels.intersect.nearest_hit`'s contract by Embree + refinement
     (module doc); the analytic search itself where ``tab`` carries no Embree scene."""
+    seg, tab, slab_f, slab_i, obj_i, obj_f = geom
+    roots, crit, stack = scratch
     n_tab = tab.shape[0]
     if n_tab < 3 or tab[n_tab - 1, 2] != MARKER:
-        return nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, medium, last, side,
-                           roots, crit, stack)
+        return nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last, side, scratch)
     # pointers, not arrays: these kernels run without numba's reference counting
     tri_obj = _int64s_at(np.uintp(tab[n_tab - 2, 1]))
     tri_part = _int64s_at(np.uintp(tab[n_tab - 2, 2]))
@@ -89,14 +90,13 @@ def embree_nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, d
     te, p = cast1(np.uintp(tab[n_tab - 2, 0]), ox, oy, oz, dx, dy, dz, tnear, np.inf)
     if p < 0:
         if medium == 0:  # in air a miss is a miss; elsewhere the mesh let the ray through
-            return np.inf, -1, -1, 0.0, 0.0, 0.0
+            return Hit(np.inf, -1, -1, 0.0, 0.0, 0.0)
     else:
         t, k, j, nx, ny, nz = refine_hit(tri_obj[p], tri_part[p], te, seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy,
                                          oz, dx, dy, dz, medium, last, side, bracket, np.inf, roots, crit, stack)
         if k >= 0:
-            return t, k, j, nx, ny, nz
-    return nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, medium, last, side,
-                       roots, crit, stack)
+            return Hit(t, k, j, nx, ny, nz)
+    return nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last, side, scratch)
 
 
 class _MeshedContexts:
@@ -126,8 +126,8 @@ class _MeshedContexts:
             self.meshes[key] = (scene, tri_obj, tri_part, rows)
             self.build_s += time.perf_counter() - start
         rows = self.meshes[key][3]
-        tab = np.ascontiguousarray(np.vstack([ctx.scene[1], rows]))
-        return dataclasses.replace(ctx, scene=(ctx.scene[0], tab, *ctx.scene[2:]))
+        tab = np.ascontiguousarray(np.vstack([ctx.scene.geom.tab, rows]))
+        return dataclasses.replace(ctx, scene=ctx.scene._replace(geom=ctx.scene.geom._replace(tab=tab)))
 
 
 def install(tol, tnear, bracket):

@@ -37,11 +37,11 @@ ALPHAS = (0.02, 0.05, 0.1, 0.2, 0.3, 0.4, 0.5)
 
 def single_scattering(ctx):
     """``ctx`` with albedo tables of ones: the draw without compensation (module doc)."""
-    fin = ctx.finish_tuple
+    fin = ctx.finish_tables
     ones = tuple(np.ones_like(a) for a in fin[6:9])
     for a in ones:
         a.setflags(write=False)  # as the stored tables: the same compiled kernel
-    return dataclasses.replace(ctx, finish=fin[:6] + ones)
+    return dataclasses.replace(ctx, finish=fin._replace(glass_albedo=ones[0], mirror_albedo=ones[1], mirror_avg=ones[2]))
 
 
 def _frame(ctx, w, h, spp):

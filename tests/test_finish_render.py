@@ -54,7 +54,7 @@ def _wall_normals(design, thetas, z, assets=None):
     t, k, part, n = nearest_hits(ctx.geometry, o, d)
     assert np.all(k == OUTER_WALL)
     p = o + t[:, None] * d
-    s = np.array([shading_frame(ctx.finish, ctx.scene[0], ctx.scene[4], int(k[i]), int(part[i]), *p[i], *n[i])
+    s = np.array([shading_frame(ctx.finish, ctx.scene.geom.seg, ctx.scene.geom.obj_i, int(k[i]), int(part[i]), *p[i], *n[i])
                   for i in range(len(t))])
     return s[:, :3], n
 
@@ -95,7 +95,7 @@ def test_no_leaks_or_mismatches_with_relief_on_a_half_millimetre_wall():
     assert st.escaped_inside == 0 and st.mismatches == 0
     assert np.all(np.abs(img - 1.0) < 1e-9)
     ctx = RenderContext.from_design(dataclasses.replace(d, bumps=tiles), None, 24, 32)
-    assert ctx.finish[0][OUTER_WALL, 1] == 3
+    assert ctx.finish.obj_rows[OUTER_WALL, 1] == 3
 
 
 def test_a_plain_design_renders_as_before_finishes(bordeaux):
@@ -114,7 +114,7 @@ def test_a_plain_design_renders_as_before_finishes(bordeaux):
     assert_within_half_rounding(img, ref["bordeaux"])  # (the reference read float32 texels)
     assert np.abs(img - ref["bordeaux"]).max() > 0.0  # and this one half floats
     assert np.array_equal(res.signature.reshape(56, 40), ref["bordeaux_sig"])
-    assert ctx.finish[0][:, 1].sum() == 0 and ctx.cap is None
+    assert ctx.finish.obj_rows[:, 1].sum() == 0 and ctx.cap is None
 
 
 def test_a_cap_is_drawn_and_a_metal_cap_reflects_like_aluminium(bordeaux):
@@ -178,7 +178,7 @@ def test_a_cap_follows_the_finish_and_its_tables_are_apart_from_the_bottle(borde
     assert b.cap.z_min - a.cap.z_min == pytest.approx(20.0, abs=1e-6)
     k = a.geometry.obj_i.shape[0]
     from engine.tracer.kernels.intersect import F_ZMAX
-    assert b.scene[5][k, F_ZMAX] - a.scene[5][k, F_ZMAX] == pytest.approx(20.0, abs=1e-6)
+    assert b.scene.geom.obj_f[k, F_ZMAX] - a.scene.geom.obj_f[k, F_ZMAX] == pytest.approx(20.0, abs=1e-6)
     # a cap edit keeps the bottle's tables; a bottle edit that keeps the finish keeps the cap's
     other = RenderContext.from_design(dataclasses.replace(hi, cap=default_cap("ropp")), assets, 8, 8)
     assert other.geometry is b.geometry and other.cap is not b.cap
@@ -269,7 +269,7 @@ def test_the_finish_samples_load_and_render_without_leaks(name, cap, bumps):
     assert len(design.bumps) == bumps and (design.cap.kind if design.cap else None) == cap
     img, res, ctx = _image(design, assets, 24, 32)
     assert res.counters[1] == 0 and res.counters[2] == 0 and np.all(np.isfinite(img))
-    assert ctx.finish[0][:, 1].sum() >= 1
+    assert ctx.finish.obj_rows[:, 1].sum() >= 1
     closure, overall = closure_trade(design)
     assert (closure is None) == (cap is None) and overall >= design.shape.z_top
 
@@ -313,7 +313,7 @@ def _stepped(liquid=None, light=(0.0, 0.0, -1.0)):
 def _unshadowed(ctx, cos=1.0):
     """What the light alone gives a plastic part facing it at ``cos`` without a shadow:
     ``(1 - R_coat) albedo E cos / pi`` (RGB)."""
-    mat = ctx.scene[8][-1]
+    mat = ctx.scene.mat_f[-1]
     r, _ = fresnel_dielectric(1.0, mat[MF_COAT_IOR])
     return (1.0 - r) * mat[MF_ALBEDO:MF_ALBEDO + 3] * 2.0 * cos / math.pi
 
@@ -370,24 +370,25 @@ def test_a_light_edit_relights_a_plastic_cap(bordeaux):
 
 
 def _rim_hit(d):
-    """``finish_hit``'s answer ``(children, r, g, b, bits)`` for a ray straight up onto the
+    """The surface layer's answer ``(children, r, g, b, bits)`` for a ray straight up onto the
     flat rim of the -x side of ``d``'s plastic skirt (:func:`_stepped_design`), 15 mm from
     the axis, with the kernels' own scratch (as the integrator calls it)."""
-    from engine.tracer.kernels.finish import finish_hit
     from engine.tracer.kernels.intersect import O_MAT
     from engine.tracer.kernels.queries import hits
+    from engine.tracer.kernels.records import Interaction, Scratch
+    from engine.tracer.kernels.surface import scatter
     from engine.tracer.tables.labels import with_buffers
     ctx = RenderContext.from_design(d, None, 8, 8)
-    seg, tab, slab_f, slab_i, obj_i, obj_f = ctx.scene[:6]
+    obj_i = ctx.scene.geom.obj_i
     o, dr = np.array([[-15.0, 0.0, ctx.cap.z_min - 1.0]]), np.array([[0.0, 0.0, 1.0]])
     t, k, part, n = np.zeros(1), np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros((1, 3))
-    hits(seg, tab, slab_f, slab_i, obj_i, obj_f, o, dr, np.zeros(1, np.int64), np.full(1, -1, np.int64),
-         np.zeros(1, np.int64), t, k, part, n)
+    hits(ctx.scene.geom, o, dr, np.zeros(1, np.int64), np.full(1, -1, np.int64), np.zeros(1, np.int64), t, k, part, n)
     assert k[0] == ctx.geometry.obj_i.shape[0]          # the cap's part
     p = o[0] + t[0] * dr[0]
-    return finish_hit(ctx.finish_tuple, ctx.scene, with_buffers(ctx.labels), int(k[0]), int(part[0]),
-                      int(obj_i[k[0], O_MAT]), *p, *n[0], *dr[0], 0, 0, np.uint64(1), np.zeros((4, 8)),
-                      ctx.env_params, np.zeros(16), np.zeros(5), np.zeros((64, 2)))
+    it = Interaction(*p, *n[0], *dr[0], int(k[0]), int(part[0]), int(obj_i[k[0], O_MAT]), 0, 0)
+    s = scatter(ctx.scene, with_buffers(ctx.labels), ctx.finish_tables, ctx.env_params, it, 1.0, 1.0, 1.0,
+                np.uint64(1), np.zeros((4, 8)), Scratch(np.zeros(16), np.zeros(5), np.zeros((64, 2))))
+    return s.nk, s.er, s.eg, s.eb, s.bits
 
 
 def test_a_label_a_plastic_parts_shadow_ray_crosses_enters_its_record():

@@ -122,9 +122,9 @@ def test_a_cap_print_over_the_knurled_skirt_is_bent_by_the_knurl(bordeaux):
     ctx = RenderContext.from_design(d, a, 8, 8)
     out, counters = trace_rays(ctx, o, np.tile([0.0, 1.0, 0.0], (len(o), 1)))
     assert counters[C_LEAKS] == 0 and np.mean([_is_red(v) for v in out]) > 0.8  # (some see a glint)
-    rows = ctx.finish[0].copy()
+    rows = ctx.finish.obj_rows.copy()
     rows[ctx.geometry.obj_i.shape[0], 1] = 0   # the same skirt without its relief rows
-    smooth = dataclasses.replace(ctx, finish=(rows,) + ctx.finish[1:])
+    smooth = dataclasses.replace(ctx, finish=ctx.finish._replace(obj_rows=rows))
     flat, _ = trace_rays(smooth, o, np.tile([0.0, 1.0, 0.0], (len(o), 1)))
     assert np.mean(np.abs(out - flat).sum(-1) > 1e-3) > 0.5
 
@@ -168,10 +168,10 @@ def test_the_place_table_names_the_cap_object_and_surface_band(bordeaux):
     plain, assets = bordeaux
     d, a = _with(plain, assets, Label("wall"), print_on("cap-top", angle_deg=0.0))
     ctx = RenderContext.from_design(d, a, 8, 8)
-    place = ctx.labels[KL.LB_PLACE]
+    place = ctx.labels.place
     first = ctx.geometry.obj_i.shape[0]
     assert place[0, P_OBJECT] == 0 and place[1, P_OBJECT] == first
-    assert ctx.labels[KL.LB_OBJECTS][0] == 1 | (1 << first)
+    assert ctx.labels.objects[0] == 1 | (1 << first)
     assert place[1, P_V0] == cap_surface(d, "cap-top").v0 and place[1, P_BX] == 1.0 and place[1, P_CX] == 0.0
     assert (KL.WALL, KL.CAP_TOP, KL.CAP_SKIRT) == (0, 1, 2)
 

@@ -37,7 +37,7 @@ def _first_objects(design):
 def test_alpha_covers_the_closure_above_the_glass(capped):
     design, _ = capped
     assert design.cap is not None
-    first_cap = scene_tables(dataclasses.replace(design, cap=None))[2][4].shape[0]  # the bottle's objects
+    first_cap = scene_tables(dataclasses.replace(design, cap=None))[2].geom.obj_i.shape[0]  # the bottle's objects
     seen = _first_objects(design)
     on_cap = seen >= first_cap
     bare = _first_objects(dataclasses.replace(design, cap=None))

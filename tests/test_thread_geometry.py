@@ -51,7 +51,7 @@ def helix(bordeaux):
     """``(design, segment table, HELIX row index)`` of the Bordeaux with a true 33-400 thread."""
     design, assets = bordeaux
     d = _threaded(design)
-    seg = RenderContext.from_design(d, assets, 8, 8).scene[0]
+    seg = RenderContext.from_design(d, assets, 8, 8).scene.geom.seg
     rows = np.flatnonzero(seg[:, R.S_KIND] == R.HELIX)
     assert len(rows) == 1
     return d, seg, int(rows[0])
@@ -183,7 +183,7 @@ def test_a_two_start_thread_of_several_turns_hits_where_the_reference_does(borde
     and rays along the axis crossing several ridges."""
     design, assets = bordeaux
     d = _threaded(design, finish="28-415", repeat=2)
-    seg = RenderContext.from_design(d, assets, 8, 8).scene[0]
+    seg = RenderContext.from_design(d, assets, 8, 8).scene.geom.seg
     j = int(np.flatnonzero(seg[:, R.S_KIND] == R.HELIX)[0])
     row = seg[j]
     assert row[R.H_STARTS] == 2 and row[R.H_TURNS] > 1.0
@@ -274,7 +274,7 @@ def test_a_ridge_thicker_than_the_wall_stays_exactly_white_in_a_furnace_without_
     d = dataclasses.replace(d, bumps=(tile,), camera=cam)
     assert thread_drawings(d)[0].mode == "true"
     ctx = RenderContext.from_design(d, None, 24, 32, environment=WHITE)
-    assert ctx.finish[0][OUTER_WALL, 1] == 0           # no relief row: the thread is glass
+    assert ctx.finish.obj_rows[OUTER_WALL, 1] == 0           # no relief row: the thread is glass
     rows, cols = np.mgrid[0:32, 0:24]
     res = trace_pixels(ctx, cols.ravel(), rows.ravel(), 1, 2)
     assert res.counters[1] == 0 and res.counters[2] == 0
@@ -302,7 +302,7 @@ def test_a_relief_thread_renders_as_before(bordeaux):
     ref = np.load(ROOT / "tests" / "data" / "thread_relief_bordeaux_32x40.npz")
     d = _threaded(design, "relief", finish="33-400")
     ctx = RenderContext.from_design(d, assets, 32, 40)
-    assert ctx.finish[0][OUTER_WALL, 1] == 1 and not np.any(ctx.scene[0][:, R.S_KIND] == R.HELIX)
+    assert ctx.finish.obj_rows[OUTER_WALL, 1] == 1 and not np.any(ctx.scene.geom.seg[:, R.S_KIND] == R.HELIX)
     ys, xs = np.mgrid[0:40, 0:32]
     res = trace_pixels(ctx, xs.ravel(), ys.ravel(), 0, 2)
     assert_within_half_rounding(res.sums.reshape(40, 32, 3), ref["image"])  # (float32 texels then)
@@ -397,7 +397,7 @@ def test_a_true_thread_under_a_cap_renders_without_leaks_or_mismatches(cap):
     cam = dataclasses.replace(design.camera, target=(0.0, 0.0, zt - 10.0), fov_y_deg=6.0)
     d = dataclasses.replace(design, bumps=(tile,), cap=default_cap(cap) if cap else None, camera=cam)
     ctx = RenderContext.from_design(d, assets, 24, 30)
-    assert np.count_nonzero(ctx.scene[0][:, R.S_KIND] == R.HELIX) == 1
+    assert np.count_nonzero(ctx.scene.geom.seg[:, R.S_KIND] == R.HELIX) == 1
     ys, xs = np.mgrid[0:30, 0:24]
     res = trace_pixels(ctx, xs.ravel(), ys.ravel(), 0, 2)
     assert res.counters[1] == 0 and res.counters[2] == 0

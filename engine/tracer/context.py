@@ -20,10 +20,10 @@ from .kernels.integrator import (C_BUDGET, C_CUT_DEPTH, C_CUT_WEIGHT, C_LEAKS, C
                                  C_QUERIES, N_COUNTERS)
 from .kernels.sampling import C_COLS
 from .kernels.tile import render_pixels
-from .kernels.labels import LB_HIT_F, LB_HIT_I, LB_HIT_N, LB_SMP_F, LB_SMP_I
+from .kernels.records import Cutoffs, FinishTables, Geometry, LabelTables, Pixels, PixelSums, Scene
 from .tables.labels import empty_label_arrays, label_arrays, with_buffers
 from .tables.finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
-from .render_objects import RenderGeometry, render_geometry_for, scene_arrays
+from .render_objects import RenderGeometry, render_geometry_for, scene_arrays, search_tables
 from .thread_geometry import scene_with_threads
 
 #: Boundaries one camera sample may visit before what it still holds is closed with the
@@ -60,7 +60,7 @@ class RenderContext:
     """
 
     geometry: RenderGeometry
-    scene: tuple
+    scene: Scene
     #: the environment's float32 texels (what the label and finish maps are made from)
     texels: np.ndarray
     #: ``(scale, rotation rad, factor)``: the environment's scale and turn, and the factor of
@@ -75,9 +75,9 @@ class RenderContext:
     environment: EnvironmentMap = field(repr=False, default=None)
     #: the label tables (:func:`engine.tracer.tables.labels.label_arrays`); a label edit replaces only
     #: this field (:meth:`with_labels`)
-    labels: tuple = field(repr=False, default_factory=empty_label_arrays)
+    labels: LabelTables = field(repr=False, default_factory=empty_label_arrays)
     #: the finish tuple of :mod:`engine.tracer.kernels.finish` (relief rows, cap irradiance)
-    finish: tuple = field(repr=False, default=None)
+    finish: FinishTables = field(repr=False, default=None)
     #: the closure's render rows (:class:`engine.tracer.tables.finishes.CapTables`) or ``None``
     cap: object = field(repr=False, default=None)
     #: the half-float bit patterns of ``texels`` the kernels look up (:meth:`from_design`)
@@ -99,7 +99,7 @@ class RenderContext:
         params = np.array([float(env.scale), math.radians(float(env.rotation_deg)), factor])
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
         return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
-                   float(design.render.min_weight), int(scene[7].shape[0]), level, env,
+                   float(design.render.min_weight), int(scene.mat_i.shape[0]), level, env,
                    label_arrays(design, assets, tex, geom.obj_i.shape[0]), finish, cap, half)
 
     def with_labels(self, design, assets=None) -> "RenderContext":
@@ -110,9 +110,9 @@ class RenderContext:
                                                              self.geometry.obj_i.shape[0]))
 
     @property
-    def finish_tuple(self) -> tuple:
-        """The finish tuple (an empty one for a context built without)."""
-        return self.finish if self.finish is not None else empty_finish(self.scene[4].shape[0])
+    def finish_tables(self) -> FinishTables:
+        """The finish tables (empty ones for a context built without)."""
+        return self.finish if self.finish is not None else empty_finish(self.scene.geom.obj_i.shape[0])
 
 
 @dataclass
@@ -189,31 +189,38 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
     if cancel is None:
         cancel = np.zeros(1, np.int64)
     rec_rays, rec_n = record if record is not None else (np.zeros((0, 6), np.float32), np.zeros(1, np.int64))
-    samples = int(count.sum()) if record_labels and ctx.labels[0].shape[0] > 0 else 0
+    samples = int(count.sum()) if record_labels and ctx.labels.rows.shape[0] > 0 else 0
     hits = None
-    finish = ctx.finish_tuple
+    finish = ctx.finish_tables
+    cut = Cutoffs(ctx.max_depth, ctx.min_weight, float(roulette), MAX_NODES)
+    out = PixelSums(sums, sumsq, sig, mask, depth, counters)
     while True:
         labels = with_buffers(ctx.labels, samples, hits)
-        done = render_pixels(ctx.scene, ctx.lookup_texels, ctx.env_params, ctx.cam, cols, rows, first, count,
-                             ctx.max_depth, ctx.min_weight, float(roulette), 0, MAX_NODES, sums, sumsq, sig, mask,
-                             depth, counters, cancel, rec_rays, rec_n, labels, finish)
-        if not samples or not labels[LB_HIT_N][1] or done < p:
+        done = render_pixels(ctx.scene, ctx.lookup_texels, ctx.env_params, ctx.cam, Pixels(cols, rows, first, count),
+                             cut, 0, out, cancel, rec_rays, rec_n, labels, finish)
+        if not samples or not labels.hit_n[1] or done < p:
             break
         # more hits than room: trace the call again with room for all (same seeds, same result)
-        hits = 4 * labels[LB_HIT_F].shape[0]
+        hits = 4 * labels.hit_f.shape[0]
         sums[:], sumsq[:], sig[:], mask[:], depth[:], counters[:] = 0, 0, 0, 0, 255, 0
     rec = None
     if samples and done == p:
-        n = int(labels[LB_HIT_N][0])
-        rec = (labels[LB_SMP_F], labels[LB_SMP_I], labels[LB_HIT_F][:n].copy(), labels[LB_HIT_I][:n].copy())
+        n = int(labels.hit_n[0])
+        rec = (labels.smp_f, labels.smp_i, labels.hit_f[:n].copy(), labels.hit_i[:n].copy())
     return PixelResult(sums, sumsq, sig, mask, depth, counters, int(done), rec)
 
 
 # --------------------------------------------------------------------------- ray queries
+def _geom(where) -> Geometry:
+    """The search tables of a :class:`RenderGeometry` or a :class:`Scene`."""
+    return where.geom if isinstance(where, Scene) else search_tables(where)
+
+
 def nearest_hits(geometry, origins, directions, medium=0, last=-1, side=0):
     """Nearest true hits of rays (mm, unit directions) against the render objects of
-    ``geometry``: a :class:`RenderGeometry` (the bottle) or a scene tuple of
-    :func:`scene_tables` (the bottle with its threads and closure).
+    ``geometry``: a :class:`RenderGeometry` (the bottle) or a
+    :class:`~engine.tracer.kernels.records.Scene` of :func:`scene_tables` (the bottle with its
+    threads and closure).
 
     ``medium`` is the medium each ray travels in, ``last``/``side`` the object it just left and
     the sign of ``d . n`` it left with (``-1``/``0`` for a fresh ray); all broadcast.
@@ -227,9 +234,7 @@ def nearest_hits(geometry, origins, directions, medium=0, last=-1, side=0):
     n = len(o)
     b = lambda v: np.ascontiguousarray(np.broadcast_to(np.asarray(v, np.int64), (n,)))
     t, k, part, nrm = np.empty(n), np.empty(n, np.int64), np.empty(n, np.int64), np.empty((n, 3))
-    tables = geometry[:6] if isinstance(geometry, tuple) else (
-        geometry.seg, geometry.tab, geometry.slab_f, geometry.slab_i, geometry.obj_i, geometry.obj_f)
-    hits(*tables, o, d, b(medium), b(last), b(side), t, k, part, nrm)
+    hits(_geom(geometry), o, d, b(medium), b(last), b(side), t, k, part, nrm)
     return t, k, part, nrm
 
 
@@ -240,8 +245,7 @@ def object_normals(geometry: RenderGeometry, objects, parts, points) -> np.ndarr
     p = np.ascontiguousarray(np.asarray(points, float).reshape(-1, 3))
     n = len(p)
     out = np.empty((n, 3))
-    normals(geometry.seg, geometry.slab_f, geometry.slab_i, geometry.obj_i, geometry.obj_f,
-            np.ascontiguousarray(np.broadcast_to(np.asarray(objects, np.int64), (n,))),
+    normals(_geom(geometry), np.ascontiguousarray(np.broadcast_to(np.asarray(objects, np.int64), (n,))),
             np.ascontiguousarray(np.broadcast_to(np.asarray(parts, np.int64), (n,))), p, out)
     return out
 
@@ -254,6 +258,6 @@ def trace_rays(ctx: RenderContext, origins, directions):
     d = np.ascontiguousarray(np.asarray(directions, float).reshape(-1, 3))
     out = np.zeros((len(o), 3))
     counters = np.zeros(N_COUNTERS, np.int64)
-    radiance(ctx.scene, ctx.lookup_texels, ctx.env_params, o, d, ctx.max_depth, ctx.min_weight, MAX_NODES, out, counters,
-              with_buffers(ctx.labels), ctx.finish_tuple)
+    radiance(ctx.scene, ctx.lookup_texels, ctx.env_params, o, d, Cutoffs(ctx.max_depth, ctx.min_weight, 0.0, MAX_NODES),
+             out, counters, with_buffers(ctx.labels), ctx.finish_tables)
     return out, counters

@@ -57,8 +57,7 @@ from ..color import tonemap_srgb8  # noqa: F401 - the encoding the callers of a 
 from .film import Film
 from .kernels.integrator import N_COUNTERS
 from ..model.design import LabelSide
-from .kernels.labels import (H_COLS, L_FRONT_TEX, L_REGION_MAP, LABEL_BIT0, LB_CODES, LB_F, LB_OBJECTS, LB_PLACE,
-                             LB_REGION_I, LB_TEX_I, LB_TEXELS, MAX_LABEL_BIT, P_OBJECT, replay_samples)
+from .kernels.labels import H_COLS, L_FRONT_TEX, L_REGION_MAP, LABEL_BIT0, MAX_LABEL_BIT, P_OBJECT, replay_samples
 from .tables.labels import with_buffers
 
 NOISE_TARGET = adaptive.NOISE_TARGET
@@ -78,7 +77,7 @@ def _label_bit(k: int) -> np.int64:
 
 def _object_bit(labels: tuple, k: int) -> np.int64:
     """The object-mask bit of the render object label ``k`` of the tables ``labels`` lies on."""
-    return np.int64(1 << int(labels[LB_PLACE][k, P_OBJECT]))
+    return np.int64(1 << int(labels.place[k, P_OBJECT]))
 
 
 def _placed(label) -> tuple:
@@ -155,18 +154,18 @@ def _colour_only(a, b, k, prev, job, old_t, new_t) -> bool:
             return False
 
     def alpha(t):
-        m = int(t[LB_F][k, L_FRONT_TEX])
+        m = int(t.f[k, L_FRONT_TEX])
         if m < 0:
             return None
-        first, w, h = t[LB_TEX_I][m]
-        return (int(w), int(h)), t[LB_TEXELS][first:first + w * h, 3]
+        first, w, h = t.tex_i[m]
+        return (int(w), int(h)), t.texels[first:first + w * h, 3]
 
     def codes(t):
-        q = int(t[LB_F][k, L_REGION_MAP])
+        q = int(t.f[k, L_REGION_MAP])
         if q < 0:
             return None
-        first, w, h = t[LB_REGION_I][q]
-        return (int(w), int(h)), t[LB_CODES][first:first + w * h]
+        first, w, h = t.region_i[q]
+        return (int(w), int(h)), t.codes[first:first + w * h]
 
     for f in (alpha, codes):  # a plain front (no alpha) only matches a plain front
         x, y = f(old_t), f(new_t)
@@ -398,7 +397,7 @@ class RenderJob:
         if prev.design.lights != self.design.lights:
             bits |= _ALL_LABEL_BITS
         if len(old) != len(new):
-            bits |= prev._ctx.labels[LB_OBJECTS][0] | ctx.labels[LB_OBJECTS][0] | _ALL_LABEL_BITS
+            bits |= prev._ctx.labels.objects[0] | ctx.labels.objects[0] | _ALL_LABEL_BITS
         else:
             for k, (a, b) in enumerate(zip(old, new)):
                 if a == b and _label_assets_equal(a, b, prev.assets, self.assets):

@@ -43,6 +43,7 @@ from ..geometry.validate import body_profile
 from ..model.fill import fill_height_of
 from ..geometry.segments import Arc, Line, OffsetEllipseArc
 from ..intersect.revolved import segment_bounds
+from .kernels.records import Geometry, Scene
 from .kernels import intersect as K
 from .kernels import profile as R
 from .kernels.materials import MAT_COLS, SMOOTH_DIELECTRIC
@@ -459,7 +460,13 @@ def material_tables(design):
     return mat_i, np.zeros((1, MAT_COLS))
 
 
-def scene_arrays(geom: RenderGeometry, design) -> tuple:
-    """The tuple the kernels take: ``(seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f)``."""
+def search_tables(geom: RenderGeometry) -> Geometry:
+    """The geometry's tables as the kernels' :class:`~engine.tracer.kernels.records.Geometry`."""
+    return Geometry(geom.seg, geom.tab, geom.slab_f, geom.slab_i, geom.obj_i, geom.obj_f)
+
+
+def scene_arrays(geom: RenderGeometry, design) -> Scene:
+    """The record the kernels take (:class:`~engine.tracer.kernels.records.Scene`): the
+    geometry's tables, the design's media and materials."""
     mat_i, mat_f = material_tables(design)
-    return (geom.seg, geom.tab, geom.slab_f, geom.slab_i, geom.obj_i, geom.obj_f, media_table(design), mat_i, mat_f)
+    return Scene(search_tables(geom), media_table(design), mat_i, mat_f)

@@ -18,6 +18,7 @@ import numpy as np
 from ..appearance.bands import band_coordinates, thread_drawings
 from .tables.bump_rows import tile_params
 from ..appearance.closures import finish_of
+from .kernels.records import Geometry, Scene
 from .kernels import bumps as B
 from .kernels import intersect as K
 from .kernels import profile as R
@@ -57,13 +58,13 @@ def helix_row(row: np.ndarray, relief: np.ndarray, z0: float, z1: float) -> np.n
     return out
 
 
-def scene_with_threads(scene: tuple, design) -> tuple:
-    """The kernels' scene tuple with every true-geometry thread of ``design`` raised on the
+def scene_with_threads(scene: Scene, design) -> Scene:
+    """The kernels' scene (:class:`~engine.tracer.kernels.records.Scene`) with every true-geometry thread of ``design`` raised on the
     outer wall (module doc); ``scene`` itself when there is none."""
     drawings = [(t, d) for t, d in zip(design.bumps, thread_drawings(design)) if d is not None and d.mode == "true"]
     if not drawings:
         return scene
-    seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
+    (seg, tab, slab_f, slab_i, obj_i, obj_f), media, mat_i, mat_f = scene
     seg, obj_f = seg.copy(), obj_f.copy()
     neck = 2.0 * finish_of(design).r_neck
     for tile, drawing in drawings:
@@ -72,5 +73,5 @@ def scene_with_threads(scene: tuple, design) -> tuple:
         j = _wall_row(seg, obj_i, drawing.z0, drawing.z1)
         seg[j] = helix_row(seg[j], relief, drawing.z0, drawing.z1)
         obj_f[OUTER_WALL, K.F_RMAX] = max(obj_f[OUTER_WALL, K.F_RMAX], seg[j, R.S_RMAX])
-    return (np.ascontiguousarray(seg), tab, slab_f, slab_i, obj_i, np.ascontiguousarray(obj_f), media,
-            mat_i, mat_f)
+    return Scene(Geometry(np.ascontiguousarray(seg), tab, slab_f, slab_i, obj_i, np.ascontiguousarray(obj_f)),
+                 media, mat_i, mat_f)

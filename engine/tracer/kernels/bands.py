@@ -35,7 +35,8 @@ from numba import njit
 from .outlines import (CIRCLE, OVAL, RRECT, RSQUARE, SQRT2, disc_interval, gradient_span, outline_interval,
                        rrect_directions, square_corner, xs_eval)
 from .profile import base_range, base_z, wall_r, wall_range, wall_slopes, wall_state
-from .roots import INLINE, JIT, illinois_done, illinois_point, illinois_update
+from .jit import INLINE, JIT
+from .roots import illinois_done, illinois_point, illinois_update
 
 
 @njit(**INLINE)

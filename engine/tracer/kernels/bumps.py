@@ -28,7 +28,7 @@ import math
 
 from numba import njit
 
-from .roots import INLINE, JIT
+from .jit import INLINE, JIT
 
 KNURL, STIPPLE, FLUTES, FACETS, DIAMOND, THREAD, FROSTED, MAP = range(8)
 KIND_NAMES = ("knurl", "stipple", "flutes", "facets", "diamond", "thread", "frosted", "map")

@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
-from .roots import JIT
+from .jit import JIT
 
 #: Depth recorded for a material a pixel's tree never met (the film's ``uint8`` records).
 NEVER = 255

@@ -38,7 +38,8 @@ from numba import njit
 from .bumps import thread_profile
 from .profile import (H_DEPTH, H_FLANK_HI, H_FLANK_LO, H_PHASE, H_PITCH, H_REF, H_RUNOUT, H_START,
                       H_STARTS, H_TURNS, H_Z0, H_Z1, S_LEN, S_R0, S_R1, S_V0, S_Z0, S_Z1, TWO_PI)
-from .roots import INLINE, JIT, cone_roots, hypot2, sort_small
+from .jit import INLINE, JIT
+from .roots import cone_roots, hypot2, sort_small
 
 #: Marching steps per shell interval at most (each step is at least this fraction of it).
 MAX_STEPS = 256

@@ -36,12 +36,12 @@ import numpy as np
 from numba import njit
 
 from .intersect import O_MAT, nearest_hit, object_media
-from .finish import finish_hit, shading_frame
-from .labels import LB_HIT_F, LB_OBJECTS, LB_REST, finish_radiance, label_hit
-from .materials import (CONDUCTOR, K_SIDE, KD_X, KD_Y, KD_Z, KID_COLS, KW_B, KW_G, KW_R, M_KIND, PLASTIC,
-                        SMOOTH_DIELECTRIC, conductor, smooth_dielectric)
-from .roots import INLINE, JIT
+from .jit import INLINE, JIT
+from .labels import finish_radiance
+from .materials import K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R
+from .records import Interaction
 from .sampling import branch_seed, env_lookup, mix64, uniform01
+from .surface import scatter
 
 C_QUERIES, C_LEAKS, C_MISMATCH, C_CUT_DEPTH, C_CUT_WEIGHT, C_BUDGET, C_NODES, C_ROULETTE = range(8)
 N_COUNTERS = 8
@@ -74,68 +74,36 @@ def _close(tex, scale, rot, lr, lg, lb, wr, wg, wb, dx, dy, dz):
 
 
 @njit(**JIT)
-def _closure_beneath(finish, scene, labels, k, part, mat, px, py, pz, nx, ny, nz, dx, dy, dz, inc, trn, bseed,
-                     kids, nk, rest, env_p, roots, crit, ivals):
-    """The closure's own material under the uncovered fraction ``rest`` of a print's texel:
-    its children (weights times ``rest``) go before the print's ``nk`` children in ``kids``.
-    Returns ``(children, r, g, b, bits)``: the radiance factors of its diffuse base times
-    ``rest`` and the object-mask bits of the labels its shadow rays consulted."""
-    mat_i, mat_f = scene[7], scene[8]
-    end = kids.shape[0] - nk  # the print's children wait in the last rows
-    for c in range(nk - 1, -1, -1):
-        for j in range(KID_COLS):
-            kids[end + c, j] = kids[c, j]
-    er = eg = eb = 0.0
-    bits = np.int64(0)
-    if finish[0][k, 1] > 0 or mat_i[mat, M_KIND] == PLASTIC:
-        m, er, eg, eb, bits = finish_hit(finish, scene, labels, k, part, mat, px, py, pz, nx, ny, nz,
-                                         dx, dy, dz, inc, trn, bseed, kids, env_p, roots, crit, ivals)
-    else:  # a closure's outside faces the air: the ray meets it against its normal
-        m = conductor(mat_f, mat, dx, dy, dz, nx, ny, nz, -(nx * dx + ny * dy + nz * dz), 1.0, kids, 0)
-    for c in range(m):
-        kids[c, KW_R] *= rest
-        kids[c, KW_G] *= rest
-        kids[c, KW_B] *= rest
-    for c in range(nk):
-        for j in range(KID_COLS):
-            kids[m + c, j] = kids[end + c, j]
-    return m + nk, rest * er, rest * eg, rest * eb, bits
-
-
-@njit(**JIT)
-def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min_weight,
-                 rr_weight, max_nodes, work, depth_rec, counters, rec_rays, rec_n, labels, finish):
+def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_rec, counters, rec_rays, rec_n,
+                 lab, fin):
     """Radiance ``(r, g, b)`` of one camera ray and its record.
 
     Parameters
     ----------
-    scene : tuple
-        ``(seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f)`` arrays
-        (:mod:`engine.tracer.render_objects`); ``media[m] = (ior, sigma_r, sigma_g, sigma_b)``
-        with absorption in 1/mm.
+    sc : records.Scene
+        The render objects, media (``media[m] = (ior, sigma_r, sigma_g, sigma_b)``, absorption in
+        1/mm) and materials (:mod:`engine.tracer.render_objects`).
     tex, env_p : environment texels ``(H, W, 3)`` (half-float bit patterns, or float32) and
         ``(scale, rotation rad, factor)``: radiance is ``scale * factor * texel``.
     o, d : the ray (mm, unit direction), starting in air.
     seed : uint64 seed of the sample (branches derive theirs from it).
-    work : tuple of scratch arrays ``(stk_f, stk_i, stk_u, roots, crit, ivals, kids, order)``.
+    cut : records.Cutoffs
+        Depth, weight, Russian roulette and node budget of the tree (module rule).
+    work : records.Work
+        The worker's scratch: the stack, the children of a hit, the solvers' space.
     depth_rec : int64 array ``(n_materials,)``: the shallowest depth at which the tree met each
         material is min-ed into it.
-    labels : tuple
-        The label tables (:func:`engine.tracer.tables.labels.label_arrays`; empty without labels): a
-        hit under a label on the object it lies on (the outer wall, object 0, or a closure
-        part: ``labels[LB_OBJECTS]`` holds their bits) is the label's (:mod:`.labels`), its
-        shading normal bent by the object's relief, and the labels consulted set their bits
-        (from ``labels.LABEL_BIT0``) in the object mask.
-    finish : tuple
-        The finish arrays of :mod:`engine.tracer.kernels.finish` (relief, frosting, caps):
-        at each hit :func:`~engine.tracer.kernels.finish.finish_hit` writes the children when
-        a finish applies there, else the plain materials below run unchanged.
+    lab, fin : records.LabelTables, records.FinishTables
+        What lies on the surfaces: labels (empty tables without labels) and reliefs, frosting
+        and closures; the surface layer reads them (:func:`engine.tracer.kernels.surface.scatter`)
+        and the labels consulted set their bits (from ``labels.LABEL_BIT0``) in the object mask.
 
     Returns ``(r, g, b, signature, object mask)``: radiance (finite, >= 0), a hash of the
     dominant path's objects, and a bit per object the tree met.
     """
-    seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
-    stk_f, stk_i, stk_u, roots, crit, ivals, kids, order = work
+    media, obj_i, obj_f = sc.media, sc.geom.obj_i, sc.geom.obj_f
+    stk_f, stk_i, stk_u, kids, order = work.stk_f, work.stk_i, work.stk_u, work.kids, work.order
+    max_depth, min_weight, rr_weight, max_nodes = cut
     scale, rot = env_p[0] * env_p[2], env_p[1]  # the map's scale times its texels' factor
     cap = stk_f.shape[0]
     lr = lg = lb = 0.0
@@ -167,8 +135,7 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
         counters[C_QUERIES] += 1
         if rec_rays.shape[0] > 0:
             _record(rec_rays, rec_n, ox, oy, oz, dx, dy, dz, medium, last, side)
-        t, k, part, nx, ny, nz = nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz,
-                                             medium, last, side, roots, crit, ivals)
+        t, k, part, nx, ny, nz = nearest_hit(sc.geom, ox, oy, oz, dx, dy, dz, medium, last, side, work.scratch)
         if k < 0:
             if medium != AIR:
                 counters[C_LEAKS] += 1
@@ -193,55 +160,22 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
             continue
         px, py, pz = ox + t * dx, oy + t * dy, oz + t * dz
         front, back = object_media(obj_i, obj_f, k, pz)
-        dn = nx * dx + ny * dy + nz * dz
-        if dn < 0.0:
-            inc, trn, fx, fy, fz = front, back, nx, ny, nz
-        else:
-            inc, trn, fx, fy, fz = back, front, -nx, -ny, -nz
+        inc, trn = (front, back) if nx * dx + ny * dy + nz * dz < 0.0 else (back, front)
         if inc != medium:
             counters[C_MISMATCH] += 1
-        kind = mat_i[mat, M_KIND]
-        cos_i = abs(dn)
-        if labels[0].shape[0] > 0 and (labels[LB_OBJECTS][0] >> np.int64(k)) & 1:
-            bx, by, bz = nx, ny, nz
-            if finish[0][k, 1] > 0:  # relief under the label bends its shading normal too
-                bx, by, bz, _ = shading_frame(finish, seg, obj_i, k, part, px, py, pz, nx, ny, nz)
-            nk, er, eg, eb, lbits, rest = label_hit(labels, scene, env_p, k, part, px, py, pz, nx, ny, nz,
-                                                    bx, by, bz, dx, dy, dz, inc, trn, wr, wg, wb, kids,
-                                                    roots, crit, ivals)
-            objmask |= lbits
-            if nk >= 0:  # summed apart and added last, so a relabel can recompute them alone
-                ar += wr * er
-                ag += wg * eg
-                ab += wb * eb
-                if dominant:
-                    sig = mix64(sig ^ np.uint64(0x5BD1E995 + lbits))
-                kind = -1  # answered by the label
-                if rest > 0.0:  # a closure shows through the print's uncovered part
-                    nk, er, eg, eb, fbits = _closure_beneath(finish, scene, labels, k, part, mat, px, py, pz,
-                                                             nx, ny, nz, dx, dy, dz, inc, trn, bseed, kids, nk,
-                                                             rest, env_p, roots, crit, ivals)
-                    objmask |= fbits
-                    lr += wr * er
-                    lg += wg * eg
-                    lb += wb * eb
-            else:
-                nk = 0
-        if kind == -1:
-            pass
-        elif finish[0][k, 1] > 0 or kind == PLASTIC:  # a finish writes the children (and the base's light)
-            nk, er, eg, eb, fbits = finish_hit(finish, scene, labels, k, part, mat, px, py, pz, nx, ny, nz,
-                                               dx, dy, dz, inc, trn, bseed, kids, env_p, roots, crit, ivals)
-            objmask |= fbits  # labels a plastic part's shadow rays consulted
-            lr += wr * er
-            lg += wg * eg
-            lb += wb * eb
-        elif kind == SMOOTH_DIELECTRIC:
-            nk = smooth_dielectric(dx, dy, dz, fx, fy, fz, cos_i, media[trn, 0] / media[inc, 0], 1.0, kids, 0)
-        elif kind == CONDUCTOR:
-            nk = conductor(mat_f, mat, dx, dy, dz, fx, fy, fz, cos_i, 1.0, kids, 0)
-        else:
-            nk = 0
+        it = Interaction(px, py, pz, nx, ny, nz, dx, dy, dz, k, part, mat, inc, trn)
+        s = scatter(sc, lab, fin, env_p, it, wr, wg, wb, bseed, kids, work.scratch)
+        objmask |= s.bits
+        if s.label_bits != 0:  # a sheet's terms are summed apart, so a relabel can recompute them alone
+            ar += wr * s.ar
+            ag += wg * s.ag
+            ab += wb * s.ab
+            if dominant:
+                sig = mix64(sig ^ np.uint64(0x5BD1E995 + s.label_bits))
+        lr += wr * s.er
+        lg += wg * s.eg
+        lb += wb * s.eb
+        nk = s.nk
         # push children lightest first, so the heaviest is followed next (insertion by weight)
         for a_ in range(nk):
             order[a_] = a_
@@ -283,8 +217,8 @@ def trace_sample(scene, tex, env_p, ox, oy, oz, dx, dy, dz, seed, max_depth, min
             stk_i[top, KI_SIDE] = 1 if cdx * nx + cdy * ny + cdz * nz >= 0.0 else -1
             stk_u[top] = branch_seed(bseed, c)
             top += 1
-    if labels[LB_HIT_F].shape[0] > 0:
-        rest = labels[LB_REST]
+    if lab.hit_f.shape[0] > 0:
+        rest = lab.rest
         rest[0], rest[1], rest[2] = lr, lg, lb
     r, g, b = finish_radiance(lr, lg, lb, ar, ag, ab)
     return r, g, b, sig, objmask

@@ -25,7 +25,9 @@ from .helix import helix_roots
 from .outlines import outline_sd
 from .profile import HELIX, LINE, OFFSET, S_KIND, S_R0, S_R1, S_RMAX, S_RMIN, S_Z0, S_Z1, S_ZMAX, S_ZMIN
 from .revolved import PARAM_SLOT, ray_axis, ray_box_from, segment_hits, segment_normal
-from .roots import INLINE, JIT, cone_roots
+from .jit import INLINE, JIT
+from .records import Hit
+from .roots import cone_roots
 from .swept import SL_RMAX, SL_RULED, SL_Z0, SL_Z1, ruled_normal, ruled_roots, swept_normal, swept_roots
 
 # object kinds
@@ -127,14 +129,17 @@ def _first_reaching(seg, slab_f, revolved, j0, j1, z):
 
 
 @njit(**JIT)
-def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, medium, last_obj,
-                last_side, roots, crit, stack):
-    """First true crossing of the ray ``o + t d`` (mm, unit ``d``, ``t > 0``) with any object.
+def nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last_obj, last_side, scratch):
+    """First true crossing of the ray ``o + t d`` (mm, unit ``d``, ``t > 0``) with any object of
+    ``geom`` (a :class:`~.records.Geometry`), for a ray in ``medium`` that left ``last_obj`` with
+    ``d . n`` of sign ``last_side`` (``-1`` / ``0`` for a fresh ray).
 
-    Returns ``(t, object, part, nx, ny, nz)``: ``object = -1`` (and ``t = inf``) for a miss;
-    ``part`` the segment or slab row; ``n`` the object's oriented unit normal there. ``roots``
-    (16,), ``crit`` (5,) and ``stack`` (64, 2) are scratch.
+    Returns a :class:`~.records.Hit`: ``obj = -1`` (and ``t = inf``) for a miss; ``part`` the
+    segment or slab row; ``n`` the object's oriented unit normal there. ``scratch`` is the
+    worker's :class:`~.records.Scratch`.
     """
+    seg, tab, slab_f, slab_i, obj_i, obj_f = geom
+    roots, crit, stack = scratch
     best = np.inf
     best_k, best_part = -1, -1
     best_param = np.nan  # the best crossing's base angle on an offset arc (its normal's)
@@ -231,4 +236,4 @@ def nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, 
     if pending:
         bnx, bny, bnz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, best_k, best_part, ox + best * dx,
                                       oy + best * dy, oz + best * dz, best_param)
-    return best, best_k, best_part, bnx, bny, bnz
+    return Hit(best, best_k, best_part, bnx, bny, bnz)

@@ -5,9 +5,10 @@ Design rule: a label is a decal over a render object, not an object: :func:`labe
 called by the integrator at every hit on an object labels lie on (the outer wall, object 0, and
 for prints on the cap a closure part; their bits are ``lab[LB_OBJECTS]``), and either hands the
 hit back (``nk = -1``: no label there, or a clear part of one; the object's own material
-follows) or answers for it: children written into ``kids`` (coat or foil mirror branches, and on
-the wall the glass's two branches scaled by the uncovered fraction ``1 - alpha``) and the
-radiance the lit diffuse sheet sends back at once. The label tables are the tuple ``lab`` of
+follows) or answers for its covered fraction ``alpha``: children written into ``kids`` (coat or
+foil mirror branches) and the radiance the lit diffuse sheet sends back at once; the uncovered
+fraction ``1 - alpha`` goes to what lies beneath (the surface layer's mask,
+:func:`engine.tracer.kernels.surface.scatter`). The label tables are the tuple ``lab`` of
 :func:`engine.tracer.tables.labels.label_arrays` (their columns are the ``D_``, ``L_``, ``LF_``
 and ``P_`` layouts below); a design without
 labels passes empty tables and costs one length test per hit.
@@ -16,7 +17,8 @@ Relief. The caller passes the shading normal the object's relief bends the geome
 (bump tiles under the label, :func:`engine.tracer.kernels.finish.shading_frame`): the coat's
 mirror child, the irradiance lookups, the lights and an embossed region's bend start from it;
 the geometric normal still decides media (a mirror child a bent normal would send into the wall
-reflects about the geometric normal; the glass beneath takes :func:`_glass_beneath`). A frosted
+reflects about the geometric normal; the glass beneath goes through the surface layer's bump
+adapter). A frosted
 band under a label's uncovered texels is drawn smooth.
 
 Lookup. Each label's place row (``LB_PLACE``) names its surface, its object and the band of
@@ -79,22 +81,18 @@ import math
 import numpy as np
 from numba import njit
 
-from .bumps import consistent_normal
 from .intersect import F_COS, F_SIN, O_KIND, O_MAT, REVOLVED, nearest_hit, object_media
 from .materials import (K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND, SMOOTH_DIELECTRIC,
-                        fresnel_conductor, fresnel_dielectric, keep_sides, smooth_dielectric)
+                        fresnel_conductor, fresnel_dielectric)
 from .revolved import segment_v
-from .roots import INLINE, JIT
+from .jit import INLINE, JIT
 from .sampling import env_lookup
 
-# the tuple of label tables (engine.tracer.tables.labels.label_arrays)
-(LB_ROWS, LB_NODES, LB_F, LB_TEXELS, LB_TEX_I, LB_CODES, LB_REGION_I, LB_FINISH, LB_SIZE, LB_IRR,
- LB_LIGHTS, LB_PLACE, LB_OBJECTS) = range(13)
-# ... then the per-call record buffers (engine.tracer.tables.labels.with_buffers; empty: not recording):
-# hits (float64 (cap, H_COLS), int64 (cap, 2)), their count and overflow flag (int64 (2,)), the
+# The label tables are a records.LabelTables (engine.tracer.tables.labels.label_arrays); its
+# record buffers (engine.tracer.tables.labels.with_buffers; zero rows: not recording) are the hits
+# (float64 (cap, H_COLS), int64 (cap, 2)), their count and overflow flag (int64 (2,)), the
 # current sample's radiance without label terms (float64 (3,)), and per sample of the call its
-# radiance without label terms (float64 (S, 3)) and its hits' range (int64 (S, 2))
-LB_HIT_F, LB_HIT_I, LB_HIT_N, LB_REST, LB_SMP_F, LB_SMP_I = range(13, 19)
+# radiance without label terms (float64 (S, 3)) and its hits' range (int64 (S, 2)).
 #: Columns of a recorded hit: branch weight, alpha, the colour factor P and the colour-free term
 #: Q of its emission ``alpha (P c + Q)``, the face's artwork coordinates; label row and face.
 H_WR, H_WG, H_WB, H_ALPHA, H_P, H_Q, H_S, H_T = 0, 1, 2, 3, 4, 7, 10, 11
@@ -174,7 +172,7 @@ def decal_lookup(rows, nodes, k, theta, h):
 @njit(**JIT)
 def texel(lab, m, s, t):
     """Bilinear straight RGBA of texture ``m`` at artwork ``(s, t)`` (edges clamp)."""
-    texels, tex_i = lab[LB_TEXELS], lab[LB_TEX_I]
+    texels, tex_i = lab.texels, lab.tex_i
     first, w, h = tex_i[m, 0], tex_i[m, 1], tex_i[m, 2]
     x = min(max(s * w - 0.5, 0.0), w - 1.0)
     y = min(max(t * h - 0.5, 0.0), h - 1.0)
@@ -200,17 +198,17 @@ def texel(lab, m, s, t):
 @njit(**INLINE)
 def _code_at(lab, q, s, t):
     """Region code of map ``q`` at the texel containing ``(s, t)``."""
-    first, w, h = lab[LB_REGION_I][q, 0], lab[LB_REGION_I][q, 1], lab[LB_REGION_I][q, 2]
+    first, w, h = lab.region_i[q, 0], lab.region_i[q, 1], lab.region_i[q, 2]
     x = min(max(int(s * w), 0), w - 1)
     y = min(max(int(t * h), 0), h - 1)
-    return int(lab[LB_CODES][first + y * w + x])
+    return int(lab.codes[first + y * w + x])
 
 
 @njit(**JIT)
 def _indicator(lab, q, code, s, t):
     """Bilinear of ``[region code == code]`` at ``(s, t)`` (texel centres at half-integers)."""
-    first, w, h = lab[LB_REGION_I][q, 0], lab[LB_REGION_I][q, 1], lab[LB_REGION_I][q, 2]
-    codes = lab[LB_CODES]
+    first, w, h = lab.region_i[q, 0], lab.region_i[q, 1], lab.region_i[q, 2]
+    codes = lab.codes
     x = min(max(s * w - 0.5, 0.0), w - 1.0)
     y = min(max(t * h - 0.5, 0.0), h - 1.0)
     x0, y0 = int(x), int(y)
@@ -247,10 +245,10 @@ def _top_st(lab, k, px, py):
     """Artwork ``(s, t)`` of the point ``(px, py)`` (mm) under cap-top print ``k`` (affine:
     ``t`` grows along the place row's unit direction ``b``, ``s`` along ``(-b_y, b_x)``, to the
     right of a reader looking down with the print's bottom edge towards them)."""
-    pl = lab[LB_PLACE][k]
+    pl = lab.place[k]
     x, y = px - pl[P_CX], py - pl[P_CY]
     bx, by = pl[P_BX], pl[P_BY]
-    return 0.5 + (-by * x + bx * y) / lab[LB_SIZE][k, 0], 0.5 + (bx * x + by * y) / lab[LB_SIZE][k, 1]
+    return 0.5 + (-by * x + bx * y) / lab.size[k, 0], 0.5 + (bx * x + by * y) / lab.size[k, 1]
 
 
 @njit(**JIT)
@@ -258,7 +256,7 @@ def find_label(lab, obj, theta, h, v, px, py):
     """``(k, s, t, alpha, code, bits)`` of the label covering the point of object ``obj`` at
     :func:`label_point` ``(theta, h, v)`` (world ``px, py`` for cap-top prints): ``k = -1``
     when none covers it; ``bits`` the mask bits of every label consulted (module rule)."""
-    rows, lf, place = lab[LB_ROWS], lab[LB_F], lab[LB_PLACE]
+    rows, lf, place = lab.rows, lab.f, lab.place
     bits = np.int64(0)
     for k in range(rows.shape[0] - 1, -1, -1):
         if int(place[k, P_OBJECT]) != obj or not (v >= place[k, P_V0] and v <= place[k, P_V1]):
@@ -268,7 +266,7 @@ def find_label(lab, obj, theta, h, v, px, py):
             if not (s >= 0.0 and s <= 1.0 and t >= 0.0 and t <= 1.0):
                 continue
         else:
-            s, t = decal_lookup(rows, lab[LB_NODES], k, theta, h)
+            s, t = decal_lookup(rows, lab.nodes, k, theta, h)
             if not (s == s):
                 continue
         bits |= label_bit(k)
@@ -280,7 +278,7 @@ def find_label(lab, obj, theta, h, v, px, py):
         q = int(lf[k, L_REGION_MAP])
         if q >= 0:
             code = _code_at(lab, q, s, t)
-            if code > 0 and int(lab[LB_FINISH][int(lf[k, L_REGION0]) + code - 1, LF_KIND]) == CLEAR_VINYL:
+            if code > 0 and int(lab.finish[int(lf[k, L_REGION0]) + code - 1, LF_KIND]) == CLEAR_VINYL:
                 alpha = 0.0
         if alpha > 0.0:
             return k, s, t, min(alpha, 1.0), code, bits
@@ -288,17 +286,17 @@ def find_label(lab, obj, theta, h, v, px, py):
 
 
 @njit(**JIT)
-def shadow(scene, lab, ox, oy, oz, lx, ly, lz, medium, last, side, roots, crit, ivals):
-    """Transmittance ``(r, g, b, bits)`` of a straight shadow ray from a point on object
-    ``last`` (left with ``side``, in ``medium``) along unit ``l`` (module rule: labels block by
-    their alpha, interfaces pass ``1 - R``, media absorb, closure parts block; refraction
-    ignored). Shared by label sheets and plastic closures."""
-    seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
+def shadow(sc, lab, ox, oy, oz, lx, ly, lz, medium, last, side, scratch):
+    """Transmittance ``(r, g, b, bits)`` of a straight shadow ray through scene ``sc`` from a
+    point on object ``last`` (left with ``side``, in ``medium``) along unit ``l`` (module rule:
+    labels block by their alpha, interfaces pass ``1 - R``, media absorb, closure parts block;
+    refraction ignored). Shared by label sheets and plastic closures."""
+    seg, tab, slab_f, slab_i, obj_i, obj_f = sc.geom
+    media, mat_i = sc.media, sc.mat_i
     tr = tg = tb = 1.0
     bits = np.int64(0)
     for _ in range(SHADOW_CROSSINGS):
-        t, k, part, nx, ny, nz = nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, lx, ly, lz,
-                                             medium, last, side, roots, crit, ivals)
+        t, k, part, nx, ny, nz = nearest_hit(sc.geom, ox, oy, oz, lx, ly, lz, medium, last, side, scratch)
         if k < 0:
             return tr, tg, tb, bits
         if medium != AIR:
@@ -332,11 +330,11 @@ def shadow(scene, lab, ox, oy, oz, lx, ly, lz, medium, last, side, roots, crit, 
 
 
 @njit(**INLINE)
-def _lights(scene, lab, obj, px, py, pz, nx, ny, nz, out_in, roots, crit, ivals):
+def _lights(sc, lab, obj, px, py, pz, nx, ny, nz, out_in, scratch):
     """Irradiance / pi from the design's lights on the sheet at ``p`` of object ``obj`` with
     outward normal ``n``: ``(front r, g, b, back r, g, b, bits)``; ``out_in`` is the medium on
     the inner side. A print on a closure (``obj > 0``, opaque) is lit from the front only."""
-    lights = lab[LB_LIGHTS]
+    lights = lab.lights
     fr = fg = fb = br = bg = bb = 0.0
     bits = np.int64(0)
     for i in range(lights.shape[0]):
@@ -345,9 +343,9 @@ def _lights(scene, lab, obj, px, py, pz, nx, ny, nz, out_in, roots, crit, ivals)
         if c == 0.0 or (c < 0.0 and obj != 0):
             continue
         if c > 0.0:  # the light is on the outer side: the front face is lit
-            sr, sg, sb, b = shadow(scene, lab, px, py, pz, lx, ly, lz, AIR, obj, 1, roots, crit, ivals)
+            sr, sg, sb, b = shadow(sc, lab, px, py, pz, lx, ly, lz, AIR, obj, 1, scratch)
         else:
-            sr, sg, sb, b = shadow(scene, lab, px, py, pz, lx, ly, lz, out_in, obj, -1, roots, crit, ivals)
+            sr, sg, sb, b = shadow(sc, lab, px, py, pz, lx, ly, lz, out_in, obj, -1, scratch)
         bits |= b
         f = abs(c) / math.pi
         er, eg, eb = lights[i, 3] * sr * f, lights[i, 4] * sg * f, lights[i, 5] * sb * f
@@ -377,14 +375,14 @@ def _mirror_kid(kids, c, dx, dy, dz, nx, ny, nz, gx, gy, gz, wr, wg, wb):
 def _emboss_normal(lab, k, q, code, depth, s, t, px, py, nx, ny, nz):
     """Shading normal bent by the relief ``depth x indicator`` of region ``code`` (mm) of
     label ``k`` about the unit normal ``n`` (the sheet's, relief of the surface included)."""
-    w, h = lab[LB_REGION_I][q, 1], lab[LB_REGION_I][q, 2]
+    w, h = lab.region_i[q, 1], lab.region_i[q, 2]
     ds, dt = 1.0 / w, 1.0 / h
     gs = (_indicator(lab, q, code, s + ds, t) - _indicator(lab, q, code, s - ds, t)) / (2.0 * ds)
     gt = (_indicator(lab, q, code, s, t + dt) - _indicator(lab, q, code, s, t - dt)) / (2.0 * dt)
-    gu = depth * gs / lab[LB_SIZE][k, 0]  # dH / d(arc length around), s grows with azimuth
-    gv = depth * gt / lab[LB_SIZE][k, 1]  # dH / d(slant down the wall), t grows downwards
-    if int(lab[LB_PLACE][k, P_SURFACE]) == CAP_TOP:  # s and t grow along fixed directions
-        bx, by = lab[LB_PLACE][k, P_BX], lab[LB_PLACE][k, P_BY]
+    gu = depth * gs / lab.size[k, 0]  # dH / d(arc length around), s grows with azimuth
+    gv = depth * gt / lab.size[k, 1]  # dH / d(slant down the wall), t grows downwards
+    if int(lab.place[k, P_SURFACE]) == CAP_TOP:  # s and t grow along fixed directions
+        bx, by = lab.place[k, P_BX], lab.place[k, P_BY]
         ux, uy, uz, vx, vy, vz = -by, bx, 0.0, bx, by, 0.0
     else:
         rho = math.sqrt(px * px + py * py)
@@ -394,7 +392,7 @@ def _emboss_normal(lab, k, q, code, depth, s, t, px, py, nx, ny, nz):
     a = ux * nx + uy * ny + uz * nz
     ux, uy, uz = ux - a * nx, uy - a * ny, uz - a * nz
     hu = math.sqrt(ux * ux + uy * uy + uz * uz)
-    if int(lab[LB_PLACE][k, P_SURFACE]) == CAP_TOP:
+    if int(lab.place[k, P_SURFACE]) == CAP_TOP:
         a = vx * nx + vy * ny + vz * nz
         vx, vy, vz = vx - a * nx, vy - a * ny, vz - a * nz
     hv = math.sqrt(vx * vx + vy * vy + vz * vz)
@@ -417,7 +415,7 @@ def _emit(alpha, p, c, q):
 def face_colour(lab, k, face, s_face, t):
     """Linear RGB of face ``face`` (0 front, 1 back) of label ``k`` at that face's artwork
     coordinates (the texel, else the plain colour)."""
-    lf = lab[LB_F]
+    lf = lab.f
     m = int(lf[k, L_FRONT_TEX]) if face == 0 else int(lf[k, L_BACK_TEX])
     if m >= 0:
         r, g, b, _ = texel(lab, m, s_face, t)
@@ -428,7 +426,7 @@ def face_colour(lab, k, face, s_face, t):
 
 @njit(**JIT)
 def _record_hit(lab, wr, wg, wb, alpha, pr, pg, pb, qr, qg, qb, s_face, t, k, face):
-    hf, hn = lab[LB_HIT_F], lab[LB_HIT_N]
+    hf, hn = lab.hit_f, lab.hit_n
     i = hn[0]
     if i >= hf.shape[0]:
         hn[1] = 1  # overflow: this call's samples cannot be replayed
@@ -437,7 +435,7 @@ def _record_hit(lab, wr, wg, wb, alpha, pr, pg, pb, qr, qg, qb, s_face, t, k, fa
     hf[i, H_P], hf[i, H_P + 1], hf[i, H_P + 2] = pr, pg, pb
     hf[i, H_Q], hf[i, H_Q + 1], hf[i, H_Q + 2] = qr, qg, qb
     hf[i, H_S], hf[i, H_T] = s_face, t
-    lab[LB_HIT_I][i, H_LABEL], lab[LB_HIT_I][i, H_FACE] = k, face
+    lab.hit_i[i, H_LABEL], lab.hit_i[i, H_FACE] = k, face
     hn[0] = i + 1
 
 
@@ -445,11 +443,11 @@ def _record_hit(lab, wr, wg, wb, alpha, pr, pg, pb, qr, qg, qb, s_face, t, k, fa
 def record_sample(lab, s, h0):
     """After sample ``s`` of a call (recording only): its radiance without label terms and the
     range ``[h0, now)`` of its hits."""
-    if lab[LB_HIT_F].shape[0] == 0:
+    if lab.hit_f.shape[0] == 0:
         return
-    sf = lab[LB_SMP_F]
-    sf[s, 0], sf[s, 1], sf[s, 2] = lab[LB_REST][0], lab[LB_REST][1], lab[LB_REST][2]
-    lab[LB_SMP_I][s, 0], lab[LB_SMP_I][s, 1] = h0, lab[LB_HIT_N][0]
+    sf = lab.smp_f
+    sf[s, 0], sf[s, 1], sf[s, 2] = lab.rest[0], lab.rest[1], lab.rest[2]
+    lab.smp_i[s, 0], lab.smp_i[s, 1] = h0, lab.hit_n[0]
 
 
 @njit(**INLINE)
@@ -491,32 +489,34 @@ def replay_samples(lab, s0, count, smp_f, smp_i, hit_f, hit_i, out_sum, out_sums
 
 
 @njit(**JIT)
-def label_hit(lab, scene, env_p, obj, part, px, py, pz, nx, ny, nz, bx, by, bz, dx, dy, dz, inc, trn, wr, wg,
-              wb, kids, roots, crit, ivals):
-    """What a label does at a hit on render object ``obj`` (module rule).
+def label_hit(lab, sc, env_p, it, bx, by, bz, wr, wg, wb, kids, scratch):
+    """What a label does at the surface interaction ``it`` (a :class:`~.records.Interaction`)
+    on the object it lies on (module rule): a mask over what lies beneath.
 
-    ``n`` is the object's oriented unit normal (pointing into the air), ``b`` the shading
-    normal the surface's relief bends it to (:func:`engine.tracer.kernels.finish.
-    shading_frame`; ``b = n`` without relief), ``d`` the ray, ``inc`` / ``trn`` the media on the
-    ray's and the far side. Returns ``(nk, r, g, b, bits, rest)``: ``nk = -1`` when no label
-    covers the point (the object's material follows), else the number of children in ``kids``
-    and the radiance (per unit branch weight) the sheet sends back now; ``bits`` the labels
-    consulted (object-mask bits, module rule); ``rest`` the uncovered fraction ``1 - alpha``
-    of a print on a closure, which the caller gives the closure's own material (on the wall
-    the glass's share is among the children already, and ``rest`` is 0).
+    ``it``'s normal is the object's oriented unit normal (pointing into the air), ``b`` the
+    shading normal the surface's relief bends it to (:func:`engine.tracer.kernels.finish.
+    shading_frame`; ``b = n`` without relief), ``w`` the branch's weight (recorded for a
+    relabel). Returns ``(nk, r, g, b, bits, rest)``: ``nk = -1`` when no label covers the point
+    (the object's material follows), else the number of children in ``kids`` and the radiance
+    (per unit branch weight) the sheet sends back now; ``bits`` the labels consulted
+    (object-mask bits, module rule); ``rest`` the uncovered fraction ``1 - alpha`` of the texel,
+    which the caller gives what lies beneath (:func:`engine.tracer.kernels.surface.scatter`:
+    the glass of the wall, a closure's own material).
     """
-    seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
+    seg, tab, slab_f, slab_i, obj_i, obj_f = sc.geom
+    px, py, pz, nx, ny, nz, dx, dy, dz = it.px, it.py, it.pz, it.nx, it.ny, it.nz, it.dx, it.dy, it.dz
+    obj, part, inc, trn = it.obj, it.part, it.inc, it.trn
     theta, h, v = label_point(seg, obj_i, obj_f, obj, part, px, py, pz)
     k, s, t, alpha, code, bits = find_label(lab, obj, theta, h, v, px, py)
     if k < 0 or (obj != 0 and nx * dx + ny * dy + nz * dz >= 0.0):  # a closure: outside only
         return -1, 0.0, 0.0, 0.0, bits, 0.0
-    lf, irr = lab[LB_F], lab[LB_IRR]
+    lf, irr = lab.f, lab.irr
     scale, rot = env_p[0], env_p[1]
     outside = inc == AIR
     kind, frow = 0, -1
     if code > 0:
         frow = int(lf[k, L_REGION0]) + code - 1
-        kind = int(lab[LB_FINISH][frow, LF_KIND])
+        kind = int(lab.finish[frow, LF_KIND])
     diff, trans = lf[k, L_DIFFUSE], lf[k, L_TRANSMISSION]
     face = 0 if outside else 1
     s_face = s if outside else 1.0 - s  # back_coordinates
@@ -524,16 +524,16 @@ def label_hit(lab, scene, env_p, obj, part, px, py, pz, nx, ny, nz, bx, by, bz, 
     # shading normal (outward): the surface's relief, then an embossed region's
     sx, sy, sz = bx, by, bz
     if outside and kind == EMBOSS:
-        sx, sy, sz = _emboss_normal(lab, k, int(lf[k, L_REGION_MAP]), code, lab[LB_FINISH][frow, LF_DEPTH],
+        sx, sy, sz = _emboss_normal(lab, k, int(lf[k, L_REGION_MAP]), code, lab.finish[frow, LF_DEPTH],
                                     s, t, px, py, bx, by, bz)
     # irradiance / pi on the outer (o*) and the inner (i*) side: environment, then lights
     or_, og, ob = env_lookup(irr, scale, rot, sx, sy, sz)
     ir, ig, ib = env_lookup(irr, scale, rot, -sx, -sy, -sz)
     if obj != 0:  # a print on an opaque closure: no light from behind
         ir = ig = ib = 0.0
-    if lab[LB_LIGHTS].shape[0] > 0:
-        fr, fg, fb, br, bg, bb, b = _lights(scene, lab, obj, px, py, pz, sx, sy, sz, trn if outside else inc,
-                                            roots, crit, ivals)
+    if lab.lights.shape[0] > 0:
+        fr, fg, fb, br, bg, bb, b = _lights(sc, lab, obj, px, py, pz, sx, sy, sz, trn if outside else inc,
+                                            scratch)
         bits |= b
         or_, og, ob, ir, ig, ib = or_ + fr, og + fg, ob + fb, ir + br, ig + bg, ib + bb
     nk = 0
@@ -542,7 +542,7 @@ def label_hit(lab, scene, env_p, obj, part, px, py, pz, nx, ny, nz, bx, by, bz, 
     if outside:
         cos_i = max(-(dx * sx + dy * sy + dz * sz), 1e-6)
         if kind == GOLD_FOIL or kind == SILVER_FOIL:
-            f = lab[LB_FINISH][frow]
+            f = lab.finish[frow]
             g = f[LF_GLOSS]
             rr = fresnel_conductor(cos_i, f[LF_N], f[LF_K])
             rg = fresnel_conductor(cos_i, f[LF_N + 1], f[LF_K + 1])
@@ -556,7 +556,7 @@ def label_hit(lab, scene, env_p, obj, part, px, py, pz, nx, ny, nz, bx, by, bz, 
             rf, _ = fresnel_dielectric(cos_i, COAT_IOR)
             rc = min(1.0, lf[k, L_SPECULAR] * rf / r0)
             if kind == VARNISH:
-                rc += lab[LB_FINISH][frow, LF_GLOSS] * rf * (1.0 - rc)
+                rc += lab.finish[frow, LF_GLOSS] * rf * (1.0 - rc)
             if rc > 0.0:
                 _mirror_kid(kids, 0, dx, dy, dz, sx, sy, sz, nx, ny, nz, alpha * rc, alpha * rc, alpha * rc)
                 nk = 1
@@ -565,33 +565,11 @@ def label_hit(lab, scene, env_p, obj, part, px, py, pz, nx, ny, nz, bx, by, bz, 
             pg = base * (diff * og + trans * ig)
             pb = base * (diff * ob + trans * ib)
             if kind == CLEAR_VINYL_WHITE:  # the ink over the white underprint
-                f = lab[LB_FINISH][frow]
+                f = lab.finish[frow]
                 pr, pg, pb = pr * f[LF_UNDER], pg * f[LF_UNDER + 1], pb * f[LF_UNDER + 2]
     else:  # the back face, seen through the glass: the ray ends on the paper
         pr, pg, pb = diff * ir + trans * or_, diff * ig + trans * og, diff * ib + trans * ob
     er, eg, eb = _emit(alpha, pr, cr, qr), _emit(alpha, pg, cg, qg), _emit(alpha, pb, cb, qb)
-    if lab[LB_HIT_F].shape[0] > 0:
+    if lab.hit_f.shape[0] > 0:
         _record_hit(lab, wr, wg, wb, alpha, pr, pg, pb, qr, qg, qb, s_face, t, k, face)
-    if alpha < 1.0 and obj != 0:
-        return nk, er, eg, eb, bits, 1.0 - alpha
-    if alpha < 1.0:  # the uncovered part of the texel: the glass beneath, as without a label
-        nk = _glass_beneath(dx, dy, dz, nx, ny, nz, bx, by, bz, outside, media[trn, 0] / media[inc, 0],
-                            1.0 - alpha, kids, nk)
-    return nk, er, eg, eb, bits, 0.0
-
-
-@njit(**INLINE)
-def _glass_beneath(dx, dy, dz, nx, ny, nz, bx, by, bz, outside, eta, weight, kids, nk):
-    """The glass's two branches of weight ``weight`` (the uncovered part of a texel) after the
-    ``nk`` children in ``kids``: about the smooth surface (geometric normal ``n``), or where a
-    relief bends the shading normal to ``b`` about it, each child kept on its side of the
-    geometric surface (:func:`engine.tracer.kernels.materials.keep_sides`). Returns the count."""
-    fx, fy, fz = (nx, ny, nz) if outside else (-nx, -ny, -nz)
-    if bx == nx and by == ny and bz == nz:
-        cos_g = abs(dx * nx + dy * ny + dz * nz)
-        return nk + smooth_dielectric(dx, dy, dz, fx, fy, fz, cos_g, eta, weight, kids, nk)
-    sx, sy, sz = (bx, by, bz) if outside else (-bx, -by, -bz)
-    sx, sy, sz = consistent_normal(sx, sy, sz, fx, fy, fz, dx, dy, dz)
-    nk += smooth_dielectric(dx, dy, dz, sx, sy, sz, -(dx * sx + dy * sy + dz * sz), eta, weight, kids, nk)
-    keep_sides(kids, nk, dx, dy, dz, fx, fy, fz, eta)
-    return nk
+    return nk, er, eg, eb, bits, (1.0 - alpha if alpha < 1.0 else 0.0)

@@ -22,7 +22,7 @@ import math
 
 from numba import njit
 
-from .roots import INLINE, JIT
+from .jit import INLINE, JIT
 
 SMOOTH_DIELECTRIC, CONDUCTOR, PLASTIC = 0, 1, 2
 MAX_CHILDREN = 4

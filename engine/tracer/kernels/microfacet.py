@@ -47,7 +47,7 @@ from numba import njit
 from .bumps import ggx_g1, onb
 from .materials import (K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, MF_K, MF_N, MF_TINT,
                         fresnel_conductor, fresnel_dielectric)
-from .roots import INLINE, JIT, JIT_NRT
+from .jit import INLINE, JIT, JIT_NRT
 
 #: Grid of the albedo tables: cos(theta_i), GGX alpha, x = (n - 1) / (n + 1) of the index ratio.
 N_MU, N_ALPHA, N_X = 33, 26, 26

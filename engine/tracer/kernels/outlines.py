@@ -16,7 +16,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .roots import INLINE, JIT
+from .jit import INLINE, JIT
 
 CIRCLE, RRECT, RSQUARE, OVAL = 0, 1, 2, 3
 SQRT2 = math.sqrt(2.0)

@@ -16,7 +16,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .roots import INLINE, JIT, hypot2
+from .jit import INLINE, JIT
+from .roots import hypot2
 
 # segment kinds (HELIX: a straight wall piece raised by a screw thread, kernels.helix)
 LINE, ARC, ELLIPSE, OFFSET, HELIX = 0, 1, 2, 3, 4

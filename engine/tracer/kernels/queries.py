@@ -10,41 +10,39 @@ from numba import njit
 
 from .integrator import trace_sample
 from .intersect import nearest_hit, object_normal
-from .roots import JIT_NRT
+from .jit import JIT_NRT
+from .records import Scratch
 from .tile import make_work
 
 
 @njit(**JIT_NRT)
-def hits(seg, tab, slab_f, slab_i, obj_i, obj_f, o, d, medium, last, side, out_t, out_k, out_part, out_n):
-    """Nearest true hit of each ray ``o[i] + t d[i]`` (see :func:`nearest_hit`)."""
-    roots = np.zeros(16)
-    crit = np.zeros(5)
-    stack = np.zeros((64, 2))
+def hits(geom, o, d, medium, last, side, out_t, out_k, out_part, out_n):
+    """Nearest true hit of each ray ``o[i] + t d[i]`` against ``geom`` (see :func:`nearest_hit`)."""
+    scratch = Scratch(np.zeros(16), np.zeros(5), np.zeros((64, 2)))
     for i in range(o.shape[0]):
-        t, k, part, nx, ny, nz = nearest_hit(seg, tab, slab_f, slab_i, obj_i, obj_f, o[i, 0], o[i, 1], o[i, 2],
-                                             d[i, 0], d[i, 1], d[i, 2], medium[i], last[i], side[i],
-                                             roots, crit, stack)
+        t, k, part, nx, ny, nz = nearest_hit(geom, o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2],
+                                             medium[i], last[i], side[i], scratch)
         out_t[i], out_k[i], out_part[i] = t, k, part
         out_n[i, 0], out_n[i, 1], out_n[i, 2] = nx, ny, nz
 
 
 @njit(**JIT_NRT)
-def normals(seg, slab_f, slab_i, obj_i, obj_f, k, part, p, out):
-    """Oriented normals of object ``k[i]`` at points ``p[i]`` on its part ``part[i]``."""
+def normals(geom, k, part, p, out):
+    """Oriented normals of object ``k[i]`` of ``geom`` at points ``p[i]`` on its part ``part[i]``."""
+    seg, tab, slab_f, slab_i, obj_i, obj_f = geom
     for i in range(p.shape[0]):
         nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k[i], part[i], p[i, 0], p[i, 1], p[i, 2])
         out[i, 0], out[i, 1], out[i, 2] = nx, ny, nz
 
 
 @njit(**JIT_NRT)
-def radiance(scene, tex, env_p, o, d, max_depth, min_weight, max_nodes, out, counters, labels, finish):
+def radiance(sc, tex, env_p, o, d, cut, out, counters, lab, fin):
     """Radiance of each ray starting in air (the tree of :func:`trace_sample`), into ``out``."""
-    work = make_work(max_depth)
-    depth = np.full(scene[7].shape[0], 255, np.int64)
+    work = make_work(cut.max_depth)
+    depth = np.full(sc.mat_i.shape[0], 255, np.int64)
     rec = np.zeros((0, 6), np.float32)
     rec_n = np.zeros(1, np.int64)
     for i in range(o.shape[0]):
-        r, g, b, _, _ = trace_sample(scene, tex, env_p, o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2],
-                                     np.uint64(i), max_depth, min_weight, 0.0, max_nodes, work, depth, counters,
-                                     rec, rec_n, labels, finish)
+        r, g, b, _, _ = trace_sample(sc, tex, env_p, o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2],
+                                     np.uint64(i), cut, work, depth, counters, rec, rec_n, lab, fin)
         out[i, 0], out[i, 1], out[i, 2] = r, g, b

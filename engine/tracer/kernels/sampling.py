@@ -18,7 +18,7 @@ from llvmlite import ir
 from numba import njit, types
 from numba.extending import intrinsic, overload
 
-from .roots import INLINE, JIT
+from .jit import INLINE, JIT
 
 _M32 = np.uint64(0xFFFFFFFF)
 # camera array columns: eye (3), forward (3), right (3), up (3), tan(fov/2), width, height

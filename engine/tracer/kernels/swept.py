@@ -21,7 +21,8 @@ from numba import njit
 from .bands import F_WALL, band_roots
 from .outlines import RSQUARE, rrect_sd, square_corner, xs_eval
 from .profile import S_R0, S_R1, S_Z0, S_Z1, wall_state
-from .roots import INLINE, JIT, quadratic, sort_small
+from .jit import INLINE, JIT
+from .roots import quadratic, sort_small
 
 #: Columns of the slab table (``slab_f``): the slab's heights, its circumradius (mm), whether
 #: it is ruled (1.0) and, for a ruled slab, :func:`ruled_coefficients`.

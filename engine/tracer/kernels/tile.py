@@ -11,54 +11,52 @@ import numpy as np
 from numba import njit
 
 from .integrator import trace_sample
-from .labels import LB_HIT_N, record_sample
+from .jit import JIT, JIT_NRT
+from .labels import record_sample
 from .materials import KID_COLS, MAX_CHILDREN
-from .roots import JIT, JIT_NRT
+from .records import Cutoffs, Scratch, Work
 from .sampling import C_EYE, C_W, camera_ray, mix64, pixel_offset
 
 
 @njit(**JIT_NRT)
 def make_work(max_depth):
-    """Scratch arrays for one worker: the stack (a depth-first tree holds at most
-    ``MAX_CHILDREN - 1`` waiting siblings per level) and solver space."""
+    """Scratch for one worker (a :class:`~.records.Work`): the stack (a depth-first tree holds
+    at most ``MAX_CHILDREN - 1`` waiting siblings per level), the children of a hit and the
+    solvers' space."""
     cap = (MAX_CHILDREN - 1) * max_depth + 2
-    return (np.zeros((cap, 9)), np.zeros((cap, 4), np.int64), np.zeros(cap, np.uint64),
-            np.zeros(16), np.zeros(5), np.zeros((64, 2)), np.zeros((MAX_CHILDREN, KID_COLS)),
-            np.zeros(MAX_CHILDREN, np.int64))
+    return Work(np.zeros((cap, 9)), np.zeros((cap, 4), np.int64), np.zeros(cap, np.uint64),
+                np.zeros((MAX_CHILDREN, KID_COLS)), np.zeros(MAX_CHILDREN, np.int64),
+                Scratch(np.zeros(16), np.zeros(5), np.zeros((64, 2))))
 
 
 @njit(**JIT_NRT)
-def render_pixels(scene, tex, env_p, cam, cols, rows, first, count, max_depth, min_weight,
-                  rr_weight, rr_from, max_nodes, out_sum, out_sumsq, out_sig, out_mask, out_depth, counters, cancel,
-                  rec_rays, rec_n, labels, finish):
-    """Trace the listed samples of each pixel ``(cols[p], rows[p])``.
+def render_pixels(sc, tex, env_p, cam, px, cut, rr_from, out, cancel, rec_rays, rec_n, lab, fin):
+    """Trace the listed samples of each pixel of ``px`` (a :class:`~.records.Pixels`).
 
-    Writes ``out_sum[p]`` (RGB radiance sum over the samples), ``out_sumsq[p]`` (sum of the
-    squared per-sample mean of RGB, for noise estimates), ``out_sig[p]`` (the first sample's
-    dominant-path signature), ``out_mask[p]`` (objects met, OR over samples) and min-s
-    ``out_depth[p, m]`` (shallowest depth each material was met). Samples numbered ``rr_from``
-    and up play Russian roulette below ``rr_weight`` (see :func:`trace_sample`); ``labels`` is
-    the tuple of label tables :func:`trace_sample` takes. Stops early, leaving the
-    rest untouched, once ``cancel[0]`` is non-zero; returns the number of pixels finished.
-    ``finish`` is the finish tuple handed on to :func:`trace_sample`.
+    Adds into ``out`` (a :class:`~.records.PixelSums`): ``sum[p]`` (RGB radiance sum over the
+    samples), ``sumsq[p]`` (sum of the squared per-sample mean of RGB, for noise estimates),
+    ``sig[p]`` (the first sample's dominant-path signature), ``mask[p]`` (objects met, OR over
+    samples), min-s ``depth[p, m]`` (shallowest depth each material was met) and the kernel
+    counters. ``cut`` are the tree's cut-offs (:class:`~.records.Cutoffs`); samples numbered
+    ``rr_from`` and up play Russian roulette below ``cut.rr_weight``, the others not (see
+    :func:`~.integrator.trace_sample`). Stops early, leaving the rest untouched, once
+    ``cancel[0]`` is non-zero; returns the number of pixels finished.
     """
-    work = make_work(max_depth)
-    return _render_loop(scene, tex, env_p, cam, cols, rows, first, count, max_depth, min_weight, rr_weight,
-                        rr_from, max_nodes, out_sum, out_sumsq, out_sig, out_mask, out_depth, counters, cancel,
-                        rec_rays, rec_n, labels, finish, work)
+    work = make_work(cut.max_depth)
+    return _render_loop(sc, tex, env_p, cam, px, cut, rr_from, out, cancel, rec_rays, rec_n, lab, fin, work)
 
 
 @njit(**JIT)
-def _render_loop(scene, tex, env_p, cam, cols, rows, first, count, max_depth, min_weight, rr_weight, rr_from,
-                 max_nodes, out_sum, out_sumsq, out_sig, out_mask, out_depth, counters, cancel, rec_rays, rec_n,
-                 labels, finish, work):
+def _render_loop(sc, tex, env_p, cam, px, cut, rr_from, out, cancel, rec_rays, rec_n, lab, fin, work):
     """The loop of :func:`render_pixels` over its pixels and samples, with the worker's scratch
     ``work``. Compiled without reference counting: from a kernel that counts references, each
     call of :func:`trace_sample` would increment and decrement the count of every array in its
-    tuples (some forty, atomically, once per sample: 11 % of the Bordeaux frame, measured with
+    records (some forty, atomically, once per sample: 11 % of the Bordeaux frame, measured with
     ``perf``)."""
+    cols, rows, first, count = px
     width = int(cam[C_W])
     ex, ey, ez = cam[C_EYE], cam[C_EYE + 1], cam[C_EYE + 2]
+    plain = Cutoffs(cut.max_depth, cut.min_weight, 0.0, cut.max_nodes)
     smp = 0
     for p in range(cols.shape[0]):
         if cancel[0] != 0:
@@ -70,24 +68,22 @@ def _render_loop(scene, tex, env_p, cam, cols, rows, first, count, max_depth, mi
             fx, fy = pixel_offset(pix, k)
             dx, dy, dz = camera_ray(cam, cols[p] + fx, rows[p] + fy)
             seed = mix64(np.uint64(pix) * np.uint64(0x9E3779B97F4A7C15) ^ np.uint64(k))
-            h0 = labels[LB_HIT_N][0]
-            r, g, b, sig, m = trace_sample(scene, tex, env_p, ex, ey, ez, dx, dy, dz, seed,
-                                           max_depth, min_weight, rr_weight if k >= rr_from else 0.0,
-                                           max_nodes, work, out_depth[p],
-                                           counters, rec_rays, rec_n, labels, finish)
-            record_sample(labels, smp, h0)
+            h0 = lab.hit_n[0]
+            r, g, b, sig, m = trace_sample(sc, tex, env_p, ex, ey, ez, dx, dy, dz, seed, cut if k >= rr_from else plain,
+                                           work, out.depth[p], out.counters, rec_rays, rec_n, lab, fin)
+            record_sample(lab, smp, h0)
             smp += 1
             if k == first[p]:
-                out_sig[p] = sig
+                out.sig[p] = sig
             sr += r
             sg += g
             sb += b
             lum = (r + g + b) / 3.0
             ssq += lum * lum
             mask |= m
-        out_sum[p, 0] += sr
-        out_sum[p, 1] += sg
-        out_sum[p, 2] += sb
-        out_sumsq[p] += ssq
-        out_mask[p] |= mask
+        out.sum[p, 0] += sr
+        out.sum[p, 1] += sg
+        out.sum[p, 2] += sb
+        out.sumsq[p] += ssq
+        out.mask[p] |= mask
     return cols.shape[0]

@@ -29,6 +29,7 @@ import numpy as np
 
 from ...appearance.closure_parts import cap_material
 from ...appearance.closures import finish_of
+from ..kernels.records import FinishTables, Geometry, Scene
 from ..kernels import intersect as K
 from ..kernels import profile as R
 from ..kernels.bumps import FROSTED, P_ALPHA, P_COLS, P_V0, P_V1
@@ -130,14 +131,14 @@ def _build_counted(cap, finish, edge):
     return build_cap_tables(cap, finish, edge)
 
 
-def scene_with_cap(scene: tuple, cap: CapTables | None, fill_height: float | None = None) -> tuple:
-    """The kernels' scene tuple with the cap's objects and materials appended after the
+def scene_with_cap(scene: Scene, cap: CapTables | None, fill_height: float | None = None) -> Scene:
+    """The kernels' scene (:class:`~engine.tracer.kernels.records.Scene`) with the cap's objects and materials appended after the
     bottle's (segment rows and material ids offset); ``scene`` itself without a cap. Below a
     fill height (mm) a part inside the bore is surrounded by liquid (a cork the wine reaches),
     like the inner wall."""
     if cap is None:
         return scene
-    seg, tab, slab_f, slab_i, obj_i, obj_f, media, mat_i, mat_f = scene
+    (seg, tab, slab_f, slab_i, obj_i, obj_f), media, mat_i, mat_f = scene
     oi = cap.obj_i.copy()
     oi[:, K.O_FIRST] += seg.shape[0]
     oi[:, K.O_MAT] += mat_i.shape[0]
@@ -153,25 +154,25 @@ def scene_with_cap(scene: tuple, cap: CapTables | None, fill_height: float | Non
     mf = np.zeros((mat_f.shape[0], MAT_COLS))
     mf[:, :mat_f.shape[1]] = mat_f
     c = np.ascontiguousarray
-    return (c(np.concatenate([seg, cap.seg])), tab, slab_f, slab_i, c(np.concatenate([obj_i, oi])),
-            c(np.concatenate([obj_f, of])), media, c(np.concatenate([mat_i, cap.mat_i])),
-            c(np.concatenate([mf, cap.mat_f])))
+    return Scene(Geometry(c(np.concatenate([seg, cap.seg])), tab, slab_f, slab_i, c(np.concatenate([obj_i, oi])),
+                          c(np.concatenate([obj_f, of]))), media, c(np.concatenate([mat_i, cap.mat_i])),
+                 c(np.concatenate([mf, cap.mat_f])))
 
 
 # ----------------------------------------------------------------------------- finish tuple
 _EMPTY_IRR = np.zeros((2, 2, 3), np.float32)
 
 
-def empty_finish(n_objects: int) -> tuple:
-    """The finish tuple of a plain design: no rows on any object."""
-    return (np.zeros((n_objects, 2), np.int64), np.zeros(0, np.int64), np.zeros((0, P_COLS)),
-            np.zeros((1, 3), np.float32), _EMPTY_IRR, np.zeros((0, 6))) + albedo_tables()
+def empty_finish(n_objects: int) -> FinishTables:
+    """The finish tables of a plain design: no rows on any object."""
+    return FinishTables(np.zeros((n_objects, 2), np.int64), np.zeros(0, np.int64), np.zeros((0, P_COLS)),
+                        np.zeros((1, 3), np.float32), _EMPTY_IRR, np.zeros((0, 6)), *albedo_tables())
 
 
-def finish_arrays(design, assets, geom, cap: CapTables | None, scene: tuple, texels) -> tuple:
-    """The finish tuple of ``design`` for the kernels (module doc); ``scene`` is the combined
+def finish_arrays(design, assets, geom, cap: CapTables | None, scene: Scene, texels) -> FinishTables:
+    """The finish tables of ``design`` for the kernels (module doc); ``scene`` is the combined
     scene (bottle and cap objects), ``texels`` the environment's."""
-    n_obj = scene[4].shape[0]
+    n_obj = scene.geom.obj_i.shape[0]
     if not design.bumps and cap is None:
         return empty_finish(n_obj)
     from .bump_rows import BOTTLE, bump_tables
@@ -206,7 +207,8 @@ def finish_arrays(design, assets, geom, cap: CapTables | None, scene: tuple, tex
     kinds = np.ascontiguousarray(np.array(kinds_all, np.int64)[order] if order else np.zeros(0, np.int64))
     params = np.ascontiguousarray(np.array(params_all, float).reshape(-1, P_COLS)[order] if order
                                   else np.zeros((0, P_COLS)))
-    plastic = bool(np.any(scene[7][:, 0] == PLASTIC))
+    plastic = bool(np.any(scene.mat_i[:, 0] == PLASTIC))
     irr = irradiance_table(texels) if plastic else _EMPTY_IRR
     lights = light_table(design.lights) if plastic else np.zeros((0, 6))
-    return (obj_rows, kinds, params, np.ascontiguousarray(bt.atlas, np.float32), irr, lights) + albedo_tables()
+    return FinishTables(obj_rows, kinds, params, np.ascontiguousarray(bt.atlas, np.float32), irr, lights,
+                        *albedo_tables())

@@ -1,8 +1,8 @@
 """The label tables of one render: every label of a design as the flat arrays the kernels read.
 
 Design rule: :func:`label_arrays` is the one place a design's labels become the tuple the
-kernels take (layout ``LB_*`` of :mod:`engine.tracer.kernels.labels`, whose ``D_``, ``L_``,
-``LF_`` and ``P_`` column layouts this module fills and never redefines): the decals (each
+kernels take (:class:`engine.tracer.kernels.records.LabelTables`; the labels kernel owns the
+``D_``, ``L_``, ``LF_`` and ``P_`` column layouts this module fills and never redefines): the decals (each
 label's exact map sampled on a grid, :mod:`engine.appearance.decal`, packed by
 :func:`pack_decals`), the label rows and artwork of :func:`compile_labels`, each label's size in
 mm (for emboss slopes), the environment's diffuse irradiance table
@@ -44,6 +44,7 @@ from ..kernels.labels import (D_COLS, FINISH_CODES, H_COLS, L_BACK_B, L_BACK_R, 
                               L_SPECULAR, L_TRANSMISSION, LF_COLS, LF_DEPTH, LF_GLOSS, LF_K, LF_KIND, LF_N,
                               LF_UNDER, P_BX, P_BY, P_COLS, P_CX, P_CY, P_OBJECT, P_SURFACE, P_V0, P_V1,
                               SURFACE_CODES)
+from ..kernels.records import LabelTables
 from ..lighting import irradiance_table, light_table
 
 
@@ -175,9 +176,15 @@ def place_rows(design, first_cap_object: int) -> tuple[np.ndarray, int]:
     return rows, objects
 
 
-def _tuple(cl, size, irr, lights, place, objects):
-    return (cl.decal_rows, cl.decal_nodes, cl.label_f, cl.texels, cl.tex_i, cl.codes, cl.region_i,
-            cl.finishes, size, irr, lights, place, np.array([objects], np.int64))
+#: The record buffers of a call that does not record (never written: the kernels test the
+#: hit table's length first), shared by every call.
+_NO_RECORD = (np.zeros((0, H_COLS)), np.zeros((0, 2), np.int64), np.zeros(2, np.int64), np.zeros(3),
+              np.zeros((0, 3)), np.zeros((0, 2), np.int64))
+
+
+def _tables(cl, size, irr, lights, place, objects) -> LabelTables:
+    return LabelTables(cl.decal_rows, cl.decal_nodes, cl.label_f, cl.texels, cl.tex_i, cl.codes, cl.region_i,
+                       cl.finishes, size, irr, lights, place, np.array([objects], np.int64), *_NO_RECORD)
 
 
 class _Empty:
@@ -191,7 +198,7 @@ class _Empty:
     finishes = np.zeros((0, LF_COLS))
 
 
-def empty_label_arrays() -> tuple:
+def empty_label_arrays() -> LabelTables:
     """The tables of a design without labels (same types, read-only flags included, as
     :func:`label_arrays`, so the kernels are compiled once for both)."""
     irr = np.zeros((2, 2, 3), np.float32)
@@ -199,11 +206,11 @@ def empty_label_arrays() -> tuple:
         a.setflags(write=False)
     place = np.zeros((0, P_COLS))
     place.setflags(write=False)  # as place_rows gives it (numba types read-only arrays apart)
-    return _tuple(_Empty, np.zeros((0, 2)), irr, np.zeros((0, 6)), place, 0)
+    return _tables(_Empty, np.zeros((0, 2)), irr, np.zeros((0, 6)), place, 0)
 
 
-def label_arrays(design, assets, env_texels, first_cap_object: int = 0) -> tuple:
-    """The kernels' label tuple of ``design`` (module rule); ``env_texels`` the environment's
+def label_arrays(design, assets, env_texels, first_cap_object: int = 0) -> LabelTables:
+    """The kernels' label tables of ``design`` (module rule); ``env_texels`` the environment's
     unscaled texels, ``first_cap_object`` the render object of the closure's first part (the
     bottle's object count; prints on the closure lie on those objects). Raises
     :class:`engine.appearance.images.ArtworkError` for a bad image."""
@@ -212,23 +219,24 @@ def label_arrays(design, assets, env_texels, first_cap_object: int = 0) -> tuple
     cl = compile_labels(design, assets or {})
     size = np.array([[lab.width_mm, lab.height_mm] for lab in design.labels], float)
     place, objects = place_rows(design, first_cap_object)
-    return _tuple(cl, size, irradiance_table(env_texels), light_table(design.lights), place, objects)
+    return _tables(cl, size, irradiance_table(env_texels), light_table(design.lights), place, objects)
 
 
-#: The record buffers of a call that does not record (never written: the kernels test the
-#: hit table's length first), shared by every call.
-_NO_RECORD = (np.zeros((0, H_COLS)), np.zeros((0, 2), np.int64), np.zeros(2, np.int64), np.zeros(3),
-              np.zeros((0, 3)), np.zeros((0, 2), np.int64))
 #: Hits a recording call makes room for per sample at first (it retries with more on overflow).
 HITS_PER_SAMPLE = 2
 
 
-def with_buffers(labels: tuple, samples: int = 0, hits: int | None = None) -> tuple:
-    """``labels`` with the record buffers the kernels append hits to (layout ``LB_HIT_F ..
-    LB_SMP_I`` of :mod:`engine.tracer.kernels.labels`): for ``samples`` samples and ``hits``
-    hits (default :data:`HITS_PER_SAMPLE` a sample), or none (``samples = 0``: not recording)."""
+def with_buffers(labels: LabelTables, samples: int = 0, hits: int | None = None) -> LabelTables:
+    """``labels`` with the record buffers the kernels append hits to (the fields ``hit_f ..
+    smp_i`` of :class:`~engine.tracer.kernels.records.LabelTables`): for ``samples`` samples and
+    ``hits`` hits (default :data:`HITS_PER_SAMPLE` a sample), or none (``samples = 0``: not
+    recording)."""
     if samples <= 0:
-        return labels + _NO_RECORD
+        return labels._replace(**dict(zip(_BUFFERS, _NO_RECORD)))
     cap = HITS_PER_SAMPLE * samples + 64 if hits is None else int(hits)
-    return labels + (np.zeros((cap, H_COLS)), np.zeros((cap, 2), np.int64), np.zeros(2, np.int64), np.zeros(3),
-                     np.zeros((samples, 3)), np.zeros((samples, 2), np.int64))
+    return labels._replace(hit_f=np.zeros((cap, H_COLS)), hit_i=np.zeros((cap, 2), np.int64),
+                           hit_n=np.zeros(2, np.int64), rest=np.zeros(3), smp_f=np.zeros((samples, 3)),
+                           smp_i=np.zeros((samples, 2), np.int64))
+
+
+_BUFFERS = ("hit_f", "hit_i", "hit_n", "rest", "smp_f", "smp_i")

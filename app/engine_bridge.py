@@ -20,7 +20,7 @@ from engine.model import advice, check, fill, orbit
 from engine.operations import check as design_check, trade
 from engine.model.design import Design
 from engine.errors import GlassbenchError
-from engine.model.scene import ALL_CHANGES, Scene, changed_fields  # noqa: F401 - for the window
+from engine.model.scene import ALL_CHANGES, Scene  # noqa: F401 - for the window
 from engine.geometry.section import Section
 from engine.geometry.shape import BottleShape
 from engine.tracer import job as tracer_job

@@ -24,6 +24,7 @@ import time
 from PySide6.QtCore import QObject, Qt, QTimer, Signal
 
 from app import engine_bridge
+from engine.model.changes import Change
 
 #: The live pass during a held gesture: this fraction of the preview's size, 1 sample per pixel.
 LIVE_SCALE = 0.25
@@ -84,6 +85,7 @@ class RenderController(QObject):
         cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 2)
         self.threads = max(1, min(8, cores))
         self._last_full = None  # the last full render's job: what an edit that changes nothing reuses
+        self._since_full = Change()  # what the scene announced since that job was made
         self.held = False
         self._live_allowed = True
         self.converged_generation = -1
@@ -106,11 +108,15 @@ class RenderController(QObject):
         """The size (pixels) a full render of ``design`` has."""
         return self.wanted_size or (design.render.width, design.render.height)
 
-    def start(self, design, assets=None):
+    def start(self, design, assets=None, changed=None):
         """Cancel what is running and render ``design``: the full render after the debounce
         delay, or while held the live pass (or nothing, for a hold without one). Live passes
         are throttled, not debounced: a continuous drag starts one every
-        :data:`LIVE_INTERVAL_MS` of the newest design, where a debounce would wait for a pause."""
+        :data:`LIVE_INTERVAL_MS` of the newest design, where a debounce would wait for a pause.
+        ``changed`` is what the scene announced (a :class:`~engine.model.changes.Change`; ``None``:
+        nothing new, a restart); the full render is told all of it since the last one."""
+        if changed is not None:
+            self._since_full = self._since_full | changed
         live_due = self.held and self._timer.isActive() and self._pending is not None and self._pending[3]
         due = self._timer.remainingTime() if live_due else -1
         self.cancel()
@@ -181,15 +187,15 @@ class RenderController(QObject):
 
     def _make_job(self, generation, design, assets, width, height, spp, live=False):
         """The tracer job for one render (the one place that builds one). A full render is told
-        the design fields that changed since the last full render, so that an edit of nothing
-        it renders (a name, the notes) keeps that film instead of tracing it again."""
+        what the scene announced since the last full render (:attr:`_since_full`), so that an
+        edit of nothing it renders (a name, the notes) keeps that film and a label edit
+        relabels it, without comparing designs again."""
         reuse = {}
         prev = self._last_full
         if not live and prev is not None:
-            changed = set(engine_bridge.changed_fields(prev.design, design))
-            if dict(prev.assets or {}) != dict(assets or {}):
-                changed.add("assets")
-            reuse = {"previous": prev, "changed": changed}
+            reuse = {"previous": prev, "changed": self._since_full}
+        if not live:
+            self._since_full = Change()
         job = engine_bridge.tracer_job_class()(
             design, assets, width=width, height=height, spp=spp, threads=self.threads,
             worker_nice=WORKER_NICE, on_tile=lambda j, t, g=generation: self._worker_tile.emit(g, j, t),

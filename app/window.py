@@ -165,7 +165,7 @@ class MainWindow(QMainWindow):
         view = self.menuBar().addMenu("&View")
         for text, slot, key in (("Preview 1:1", self.preview.zoom_one_to_one, "Ctrl+1"),
                                 ("Preview fit", self.preview.zoom_fit, "Ctrl+0"),
-                                ("Restart render", self.restart_render, "F5")):
+                                ("Restart render", lambda: self.restart_render(), "F5")):
             act = QAction(text, self)
             act.setShortcut(QKeySequence(key))
             act.triggered.connect(slot)
@@ -225,7 +225,7 @@ class MainWindow(QMainWindow):
         if "render" in changed:
             self.update_render_size(restart=False)
         if changed - {"name", "notes"}:
-            self.restart_render()
+            self.restart_render(changed)
 
     def document_replaced(self):
         """A design was opened or started: fit the section to it, offer nothing about its name."""
@@ -292,8 +292,10 @@ class MainWindow(QMainWindow):
             if restart:
                 self.restart_render()
 
-    def restart_render(self):
-        self.render_controller.start(self.scene.snapshot(), engine_bridge.scene_assets(self.scene))
+    def restart_render(self, changed=None):
+        """Render the current design; ``changed`` what the scene announced (module rule of
+        :mod:`app.render_controller`)."""
+        self.render_controller.start(self.scene.snapshot(), engine_bridge.scene_assets(self.scene), changed)
 
     def _on_tile(self, generation, x0, y0, tile_rgb8):
         self.preview.paint_tile(x0, y0, tile_rgb8)

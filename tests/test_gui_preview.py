@@ -224,3 +224,40 @@ def test_a_refused_drag_leaves_the_render_running(make_window, qtbot):
     assert rc.generation == generation and rc.job is job and not job.cancelled
     _wait_converged(qtbot, w)
     assert rc.converged_generation == generation
+
+
+def test_the_scenes_change_reaches_the_job_once_notes_keep_the_film_and_a_colour_relabels(make_window, qtbot):
+    """What an edit changed is named by the scene and handed to the next full render: a notes
+    edit starts nothing, a restart with nothing changed keeps the finished film (no new trace),
+    a label colour edit relabels (no pixel traced again, the label's pixels recoloured), and the
+    relabelled image is a full render's."""
+    import dataclasses
+    from pathlib import Path
+    from engine.files.project import load_project
+    from engine.tracer.job import render_image
+    design, assets = load_project(Path(__file__).resolve().parents[1] / "resources" / "labelled.glassbench")
+    small = dataclasses.replace(design, render=dataclasses.replace(design.render, width=36, height=48, spp=2))
+    w = make_window(small, assets=assets)
+    rc = w.render_controller
+    _wait_converged(qtbot, w)
+    first = rc.job
+    assert first.records is not None and first.relabelled_pixels is None
+    w.editor.apply("Notes", None, notes="a client's remark")
+    assert rc.job is first and rc._since_full == set()
+    w.restart_render()
+    rc.wait_until_idle(0)
+    qtbot.waitUntil(lambda: rc.job is not first and rc.job.done, timeout=60_000)
+    assert rc.job.film is first.film  # kept: nothing it shows changed
+    kept = rc.job
+    label = small.labels[0]
+    recoloured = dataclasses.replace(label, front=dataclasses.replace(label.front, color=(0.9, 0.2, 0.1)))
+    w.editor.apply("Label colour", None, labels=(recoloured,) + small.labels[1:])
+    assert rc._since_full == {"labels"}
+    rc.wait_until_idle(0)
+    qtbot.waitUntil(lambda: rc.job is not kept and rc.job.done, timeout=60_000)
+    job = rc.job
+    assert job.error is None and job.context.geometry is first.context.geometry  # the scene was not rebuilt
+    assert job.relabelled_pixels == 0 and job.recoloured_pixels > 0
+    full = render_image(w.scene.design, dict(w.scene.assets), width=job.width, height=job.height, spp=job.spp,
+                        noise_space=job.noise_space, noise_target=job.noise_target)
+    assert np.array_equal(job.image(), full)

@@ -270,7 +270,7 @@ def test_a_cap_print_relabels_bit_for_bit(bordeaux):
         full = RenderJob(d2, a, **kw).start()
         rel.wait()
         full.wait()
-        assert rel._ctx.geometry is first._ctx.geometry
+        assert rel.context.geometry is first.context.geometry
         np.testing.assert_array_equal(rel.image(), full.image())
         return rel
 

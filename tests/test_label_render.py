@@ -236,7 +236,7 @@ def relabel_case():
 def _relabel_equals_full(prev, d2, assets, changed):
     rel = _job(d2, assets, previous=prev, changed=changed)
     full = _job(d2, assets)
-    assert rel._ctx.geometry is prev._ctx.geometry  # the scene was not rebuilt
+    assert rel.context.geometry is prev.context.geometry  # the scene was not rebuilt
     np.testing.assert_array_equal(rel.image(), full.image())
     np.testing.assert_array_equal(rel.film.objects, full.film.objects)
     return rel, full
@@ -288,7 +288,7 @@ def test_design_without_labels_renders_as_before():
     d, a = load_project(BORDEAUX)
     job = RenderJob(d, a, width=48, height=64, spp=4, threads=1).start()
     job.wait()
-    assert job.error is None and job._records is None  # nothing recorded without labels
+    assert job.error is None and job.records is None  # nothing recorded without labels
     np.testing.assert_array_equal(job.image(), ref)
 
 

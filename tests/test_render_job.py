@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 import engine.tracer.job as job_module
+from engine.tracer import scheduler
 from engine.tracer.adaptive import preview_block
 from engine.tracer.render_objects import render_geometry_for
 from engine.tracer.job import RenderJob, render_image, tonemap_srgb8
@@ -283,12 +284,12 @@ def test_small_tiles_are_batched_in_order_until_a_task_is_worth_its_overhead():
     in their order; a tile of that much work is a task of its own; no tile lost or repeated."""
     work = np.zeros((64, 96), np.int64)
     work[::8, ::8] = 1  # a preview: one centre per 8 x 8 block
-    work[32:48, 48:64] = job_module.MIN_TASK_SAMPLES  # one heavy tile
+    work[32:48, 48:64] = scheduler.MIN_TASK_SAMPLES  # one heavy tile
     tiles = [(x, y, x + 16, y + 16) for y in range(0, 64, 16) for x in range(0, 96, 16)]
-    batches = job_module._batches(tiles, [int(work[y0:y1, x0:x1].sum()) for x0, y0, x1, y1 in tiles])
+    batches = scheduler.batches(tiles, [int(work[y0:y1, x0:x1].sum()) for x0, y0, x1, y1 in tiles])
     assert [tl for b in batches for tl in b] == tiles
     sums = [sum(int(work[y0:y1, x0:x1].sum()) for x0, y0, x1, y1 in b) for b in batches]
-    assert all(s >= job_module.MIN_TASK_SAMPLES for s in sums[:-1])
+    assert all(s >= scheduler.MIN_TASK_SAMPLES for s in sums[:-1])
     assert [(48, 32, 64, 48)] in batches or any(b[-1] == (48, 32, 64, 48) for b in batches)
     assert len(batches) < len(tiles) // 4
 

@@ -2,10 +2,11 @@
 
 Design rule: the design itself is a frozen value; ``Scene`` only swaps whole values and tells
 its observers which top-level ``Design`` fields changed (compared by value, so re-setting an
-equal value announces nothing). Several edits inside ``with scene.batch():`` announce once,
-with the union of the changed fields. Assets (environment maps, label images) are bytes kept
-beside the design, named by ``Environment.asset`` / ``Label.asset``; an asset change is
-announced as the pseudo-field ``"assets"``. No Qt here: the GUI wraps edits in undoable
+equal value announces nothing), as a :class:`~engine.model.changes.Change`: the scene is the one
+place an edit is diffed. Several edits inside ``with scene.batch():`` announce once, with the
+union of the changes. Assets (environment maps, label images) are bytes kept beside the design,
+named by ``Environment.asset`` / ``Label.asset``; an asset change is announced as the
+pseudo-field ``"assets"``, with the asset's name in ``Change.assets``. No Qt here: the GUI wraps edits in undoable
 commands and marshals notifications to its own thread.
 """
 from __future__ import annotations
@@ -15,6 +16,7 @@ from contextlib import contextmanager
 from types import MappingProxyType
 from typing import Callable, Iterator, Mapping
 
+from .changes import Change, changed_assets
 from .design import Design
 
 #: Top-level field names of ``Design``: the names observers may receive (plus ``"assets"``).
@@ -26,10 +28,9 @@ ALL_CHANGES = DESIGN_FIELDS | {"assets"}
 Observer = Callable[[frozenset, "Scene"], None]
 
 
-def changed_fields(old: Design, new: Design) -> frozenset:
-    """Names of the top-level ``Design`` fields whose values differ between ``old`` and ``new``."""
-    return frozenset(f.name for f in dataclasses.fields(Design)
-                     if getattr(old, f.name) != getattr(new, f.name))
+def changed_fields(old: Design, new: Design) -> Change:
+    """The top-level ``Design`` fields whose values differ between ``old`` and ``new``."""
+    return Change(f.name for f in dataclasses.fields(Design) if getattr(old, f.name) != getattr(new, f.name))
 
 
 class Scene:
@@ -59,7 +60,7 @@ class Scene:
             self._assets[str(name)] = bytes(data)
         self._observers: list[Observer] = []
         self._batch_depth = 0
-        self._pending: set[str] = set()
+        self._pending = Change()
 
     # -- reading ---------------------------------------------------------------------------
     @property
@@ -77,7 +78,7 @@ class Scene:
         return MappingProxyType(self._assets)
 
     # -- editing ---------------------------------------------------------------------------
-    def set_design(self, new: Design) -> frozenset:
+    def set_design(self, new: Design) -> Change:
         """Make ``new`` the current design; returns (and announces) the changed fields."""
         if not isinstance(new, Design):
             raise TypeError(f"set_design needs a Design, got {type(new).__name__}")
@@ -87,7 +88,7 @@ class Scene:
             self._announce(changed)
         return changed
 
-    def replace(self, **changes) -> frozenset:
+    def replace(self, **changes) -> Change:
         """Replace top-level fields by name (``scene.replace(glass=Glass(ior=1.5))``).
 
         Raises ``TypeError`` for names that are not ``Design`` fields.
@@ -110,19 +111,20 @@ class Scene:
             if self._assets.get(name) == data:
                 return False
             self._assets[name] = data
-        self._announce(frozenset({"assets"}))
+        self._announce(Change(assets={name}))
         return True
 
-    def load(self, design: Design, assets: Mapping[str, bytes]) -> frozenset:
+    def load(self, design: Design, assets: Mapping[str, bytes]) -> Change:
         """Replace design and all assets at once (opening a project); one notification."""
         with self.batch():
-            changed = set(self.set_design(design))
+            changed = self.set_design(design)
             new_assets = {str(k): bytes(v) for k, v in assets.items()}
-            if new_assets != self._assets:
+            names = changed_assets(self._assets, new_assets)
+            if names:
                 self._assets = new_assets
-                self._pending.add("assets")
-                changed.add("assets")
-        return frozenset(changed)
+                self._pending = self._pending | Change(assets=names)
+                changed = changed | Change(assets=names)
+        return changed
 
     @contextmanager
     def batch(self) -> Iterator["Scene"]:
@@ -137,7 +139,7 @@ class Scene:
         finally:
             self._batch_depth -= 1
             if self._batch_depth == 0 and self._pending:
-                pending, self._pending = frozenset(self._pending), set()
+                pending, self._pending = self._pending, Change()
                 self._notify(pending)
 
     # -- observing -------------------------------------------------------------------------
@@ -153,13 +155,13 @@ class Scene:
                 pass
         return unsubscribe
 
-    def _announce(self, changed: frozenset) -> None:
+    def _announce(self, changed: Change) -> None:
         if self._batch_depth:
-            self._pending |= changed
+            self._pending = self._pending | changed
         else:
             self._notify(changed)
 
-    def _notify(self, changed: frozenset) -> None:
+    def _notify(self, changed: Change) -> None:
         first_error = None
         for cb in list(self._observers):
             try:

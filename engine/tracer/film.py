@@ -94,6 +94,34 @@ class Film:
         with self.lock:
             self.preview[y0:y1, x0:x1] = block
 
+    def paint_preview(self, cols, rows, values, b: int, tile: int, region=None) -> None:
+        """Paint each preview sample ``(cols[p], rows[p])`` (radiance ``values[p]``) over its
+        ``b x b`` block, clipped to its ``tile x tile`` tile; ``region`` ``(x0, y0, x1, y1)``,
+        tile-aligned, holds all the samples (default: the whole image)."""
+        if tile % b:  # blocks may cross tiles: one block at a time
+            for c, r, v in zip(cols, rows, values):
+                by, bx = (r // b) * b, (c // b) * b
+                x1 = min((c // tile + 1) * tile, self.width)  # the pixel's tile
+                y1 = min((r // tile + 1) * tile, self.height)
+                self.set_preview(by, min(by + b, y1), bx, min(bx + b, x1), v)
+            return
+        # blocks then never cross a tile: paint whole blocks, cut at the region's edge
+        x0, y0, x1, y1 = region if region is not None else (0, 0, self.width, self.height)
+        h, w = y1 - y0, x1 - x0
+        grid = np.zeros((-(-h // b), -(-w // b), 3))
+        have = np.zeros(grid.shape[:2], bool)
+        grid[(rows - y0) // b, (cols - x0) // b] = values
+        have[(rows - y0) // b, (cols - x0) // b] = True
+        full = np.repeat(np.repeat(grid, b, 0), b, 1)[:h, :w]
+        target = self.preview[y0:y1, x0:x1]
+        if have.all():  # the usual case: every block's centre
+            with self.lock:
+                target[...] = full
+            return
+        on = np.repeat(np.repeat(have, b, 0), b, 1)[:h, :w]
+        with self.lock:
+            target[on] = full[on]
+
     # ----------------------------------------------------------------- reading
     def image(self, region=None) -> np.ndarray:
         """Current estimate float32 linear radiance: AA mean, else centre, else preview; always

@@ -1,0 +1,51 @@
+"""What a new render may take over from the render it replaces, decided once from the change.
+
+Design rule: a job is handed the job it replaces and the :class:`~engine.model.changes.Change`
+the scene announced since (unioned over the edits in between); :func:`reuse_of` reads it once
+and names the strategy: keep the whole film (nothing the image shows changed: a name, the
+notes), relabel (:mod:`engine.tracer.relabel`: only labels, lights or their images), or none (a
+full render). Either strategy needs the previous job finished, without error, at the same size
+and sampling: two jobs with equal :meth:`~engine.tracer.job.RenderJob.sampling` of the same
+design trace the same samples.
+"""
+from __future__ import annotations
+
+from ..model.changes import Change, changed_assets
+from .relabel import RelabelPlan, plan_relabel
+
+#: Design fields the image depends on (an edit of any other field keeps the film).
+VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets",
+                           "labels", "lights", "bumps", "cap"})
+#: The strategy of a job whose film is the previous job's.
+KEEP_FILM = "keep film"
+
+
+def lights_shade(design) -> bool:
+    """Whether ``design``'s lights light anything: its labels, or its closure's diffuse
+    (plastic, cork) parts."""
+    return bool(design.labels) or design.cap is not None
+
+
+def _keeps_film(previous, design, change: Change) -> bool:
+    visual = set(change) & VISUAL_FIELDS
+    if not design.labels and not previous.design.labels:
+        visual.discard("labels")
+    if not lights_shade(design) and not lights_shade(previous.design):
+        visual.discard("lights")
+    return not visual
+
+
+def reuse_of(previous, design, assets, sampling, changed) -> str | RelabelPlan | None:
+    """:data:`KEEP_FILM`, a :class:`~engine.tracer.relabel.RelabelPlan`, or ``None`` (a full
+    render) for a job rendering ``design`` with ``assets`` at ``sampling`` after job
+    ``previous``, ``changed`` the fields (a :class:`Change`, or names) changed since."""
+    if previous is None or changed is None:
+        return None
+    if not (previous.done and previous.error is None and not previous.cancelled and previous.sampling() == sampling):
+        return None
+    change = Change.of(changed)
+    if _keeps_film(previous, design, change):
+        return KEEP_FILM
+    if change.assets is None:  # the caller named fields only: which assets changed is read here, once
+        change = Change(change, changed_assets(previous.assets, assets))
+    return plan_relabel(previous, design, assets, change)

@@ -19,6 +19,7 @@ from PySide6.QtGui import QUndoCommand, QUndoStack
 
 from app import engine_bridge
 from engine.model.design import Design
+from engine.operations.check import check_edit
 from engine.errors import GlassbenchError
 
 _merge_ids: dict[str, int] = {}
@@ -111,20 +112,12 @@ class DesignEditor(QObject):
     def check(self, design: Design, changed=frozenset({"shape"}), assets=None) -> str | None:
         """``None`` when ``design`` may be shown, else the message that says why not.
 
-        Only what ``changed`` can break is checked: the geometry for a shape edit (the costly
-        part, run on every drag step), ranges and asset references for the rest, the fill level
-        for a liquid edit.
+        Only what ``changed`` can break is checked (:func:`engine.operations.check.check_edit`):
+        the geometry for a shape edit (the costly part, run on every drag step), ranges and asset
+        references for the rest, the fill level for a liquid edit.
         """
         try:
-            engine_bridge.check_values(design)  # every range, cheap: for every edit
-            if "shape" in changed:
-                engine_bridge.validate_shape(design.shape)
-            if changed & {"glass", "liquid", "render", "environment", "labels", "bumps", "cap"} or (
-                    "shape" in changed and (design.labels or design.cap is not None)):
-                # a label must stay on the new wall, a closure fit the new finish
-                engine_bridge.check_design(design, self.scene.assets if assets is None else assets)
-            if changed & {"liquid", "shape"} and design.liquid is not None:
-                engine_bridge.check_fill_level(design)
+            check_edit(design, changed, self.scene.assets if assets is None else assets)
         except (GlassbenchError, ValueError) as exc:
             return str(exc)
         return None

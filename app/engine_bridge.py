@@ -12,12 +12,12 @@ import dataclasses
 
 import numpy as np
 
-from engine.geometry import offset, tessellate, validate
+from engine.geometry import offset, tessellate
 
 from engine.files import dxf_import, mesh_export, project
 from engine.io import atomic
-from engine.model import advice, check, fill, orbit
-from engine.operations import check as design_check, trade
+from engine.model import advice, fill, orbit
+from engine.operations import trade
 from engine.model.design import Design
 from engine.errors import GlassbenchError
 from engine.model.scene import ALL_CHANGES, Scene  # noqa: F401 - for the window
@@ -38,24 +38,6 @@ def scene_assets(scene) -> dict:
 
 
 # ------------------------------------------------------------------------ validation
-def validate_shape(shape: BottleShape) -> None:
-    """Raise a :class:`GlassbenchError` naming the problem when ``shape`` is not a valid bottle
-    (through the cached profile, so the fill check and trade numbers that follow reuse it)."""
-    validate.body_profile(shape)
-
-
-def check_design(design: Design, assets) -> None:
-    """Raise :class:`ProjectError` for what a project may not hold (ranges, missing assets,
-    invalid geometry): the same rules as saving and loading."""
-    design_check.check_design(design, assets)
-
-
-def check_values(design: Design) -> None:
-    """Raise :class:`DesignError` for a value outside its range (no geometry: cheap enough for
-    every edit): the engine's one check, :func:`engine.model.check.check_values`."""
-    check.check_values(design)
-
-
 def fitted_liquid(design: Design):
     """The design's liquid moved inside its cavity if a shape edit left it outside
     (:func:`engine.model.fill.fitted_liquid`); unchanged when the shape itself is invalid."""
@@ -63,12 +45,6 @@ def fitted_liquid(design: Design):
         return fill.fitted_liquid(design.shape, design.liquid)
     except (GlassbenchError, ValueError, ArithmeticError):
         return design.liquid
-
-
-def check_fill_level(design: Design) -> None:
-    """Raise ``ValueError`` (a :class:`DesignError`) when the liquid cannot stand at the
-    requested level: the engine's one rule, :func:`engine.model.fill.check_fill`."""
-    fill.check_fill(design.shape, design.liquid)
 
 
 def inner_sections(shape: BottleShape) -> dict:

@@ -25,7 +25,7 @@ from app.wireframe_controller import DerivedController
 from widgets.bumps_panel import BumpsPanel
 from widgets.camera_panel import CameraPanel
 from widgets.cap_panel import CapPanel
-from widgets.labels_panel import LabelsPanel
+from widgets.labels import LabelsPanel
 from widgets.materials_panel import MaterialsPanel
 from widgets.preview_view import PreviewView
 from widgets.section_panel import SectionPanel
@@ -195,25 +195,15 @@ class MainWindow(QMainWindow):
 
     # ------------------------------------------------------------------ notifications
     def on_scene_changed(self, changed, scene=None):
-        """Refresh what depends on ``changed`` (a set of Design field names)."""
+        """Refresh what the window itself shows of ``changed`` (a
+        :class:`~engine.model.changes.Change`): the derived numbers, the 3D view, the render.
+        The panels follow the scene for the fields they show (their ``FIELDS``)."""
         design = self.scene.design
         self.section_panel.clear_problem()  # a refusal was about the design before this change
         if self.statusBar().currentMessage().startswith("Refused"):
             self.statusBar().clearMessage()
         if changed & {"shape", "liquid", "glass", "cap"}:
             self.derived_controller.request(design)  # trade numbers, inner walls: off-thread
-        if changed & {"shape", "liquid"}:
-            self.section_panel.refresh(design)
-        if changed & {"glass", "liquid"}:
-            self.materials_panel.refresh(design)
-        if changed & {"camera", "environment", "render"}:
-            self.camera_panel.refresh(design)
-        if changed & {"labels", "shape", "assets", "cap"}:  # a print on the cap follows it
-            self.labels_panel.refresh(design, self.scene.assets)
-        if changed & {"bumps", "shape", "assets"}:
-            self.bumps_panel.refresh(design, self.scene.assets)
-        if changed & {"cap", "shape"}:
-            self.cap_panel.refresh(design)
         if "name" in changed:
             self.trade_panel.show_name(design.name)
             self._offer_name(self._shown_fill_ml, only_if_shown=True)

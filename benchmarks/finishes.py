@@ -80,7 +80,7 @@ def _trace_cpu(design, assets, w, h, spp, repeats):
 def finish_variants(design, assets):
     """``[(name, design, assets)]``: the plain bottle twice, then one finish at a time."""
     from engine.appearance.closure_shapes import default_cap
-    from engine.appearance.tile_defaults import add_image_tile, new_tile
+    from engine.operations.tiles import add_image_tile, new_tile
     from make_finish_samples import logo_png
     zt = design.shape.z_top
     out = [("plain", design, assets), ("plain again", design, assets)]
@@ -205,7 +205,7 @@ THREAD_FINISH, THREAD_WALL = "28-400", 1.5
 def thread_designs():
     """``(true geometry design, relief design, plain design)``: the same neck, thread and view."""
     from make_samples import bordeaux_section, round_shape
-    from engine.appearance.tile_defaults import new_tile
+    from engine.operations.tiles import new_tile
     from engine.model.design import Camera, Design, RenderSettings
     sec = bordeaux_section(190.0, neck_r=14.0, top=300.0)
     cam = Camera(eye=(0.0, -160.0, 300.0), target=(0.0, 0.0, 289.0), fov_y_deg=16.0)  # both silhouettes

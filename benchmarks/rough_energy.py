@@ -58,7 +58,7 @@ def _frame(ctx, w, h, spp):
 
 def furnace(design, w, h, spp):
     """Rows ``{alpha, before, after}``: mean furnace radiance over the bottle's pixels."""
-    from engine.appearance.tile_defaults import new_tile
+    from engine.operations.tiles import new_tile
     from engine.tracer.context import RenderContext
     from engine.tracer.environment import EnvironmentMap
     white = EnvironmentMap(np.ones((4, 8, 3), np.float32))
@@ -81,7 +81,7 @@ def costs(design, assets, w, h, spp, repeats):
     """``{name: (ratio, a s, b s, boundaries ratio)}``: the compensated frosted frame against
     the uncompensated, the lit plastic cap against the unlit (minima over interleaved repeats;
     a compensated branch keeps more weight, so fewer are cut: more boundaries)."""
-    from engine.appearance.tile_defaults import new_tile
+    from engine.operations.tiles import new_tile
     from engine.model.design import Cap, Light
     from engine.tracer.context import RenderContext
     frost = dataclasses.replace(design, bumps=(new_tile(design, "frosted", 15.0, 280.0, alpha=0.3),))

@@ -2,7 +2,7 @@
 
 Design rule: each sample starts from a shape of :mod:`make_samples` (the same builders, mm) and
 adds its finishes through the same functions the command line and the panels use
-(:func:`engine.appearance.tile_defaults.new_tile` / ``add_image_tile``,
+(:func:`engine.operations.tiles.new_tile` / ``add_image_tile``,
 :func:`engine.appearance.closure_shapes.default_cap`), so the samples show what a designer gets.
 The camera is framed on the bottle with its closure. Writes:
 
@@ -30,7 +30,7 @@ sys.path.insert(0, str(HERE))
 from make_samples import RENDER, bordeaux, bordeaux_section, jar, round_shape  # noqa: E402
 
 from engine.appearance.closure_shapes import default_cap  # noqa: E402
-from engine.appearance.tile_defaults import add_image_tile, new_tile  # noqa: E402
+from engine.operations.tiles import add_image_tile, new_tile  # noqa: E402
 from engine.cli.project import framing_camera  # noqa: E402
 from engine.files.project import save_project  # noqa: E402
 from engine.operations.check import check_design  # noqa: E402

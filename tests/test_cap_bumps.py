@@ -16,7 +16,7 @@ from engine.tracer.tables.bump_rows import bump_tables
 from engine.appearance.cap_surfaces import cap_surface
 from engine.appearance.closure_shapes import default_cap
 from engine.appearance.closures import closure_geometry
-from engine.appearance.tile_defaults import new_tile
+from engine.operations.tiles import new_tile
 from engine.cli import main as cli
 from engine.errors import DesignError
 from engine.files.migrate_fields import migrate_2_to_3

@@ -13,7 +13,7 @@ import pytest
 
 from engine.appearance.closure_shapes import default_cap
 from engine.appearance.relief_image import ReliefImageError
-from engine.appearance.tile_defaults import new_tile
+from engine.operations.tiles import new_tile
 from engine.files.project import load_project
 from engine.model.design import BumpTile, Cap, Design, Light, Liquid
 from engine.tracer.tables import finishes

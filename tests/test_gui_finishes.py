@@ -119,7 +119,7 @@ def test_the_new_tabs_fit_the_side_dock_without_squeezing(make_window, qtbot):
     w = make_window(wireframe=True)
     w.show()
     qtbot.waitExposed(w)
-    for name, panel, spin in (("labels", w.labels_panel, w.labels_panel.z_mm),
+    for name, panel, spin in (("labels", w.labels_panel, w.labels_panel.placement.z_mm),
                               ("bumps", w.bumps_panel, w.bumps_panel.z0),
                               ("cap", w.cap_panel, w.cap_panel.cap_height)):
         w.docks[name].raise_()

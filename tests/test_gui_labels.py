@@ -40,7 +40,7 @@ def test_a_label_from_a_png_is_added_embedded_and_undoable(make_window, tmp_path
     assert len(labels) == 1 and labels[0].name == "front"
     assert w.scene.assets[labels[0].front.asset] == data, "the artwork is embedded as an asset"
     assert labels[0].width_mm == pytest.approx(2 * labels[0].height_mm, abs=0.1), "sized from the aspect"
-    assert panel.list.count() == 1 and panel.artwork.pixels is not None
+    assert panel.list.count() == 1 and panel.preview.artwork.pixels is not None
     assert w.undo_action.text().endswith("Add label front")
     w.undo_stack.undo()
     assert w.scene.design.labels == () and labels[0].front.asset not in w.scene.assets
@@ -55,17 +55,17 @@ def test_editing_a_number_is_one_step_and_undo_redo_restore_it(make_window, tmp_
     artwork(tmp_path, "a.png")
     _add(panel, tmp_path / "a.png")
     z0 = w.scene.design.labels[0].z_mm
-    panel.z_mm.setValue(z0 + 12.0)
+    panel.placement.z_mm.setValue(z0 + 12.0)
     assert w.scene.design.labels[0].z_mm == pytest.approx(z0 + 12.0)
-    panel.transmission.setValue(0.12)
+    panel.sheet.transmission.setValue(0.12)
     assert w.scene.design.labels[0].transmission == pytest.approx(0.12)
     assert w.undo_stack.count() == 3
     w.undo_stack.undo()
     w.undo_stack.undo()
     assert w.scene.design.labels[0].z_mm == pytest.approx(z0)
-    assert panel.z_mm.value() == pytest.approx(z0), "the panel follows the model"
+    assert panel.placement.z_mm.value() == pytest.approx(z0), "the panel follows the model"
     w.undo_stack.redo()
-    assert panel.z_mm.value() == pytest.approx(z0 + 12.0)
+    assert panel.placement.z_mm.value() == pytest.approx(z0 + 12.0)
 
 
 def test_a_label_off_the_wall_is_refused_and_the_field_put_back(make_window, tmp_path):
@@ -74,9 +74,9 @@ def test_a_label_off_the_wall_is_refused_and_the_field_put_back(make_window, tmp
     artwork(tmp_path, "a.png")
     _add(panel, tmp_path / "a.png")
     before = w.scene.design
-    panel.z_mm.setValue(w.scene.design.shape.z_top + 50.0)
+    panel.placement.z_mm.setValue(w.scene.design.shape.z_top + 50.0)
     assert w.scene.design == before
-    assert panel.z_mm.value() == pytest.approx(before.labels[0].z_mm)
+    assert panel.placement.z_mm.value() == pytest.approx(before.labels[0].z_mm)
     assert w.statusBar().currentMessage().startswith("Refused")
 
 
@@ -101,31 +101,31 @@ def test_the_eyedropper_keys_a_region_to_the_clicked_colour(make_window, tmp_pat
     w = make_window()
     panel = w.labels_panel
     _add(panel, _two_colour_png(tmp_path))
-    panel.region_preset.setCurrentIndex(panel.region_preset.findData("Gold foil"))
-    panel.add_region.click()
+    panel.finishes.region_preset.setCurrentIndex(panel.finishes.region_preset.findData("Gold foil"))
+    panel.finishes.add_region.click()
     region = w.scene.design.labels[0].regions[0]
     assert region.finish == "gold_foil" and region.gloss == pytest.approx(0.9)
     w.show()
     w.docks["labels"].raise_()
-    qtbot.waitUntil(panel.artwork.isVisible)
-    panel.eyedropper.setChecked(True)
-    rect = panel.artwork.image_rect()
+    qtbot.waitUntil(panel.preview.artwork.isVisible)
+    panel.finishes.eyedropper.setChecked(True)
+    rect = panel.preview.artwork.image_rect()
     right = QPoint(int(rect.x() + 0.8 * rect.width()), int(rect.y() + 0.5 * rect.height()))
-    qtbot.mouseClick(panel.artwork, Qt.LeftButton, pos=right)
+    qtbot.mouseClick(panel.preview.artwork, Qt.LeftButton, pos=right)
     keys = w.scene.design.labels[0].regions[0].keys
     assert keys == (pytest.approx((20 / 255, 180 / 255, 90 / 255), abs=1e-6),)
-    claimed = panel.artwork.claimed
+    claimed = panel.preview.artwork.claimed
     assert claimed[:, 40:].all() and not claimed[:, :40].any(), "the keyed half is shown tinted"
     left = QPoint(int(rect.x() + 0.2 * rect.width()), int(rect.y() + 0.5 * rect.height()))
-    qtbot.mouseClick(panel.artwork, Qt.LeftButton, Qt.ShiftModifier, pos=left)
+    qtbot.mouseClick(panel.preview.artwork, Qt.LeftButton, Qt.ShiftModifier, pos=left)
     keys = w.scene.design.labels[0].regions[0].keys
     assert len(keys) == 2 and keys[1] == pytest.approx((200 / 255, 30 / 255, 30 / 255), abs=1e-6)
     from engine.appearance.regions import region_map
     regions = region_map(w.scene.design.labels[0], w.scene.assets)
     assert (regions == 1).all(), "both halves are keyed now"
-    panel.eyedropper.setChecked(False)
+    panel.finishes.eyedropper.setChecked(False)
     count = w.undo_stack.count()
-    qtbot.mouseClick(panel.artwork, Qt.LeftButton, pos=right)
+    qtbot.mouseClick(panel.preview.artwork, Qt.LeftButton, pos=right)
     assert w.undo_stack.count() == count, "without the eyedropper a click picks nothing"
 
 
@@ -133,16 +133,16 @@ def test_a_finish_preset_and_a_mask_region(make_window, tmp_path):
     w = make_window()
     panel = w.labels_panel
     _add(panel, _two_colour_png(tmp_path))
-    panel.add_region.click()
-    panel.region_preset.setCurrentIndex(panel.region_preset.findData("Emboss 0.3 mm"))
-    panel.apply_preset.click()
+    panel.finishes.add_region.click()
+    panel.finishes.region_preset.setCurrentIndex(panel.finishes.region_preset.findData("Emboss 0.3 mm"))
+    panel.finishes.apply_preset.click()
     region = w.scene.design.labels[0].regions[0]
     assert (region.finish, region.depth_mm) == ("emboss", pytest.approx(0.3))
     mask = np.full((10, 10, 3), 255, np.uint8)
     mask[:, :5] = 0
     write_image(tmp_path / "mask.png", mask)
     panel.choose_image_file = lambda title: str(tmp_path / "mask.png")
-    panel.source.setCurrentIndex(panel.source.findData("mask"))
+    panel.finishes.source.setCurrentIndex(panel.finishes.source.findData("mask"))
     region = w.scene.design.labels[0].regions[0]
     assert region.source == "mask" and region.mask_asset in w.scene.assets
 
@@ -185,27 +185,27 @@ def test_the_die_line_of_a_label_on_a_cone_is_a_sector(make_window, tiny_design,
     panel = w.labels_panel
     artwork(tmp_path, "a.png", size=(40, 40))
     _add(panel, tmp_path / "a.png")
-    panel.z_mm.setValue(110.0)
-    panel.height_mm.setValue(40.0)
-    panel.width_mm.setValue(40.0)
+    panel.placement.z_mm.setValue(110.0)
+    panel.placement.height_mm.setValue(40.0)
+    panel.placement.width_mm.setValue(40.0)
     label = w.scene.design.labels[0]
     assert (label.z_mm, label.height_mm, label.width_mm) == (110.0, 40.0, 40.0)
     qtbot.waitUntil(lambda: not panel.dieline_pending())
-    fig = panel.dieline.figures
-    assert panel.dieline.kind == "sector"
+    fig = panel.preview.dieline.figures
+    assert panel.preview.dieline.kind == "sector"
     # the cone runs r 40 at z 60 to r 20 at z 160: slant L and the apex distance in closed form
     slant = math.hypot(20.0, 100.0)
     apex_to_centre = (20.0 + 0.2 * 50.0) * slant / 20.0  # radius at z 110 over the cone's sine
     assert fig["r_inner_mm"] == pytest.approx(apex_to_centre - 20.0, rel=1e-6)
     assert fig["r_outer_mm"] == pytest.approx(apex_to_centre + 20.0, rel=1e-6)
     assert fig["angle_deg"] == pytest.approx(math.degrees(40.0 / apex_to_centre), rel=1e-6)
-    assert panel.dieline.outline is not None and len(panel.dieline.outline) > 8
-    panel.z_mm.setValue(60.0)  # now it crosses the joint cylinder -> cone: a shoulder
+    assert panel.preview.dieline.outline is not None and len(panel.preview.dieline.outline) > 8
+    panel.placement.z_mm.setValue(60.0)  # now it crosses the joint cylinder -> cone: a shoulder
     assert panel.dieline_pending()
     qtbot.waitUntil(lambda: not panel.dieline_pending())
-    assert panel.dieline.kind == "outline"
-    assert "shoulder" in panel.warnings.text() or "corner" in panel.warnings.text()
-    assert panel.dieline.marks, "the warning is marked on the die-line"
+    assert panel.preview.dieline.kind == "outline"
+    assert "shoulder" in panel.preview.warnings.text() or "corner" in panel.preview.warnings.text()
+    assert panel.preview.dieline.marks, "the warning is marked on the die-line"
 
 
 def _with_picture(make_window, qtbot):
@@ -239,11 +239,11 @@ def test_save_and_reopen_keeps_labels_regions_and_images(make_window, tmp_path):
     w = make_window()
     panel = w.labels_panel
     _add(panel, _two_colour_png(tmp_path))
-    panel.add_region.click()
+    panel.finishes.add_region.click()
     back = artwork(tmp_path, "back.png", colour=(0, 0, 255))
     panel.choose_image_file = lambda title: str(tmp_path / "back.png")
-    panel.back_image.click()
-    panel.width_mm.setValue(70.0)
+    panel.sheet.back_image.click()
+    panel.placement.width_mm.setValue(70.0)
     design = w.scene.design
     path = str(tmp_path / "labelled.glassbench")
     assert w.files.save_to(path)
@@ -253,7 +253,7 @@ def test_save_and_reopen_keeps_labels_regions_and_images(make_window, tmp_path):
     lab = w2.scene.design.labels[0]
     assert w2.scene.assets[lab.back.asset] == back
     assert w2.scene.assets[lab.front.asset] == w.scene.assets[lab.front.asset]
-    assert w2.labels_panel.list.count() == 1 and w2.labels_panel.width_mm.value() == pytest.approx(70.0)
+    assert w2.labels_panel.list.count() == 1 and w2.labels_panel.placement.width_mm.value() == pytest.approx(70.0)
 
 
 def test_ctrl_z_in_a_label_field_undoes_the_label_edit(make_window, tmp_path, qtbot):
@@ -265,7 +265,7 @@ def test_ctrl_z_in_a_label_field_undoes_the_label_edit(make_window, tmp_path, qt
     panel = w.labels_panel
     artwork(tmp_path, "a.png")
     _add(panel, tmp_path / "a.png")
-    spin = panel.width_mm
+    spin = panel.placement.width_mm
     qtbot.waitUntil(spin.isVisible)
     before = w.scene.design.labels[0].width_mm
     spin.setFocus()
@@ -354,29 +354,29 @@ def test_a_label_goes_on_the_cap_top_and_skirt_from_the_on_choice_undoably(make_
     artwork(tmp_path, "a.png", size=(40, 80))
     _add(panel, tmp_path / "a.png")
     on_wall = w.scene.design
-    assert [panel.surface.itemText(i) for i in range(panel.surface.count())] == ["bottle", "cap top", "cap skirt"]
-    panel.surface.setCurrentIndex(panel.surface.findData("cap-top"))   # no cap yet: refused
-    assert w.scene.design == on_wall and panel.surface.currentData() == "wall"
+    assert [panel.placement.surface.itemText(i) for i in range(panel.placement.surface.count())] == ["bottle", "cap top", "cap skirt"]
+    panel.placement.surface.setCurrentIndex(panel.placement.surface.findData("cap-top"))   # no cap yet: refused
+    assert w.scene.design == on_wall and panel.placement.surface.currentData() == "wall"
     assert "has no cap" in panel.problem.text()
     w.editor.apply("Cap", None, cap=Cap("screw", "plastic"))
-    panel.surface.setCurrentIndex(panel.surface.findData("cap-top"))
+    panel.placement.surface.setCurrentIndex(panel.placement.surface.findData("cap-top"))
     lab = w.scene.design.labels[0]
     top = cap_surface(w.scene.design, "cap-top")
     assert lab.surface == "cap-top" and (lab.cap_x_mm, lab.cap_y_mm) == (0.0, 0.0)
     assert math.hypot(lab.width_mm, lab.height_mm) <= 2 * top.radius, "shrunk to fit the top"
     assert lab.width_mm / lab.height_mm == pytest.approx(2.0, rel=0.05), "aspect kept"
-    assert panel.cap_x_mm.isEnabled() and not panel.z_mm.isEnabled()
-    panel.cap_x_mm.setValue(1.5)
+    assert panel.placement.cap_x_mm.isEnabled() and not panel.placement.z_mm.isEnabled()
+    panel.placement.cap_x_mm.setValue(1.5)
     assert w.scene.design.labels[0].cap_x_mm == pytest.approx(1.5)
     qtbot.waitUntil(lambda: not panel.dieline_pending())
-    assert "cap's top" in panel.figures.text()
-    panel.surface.setCurrentIndex(panel.surface.findData("cap-skirt"))
+    assert "cap's top" in panel.preview.figures.text()
+    panel.placement.surface.setCurrentIndex(panel.placement.surface.findData("cap-skirt"))
     lab = w.scene.design.labels[0]
     skirt = cap_surface(w.scene.design, "cap-skirt")
     assert lab.surface == "cap-skirt" and lab.z_mm == pytest.approx(skirt.height_mm / 2, abs=0.01)
-    assert panel.z_mm.isEnabled() and not panel.cap_x_mm.isEnabled()
+    assert panel.placement.z_mm.isEnabled() and not panel.placement.cap_x_mm.isEnabled()
     w.undo_stack.undo()
     w.undo_stack.undo()
-    assert w.scene.design.labels[0].surface == "cap-top" and panel.surface.currentData() == "cap-top"
+    assert w.scene.design.labels[0].surface == "cap-top" and panel.placement.surface.currentData() == "cap-top"
     w.undo_stack.undo()
-    assert w.scene.design.labels == on_wall.labels and panel.surface.currentData() == "wall"
+    assert w.scene.design.labels == on_wall.labels and panel.placement.surface.currentData() == "wall"

@@ -16,7 +16,7 @@ import pytest
 from engine.appearance.bands import band_coordinates, thread_drawings
 from engine.tracer.tables.bump_rows import tile_params
 from engine.appearance.threads import WALL_FRACTION, thread_rendering
-from engine.appearance.tile_defaults import new_tile
+from engine.operations.tiles import new_tile
 from engine.errors import DesignError
 from engine.files.project import load_project, save_project
 from engine.model.check import check_values

@@ -4,8 +4,8 @@ images), each with its parameters and a small live picture of its pattern.
 Design rule: edits become ``editor.apply(text, merge_key, bumps=...)`` (with ``assets=`` for a
 relief image), one undoable step each, checked by the engine (a relief image that cannot be
 used is refused with its message). New tiles and kind changes start from
-:func:`engine.appearance.tile_defaults.new_tile`, the numbers ``glassbench bump add`` uses;
-images go through :func:`~engine.appearance.tile_defaults.add_image_tile`, which checks them
+:func:`engine.operations.tiles.new_tile`, the numbers ``glassbench bump add`` uses;
+images go through :func:`~engine.operations.tiles.add_image_tile`, which checks them
 first. The picture is :func:`engine.tracer.swatch.swatch_rgb` of the selected tile, drawn
 again after each change of the design's tiles. A thread says how it is drawn (relief or true
 geometry, :func:`engine.appearance.bands.thread_drawings`) and why, under its choice.
@@ -21,7 +21,7 @@ from PySide6.QtWidgets import (QCheckBox, QComboBox, QFileDialog, QFormLayout, Q
                                QHBoxLayout, QLabel, QLineEdit, QListWidget, QPushButton,
                                QVBoxLayout, QWidget)
 
-from engine.appearance import tile_defaults
+from engine.operations import tiles
 from engine.tracer import swatch
 from engine.appearance.bands import thread_drawings
 from engine.errors import GlassbenchError
@@ -29,7 +29,7 @@ from engine.io.read import read_bounded
 from engine.limits import MAX_ARTWORK_BYTES
 from engine.model.design import BUMP_KINDS, BUMP_SURFACES, IMAGE_BUMPS
 from widgets import edit_fields as ef
-from widgets.labels_panel import IMAGE_FILTER, assets_in_use
+from engine.operations.labels import assets_in_use
 
 BUMP_WORDS = {"knurl": "Knurl", "stipple": "Stipple (dots)", "flutes": "Flutes", "facets": "Facets",
               "diamond": "Diamond cut", "thread": "Screw thread", "frosted": "Frosted / satin",
@@ -72,6 +72,9 @@ class BumpsPanel(QWidget):
     """Edits ``design.bumps`` through ``editor``; ``message`` tells the window of a refusal."""
 
     message = Signal(str)
+
+    #: The design fields the panel shows (it follows the scene for them itself).
+    FIELDS = frozenset({"bumps", "shape", "assets"})
 
     def __init__(self, editor, parent=None):
         super().__init__(parent)
@@ -181,11 +184,11 @@ class BumpsPanel(QWidget):
         self.drawn_as.currentIndexChanged.connect(
             lambda _: self._edit("Thread drawing", None, geometry=self.drawn_as.currentData()))
         self.image_button.clicked.connect(self.choose_tile_image)
-        self.refresh(editor.design)
+        ef.follow(self, editor.scene, self.FIELDS, self.refresh)
 
     def choose_image_file(self, title: str) -> str | None:
         """Ask for a relief image; tests replace this method."""
-        path, _ = QFileDialog.getOpenFileName(self, title, "", IMAGE_FILTER)
+        path, _ = QFileDialog.getOpenFileName(self, title, "", ef.IMAGE_FILTER)
         return path or None
 
     @property
@@ -229,7 +232,7 @@ class BumpsPanel(QWidget):
             return None
         try:
             data = read_bounded(path, MAX_ARTWORK_BYTES, "relief image")
-            tile, name = tile_defaults.add_image_tile(self.editor.design, self.editor.scene.assets, kind,
+            tile, name = tiles.add_image_tile(self.editor.design, self.editor.scene.assets, kind,
                                                       path, data, z0, z1, **given)
         except (GlassbenchError, OSError, ValueError) as exc:
             self._refuse(str(exc))
@@ -247,7 +250,7 @@ class BumpsPanel(QWidget):
                 return False
             tile, assets = made
         else:
-            tile = tile_defaults.new_tile(design, kind, z0, z1)
+            tile = tiles.new_tile(design, kind, z0, z1)
         bumps = design.bumps + (tile,)
         return self._apply(f"Add {BUMP_WORDS[kind].lower()}", None, bumps, assets, select=len(bumps) - 1)
 
@@ -266,7 +269,7 @@ class BumpsPanel(QWidget):
         given = {"angle_deg": tile.angle_deg, "inverted": tile.inverted}
         assets = None
         if kind in IMAGE_BUMPS and tile.asset is not None:
-            new = tile_defaults.new_tile(self.editor.design, kind, tile.z0, tile.z1, asset=tile.asset,
+            new = tiles.new_tile(self.editor.design, kind, tile.z0, tile.z1, asset=tile.asset,
                                          name=tile.name, **given)
         elif kind in IMAGE_BUMPS:
             made = self._image_tile(kind, tile.z0, tile.z1, **given)
@@ -275,7 +278,7 @@ class BumpsPanel(QWidget):
                 return False
             new, assets = made
         else:
-            new = tile_defaults.new_tile(self.editor.design, kind, tile.z0, tile.z1, **given)
+            new = tiles.new_tile(self.editor.design, kind, tile.z0, tile.z1, **given)
         return self._apply(f"Tile kind {BUMP_WORDS[kind].lower()}", None,
                            ef.replaced(self.editor.design.bumps, self.index, new), assets)
 
@@ -302,7 +305,7 @@ class BumpsPanel(QWidget):
             band = default_band(design, tile.kind)
         keep = {f: getattr(tile, f) for f in ("name", "asset", "angle_deg", "inverted", "depth", "width",
                                               "sharpness", "alpha", "pitch", "width_deg")}
-        new = tile_defaults.new_tile(design, tile.kind, *band, on=on, **keep)
+        new = tiles.new_tile(design, tile.kind, *band, on=on, **keep)
         return self._apply(f"Tile on the {on}", None, ef.replaced(design.bumps, self.index, new))
 
     def choose_tile_image(self) -> bool:
@@ -367,7 +370,7 @@ class BumpsPanel(QWidget):
 
     def _draw_swatch(self, design, tile, assets):
         try:
-            radius = tile_defaults.band_radius(design, tile.z0, tile.z1, tile.on)
+            radius = tiles.band_radius(design, tile.z0, tile.z1, tile.on)
             self.swatch_pixels = swatch.swatch_rgb(tile, dict(assets), (SWATCH_PX, SWATCH_PX), radius)
         except (GlassbenchError, ValueError, KeyError, ArithmeticError) as exc:
             self.swatch_pixels = None

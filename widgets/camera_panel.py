@@ -36,6 +36,9 @@ class CameraPanel(QWidget):
 
     syncFromWireframe = Signal()
 
+    #: The design fields the panel shows (it follows the scene for them itself).
+    FIELDS = frozenset({"camera", "environment", "render"})
+
     def __init__(self, editor, parent=None):
         super().__init__(parent)
         self.editor = editor
@@ -108,6 +111,7 @@ class CameraPanel(QWidget):
         self.sync_button.clicked.connect(self.syncFromWireframe)
         self.env_kind.currentIndexChanged.connect(lambda _: self._env_kind_chosen(self.env_kind.currentData()))
         self.env_load.clicked.connect(self.load_environment)
+        edit_fields.follow(self, editor.scene, self.FIELDS, lambda d, a: self.refresh(d))
 
     def choose_environment_file(self) -> str | None:
         """Ask for an equirectangular image (EXR/HDR/PNG); tests replace this method."""

@@ -29,6 +29,9 @@ MATERIAL_WORDS = {"metal": "Metal (lacquered aluminium)", "plastic": "Plastic"}
 class CapPanel(QWidget):
     """Edits ``design.cap`` through ``editor``."""
 
+    #: The design fields the panel shows (it follows the scene for them itself).
+    FIELDS = frozenset({"cap", "shape"})
+
     def __init__(self, editor, parent=None):
         super().__init__(parent)
         self.editor = editor
@@ -68,7 +71,7 @@ class CapPanel(QWidget):
         self.cap_height.valueChanged.connect(lambda v: self._edit("Cap height", "cap-height", height=v))
         self.count.valueChanged.connect(lambda v: self._edit("Cap count", "cap-count", count=v))
         self.capsule.toggled.connect(lambda on: self._edit("Cork capsule", None, capsule=on))
-        self.refresh(editor.design)
+        ef.follow(self, editor.scene, self.FIELDS, lambda d, a: self.refresh(d))
 
     def choose_color(self, initial_linear, title: str):
         """Ask for a colour (linear RGB) or ``None``; tests replace this method."""

@@ -12,6 +12,7 @@ import numpy as np
 from PySide6.QtGui import QColor, QImage
 from PySide6.QtWidgets import QColorDialog, QComboBox, QDoubleSpinBox, QPushButton, QSpinBox
 
+from engine.appearance.images import EXTENSIONS
 from engine.color import linear_to_srgb, srgb_to_linear
 
 
@@ -103,3 +104,23 @@ def replaced(items: tuple, index: int, value) -> tuple:
 
 def removed(items: tuple, index: int) -> tuple:
     return items[:index] + items[index + 1:]
+
+
+def follow(widget, scene, fields, refresh) -> None:
+    """Show ``scene``'s design now with ``refresh(design, assets)`` and again after every change
+    that touches ``fields`` (the panel shows what the model holds without anyone routing it);
+    unsubscribe when ``widget`` is destroyed. Notifications arrive on the thread that edits: the
+    GUI thread."""
+    fields = frozenset(fields)
+    refresh(scene.design, scene.assets)
+
+    def on_change(changed, scene):
+        if changed & fields:
+            refresh(scene.design, scene.assets)
+
+    unsubscribe = scene.subscribe(on_change)
+    widget.destroyed.connect(lambda *_: unsubscribe())
+
+
+#: The file dialog's filter for the images labels and reliefs may use.
+IMAGE_FILTER = "Images (" + " ".join("*" + e for e in EXTENSIONS) + ")"

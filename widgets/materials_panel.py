@@ -19,6 +19,7 @@ from PySide6.QtWidgets import (QCheckBox, QColorDialog, QComboBox, QDoubleSpinBo
 
 from engine.model import tint
 from engine.model.design import Liquid
+from widgets import edit_fields as ef
 from widgets import words
 from widgets.edit_fields import spin as _spin
 
@@ -54,6 +55,9 @@ def _tint_row(button: ColorButton, thickness: QDoubleSpinBox) -> QHBoxLayout:
 
 class MaterialsPanel(QWidget):
     """Edits ``design.glass`` and ``design.liquid`` through ``editor``."""
+
+    #: The design fields the panel shows (it follows the scene for them itself).
+    FIELDS = frozenset({"glass", "liquid"})
 
     def __init__(self, editor, parent=None):
         super().__init__(parent)
@@ -100,6 +104,7 @@ class MaterialsPanel(QWidget):
         self.liquid_thickness.valueChanged.connect(lambda _: self._rethicken_liquid())
         self.fill_mode.currentIndexChanged.connect(lambda _: self._set_fill_mode(self.fill_mode.currentData()))
         self.fill_value.valueChanged.connect(lambda v: self._liquid("Fill level", "fill-value", fill_value=v))
+        ef.follow(self, editor.scene, self.FIELDS, lambda d, a: self.refresh(d))
 
     def choose_color(self, initial_rgb01, title: str):
         """Ask for a colour (0..1 RGB) or ``None``; tests replace this method."""

@@ -17,6 +17,7 @@ from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFormLayout, QGridLayo
 from engine.geometry import editing as edits
 from engine.geometry.shape import SECTION_NAMES, BottleShape
 from engine.model import fill
+from widgets import edit_fields as ef
 from widgets import words
 from widgets.section_editor import SectionCanvas
 from widgets.section_table import SectionTable
@@ -40,6 +41,9 @@ TOOLS_PER_ROW = 5
 class SectionPanel(QWidget):
     """Edits ``design.shape`` (and the fill level, by dragging the fill line) through ``editor``
     (see :class:`app.commands.DesignEditor`)."""
+
+    #: The design fields the panel shows (it follows the scene for them itself).
+    FIELDS = frozenset({"shape", "liquid"})
 
     def __init__(self, editor, parent=None):
         super().__init__(parent)
@@ -118,6 +122,7 @@ class SectionPanel(QWidget):
         self.base_spin.valueChanged.connect(lambda v: self._set_shape_number("base_thickness", v))
         self.rotation_spin.valueChanged.connect(lambda v: self._set_shape_number("rotation_deg", v))
         editor.refused.connect(self.show_problem)
+        ef.follow(self, editor.scene, self.FIELDS, lambda d, a: self.refresh(d))
 
     @staticmethod
     def _spin(lo, hi, suffix, tip) -> QDoubleSpinBox:

@@ -67,3 +67,19 @@ def _cap_report(design, index: int, label) -> LabelReport:
         figures["skirt_girth_mm"] = round(2.0 * math.pi * surf.radius, 3)
     flat = FlatShape("rectangle", rect, np.zeros(s.shape), figures)
     return LabelReport(index, label.name, p.width_mm * p.height_mm, flat, 0.0, ())
+
+
+def describe(fig: dict) -> str:
+    """A die-line's figures in words."""
+    if fig.get("surface") == "cap-top":
+        return (f"rectangle {fig['width_mm']:.2f} x {fig['height_mm']:.2f} mm on the cap's top "
+                f"(a flat disk {fig['disk_diameter_mm']:.2f} mm across)")
+    if fig.get("surface") == "cap-skirt":
+        return (f"rectangle {fig['width_mm']:.2f} x {fig['height_mm']:.2f} mm on the cap's skirt "
+                f"({fig['skirt_girth_mm']:.2f} mm around, {fig['skirt_height_mm']:.2f} mm high)")
+    if fig["kind"] == "rectangle":
+        return f"rectangle {fig['width_mm']:.2f} x {fig['height_mm']:.2f} mm"
+    if fig["kind"] == "sector":
+        return (f"sector r {fig['r_inner_mm']:.2f}..{fig['r_outer_mm']:.2f} mm, "
+                f"{fig['angle_deg']:.2f} deg")
+    return f"outline {fig['width_mm']:.2f} x {fig['height_mm']:.2f} mm"

@@ -29,6 +29,7 @@ import os
 from ..errors import GlassbenchError, InputFileError
 from ..io.read import read_bounded
 from ..model.design import Camera, Liquid
+from ..operations.labels import set_front_artwork
 
 OVERRIDE_KEYS = ("glass_tint", "liquid_color", "fill_height_mm", "fill_ml", "empty", "labels",
                  "camera")
@@ -118,20 +119,22 @@ def _apply_labels(design, assets, value, base_dir, fail):
     if not isinstance(value, dict) or not value:
         raise fail("labels", f"must be a table of label name = \"artwork file\", got {_show(value)}")
     names = [lab.name for lab in design.labels]
-    labels = list(design.labels)
     for name, art in value.items():
         if name not in names:
             have = ", ".join(repr(n) for n in names) if names else "none"
             raise fail("labels", f"the design has no label {name!r} (its labels: {have})")
         if not isinstance(art, str) or not art:
             raise fail("labels", f"label {name!r}: the artwork must be a file name, got {_show(art)}")
-        data, ext = _read_artwork(os.path.join(base_dir, art),
-                                  lambda m, n=name: fail("labels", f"label {n!r}: {m}"))
-        asset = f"label-{name}{ext}"
-        i = names.index(name)
-        assets[asset] = data
-        labels[i] = dataclasses.replace(labels[i], front=dataclasses.replace(labels[i].front, asset=asset))
-    return dataclasses.replace(design, labels=tuple(labels))
+        data, _ = _read_artwork(os.path.join(base_dir, art),
+                                lambda m, n=name: fail("labels", f"label {n!r}: {m}"))
+        edit = set_front_artwork(design, assets, name, data)  # the operation the panel and the CLI use
+        design = edit.design
+        for k, v in edit.assets.items():  # (the caller's asset dict, changed in place)
+            if v is None:
+                assets.pop(k, None)
+            else:
+                assets[k] = v
+    return design
 
 
 def _read_artwork(path, fail):

@@ -150,7 +150,7 @@ def _check_cap_band(design, kind: str, z0: float, z1: float, CliError) -> None:
 
 
 def _new_tile(args, design, assets, CliError):
-    from ..appearance.tile_defaults import add_image_tile, new_tile
+    from ..operations.tiles import add_image_tile, new_tile
     what = args.what or ""
     if args.z0 is None or args.z1 is None:
         raise CliError("bump add needs the band's heights: --z0 MM --z1 MM")

@@ -10,18 +10,18 @@ usual one line and status 2 (:func:`engine.cli.main`). Units: mm, degrees.
 """
 from __future__ import annotations
 
-import dataclasses
 import json
-import math
 import os
 import re
 import sys
 
 from .. import limits as L
 from ..errors import GlassbenchError, shown
-from ..model.design import LABEL_SURFACES, Label, LabelSide
-from ..appearance.images import image_extension, read_image_file
+from ..model.design import LABEL_SURFACES
+from ..appearance.images import read_image_file
 from ..color import hex_to_linear
+from ..appearance.report import describe
+from ..operations import labels as ops
 from ..appearance.presets import DEFAULT_SHEET, SHEET_PRESETS
 
 
@@ -90,31 +90,12 @@ def cmd_labels(args) -> int:
     return 0
 
 
-def describe(fig: dict) -> str:
-    """A die-line's figures in words."""
-    if fig.get("surface") == "cap-top":
-        return (f"rectangle {fig['width_mm']:.2f} x {fig['height_mm']:.2f} mm on the cap's top "
-                f"(a flat disk {fig['disk_diameter_mm']:.2f} mm across)")
-    if fig.get("surface") == "cap-skirt":
-        return (f"rectangle {fig['width_mm']:.2f} x {fig['height_mm']:.2f} mm on the cap's skirt "
-                f"({fig['skirt_girth_mm']:.2f} mm around, {fig['skirt_height_mm']:.2f} mm high)")
-    if fig["kind"] == "rectangle":
-        return f"rectangle {fig['width_mm']:.2f} x {fig['height_mm']:.2f} mm"
-    if fig["kind"] == "sector":
-        return (f"sector r {fig['r_inner_mm']:.2f}..{fig['r_outer_mm']:.2f} mm, "
-                f"{fig['angle_deg']:.2f} deg")
-    return f"outline {fig['width_mm']:.2f} x {fig['height_mm']:.2f} mm"
-
-
 def find_label(design, key: str) -> int:
     """Index of the label called ``key`` (or numbered ``key`` from 0); ``LabelCliError`` else."""
-    names = [lab.name for lab in design.labels]
-    if key in names:
-        return names.index(key)
-    if key.isdigit() and int(key) < len(names):
-        return int(key)
-    have = ", ".join(repr(n) for n in names[:8]) or "none"
-    raise LabelCliError(f"the project has no label {shown(key)} (its labels: {have})")
+    try:
+        return ops.find_label(design, key)
+    except GlassbenchError as exc:
+        raise LabelCliError(str(exc).replace("the design has", "the project has")) from None
 
 
 def cmd_dieline(args) -> int:
@@ -148,37 +129,16 @@ def parse_colour(text: str):
     return None
 
 
-def asset_name(name: str, role: str, data, taken) -> str:
-    """A plain file name for a label image (``label-NAME-ROLE.ext``), unused in ``taken``."""
-    stem = re.sub(r"[^\w\- ]+", "_", name).strip(" _.")[:80] or "label"
-    ext = image_extension(data)
-    base = f"label-{stem}-{role}"
-    out, k = base + ext, 2
-    while out in taken:
-        out, k = f"{base}-{k}{ext}", k + 1
-    return out
-
-
-def camera_azimuth_deg(camera) -> float:
-    """Azimuth (deg, from +x towards +y) of the camera's eye about the z axis: a label there
-    faces the camera (the front, -90, for an eye on the axis)."""
-    x, y = camera.eye[0], camera.eye[1]
-    return math.degrees(math.atan2(y, x)) if math.hypot(x, y) > 1e-9 else -90.0
-
-
 def cmd_label(args) -> int:
-    """``label PROJECT add IMAGE ...`` / ``label PROJECT remove LABEL``; saves the project."""
+    """``label PROJECT add IMAGE ...`` / ``label PROJECT remove LABEL``: the operations of
+    :mod:`engine.operations.labels`, checked and saved."""
     from ..files.project import load_project, save_project
     from ..operations.check import check_design
-    from ..appearance.cap_surfaces import cap_surface
     if args.action == "remove":
         design, assets = load_project(args.project)
         i = find_label(design, args.name)
-        labels = design.labels[:i] + design.labels[i + 1:]
-        kept = {n for lab in labels for n in lab.asset_names()} | {design.environment.asset}
-        gone = set(design.labels[i].asset_names()) - kept
-        save_project(args.project, dataclasses.replace(design, labels=labels),
-                     {k: v for k, v in assets.items() if k not in gone})
+        edit = ops.remove_label(design, i)
+        save_project(args.project, edit.design, edit.assets_after(assets))
         print(f"removed label {design.labels[i].name!r} from {args.project}")
         return 0
     if args.on == "wall" and args.z is None:
@@ -195,33 +155,21 @@ def cmd_label(args) -> int:
     if args.angle is not None:
         L.check_range("--angle", args.angle, (-L.MAX_TURN_DEG, L.MAX_TURN_DEG), "deg")
     front = read_image_file(args.image)
-    back_colour = parse_colour(args.back) if args.back is not None else None
-    back_data = read_image_file(args.back) if args.back is not None and back_colour is None else None
+    back = parse_colour(args.back) if args.back is not None else None
+    if args.back is not None and back is None:
+        back = read_image_file(args.back)
     design, assets = load_project(args.project)
-    names = {lab.name for lab in design.labels}
-    name = args.name or os.path.splitext(os.path.basename(args.image))[0] or "label"
-    if args.name is None:
-        base, k = name, 2
-        while name in names:
-            name, k = f"{base} {k}", k + 1
-    front_asset = asset_name(name, "front", front, assets)
-    assets = {**assets, front_asset: front}
-    back = LabelSide(color=back_colour or (1.0, 1.0, 1.0))
-    if back_data is not None:
-        back = LabelSide(asset_name(name, "back", back_data, assets))
-        assets[back.asset] = back_data
-    angle = args.angle if args.angle is not None else camera_azimuth_deg(design.camera)
-    z = args.z
-    if z is None:  # wall labels have it; a print on a cap is centred on the skirt, or unused
-        z = 0.5 * cap_surface(design, "cap-skirt", f"label {name!r}").height_mm if args.on == "cap-skirt" else 0.0
-    label = Label(name, LabelSide(front_asset), back, z, angle, args.height, args.width,
-                  args.diffuse, args.specular, args.transmission, surface=args.on, cap_x_mm=args.x,
-                  cap_y_mm=args.y)
-    new = dataclasses.replace(design, labels=design.labels + (label,))
-    check_design(new, assets)
+    at = None
+    if args.z is not None or args.angle is not None:
+        at = (args.z, args.angle if args.angle is not None else ops.camera_azimuth_deg(design.camera))
+    edit = ops.add_label(design, assets, front, name=args.name, filename=args.image, back=back, at=at,
+                         height_mm=args.height, width_mm=args.width, surface=args.on, cap_xy=(args.x, args.y),
+                         coefficients=(args.diffuse, args.specular, args.transmission), exact=True)
+    assets = edit.assets_after(assets)
+    check_design(edit.design, assets)
     from ..appearance.report import label_report
-    report = label_report(new, len(new.labels) - 1)
+    report = label_report(edit.design, len(edit.design.labels) - 1)
     _warn("label", report)
-    save_project(args.project, new, assets)
-    print(f"added label {name!r} to {args.project} ({describe(report.flat.figures)})")
+    save_project(args.project, edit.design, assets)
+    print(f"added label {edit.design.labels[-1].name!r} to {args.project} ({describe(report.flat.figures)})")
     return 0

@@ -58,3 +58,23 @@ def validate_design_shape(design: Design) -> None:
         raise ProjectError(f"invalid bottle shape: {exc}") from None
     except (ValueError, ArithmeticError) as exc:
         raise ProjectError(f"invalid bottle shape: {exc}") from None
+
+
+#: Design fields whose edit can break what :func:`check_design` checks beyond the values: the
+#: assets a field names, the fit of labels and closure, the fill level.
+DESIGN_CHECKED = frozenset({"glass", "liquid", "render", "environment", "labels", "bumps", "cap"})
+
+
+def check_edit(design: Design, changed, assets: Mapping[str, bytes]) -> None:
+    """Check ``design`` after an edit of the fields ``changed``, only as far as they can break
+    it (a GUI edit runs this at every step of a drag): the values always (cheap), the geometry
+    for a shape edit, the whole :func:`check_design` for a field that names assets or must fit
+    the bottle (and for a shape edit under labels or a closure), the fill for a liquid or shape
+    edit. Raises what :func:`check_design` raises."""
+    check_values(design)
+    if "shape" in changed:
+        body_profile(design.shape)
+    if changed & DESIGN_CHECKED or ("shape" in changed and (design.labels or design.cap is not None)):
+        check_design(design, assets)
+    if changed & {"liquid", "shape"} and design.liquid is not None:
+        check_fill(design.shape, design.liquid)

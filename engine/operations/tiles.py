@@ -16,7 +16,7 @@ import re
 
 from ..errors import DesignError, shown
 from ..model.design import IMAGE_BUMPS, BumpTile
-from .relief_image import check_relief_image
+from ..appearance.relief_image import check_relief_image
 from ..model.thread_finishes import nearest_finish, parse_finish
 
 #: Typical spacing (mm around the girth) of one repeat, and the depth (mm), per kind.
@@ -32,8 +32,8 @@ def band_radius(design, z0: float, z1: float, on: str = "bottle") -> float:
     """Outer radius (mm) of the bottle at the middle of the band (its mouth radius if the band
     is outside the wall); with ``on="cap"`` the radius of the cap's straight skirt, else of
     the whole closure."""
-    from .bands import band_coordinates, cap_band
-    from .closures import closure_geometry
+    from ..appearance.bands import band_coordinates, cap_band
+    from ..appearance.closures import closure_geometry
     if on == "cap" and design.cap is not None:
         band = cap_band(design, 0.0, 1e9)
         return band[3] if band is not None else closure_geometry(design).r_max

@@ -1,0 +1,256 @@
+"""The labels panel: the labels on the bottle, and the parts that edit the selected one.
+
+Design rule: the panel holds the list (add, remove, reorder) and composes its parts, one module
+each: :mod:`~widgets.labels.placement`, :mod:`~widgets.labels.preview` (artwork and die-line),
+:mod:`~widgets.labels.sheet` (coefficients and faces), :mod:`~widgets.labels.regions`. Every edit
+is a named operation of :mod:`engine.operations.labels` (the one the command line uses) or a
+changed field of the selected label, applied as ``editor.apply(text, merge_key, labels=...,
+assets=...)``: one undoable step, validated by the engine (a label that leaves the wall is refused
+with its message). The panel follows the scene itself (:func:`widgets.edit_fields.follow`, the
+fields in :data:`LabelsPanel.FIELDS`) and writes the model into its widgets with their signals
+blocked. Images are read and decoded before anything changes, so a corrupt, truncated or huge
+file is refused with the engine's one-line message and the design stays as it was. A new label
+(button, or an image dropped onto the preview) is sized from its artwork's aspect and placed
+where the drop point meets the bottle (:func:`app.engine_bridge.surface_point`); without a point,
+or when the point misses the glass, it faces the camera at the body's mid-height. Shift+drag on
+the preview moves the selected label (:meth:`LabelsPanel.place_selected`).
+"""
+from __future__ import annotations
+
+import dataclasses
+import os
+
+from PySide6.QtCore import QSignalBlocker, Signal
+from PySide6.QtWidgets import QFileDialog, QHBoxLayout, QLabel, QListWidget, QPushButton, QVBoxLayout, QWidget
+
+from engine.appearance import images
+from engine.appearance.frame import Placement, label_frame
+from engine.errors import GlassbenchError
+from engine.operations import labels as ops
+from widgets import edit_fields as ef
+from widgets.labels.placement import SURFACE_WORDS, PlacementBox
+from widgets.labels.preview import PreviewBox
+from widgets.labels.regions import RegionsBox
+from widgets.labels.sheet import SheetBox
+
+
+def is_image_path(path: str) -> bool:
+    return os.path.splitext(path)[1].lower() in images.EXTENSIONS
+
+
+def read_checked_image(path: str) -> bytes:
+    """The bytes of an image file checked and decoded once (``ArtworkError``/``OSError``)."""
+    data = images.read_image_file(path)
+    images.decode_image(data, os.path.basename(path))
+    return data
+
+
+class LabelsPanel(QWidget):
+    """Edit ``design.labels`` through ``editor`` (an ``app.commands.DesignEditor``).
+
+    Signals
+    -------
+    message(str)
+        Something to tell the designer (a refused image); the window shows it in the status bar.
+    """
+
+    message = Signal(str)
+    #: The design fields the panel shows (a print on the cap follows the cap, a label the wall).
+    FIELDS = frozenset({"labels", "shape", "assets", "cap"})
+
+    def __init__(self, editor, parent=None):
+        super().__init__(parent)
+        self.editor = editor
+        self._select = None  # the row to show after an add, move or remove
+        self.list = QListWidget()
+        self.list.setToolTip("The labels on the bottle; later ones lie on top where they overlap")
+        self.list.setMaximumHeight(72)
+        self.add_button = QPushButton("Add\u2026")
+        self.add_button.setToolTip("Add a label with an artwork image (PNG, JPEG, TIFF, EXR), "
+                                   "embedded in the project; you can also drop an image on the preview")
+        self.remove_button = QPushButton("Remove")
+        self.up_button = QPushButton("\u2191")
+        self.up_button.setToolTip("Earlier in the overlap order (under the labels after it)")
+        self.down_button = QPushButton("\u2193")
+        self.down_button.setToolTip("Later in the overlap order (on top of the labels before it)")
+        self.problem = QLabel("")
+        self.problem.setWordWrap(True)
+        self.problem.setStyleSheet("color: #b00020")
+        buttons = QHBoxLayout()
+        for b in (self.add_button, self.remove_button, self.up_button, self.down_button):
+            buttons.addWidget(b)
+        for b in (self.up_button, self.down_button):
+            b.setMaximumWidth(40)
+        self.preview = PreviewBox(self)
+        self.placement = PlacementBox(self)
+        self.sheet = SheetBox(self)
+        self.finishes = RegionsBox(self)
+        self.details = QWidget()
+        dl = QVBoxLayout(self.details)
+        dl.setContentsMargins(0, 0, 0, 0)
+        for box in (self.placement, self.preview, self.sheet, self.finishes):
+            dl.addWidget(box)
+        layout = QVBoxLayout(self)
+        layout.addWidget(self.list)
+        layout.addLayout(buttons)
+        layout.addWidget(self.problem)
+        layout.addWidget(self.details)
+        layout.addStretch(1)
+        self.list.currentRowChanged.connect(lambda _: self.refresh(self.editor.design, self.editor.scene.assets))
+        self.add_button.clicked.connect(lambda: self.add_label())
+        self.remove_button.clicked.connect(self.remove_label)
+        self.up_button.clicked.connect(lambda: self.move_label(-1))
+        self.down_button.clicked.connect(lambda: self.move_label(1))
+        self.preview.artwork.picked.connect(self.finishes.pick_key)
+        ef.follow(self, editor.scene, self.FIELDS, self.refresh)
+
+    # ---------------------------------------------------------------- replaceable asks
+    def choose_image_file(self, title: str) -> str | None:
+        """Ask for an image file; tests replace this method."""
+        path, _ = QFileDialog.getOpenFileName(self, title, "", ef.IMAGE_FILTER)
+        return path or None
+
+    def choose_color(self, initial_linear, title: str):
+        """Ask for a colour (linear RGB) or ``None``; tests replace this method."""
+        return ef.ask_linear_color(self, initial_linear, title)
+
+    # ---------------------------------------------------------------- for the parts
+    @property
+    def index(self) -> int:
+        """The selected label (-1: none)."""
+        i = self.list.currentRow()
+        return i if 0 <= i < len(self.editor.design.labels) else -1
+
+    @property
+    def label(self):
+        i = self.index
+        return self.editor.design.labels[i] if i >= 0 else None
+
+    def refuse(self, text: str):
+        """Say why an edit was refused, here and in the status bar."""
+        self.problem.setText(text)
+        self.message.emit(f"Refused: {text}")
+
+    def image(self, path: str | None, title: str):
+        """``(path, bytes)`` of a checked image file (asked for when ``path`` is ``None``);
+        ``bytes`` is ``None`` when none was chosen or it was refused (and said why)."""
+        path = path or self.choose_image_file(title)
+        if not path:
+            return path, None
+        try:
+            return path, read_checked_image(path)
+        except (GlassbenchError, OSError, ValueError) as exc:
+            self.refuse(str(exc))
+            return path, None
+
+    def apply(self, edit, key=None) -> bool:
+        """Apply an operation's :class:`~engine.operations.labels.Edit` as one undoable step
+        (``key`` merges a gesture's or a field's steps); the refresh after it selects the label
+        the edit names."""
+        if edit is None:
+            return False
+        self.problem.setText("")
+        self._select = edit.select if key is None else None
+        ok = self.editor.apply(edit.text, key, assets=dict(edit.assets), labels=edit.design.labels)
+        self._select = None
+        if not ok:
+            self.refresh(self.editor.design, self.editor.scene.assets)
+        return ok
+
+    def put(self, text: str, key, label) -> bool:
+        """The selected label becomes ``label``."""
+        i = self.index
+        return i >= 0 and self.apply(ops.replace_label(self.editor.design, i, label, text), key)
+
+    def edit_field(self, text: str, field: str, **fields) -> bool:
+        """Change fields of the selected label (``label-INDEX-FIELD`` merges a field's steps)."""
+        lab = self.label
+        if lab is None:
+            return False
+        return self.put(text, f"label-{self.index}-{field}", dataclasses.replace(lab, **fields))
+
+    # ----------------------------------------------------------------- labels
+    def add_label(self, path: str | None = None, at=None) -> bool:
+        """Add a label with the image at ``path`` (asked for when ``None``) as its front, at
+        ``at`` (``(z_mm, angle_deg)``) or facing the camera; one undo step."""
+        path, data = self.image(path, "Label artwork")
+        if data is None:
+            return False
+        return self.apply(ops.add_label(self.editor.design, self.editor.scene.assets, data, filename=path, at=at))
+
+    def remove_label(self) -> bool:
+        i = self.index
+        return i >= 0 and self.apply(ops.remove_label(self.editor.design, i))
+
+    def move_label(self, step: int) -> bool:
+        """Move the selected label ``step`` places in the overlap order."""
+        return self.apply(ops.move_label(self.editor.design, self.index, step))
+
+    def choose_surface(self, surface: str) -> bool:
+        """Put the selected label on ``surface`` (:data:`SURFACE_WORDS`' keys), centred there
+        and shrunk to fit (aspect kept); one undo step, refused by the engine with its message
+        (a design without a cap, a crown's skirt)."""
+        lab = self.label
+        if lab is None or surface is None or surface == lab.surface:
+            return False
+        design = self.editor.design
+        try:
+            moved = ops.placed_on(design, lab, surface)
+        except (GlassbenchError, ValueError) as exc:
+            self.refuse(str(exc))
+            self.refresh(design, self.editor.scene.assets)
+            return False
+        return self.put(f"Label on the {SURFACE_WORDS[surface]}", None, moved)
+
+    def place_selected(self, at, merge_key=None) -> bool:
+        """Move the selected label's centre to ``at`` (``(z_mm, angle_deg)`` on the wall);
+        ``merge_key`` makes a drag's moves one undo step. A print on the cap is placed by its
+        numbers only."""
+        lab = self.label
+        if lab is None or lab.surface != "wall":
+            return False
+        z, angle = (round(float(v), 1) for v in at)
+        return self.put("Move label", merge_key, dataclasses.replace(lab, z_mm=z, angle_deg=angle))
+
+    def size_selected(self, at, merge_key=None) -> bool:
+        """Size the selected label, kept centred, so that a corner lies at ``at`` (``(z_mm,
+        angle_deg)`` on the surface: :meth:`engine.appearance.frame.LabelFrame.size_to`);
+        ``merge_key`` makes a drag's sizes one undo step. At least 1 mm a side."""
+        lab = self.label
+        if lab is None or lab.surface != "wall":
+            return False
+        try:
+            frame = label_frame(self.editor.design.shape, Placement.of(lab))
+            height, width = frame.size_to(*at)
+        except (GlassbenchError, ValueError, ArithmeticError):
+            return False
+        height, width = (round(max(1.0, v), 1) for v in (height, width))
+        return self.put("Size label", merge_key, dataclasses.replace(lab, height_mm=height, width_mm=width))
+
+    # ------------------------------------------------------------------ model -> view
+    def refresh(self, design, assets=None):
+        """Show ``design``'s labels and the selected one in every part (signals blocked)."""
+        assets = self.editor.scene.assets if assets is None else assets
+        blocker = QSignalBlocker(self.list)
+        ef.show_rows(self.list, [lab.name for lab in design.labels],
+                     self.list.currentRow() if self._select is None else self._select)
+        del blocker
+        lab = self.label
+        self.details.setEnabled(lab is not None)
+        for b in (self.remove_button, self.up_button, self.down_button):
+            b.setEnabled(lab is not None)
+        if lab is None:
+            self.preview.clear()
+            self.finishes.clear()
+            return
+        self.placement.show_label(lab)
+        self.sheet.show_label(lab)
+        self.preview.show_label(lab, assets)
+        self.finishes.show_label(lab)
+
+    def dieline_pending(self) -> bool:
+        """Whether the die-line shown is not yet that of the selected label as it is now."""
+        return self.preview.timer.isActive()
+
+    def shutdown(self):
+        self.preview.timer.stop()

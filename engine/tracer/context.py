@@ -76,7 +76,7 @@ class RenderContext:
     #: the label tables (:func:`engine.tracer.tables.labels.label_arrays`); a label edit replaces only
     #: this field (:meth:`with_labels`)
     labels: LabelTables = field(repr=False, default_factory=empty_label_arrays)
-    #: the finish tuple of :mod:`engine.tracer.kernels.finish` (relief rows, cap irradiance)
+    #: the finish tables (:mod:`engine.tracer.tables.finishes`: relief rows, cap irradiance)
     finish: FinishTables = field(repr=False, default=None)
     #: the closure's render rows (:class:`engine.tracer.tables.finishes.CapTables`) or ``None``
     cap: object = field(repr=False, default=None)

@@ -70,7 +70,7 @@ def cosine_average(table: np.ndarray) -> np.ndarray:
 @functools.lru_cache(maxsize=1)
 def albedo_tables() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``(glass, mirror, mirror_avg)`` float64 (read-only, loaded once per process) for the
-    finish tuple."""
+    finish tables."""
     try:
         with np.load(PATH) as f:
             out = tuple(np.ascontiguousarray(f[k], dtype=np.float64) for k in ("glass", "mirror", "mirror_avg"))

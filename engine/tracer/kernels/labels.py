@@ -2,13 +2,13 @@
 label, and what the sheet does to the branch there.
 
 Design rule: a label is a decal over a render object, not an object: :func:`label_hit` is
-called by the integrator at every hit on an object labels lie on (the outer wall, object 0, and
-for prints on the cap a closure part; their bits are ``lab[LB_OBJECTS]``), and either hands the
+called by the surface layer (:mod:`.surface`) at every hit on an object labels lie on (the outer wall, object 0, and
+for prints on the cap a closure part; their bits are ``lab.objects``), and either hands the
 hit back (``nk = -1``: no label there, or a clear part of one; the object's own material
 follows) or answers for its covered fraction ``alpha``: children written into ``kids`` (coat or
 foil mirror branches) and the radiance the lit diffuse sheet sends back at once; the uncovered
 fraction ``1 - alpha`` goes to what lies beneath (the surface layer's mask,
-:func:`engine.tracer.kernels.surface.scatter`). The label tables are the tuple ``lab`` of
+:func:`engine.tracer.kernels.surface.scatter`). The label tables are the record ``lab`` of
 :func:`engine.tracer.tables.labels.label_arrays` (their columns are the ``D_``, ``L_``, ``LF_``
 and ``P_`` layouts below); a design without
 labels passes empty tables and costs one length test per hit.
@@ -21,7 +21,7 @@ reflects about the geometric normal; the glass beneath goes through the surface 
 adapter). A frosted
 band under a label's uncovered texels is drawn smooth.
 
-Lookup. Each label's place row (``LB_PLACE``) names its surface, its object and the band of
+Lookup. Each label's place row (``lab.place``) names its surface, its object and the band of
 the object's arc length ``v`` it may cover. On the wall the hit's surface coordinates are the
 labels' ``(theta, h)`` (:mod:`engine.appearance.surface`): ``theta`` the polar angle in the
 bottle frame, ``h`` the arc length along the section (round walls, the segment's own ``v``) or

@@ -1,4 +1,4 @@
-"""Finishes and closures compiled for the kernels: cap render objects and the finish tuple.
+"""Finishes and closures compiled for the kernels: cap render objects and the finish tables.
 
 Design rule: a closure is one revolved render object per part (its closed meridian chain from
 :mod:`engine.appearance.closures`, lines and arcs), appended after the bottle's objects with a
@@ -12,7 +12,8 @@ A closure material's GGX ``roughness`` becomes a frosted row over its whole part
 not mirror-sharp, metal or coat), except that a material at least :data:`MATTE_ROUGHNESS` rough
 (cork) loses its coat and is purely diffuse.
 
-:func:`finish_arrays` builds the tuple :func:`engine.tracer.kernels.finish.finish_hit` reads:
+:func:`finish_arrays` builds the :class:`~engine.tracer.kernels.records.FinishTables` the
+surface layer reads (:mod:`engine.tracer.kernels.surface`, :mod:`engine.tracer.kernels.finish`):
 every bump row of the design (the bottle's tiles on the outer wall, and on a punted bottom, the
 closure's reliefs on their parts) sorted by object, and, with a plastic part, the environment's
 cosine-prefiltered irradiance (:func:`engine.tracer.lighting.irradiance_table`, once per environment) and the design's
@@ -159,7 +160,7 @@ def scene_with_cap(scene: Scene, cap: CapTables | None, fill_height: float | Non
                  c(np.concatenate([mf, cap.mat_f])))
 
 
-# ----------------------------------------------------------------------------- finish tuple
+# ----------------------------------------------------------------------------- finish tables
 _EMPTY_IRR = np.zeros((2, 2, 3), np.float32)
 
 

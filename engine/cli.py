@@ -1,6 +1,6 @@
 """The ``glassbench`` subcommands that need no window: info, export-mesh, new, render here, and
-those of :data:`DELEGATED` (batch, turntable, labels, dieline, label, cap, bump) in the modules
-that own them.
+those of :data:`DELEGATED` (batch, turntable, labels, dieline, label, cap, bump, export-cad,
+export-scene, share) in the modules that own them.
 
 Design rule: each subcommand is a small function over the engine's public API; ``main``
 turns every expected failure (a bad project, a bad DXF, a missing file, a tracer that
@@ -24,10 +24,12 @@ from .geometry.shape import BottleShape
 from .model.trade import format_table, trade_numbers  # noqa: F401 - also for callers of the CLI
 
 #: Subcommands whose parsers and handlers live with what they do: module (relative to
-#: ``engine``) -> its subcommands. Each module offers ``add_parsers(sub)`` and ``cmd_NAME(args)``.
+#: ``engine``) -> its subcommands. Each module offers ``add_parsers(sub)`` and ``cmd_NAME(args)``
+#: (dashes in NAME as underscores).
 DELEGATED = {".batch.commands": ("batch", "turntable"),
              ".appearance.label_cli": ("labels", "dieline", "label"),
-             ".appearance.commands": ("cap", "bump")}
+             ".appearance.commands": ("cap", "bump"),
+             ".export.commands": ("export-cad", "export-scene", "share")}
 SUBCOMMANDS = ("info", "export-mesh", "new", "render") + sum(DELEGATED.values(), ())
 EXIT_ERROR = 2
 
@@ -80,7 +82,7 @@ def main(argv: list[str] | None = None) -> int:
                "render": cmd_render}.get(args.command)
     if handler is None:
         owner = next(m for m, names in DELEGATED.items() if args.command in names)
-        handler = getattr(_delegate(owner), f"cmd_{args.command}")
+        handler = getattr(_delegate(owner), f"cmd_{args.command.replace('-', '_')}")
     try:
         return handler(args)
     except KeyboardInterrupt:

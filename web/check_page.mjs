@@ -1,5 +1,6 @@
 // Open a glassbench review page from disk in Debian's chromium (headless, through playwright-core),
-// wait for <model-viewer> to load the scene, take a screenshot and print one JSON report:
+// wait for <model-viewer> to load the scene, take screenshots (the page, OUT.png, and the viewer
+// alone, OUT-viewer.png) and print one JSON report:
 // console errors, page errors, failed requests, whether the model loaded, the page's numbers.
 // Usage: node web/check_page.mjs DIR/index.html OUT.png [CHROMIUM]
 import fs from 'node:fs';
@@ -37,6 +38,7 @@ try {
     [...document.querySelectorAll('[data-key]')].map((e) => [e.dataset.key, e.dataset.value])));
   report.model_viewer = await page.evaluate(() => customElements.get('model-viewer') !== undefined);
   await page.screenshot({ path: shot, fullPage: true });
+  await page.locator('model-viewer').screenshot({ path: shot.replace(/\.png$/, '-viewer.png') });
 } finally {
   await context.close();
   fs.rmSync(profile, { recursive: true, force: true });

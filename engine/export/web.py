@@ -71,7 +71,8 @@ def validate_glb(path) -> dict:
 def check_page(index_html, screenshot, chromium: str = CHROMIUM) -> dict:
     """Open a review page from disk in headless chromium and report what it did
     (``console_errors``, ``page_errors``, ``failed_requests``, ``loaded``, ``numbers``,
-    ``shown``) after writing a full-page screenshot to ``screenshot`` (PNG)."""
+    ``shown``) after writing a full-page screenshot to ``screenshot`` (PNG) and one of the
+    viewer alone beside it (``NAME-viewer.png``)."""
     node_module("playwright-core/package.json")
     if not Path(chromium).is_file():
         raise WebError(f"{chromium} is not installed: run bash scripts/setup.sh")

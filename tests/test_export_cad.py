@@ -80,8 +80,9 @@ def test_round_bottles_are_exact_surfaces(tmp_path):
     assert T.GeomAbs_Torus in kinds and T.GeomAbs_Cylinder in kinds
 
 
-def _face_points(solid, per_side: int = 9):
-    """Points on every B-spline face of ``solid`` (a grid over each face's parameters)."""
+def _face_points(solid, per_side: int = 11):
+    """Points on every B-spline face of ``solid``: a grid over each face's parameters at cell
+    centres of ``per_side`` cells, away from the interpolation nodes (``j / 2^k``)."""
     from OCP.BRepAdaptor import BRepAdaptor_Surface
     from OCP.GeomAbs import GeomAbs_SurfaceType as T
     from OCP.TopAbs import TopAbs_ShapeEnum
@@ -92,8 +93,11 @@ def _face_points(solid, per_side: int = 9):
     while it.More():
         s = BRepAdaptor_Surface(TopoDS.Face(it.Current()))
         if s.GetType() == T.GeomAbs_BSplineSurface:
-            for u in np.linspace(s.FirstUParameter(), s.LastUParameter(), per_side):
-                for v in np.linspace(s.FirstVParameter(), s.LastVParameter(), per_side):
+            f = (np.arange(per_side) + 0.5) / per_side
+            u0, u1, v0, v1 = (s.FirstUParameter(), s.LastUParameter(), s.FirstVParameter(),
+                              s.LastVParameter())
+            for u in u0 + (u1 - u0) * f:
+                for v in v0 + (v1 - v0) * f:
                     p = s.Value(u, v)
                     pts.append((p.X(), p.Y(), p.Z()))
         it.Next()

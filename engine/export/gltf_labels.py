@@ -8,7 +8,8 @@ midpoints are within the chordal tolerance of the grid's chords, then lifted off
 front faces out and reads ``uv = (s, t)``; the back (seen from inside, through the glass) faces
 in and reads :func:`engine.appearance.decal.back_coordinates`. Textures are sRGB PNGs with the
 front artwork's alpha as the sheet's outline (clear-vinyl regions transparent: the glass shows
-as in the tracer); foil regions become metal through a metallic-roughness texture (blue =
+as in the tracer; a face whose texels are all opaque is glTF's ``OPAQUE``, else ``BLEND``);
+foil regions become metal through a metallic-roughness texture (blue =
 metal, green = roughness ``1 - gloss``) and take the foil's reflectance at normal incidence
 from its complex index (:data:`engine.appearance.presets.FOIL_OPTICS`). Identical faces share
 one texture and material. Units mm in, the builder's glTF frame out.

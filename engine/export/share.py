@@ -11,7 +11,8 @@ transmits needs something behind it to show) seen from the design's camera;
 :class:`engine.tracer.job.RenderJob`); the trade numbers of :func:`engine.model.trade.
 trade_numbers`, in a table whose cells carry each exact value (``data-value``) and, whole, as
 the JSON ``glassbench info --json`` prints (in the page and as ``numbers.json``); each label's
-die-line as SVG (:func:`engine.appearance.dieline_files.write_dieline`); and the frames of a
+die-line as SVG (:func:`engine.appearance.dieline_files.write_dieline`; labels of one flat
+shape share one); and the frames of a
 turntable, when one was rendered, as a flip-book. The folder is built beside the target and
 swapped in whole; an existing folder is replaced only if it is a review page (it holds
 :data:`MARKER`), never another folder of the user's.
@@ -122,17 +123,35 @@ def turntable_frames(folder) -> list[Path]:
     return frames
 
 
-def dieline_files(design, folder: Path) -> list[str]:
-    """Write each label's die-line as ``dielines/NN.svg``; the names written (relative)."""
+def dieline_key(design, label) -> tuple:
+    """What a label's flat shape depends on: its surface and size, and where it sits on a wall
+    (height; also the azimuth on a non-round one). Labels with one key share one die-line."""
+    key = (label.surface, label.height_mm, label.width_mm)
+    if label.surface == "wall":
+        key += (label.z_mm,) if design.shape.cross_section == "round" else (label.z_mm, label.angle_deg)
+    return key
+
+
+def dieline_files(design, folder: Path) -> list[tuple[str, list[int]]]:
+    """Write one die-line per distinct flat shape (:func:`dieline_key`) as
+    ``dielines/NNNN.svg``; ``[(name written, [label indices]), ...]``."""
     from ..appearance.dieline_files import write_dieline
     from ..appearance.report import label_report
-    names = []
-    for k in range(len(design.labels)):
+    groups: dict[tuple, list[int]] = {}
+    for k, label in enumerate(design.labels):
+        groups.setdefault(dieline_key(design, label), []).append(k)
+    out = []
+    for g, members in enumerate(groups.values()):
         (folder / "dielines").mkdir(exist_ok=True)
-        name = f"dielines/{k:04d}.svg"
-        write_dieline(label_report(design, k), folder / name, design.name)
-        names.append(name)
-    return names
+        name = f"dielines/{g:04d}.svg"
+        write_dieline(label_report(design, members[0]), folder / name, design.name)
+        out.append((name, members))
+    return out
+
+
+def _names(design, members) -> str:
+    names = ", ".join(html.escape(design.labels[k].name) for k in members[:3])
+    return names + (f" and {len(members) - 3} more" if len(members) > 3 else "")
 
 
 def _value_text(key: str, value, unit: str) -> str:
@@ -154,12 +173,12 @@ def numbers_table(numbers: dict) -> str:
     return "<table class=\"numbers\">" + "".join(rows) + "</table>"
 
 
-def page_html(design, numbers: dict, dielines: list[str], frames: list[str]) -> str:
+def page_html(design, numbers: dict, dielines: list, frames: list[str]) -> str:
     """``index.html`` (see the module rule)."""
     name = html.escape(design.name)
     data = json.dumps(numbers, indent=2, allow_nan=False).replace("</", "<\\/")
-    dl = "".join(f'<li><a href="{d}">{html.escape(design.labels[k].name)}</a> (SVG, 1:1)</li>'
-                 for k, d in enumerate(dielines)) or "<li>No labels.</li>"
+    dl = "".join(f'<li><a href="{d}">{_names(design, members)}</a> (SVG, 1:1)</li>'
+                 for d, members in dielines) or "<li>No labels.</li>"
     turn = ""
     if frames:
         turn = (f'<h2>Turntable</h2><img id="turntable" src="{frames[0]}" alt="turntable frame">'

@@ -13,7 +13,7 @@ from __future__ import annotations
 import sys
 
 from .. import limits
-from ..errors import CliError, shown
+from ..errors import CliError
 
 #: Default chordal tolerance (mm) of the scene's meshes.
 SCENE_TOL_MM = 0.05
@@ -94,5 +94,5 @@ def cmd_share(args) -> int:
                       progress=_progress if sys.stderr.isatty() else None)
     if sys.stderr.isatty():
         print(file=sys.stderr)
-    print(f"wrote {shown(str(out / 'index.html'), 300)}")
+    print(f"wrote {out / 'index.html'}")
     return 0

@@ -102,3 +102,15 @@ def many_labels(n: int = 4096):
 EDGE_CASES = {"thin_wall": thin_wall, "tangent_punt": tangent_punt, "ellipse_1_20": ellipse_1_20,
               "seam_label": seam_label, "no_liquid": no_liquid, "no_labels": no_labels,
               "km_finish": km_finish}
+
+
+def cap_prints():
+    """The threaded sample's screw cap with a print on its flat top and one round its skirt."""
+    from engine.appearance.cap_surfaces import cap_surface
+    d, a = load("threaded_bottle.glassbench")
+    skirt = cap_surface(d, "cap-skirt")
+    labels = (Label(name="top print", front=LabelSide(None, (0.8, 0.1, 0.1)), surface="cap-top",
+                    width_mm=10.0, height_mm=6.0, angle_deg=-90.0),
+              Label(name="skirt print", front=LabelSide(None, (0.1, 0.1, 0.8)), surface="cap-skirt",
+                    z_mm=0.5 * skirt.height_mm, width_mm=20.0, height_mm=8.0, angle_deg=-90.0))
+    return dataclasses.replace(d, labels=labels), a

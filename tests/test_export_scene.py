@@ -13,7 +13,7 @@ import pytest
 from engine import cli
 from engine.export.gltf_scene import attenuation, export_scene
 from engine.export.web import validate_glb
-from tests.export_helpers import SAMPLES, load, seam_label
+from tests.export_helpers import SAMPLES, cap_prints, load, seam_label
 
 
 def read_glb(path):
@@ -133,6 +133,40 @@ def test_a_label_across_the_seam_stays_one_sheet(tmp_path):
     assert edges.max() < 0.01  # no triangle spans the bottle (metres)
     assert (pos[:, 0] < 0).all()  # centred on azimuth 180 degrees: world -x, both sides of it
     assert (pos[:, 2] > 0.01).any() and (pos[:, 2] < -0.01).any()
+
+
+def test_prints_on_the_closure_lie_on_its_top_and_skirt(tmp_path):
+    from engine.appearance.cap_surfaces import cap_surface
+    from engine.export.gltf_labels import lift_mm
+    design, assets = cap_prints()
+    export_scene(design, assets, tmp_path / "s.glb", 0.05)
+    assert validate_glb(tmp_path / "s.glb")["errors"] == 0
+    doc, blob = read_glb(tmp_path / "s.glb")
+    top, skirt = cap_surface(design, "cap-top"), cap_surface(design, "cap-skirt")
+    pos, _, _ = mesh_of(doc, blob, "label 0 top print front")
+    assert pos[:, 1] * 1000 == pytest.approx(top.z0 + lift_mm(0.05), abs=1e-4)  # glTF y is up
+    assert np.ptp(pos[:, 0]) * 1000 == pytest.approx(10.0, abs=1e-3)  # 10 mm wide, read from -y
+    pos, _, _ = mesh_of(doc, blob, "label 1 skirt print front")
+    r = np.hypot(pos[:, 0], pos[:, 2]) * 1000
+    assert r == pytest.approx(skirt.radius + lift_mm(0.05), abs=0.05)
+    z = pos[:, 1] * 1000
+    assert z.min() == pytest.approx(skirt.z0 + 0.5 * skirt.height_mm - 4.0, abs=1e-3)
+    closure = next(n for n in doc["nodes"] if n.get("name") == "closure shell")
+    mat = doc["materials"][doc["meshes"][closure["mesh"]]["primitives"][0]["material"]]
+    assert mat["pbrMetallicRoughness"]["metallicFactor"] == 0.0  # the sample's cap is plastic
+    assert mat["pbrMetallicRoughness"]["baseColorFactor"][:3] == pytest.approx(list(design.cap.color))
+
+
+def test_a_metal_closure_is_lacquered_aluminium(tmp_path):
+    from engine.appearance.closure_parts import ALUMINIUM_K, ALUMINIUM_N
+    design, assets = load("knurled_jar.glassbench")
+    export_scene(design, assets, tmp_path / "s.glb", 0.1)
+    doc, blob = read_glb(tmp_path / "s.glb")
+    _, _, mat = mesh_of(doc, blob, "closure shell")
+    pbr = mat["pbrMetallicRoughness"]
+    n, k = np.array(ALUMINIUM_N), np.array(ALUMINIUM_K)
+    f0 = ((n - 1) ** 2 + k ** 2) / ((n + 1) ** 2 + k ** 2) * np.array(design.cap.color)
+    assert pbr["metallicFactor"] == 1.0 and pbr["baseColorFactor"][:3] == pytest.approx(f0)
 
 
 def test_the_tolerance_is_the_meshes_chordal_tolerance(tmp_path):

@@ -14,7 +14,8 @@ module              holds
 ``occ_profile``     section segments -> exact OpenCascade edges (lines, circles, ellipses;
                     offset ellipse arcs as B-splines within a tolerance), revolved solids
 ``cad_nonround``    non-round walls as B-spline patches fitted to the exact surface
-``cad``             the glass, liquid and closure solids and the STEP / IGES / BREP writer
+``cad``             the glass, liquid and closure solids, exported and checked
+``cad_write``       named solids written as STEP / IGES (XDE document) or BREP
 ``cad_check``       reading a CAD file back: validity, closedness, volumes per body
 ``gltf_build``      a small glTF 2.0 / GLB builder (buffers, accessors, textures)
 ``gltf_scene``      the complete scene: glass, liquid, labels, closure, camera

@@ -121,3 +121,22 @@ def test_cancel_writes_nothing_and_one_export_at_a_time(make_window, qtbot, tmp_
         assert not exports.start("scene", str(folder / "b.glb"), {"tol_mm": 0.2})
         assert w.dialogs.errors[0][0] == "Export already running"
     assert [p.name for p in folder.iterdir()] == ["a.glb"]
+
+
+@pytest.mark.parametrize("kind", ["cad", "scene", "review"])
+def test_the_options_dialog_offers_the_command_lines_options(qtbot, kind):
+    from app.export_actions import DEFAULTS, ExportOptionsDialog
+    dialog = ExportOptionsDialog(kind)
+    qtbot.addWidget(dialog)
+    values = dialog.values()
+    assert values.keys() == DEFAULTS[kind].keys()
+    for key, default in DEFAULTS[kind].items():
+        assert values[key] == (pytest.approx(default) if isinstance(default, float) else default)
+    dialog.fields["tol_mm"].setValue(0.02)
+    assert dialog.values()["tol_mm"] == pytest.approx(0.02)
+    if kind == "cad":
+        dialog.fields["liquid"].setChecked(False)
+        assert dialog.values()["liquid"] is False
+    if kind == "review":
+        dialog.fields["turntable"].setText(" /tmp/frames ")
+        assert dialog.values()["turntable"] == "/tmp/frames"

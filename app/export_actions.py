@@ -21,7 +21,11 @@ from PySide6.QtWidgets import (QCheckBox, QDialog, QDialogButtonBox, QDoubleSpin
                                QSpinBox, QWidget)
 
 from app import engine_bridge
-from app.file_actions import FILE_ERRORS
+from engine.errors import GlassbenchError
+
+#: What an export may raise on bad input, a shape the kernel refuses or a failing disk.
+EXPORT_ERRORS = (GlassbenchError, OSError, ValueError, KeyError, TypeError, ArithmeticError,
+                 RuntimeError)
 
 #: The options of each export and their defaults (the command line's).
 DEFAULTS = {"cad": {"tol_mm": 0.001, "liquid": True},
@@ -178,7 +182,7 @@ class ExportActions(QObject):
     def _run(self, kind, path, work) -> None:
         try:
             work(lambda f, m: self.progressed.emit(float(f), str(m)))
-        except FILE_ERRORS + (ArithmeticError, RuntimeError) as exc:
+        except EXPORT_ERRORS as exc:
             self.finished.emit(False, f"Cannot export {TITLES[kind]}\n{path}:\n{exc}")
             return
         self.finished.emit(True, f"Exported {TITLES[kind]} to {path}")

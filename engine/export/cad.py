@@ -27,13 +27,12 @@ from ..geometry.chain import locate, param_at_z, subsegment
 from ..geometry.segments import Line, OffsetEllipseArc
 from ..geometry.validate import body_profile
 from ..model import fill
+from .cad_check import VOLUME_RTOL, check_cad_file  # noqa: F401 - VOLUME_RTOL for callers
 from .occ_profile import CadError, revolved_solid
 
 FORMATS = (".step", ".stp", ".iges", ".igs", ".brep")
 #: Default largest distance (mm) of a fitted B-spline surface from the exact one.
 DEFAULT_TOL_MM = 0.001
-#: Largest relative difference between a solid's volume and the trade numbers' figure.
-VOLUME_RTOL = 1e-5
 
 
 @dataclass(frozen=True)
@@ -144,7 +143,6 @@ def export_cad(design, path, tol_mm: float = DEFAULT_TOL_MM, liquid: bool = True
     before it replaces ``path``. Returns that check's report (bodies, volumes in mm^3 and
     their relative errors). Raises ``CadError`` (nothing written) if a check fails,
     ``ValueError`` for a bad suffix or tolerance, ``OSError`` if the file cannot be written."""
-    from .cad_check import check_cad_file
     from .cad_write import write_bodies
     path = Path(path)
     suffix = path.suffix.lower()

@@ -5,7 +5,7 @@ reads the written file with OpenCascade's own reader (STEP and IGES through the 
 which keeps the bodies' names; BREP as one compound in the bodies' order), never the shapes
 still in memory, and asks of every solid: is it valid (``BRepCheck_Analyzer``), is it closed
 (every shell closed, no free edge), and is its volume the one the trade numbers give, to
-:data:`engine.export.cad.VOLUME_RTOL` relative. The report is plain numbers, so the command
+:data:`VOLUME_RTOL` relative. The report is plain numbers, so the command
 line prints it and tests assert on it. Units mm and mm^3.
 """
 from __future__ import annotations
@@ -32,6 +32,8 @@ from OCP.XCAFDoc import XCAFDoc_DocumentTool
 
 from .occ_profile import CadError
 
+#: Largest relative difference between a solid's volume and the trade numbers' figure.
+VOLUME_RTOL = 1e-5
 #: Relative accuracy asked of OpenCascade's volume integration.
 VOLUME_EPS = 1e-9
 
@@ -105,7 +107,6 @@ def check_cad_file(path, bodies) -> dict:
     "relative_error", "deviation_mm"}, ...]}``; raises ``CadError`` naming the first body that
     is missing, invalid, open, or whose volume is off by more than the tolerance.
     """
-    from .cad import VOLUME_RTOL
     solids = read_solids(path)
     if len(solids) != len(bodies):
         raise CadError(f"the file holds {len(solids)} solids, {len(bodies)} were written")

@@ -190,3 +190,23 @@ def surface_point(design: Design, u: float, v: float):
         return wall_point(design, u, v)
     except (GlassbenchError, ValueError, ArithmeticError):
         return None  # a design the tracer cannot build: the caller places the label itself
+
+
+# ----------------------------------------------------------------------------- exports
+def export_cad(design: Design, path: str, tol_mm: float, liquid: bool, progress=None) -> dict:
+    """Write the design's solids (STEP/IGES/BREP) and read them back; the check's report."""
+    from engine.export.cad import export_cad as write
+    return write(design, path, tol_mm, liquid=liquid, progress=progress)
+
+
+def export_scene(design: Design, assets: dict, path: str, tol_mm: float, progress=None):
+    """Write the design's glTF scene (.glb); its counts."""
+    from engine.export.gltf_scene import export_scene as write
+    return write(design, assets, path, tol_mm, progress)
+
+
+def export_review_page(design: Design, assets: dict, folder: str, tol_mm: float,
+                       poster_height: int | None, turntable: str | None, progress=None):
+    """Write the review page folder; the folder."""
+    from engine.export.share import write_share
+    return write_share(design, assets, folder, tol_mm, poster_height, turntable, progress)

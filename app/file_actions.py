@@ -56,6 +56,9 @@ class FileActions(QObject):
             act = QAction(text, w)
             act.triggered.connect(slot)
             menu.addAction(act)
+        from app.export_actions import ExportActions  # File > Export: CAD, glTF scene, review page
+        self.exports = ExportActions(w)
+        self.exports.build_menu(menu)
         menu.addSeparator()
         quit_action = QAction("&Quit", w)
         quit_action.setShortcut(QKeySequence.Quit)

@@ -85,7 +85,7 @@ LAYERS = (
     ("engine.appearance",),
     ("engine.operations",),
     ("engine.files", "engine.tracer"),
-    ("engine.batch",),
+    ("engine.batch", "engine.export"),
     ("engine.cli",),
     ("widgets",),
     ("app",),

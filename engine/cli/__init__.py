@@ -1,6 +1,7 @@
 """The ``glassbench`` subcommands that need no window, one module of this package per group
 (:data:`DELEGATED`): ``project`` (info, export-mesh, new), ``render``, ``batch`` (batch,
-turntable), ``labels`` (labels, dieline, label), ``finishes`` (cap, bump).
+turntable), ``labels`` (labels, dieline, label), ``finishes`` (cap, bump), ``export``
+(export-cad, export-scene, share).
 
 Design rule: each subcommand is a small function over the engine's public API; ``main``
 turns every expected failure (a bad project, a bad DXF, a missing file, a tracer that
@@ -22,7 +23,8 @@ DELEGATED = {".project": ("info", "export-mesh", "new"),
              ".render": ("render",),
              ".batch": ("batch", "turntable"),
              ".labels": ("labels", "dieline", "label"),
-             ".finishes": ("cap", "bump")}
+             ".finishes": ("cap", "bump"),
+             ".export": ("export-cad", "export-scene", "share")}
 SUBCOMMANDS = sum(DELEGATED.values(), ())
 EXIT_ERROR = 2
 

@@ -87,14 +87,19 @@ def _gltf(mesh: Mesh) -> bytes:
     return json.dumps(doc).encode("utf-8")
 
 
-def _glb(mesh: Mesh) -> bytes:
-    doc, blob = _gltf_parts(mesh)
+def glb_container(doc: dict, blob: bytes) -> bytes:
+    """A GLB file (the glTF 2.0 binary container) of the JSON document ``doc`` and the bytes of
+    its one buffer (``doc["buffers"][0]``, without ``uri``); both chunks padded to 4 bytes."""
     js = json.dumps(doc).encode("utf-8")
     js += b" " * (-len(js) % 4)
-    blob += b"\0" * (-len(blob) % 4)
+    blob = bytes(blob) + b"\0" * (-len(blob) % 4)
     total = 12 + 8 + len(js) + 8 + len(blob)
     return (struct.pack("<III", 0x46546C67, 2, total) + struct.pack("<II", len(js), 0x4E4F534A) + js
             + struct.pack("<II", len(blob), 0x004E4942) + blob)
+
+
+def _glb(mesh: Mesh) -> bytes:
+    return glb_container(*_gltf_parts(mesh))
 
 
 _WRITERS = {".stl": _stl, ".obj": _obj, ".ply": _ply, ".gltf": _gltf, ".glb": _glb}

@@ -1,0 +1,151 @@
+"""How long the window's preview takes to converge on every bundled sample, and whether it is honest.
+
+Usage::
+
+    python -m benchmarks.window_converge [--samples bordeaux,jar] [--width 715 --height 953]
+                                         [--threads 2] [--check-scale 0.167] [--no-check]
+
+Each ``resources/*.glassbench`` is rendered as the window renders it (:class:`RenderJob` at the
+window's default pane size, 715 x 953, with the window's noise criterion,
+:data:`app.engine_bridge.WINDOW_NOISE`, on ``--threads`` workers): seconds to converge, rays
+(intersection queries) and rays per pixel. "Converged" must be honest: at ``--check-scale`` of
+that size each sample's converged image is compared, in display levels (0..255 after the tone
+map), with a reference of the same design rendered with a noise target of half a display level
+and 4 x the samples; the RMS and the 99th percentile of the difference are printed (targets 1.5
+and 10 levels). Writes ``benchmarks/out/window_converge.csv`` and ``window_converge.png`` (seconds
+and rays per pixel per sample against the targets) and prints last
+``window_converge_worst=S window_converge_median=M`` (seconds over the samples; targets: worst
+<= 15 s, median <= 5 s on 2 cores).
+"""
+from __future__ import annotations
+
+import argparse
+import csv
+import glob
+import os
+import time
+
+import numpy as np
+
+REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "out")
+#: The window's default preview pane in device pixels (a 1600 x 1000 screen, the default layout).
+WINDOW_SIZE = (715, 953)
+#: The honesty check's reference: noise target in display units, sample factor.
+REFERENCE_NOISE = 0.5 / 255.0
+REFERENCE_SPP_FACTOR = 4
+TARGET_WORST_S, TARGET_MEDIAN_S = 15.0, 5.0
+TARGET_RMS_LEVELS, TARGET_P99_LEVELS = 1.5, 10.0
+
+
+def samples(names=None) -> list[str]:
+    """Paths of the bundled samples (all, or those ``names``)."""
+    paths = sorted(glob.glob(os.path.join(REPO, "resources", "*.glassbench")))
+    if names:
+        want = set(names)
+        paths = [p for p in paths if os.path.basename(p)[:-len(".glassbench")] in want]
+    return paths
+
+
+def render(design, assets, width, height, threads, **kw):
+    """``(job, wall seconds)`` of one window-criterion render (or ``kw`` overriding it)."""
+    from app.engine_bridge import WINDOW_NOISE
+    from engine.tracer.job import RenderJob
+
+    settings = dict(WINDOW_NOISE)
+    settings.update(kw)
+    t0 = time.perf_counter()
+    job = RenderJob(design, assets, width=width, height=height, threads=threads, **settings).start()
+    job.wait()
+    if job.error is not None:
+        raise job.error
+    return job, time.perf_counter() - t0
+
+
+def levels(image) -> np.ndarray:
+    """Display levels (float, 0..255) of a linear image: the window's tone map before rounding."""
+    from engine.color import srgb_encode
+
+    return srgb_encode(image) * 255.0
+
+
+def honesty(design, assets, width, height, threads) -> tuple[float, float]:
+    """``(RMS, 99th percentile)`` in display levels of a converged render against its reference
+    (module doc), at ``width x height``."""
+    job, _ = render(design, assets, width, height, threads)
+    ref, _ = render(design, assets, width, height, threads, noise_target=REFERENCE_NOISE,
+                    spp=REFERENCE_SPP_FACTOR * design.render.spp)
+    diff = np.abs(levels(job.image()) - levels(ref.image()))
+    return float(np.sqrt(np.mean(diff ** 2))), float(np.percentile(diff, 99))
+
+
+def chart(rows, path) -> None:
+    """Seconds and rays per pixel per sample, with the targets."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    names = [r["sample"] for r in rows]
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    axes[0].bar(names, [r["seconds"] for r in rows], color="#4a7ab0")
+    axes[0].axhline(TARGET_WORST_S, color="#b03030", ls="--", lw=1, label=f"worst target {TARGET_WORST_S:g} s")
+    axes[0].axhline(TARGET_MEDIAN_S, color="#d08020", ls=":", lw=1, label=f"median target {TARGET_MEDIAN_S:g} s")
+    axes[0].set_ylabel("seconds to converge (2 cores)")
+    axes[0].legend(fontsize=8)
+    axes[1].bar(names, [r["rays_per_pixel"] for r in rows], color="#60a060")
+    axes[1].set_ylabel("rays per pixel")
+    for ax in axes:
+        ax.tick_params(axis="x", rotation=45, labelsize=8)
+    fig.suptitle(f"The window's preview, {rows[0]['width']} x {rows[0]['height']}, converged by its criterion")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def main(argv=None) -> int:
+    from engine.files.project import load_project
+
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--samples", default="", help="comma-separated sample names (default: all)")
+    ap.add_argument("--width", type=int, default=WINDOW_SIZE[0])
+    ap.add_argument("--height", type=int, default=WINDOW_SIZE[1])
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--check-scale", type=float, default=1.0 / 6.0,
+                    help="size of the honesty check as a fraction of the render's")
+    ap.add_argument("--no-check", action="store_true", help="skip the honesty check")
+    a = ap.parse_args(argv)
+    os.makedirs(OUT, exist_ok=True)
+    rows = []
+    for path in samples([s for s in a.samples.split(",") if s]):
+        name = os.path.basename(path)[:-len(".glassbench")]
+        design, assets = load_project(path)
+        job, secs = render(design, assets, a.width, a.height, a.threads)
+        rays = job.stats.rays_cast
+        row = {"sample": name, "width": a.width, "height": a.height, "seconds": secs, "rays": rays,
+               "rays_per_pixel": rays / (a.width * a.height),
+               "samples_per_pixel": float(job.sample_counts().mean())}
+        if not a.no_check:
+            w, h = max(8, round(a.width * a.check_scale)), max(8, round(a.height * a.check_scale))
+            row["check_size"] = f"{w}x{h}"
+            row["rms_levels"], row["p99_levels"] = honesty(design, assets, w, h, a.threads)
+        rows.append(row)
+        check = (f", against the reference at {row['check_size']}: {row['rms_levels']:.2f} levels RMS, "
+                 f"p99 {row['p99_levels']:.1f}" if "rms_levels" in row else "")
+        print(f"{name}: {secs:.1f} s, {rays / 1e6:.1f} M rays, {row['rays_per_pixel']:.0f} rays/pixel, "
+              f"{row['samples_per_pixel']:.1f} samples/pixel{check}", flush=True)
+    with open(os.path.join(OUT, "window_converge.csv"), "w", newline="") as fh:
+        writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r}))
+        writer.writeheader()
+        writer.writerows(rows)
+    chart(rows, os.path.join(OUT, "window_converge.png"))
+    times = np.array([r["seconds"] for r in rows])
+    if "rms_levels" in rows[0]:
+        print(f"honesty: worst RMS {max(r['rms_levels'] for r in rows):.2f} levels "
+              f"(target {TARGET_RMS_LEVELS}), worst p99 {max(r['p99_levels'] for r in rows):.1f} "
+              f"(target {TARGET_P99_LEVELS:g})")
+    print(f"window_converge_worst={times.max():.1f} window_converge_median={float(np.median(times)):.1f}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

@@ -1,0 +1,98 @@
+"""``glassbench export-cad / export-scene / share``: handing the design on, from the command line.
+
+Design rule: each subcommand loads the project, checks its own options against
+:mod:`engine.limits` (tolerances, poster height), calls the one engine function the window
+calls too (:func:`engine.export.cad.export_cad`, :func:`engine.export.gltf_scene.export_scene`,
+:func:`engine.export.share.write_share`) and prints what it wrote and what was checked: the
+solids read back with their volumes against ``glassbench info``'s, the scene's counts, the
+page's folder. Errors are the engine's one-line errors (``engine.cli.main`` prints them, exit
+status 2); OpenCascade is imported only by ``export-cad``.
+"""
+from __future__ import annotations
+
+import sys
+
+from .. import limits
+from ..errors import CliError
+
+#: Default chordal tolerance (mm) of the scene's meshes.
+SCENE_TOL_MM = 0.05
+
+
+def add_parsers(sub) -> None:
+    """Add ``export-cad``, ``export-scene`` and ``share`` to an argparse subparsers object."""
+    cad = sub.add_parser("export-cad", help="write glass, liquid and closure as CAD solids (STEP/IGES/BREP)")
+    cad.add_argument("project")
+    cad.add_argument("out", metavar="OUT.step|.iges|.brep")
+    cad.add_argument("--tol", type=float, default=None,
+                     help="largest distance of a fitted B-spline from the exact surface, mm (default 0.001)")
+    cad.add_argument("--no-liquid", action="store_true", help="leave the liquid out")
+    scene = sub.add_parser("export-scene", help="write the complete glTF 2.0 scene (.glb)")
+    scene.add_argument("project")
+    scene.add_argument("out", metavar="OUT.glb")
+    scene.add_argument("--tol", type=float, default=SCENE_TOL_MM, help="chordal tolerance of the meshes, mm")
+    share = sub.add_parser("share", help="write a self-contained review page folder")
+    share.add_argument("project")
+    share.add_argument("-o", "--output", required=True, metavar="DIR")
+    share.add_argument("--tol", type=float, default=SCENE_TOL_MM, help="chordal tolerance of the scene, mm")
+    share.add_argument("--poster-height", type=int, default=None,
+                       help="poster height in pixels (default: the design's, at most 640)")
+    share.add_argument("--turntable", default=None, metavar="DIR",
+                       help="a rendered turntable (glassbench turntable -o DIR) to include")
+
+
+def _load(path):
+    from ..files.project import load_project
+    return load_project(path)
+
+
+def _progress(fraction: float, message: str) -> None:
+    print(f"\r{100 * fraction:5.1f} % {message:<48.48}", end="", file=sys.stderr, flush=True)
+
+
+def cmd_export_cad(args) -> int:
+    """``export-cad PROJECT OUT [--tol MM] [--no-liquid]``."""
+    try:
+        from ..export.cad import DEFAULT_TOL_MM, export_cad
+    except ImportError as exc:
+        raise CliError(f"CAD export needs OpenCascade (cadquery-ocp): {exc}") from None
+    tol = DEFAULT_TOL_MM if args.tol is None else args.tol
+    limits.check_range("--tol", tol, (1e-6, 1.0), "mm")
+    design, _ = _load(args.project)
+    report = export_cad(design, args.out, tol, liquid=not args.no_liquid)
+    for body in report["bodies"]:
+        line = f"  {body['name']}: valid, closed, {body['volume_mm3'] / 1000.0:.6f} cm3"
+        if body["relative_error"] is not None:
+            line += f" (info {body['expected_mm3'] / 1000.0:.6f} cm3, relative {body['relative_error']:.1e})"
+        if body["deviation_mm"]:
+            line += f", B-spline within {body['deviation_mm']:.1e} mm"
+        print(line)
+    print(f"wrote {args.out}")
+    return 0
+
+
+def cmd_export_scene(args) -> int:
+    """``export-scene PROJECT OUT.glb [--tol MM]``."""
+    from ..export.gltf_scene import export_scene
+    limits.check_range("--tol", args.tol, (limits.MIN_TOL_MM, limits.MAX_TOL_MM), "mm")
+    design, assets = _load(args.project)
+    stats = export_scene(design, assets, args.out, args.tol)
+    print(f"  {stats.meshes} meshes ({stats.labels} labels, front and back), {stats.textures} "
+          f"textures, {stats.vertices:,} vertices at {args.tol:g} mm")
+    print(f"wrote {args.out}")
+    return 0
+
+
+def cmd_share(args) -> int:
+    """``share PROJECT -o DIR [--tol MM] [--poster-height PX] [--turntable DIR]``."""
+    from ..export.share import write_share
+    limits.check_range("--tol", args.tol, (limits.MIN_TOL_MM, limits.MAX_TOL_MM), "mm")
+    if args.poster_height is not None:
+        limits.check_range("--poster-height", args.poster_height, limits.HEIGHT_RANGE, integer=True)
+    design, assets = _load(args.project)
+    out = write_share(design, assets, args.output, args.tol, args.poster_height, args.turntable,
+                      progress=_progress if sys.stderr.isatty() else None)
+    if sys.stderr.isatty():
+        print(file=sys.stderr)
+    print(f"wrote {out / 'index.html'}")
+    return 0

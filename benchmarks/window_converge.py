@@ -69,13 +69,20 @@ def levels(image) -> np.ndarray:
     return srgb_encode(image) * 255.0
 
 
-def honesty(design, assets, width, height, threads) -> tuple[float, float]:
-    """``(RMS, 99th percentile)`` in display levels of a converged render against its reference
-    (module doc), at ``width x height``."""
-    job, _ = render(design, assets, width, height, threads)
+def reference(design, assets, width, height, threads) -> np.ndarray:
+    """The honesty check's reference image (module doc): the classic policy (each pixel's own
+    sample scatter, which assumes nothing of stratification) with a noise target of half a
+    display level and 4 x the samples."""
     ref, _ = render(design, assets, width, height, threads, noise_target=REFERENCE_NOISE,
-                    spp=REFERENCE_SPP_FACTOR * design.render.spp)
-    diff = np.abs(levels(job.image()) - levels(ref.image()))
+                    spp=REFERENCE_SPP_FACTOR * design.render.spp, policy="classic")
+    return ref.image()
+
+
+def honesty(design, assets, width, height, threads, ref, policy) -> tuple[float, float]:
+    """``(RMS, 99th percentile)`` in display levels of a converged render by ``policy`` against
+    the reference image ``ref`` (module doc), at ``width x height``."""
+    job, _ = render(design, assets, width, height, threads, policy=policy)
+    diff = np.abs(levels(job.image()) - levels(ref))
     return float(np.sqrt(np.mean(diff ** 2))), float(np.percentile(diff, 99))
 
 
@@ -85,6 +92,8 @@ def chart(rows, path) -> None:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
+    first = rows[0]["policy"]
+    rows = [r for r in rows if r["policy"] == first]
     names = [r["sample"] for r in rows]
     fig, axes = plt.subplots(1, 2, figsize=(11, 4))
     axes[0].bar(names, [r["seconds"] for r in rows], color="#4a7ab0")
@@ -113,34 +122,47 @@ def main(argv=None) -> int:
     ap.add_argument("--check-scale", type=float, default=1.0 / 6.0,
                     help="size of the honesty check as a fraction of the render's")
     ap.add_argument("--no-check", action="store_true", help="skip the honesty check")
+    ap.add_argument("--policies", default="split,classic",
+                    help="sampling policies to render (the first is the figure line's; the others its peers)")
     a = ap.parse_args(argv)
     os.makedirs(OUT, exist_ok=True)
+    policies = [p for p in a.policies.split(",") if p]
     rows = []
     for path in samples([s for s in a.samples.split(",") if s]):
         name = os.path.basename(path)[:-len(".glassbench")]
         design, assets = load_project(path)
-        job, secs = render(design, assets, a.width, a.height, a.threads)
-        rays = job.stats.rays_cast
-        row = {"sample": name, "width": a.width, "height": a.height, "seconds": secs, "rays": rays,
-               "rays_per_pixel": rays / (a.width * a.height),
-               "samples_per_pixel": float(job.sample_counts().mean())}
-        if not a.no_check:
-            w, h = max(8, round(a.width * a.check_scale)), max(8, round(a.height * a.check_scale))
-            row["check_size"] = f"{w}x{h}"
-            row["rms_levels"], row["p99_levels"] = honesty(design, assets, w, h, a.threads)
-        rows.append(row)
-        check = (f", against the reference at {row['check_size']}: {row['rms_levels']:.2f} levels RMS, "
-                 f"p99 {row['p99_levels']:.1f}" if "rms_levels" in row else "")
-        print(f"{name}: {secs:.1f} s, {rays / 1e6:.1f} M rays, {row['rays_per_pixel']:.0f} rays/pixel, "
-              f"{row['samples_per_pixel']:.1f} samples/pixel{check}", flush=True)
+        w, h = max(8, round(a.width * a.check_scale)), max(8, round(a.height * a.check_scale))
+        ref = None if a.no_check else reference(design, assets, w, h, a.threads)
+        for policy in policies:  # (each policy's render and check back to back: the machine is shared)
+            job, secs = render(design, assets, a.width, a.height, a.threads, policy=policy)
+            rays = job.stats.rays_cast
+            row = {"sample": name, "policy": policy, "width": a.width, "height": a.height, "seconds": secs,
+                   "rays": rays, "rays_per_pixel": rays / (a.width * a.height),
+                   "samples_per_pixel": float(job.sample_counts().mean())}
+            if ref is not None:
+                row["check_size"] = f"{w}x{h}"
+                row["rms_levels"], row["p99_levels"] = honesty(design, assets, w, h, a.threads, ref, policy)
+            rows.append(row)
+            check = (f", against the reference at {row['check_size']}: {row['rms_levels']:.2f} levels RMS, "
+                     f"p99 {row['p99_levels']:.1f}" if "rms_levels" in row else "")
+            print(f"{name} [{policy}]: {secs:.1f} s, {rays / 1e6:.1f} M rays, {row['rays_per_pixel']:.0f} rays/pixel, "
+                  f"{row['samples_per_pixel']:.1f} samples/pixel{check}", flush=True)
     with open(os.path.join(OUT, "window_converge.csv"), "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r}))
         writer.writeheader()
         writer.writerows(rows)
     chart(rows, os.path.join(OUT, "window_converge.png"))
+    for policy in policies[1:]:
+        ratio = [r["seconds"] / q["seconds"] for r in rows if r["policy"] == policy
+                 for q in rows if q["policy"] == policies[0] and q["sample"] == r["sample"]]
+        rays = [r["rays"] / q["rays"] for r in rows if r["policy"] == policy
+                for q in rows if q["policy"] == policies[0] and q["sample"] == r["sample"]]
+        print(f"against the {policy} policy (same run): {min(ratio):.1f}-{max(ratio):.1f}x the time, "
+              f"{min(rays):.1f}-{max(rays):.1f}x the rays")
+    rows = [r for r in rows if r["policy"] == policies[0]]
     times = np.array([r["seconds"] for r in rows])
     if "rms_levels" in rows[0]:
-        print(f"honesty: worst RMS {max(r['rms_levels'] for r in rows):.2f} levels "
+        print(f"honesty ({policies[0]}): worst RMS {max(r['rms_levels'] for r in rows):.2f} levels "
               f"(target {TARGET_RMS_LEVELS}), worst p99 {max(r['p99_levels'] for r in rows):.1f} "
               f"(target {TARGET_P99_LEVELS:g})")
     print(f"window_converge_worst={times.max():.1f} window_converge_median={float(np.median(times)):.1f}")

@@ -94,3 +94,40 @@ def test_a_quiet_pixel_beside_a_noisy_one_asks_a_share_of_its_need_in_linear_spa
     assert lin[2] == 8, "the share reaches the next pixel only"
     disp = adaptive.noise_targets(film, 10**6, adaptive.DISPLAY_NOISE, 1.0, space="display")[0]
     assert disp[0] > 8 and disp[1] == 8, "display space: the quiet pixel keeps what it has"
+
+
+def _split_film(first, last):
+    """A 1-row film whose pixel i had ``len(first[i])`` samples before the last round (the mark)
+    and ``first[i] + last[i]`` after it (grey values)."""
+    film = _film_with([list(a) + list(b) for a, b in zip(first, last)])
+    mark = (np.array([[sum(a) for a in first]], float), np.array([[len(a) for a in first]], np.int64))
+    return film, mark
+
+
+def test_the_split_estimate_asks_for_more_where_the_two_halves_disagree_and_stops_where_they_agree():
+    # pixel 0: both halves 0.2 (a converged edge); pixels 1, 2: no samples; pixel 3: halves 0.1
+    # and 0.3 (not yet), far enough from pixel 0 not to be pooled with it
+    film, mark = _split_film([[0.1, 0.3, 0.2, 0.2], [], [], [0.1] * 4], [[0.2, 0.2, 0.3, 0.1], [], [], [0.3] * 4])
+    want = adaptive.split_targets(film, mark, 64, adaptive.DISPLAY_NOISE)
+    assert list(want[0]) == [8, 0, 0, 16]
+    assert list(adaptive.split_targets(film, mark, 8, adaptive.DISPLAY_NOISE)[0]) == [8, 0, 0, 8]  # the cap
+
+
+def test_one_lucky_agreement_does_not_stop_a_pixel_whose_neighbours_still_scatter():
+    # pixel 1's halves agree exactly; its neighbours' halves are far apart
+    film, mark = _split_film([[0.1] * 4, [0.2] * 4, [0.1] * 4], [[0.4] * 4, [0.2] * 4, [0.4] * 4])
+    want = adaptive.split_targets(film, mark, 64, adaptive.DISPLAY_NOISE)
+    assert list(want[0]) == [16, 16, 16]
+    alone, mark1 = _split_film([[0.2] * 4], [[0.2] * 4])
+    assert list(adaptive.split_targets(alone, mark1, 64, adaptive.DISPLAY_NOISE)[0]) == [8]
+
+
+def test_the_split_plan_doubles_from_eight_and_the_window_uses_it():
+    assert adaptive.split_plan(16, True) == [(4, False), (8, False), (16, True), (32, True), (64, True),
+                                             (128, True), (256, True)]
+    assert adaptive.split_plan(16, False) == [(4, False), (8, False), (16, False)]
+    from engine.tracer.job import RenderJob
+    from app.engine_bridge import WINDOW_NOISE
+    from tests.test_tracer import simple_design
+    job = RenderJob(simple_design(), width=8, height=8, **WINDOW_NOISE)
+    assert job.policy == "split" and job.noise_space == "display"

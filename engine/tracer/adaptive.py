@@ -156,3 +156,75 @@ def plan(spp: int, adaptive: bool):
             cap = min(top, 4 * cap)
             rounds.append((cap, True))
     return rounds
+
+
+# ---------------------------------------------------------------- the window's policy: split halves
+#: The window's anti-aliasing starts with this many samples per edge pixel, then doubles: each
+#: doubling compares the mean of the samples before it with the mean of those it added.
+SPLIT_FIRST = 8
+#: A pixel's own split estimate is one degree of freedom; it takes at least this share of the
+#: mean estimate of the anti-aliased pixels around it (3 x 3), so one lucky agreement of its two
+#: halves does not stop it while its neighbours still scatter.
+SPLIT_POOL = 0.5
+
+
+def split_plan(spp: int, adaptive: bool):
+    """The window's anti-aliasing rounds ``[(samples, varied)]``: edge pixels to 4, then to
+    :data:`SPLIT_FIRST` (the first split of a pixel's samples into two equal nets), then (with
+    ``adaptive``) doubling rounds up to ``ADAPTIVE_FACTOR x spp`` for the pixels whose split
+    estimate (:func:`split_targets`) is still above their tolerance."""
+    first = min(FIRST_AA, spp)
+    rounds = [(first, False)]
+    if not adaptive:
+        have = first
+        while have < spp:
+            have = min(spp, 2 * have)
+            rounds.append((have, False))
+        return rounds
+    have = first
+    top = max(1, spp) * ADAPTIVE_FACTOR
+    if SPLIT_FIRST > have:
+        have = min(SPLIT_FIRST, top)
+        rounds.append((have, False))
+    while have < top:
+        have = min(top, 2 * have)
+        rounds.append((have, True))
+    return rounds
+
+
+def split_targets(film, mark, cap: int, noise_target: float) -> np.ndarray:
+    """Samples each anti-aliased pixel should reach (0 for the others): twice what it has, up
+    to ``cap``, while its remaining error in display units is above ``noise_target``.
+
+    The error of a pixel whose last round doubled its samples is estimated from the two halves
+    of them (``mark``: the film's ``(luminance sums, counts)`` before that round,
+    :meth:`~engine.tracer.film.Film.mark`): with Owen-scrambled Sobol points each half is itself
+    a scrambled net, so ``|display(mean of the first half) - display(mean of the second half)| /
+    2`` bounds the standard error of the whole mean from above (the halves of a net are
+    negatively correlated) and, unlike the scatter of single samples, it sees how much faster
+    than ``1 / sqrt(n)`` stratified samples converge at an edge. Tone-mapping each half
+    (:func:`engine.color.srgb_encode`) makes a highlight above white need nothing and dark glass
+    need more. One pixel's estimate is a single degree of freedom: it takes at least
+    :data:`SPLIT_POOL` of the mean estimate over the anti-aliased pixels of its 3 x 3 block."""
+    from ..color import srgb_encode
+
+    prev_sum, prev_n = mark
+    with film.lock:
+        n = film.aa_count.copy()
+        lum = film.aa_sum.mean(axis=2)
+    new_n = n - prev_n
+    halves = (prev_n > 0) & (new_n > 0)
+    first = np.where(halves, prev_sum / np.maximum(prev_n, 1), 0.0)
+    last = np.where(halves, (lum - prev_sum) / np.maximum(new_n, 1), 0.0)
+    d = np.abs(srgb_encode(first) - srgb_encode(last))
+    err2 = np.where(halves, 0.25 * d * d, 0.0)
+    # the mean over the 3 x 3 block's pixels that have an estimate
+    have = halves.astype(float)
+    total, count = np.zeros(err2.shape), np.zeros(err2.shape)
+    for e, c in zip(_neighbours(err2, "constant"), _neighbours(have, "constant")):
+        total += e
+        count += c
+    pooled = (total + err2) / np.maximum(count + have, 1.0)
+    err2 = np.maximum(err2, SPLIT_POOL * pooled)
+    more = halves & (err2 > noise_target * noise_target)
+    return np.where(more, np.minimum(2 * n, cap), np.where(n > 0, n, 0)).astype(np.int64)

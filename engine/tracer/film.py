@@ -156,6 +156,12 @@ class Film:
         with self.lock:
             return np.where(self.aa_count > 0, self.aa_count, self.has_centre.astype(np.int64))
 
+    def mark(self):
+        """``(luminance sums, sample counts)`` of the anti-aliasing samples so far, ``(H, W)``
+        each (a copy): what the sampling policy compares a round's samples with."""
+        with self.lock:
+            return self.aa_sum.mean(axis=2), self.aa_count.copy()
+
     def luminance(self) -> np.ndarray:
         """Mean-of-RGB of the current estimate (float64 ``(H, W)``), for the sampling policy."""
         return self.image().astype(np.float64).mean(axis=2)

@@ -93,7 +93,8 @@ class RenderJob:
 
     def __init__(self, design, assets=None, *, width=None, height=None, spp=None, threads=None,
                  tile=32, on_tile=None, on_done=None, on_wave=None, adaptive=True, noise_target=NOISE_TARGET,
-                 noise_space="linear", previous=None, changed=None, worker_nice=0, _tile_shuffle_seed=None):
+                 noise_space="linear", previous=None, changed=None, worker_nice=0, policy="split",
+                 _tile_shuffle_seed=None):
         self.design = design
         self.assets = assets
         self.width = int(width or design.render.width)
@@ -112,6 +113,9 @@ class RenderJob:
         if noise_space not in NOISE_SPACES:  # (the argument ``adaptive`` hides the module here)
             raise ValueError(f"noise_space must be 'linear' or 'display', not {noise_space!r}")
         self.noise_space = noise_space
+        if policy not in ("split", "classic"):
+            raise ValueError(f"policy must be 'split' or 'classic', not {policy!r}")
+        self.policy = policy
         self.stats = TraceStats()
         self.error = None
         self.seconds = None
@@ -202,7 +206,7 @@ class RenderJob:
     def sampling(self) -> tuple:
         """What decides which samples the job traces, besides the design: two jobs with equal
         ``sampling()`` of the same design trace the same samples."""
-        return self.width, self.height, self.spp, self.adaptive, self.noise_target, self.noise_space
+        return self.width, self.height, self.spp, self.adaptive, self.noise_target, self.noise_space, self.policy
 
     # ------------------------------------------------------------------ internals
     def _set_progress(self, value: float) -> None:
@@ -263,15 +267,20 @@ class RenderJob:
             self._set_progress(0.35)
             # (2...) anti-aliasing on edges: uniform rounds, then (adaptive) where samples scatter
             edges = adaptive.edge_mask(film.luminance(), film.signature, level)
-            plan = adaptive.plan(self.spp, self.adaptive)
+            split = self.noise_space == "display" and self.policy == "split"
+            plan = adaptive.split_plan(self.spp, self.adaptive) if split else adaptive.plan(self.spp, self.adaptive)
+            mark = None
             for r, (target, varied) in enumerate(plan):
-                if varied:
+                if varied and split:
+                    want = adaptive.split_targets(film, mark, target, self.noise_target)
+                elif varied:
                     want = adaptive.noise_targets(film, target, self.noise_target, level, self.noise_space)
                 else:
                     want = np.where(edges, target, 0)
                 mask = want > film.aa_count
                 if not mask.any():
                     break
+                mark = film.mark() if split else None
                 self._wave(pool, ctx, 2 + r, mask, want, roulette=adaptive.ROULETTE if varied else 0.0)
                 self._set_progress(0.35 + 0.65 * (r + 1) / len(plan))
 

@@ -14,7 +14,7 @@ import json
 import math
 import os
 
-from engine.model.design import Camera, Design, Environment, Glass, Liquid, RenderSettings
+from engine.model.design import Camera, Design, Environment, Glass, Liquid, RenderSettings, Stage
 from engine.errors import ProjectError
 from engine.geometry.section import Section
 from engine.geometry.shape import BottleShape
@@ -127,8 +127,13 @@ def spec_to_design(spec_path: str | os.PathLike, spp: int = DEFAULT_SPP
     if liq is not None:
         liquid = Liquid(ior=_num(liq, "ior", "liquid"), absorption=_vec(liq, "sigma_a", "liquid", 3),
                         fill_mode="height", fill_value=_num(liq, "fill_height", "liquid"))
+    stage = Stage()
+    ground = spec.get("ground")
+    if ground is not None:  # SPEC_ground.md: a Lambertian square under the bottle
+        stage = Stage(kind="table", color=_vec(ground, "albedo", "ground", 3), z_mm=_num(ground, "z", "ground"),
+                      half_size_mm=_num(ground, "half_size", "ground"))
     design = Design(shape=shape, glass=glass, liquid=liquid, camera=camera,
-                    environment=environment, render=render,
+                    environment=environment, render=render, stage=stage, lights=(),
                     name=str(spec.get("name", os.path.splitext(os.path.basename(spec_path))[0])),
                     notes=str(spec.get("note", "")))
     return design, {asset: env_bytes}

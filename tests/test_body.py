@@ -61,7 +61,7 @@ def test_normals_face_out_of_the_glass(shape):
 def test_parts_meet_at_their_edges():
     for shape in shapes():
         body = BottleBody(shape)
-        zt, zib = body.profile.z_top, body.profile.z_ib
+        zt = body.profile.z_top
         pairs = [(("outer", 0.0), ("base_outer", 1.0)), (("outer", zt), ("rim", 1.0)),
                  (("inner", zt), ("rim", 0.0)), (("inner", body.profile.sections[0].inner_wall[0].p0[1]),
                                                    ("base_inner", 1.0))]

@@ -386,7 +386,8 @@ def _rim_hit(d):
     assert k[0] == ctx.geometry.obj_i.shape[0]          # the cap's part
     p = o[0] + t[0] * dr[0]
     it = Interaction(*p, *n[0], *dr[0], int(k[0]), int(part[0]), int(obj_i[k[0], O_MAT]), 0, 0)
-    s = scatter(ctx.scene, with_buffers(ctx.labels), ctx.finish_tables, ctx.env_params, it, 1.0, 1.0, 1.0,
+    s = scatter(ctx.scene, with_buffers(ctx.labels), ctx.finish_tables, ctx.env_params, ctx.lookup_texels, it,
+                1.0, 1.0, 1.0,
                 np.uint64(1), np.zeros((4, 8)), Scratch(np.zeros(16), np.zeros(5), np.zeros((64, 2))))
     return s.nk, s.er, s.eg, s.eb, s.bits
 

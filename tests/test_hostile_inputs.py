@@ -42,7 +42,8 @@ def test_every_bundled_sample_is_saved_in_the_current_format():
 
 
 @pytest.mark.parametrize("old, sample", [("bordeaux_format1", "bordeaux"), ("labelled_format2", "labelled"),
-                                         ("threaded_bottle_format2", "threaded_bottle")])
+                                         ("threaded_bottle_format2", "threaded_bottle"),
+                                         ("cut_decanter_format3", "cut_decanter")])
 def test_old_format_originals_migrate_to_the_bundled_samples(old, sample):
     assert _format_of(OLD / f"{old}.glassbench") < CURRENT_FORMAT
     assert load_project(OLD / f"{old}.glassbench") == load_project(ROOT / "resources" / f"{sample}.glassbench")

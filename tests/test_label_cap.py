@@ -15,7 +15,6 @@ import pytest
 from engine.appearance.cap_surfaces import cap_surface, surface_decal
 from engine.tracer.kernels.labels import P_BX, P_CX, P_OBJECT, P_V0
 from engine.appearance.closure_shapes import default_cap
-from engine.appearance.report import label_report
 from engine.appearance.sample import png_bytes
 from engine.cli import main
 from engine.errors import DesignError, ProjectError

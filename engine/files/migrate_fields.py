@@ -1,7 +1,8 @@
-"""Format 2 -> 3: fields added to labels and bump tiles get the values old projects meant.
+"""Format 2 -> 3 -> 4: fields added since get the values old projects meant.
 
-Design rule: one self-contained step, :func:`migrate_2_to_3`, registered as
-``engine.files.serialize.MIGRATIONS[2]``. Format 3 added fields whose default is exactly what a
+Design rule: self-contained steps, :func:`migrate_2_to_3` (fields of labels and bump tiles) and
+:func:`migrate_3_to_4` (the stage), registered as ``engine.files.serialize.MIGRATIONS[2]`` and
+``[3]``. Format 3 added fields whose default is exactly what a
 format-2 project drew, so the step only fills in what is missing, in new dictionaries, and checks
 nothing else (the decoder does): an old file opens unchanged, and a glassbench of format 2
 refuses a format-3 file with "made by a newer glassbench" instead of "unknown field".
@@ -28,3 +29,14 @@ def migrate_2_to_3(doc: dict) -> dict:
         if isinstance(items, list):
             design[key] = [{**fields, **item} if isinstance(item, dict) else item for item in items]
     return dict(doc, format_version=3, design=design)
+
+
+def migrate_3_to_4(doc: dict) -> dict:
+    """The format-4 document of format-3 ``doc``: format 4 added the stage (what the bottle
+    stands on); a format-3 bottle floated in its environment, which is the stage ``none``."""
+    design = doc.get("design")
+    if not isinstance(design, dict):
+        return dict(doc, format_version=4)  # the decoder names what is wrong
+    stage = {"kind": "none", "color": [0.55, 0.55, 0.55], "gloss": 1.0, "backdrop": False, "z_mm": -0.05,
+             "half_size_mm": 100000.0}
+    return dict(doc, format_version=4, design={"stage": stage, **design})

@@ -19,6 +19,7 @@ from ..geometry.segments import Arc, EllipseArc
 from ..geometry.shape import BottleShape
 from .fill import check_fill_mode
 from .label_values import check_label_values
+from .design import STAGE_KINDS
 from .finish_values import check_finish_values
 
 ENVIRONMENT_KINDS = ("studio", "file")
@@ -54,6 +55,7 @@ def check_values(design) -> None:
         L.check_range(f"{where}.intensity", light.intensity, L.LIGHT_INTENSITY_RANGE)
     check_label_values(design.labels)
     check_finish_values(design)
+    _check_stage(design.stage)
     r = design.render
     L.check_image_size(r.width, r.height, r.spp)
     L.check_range("design.render.max_depth", r.max_depth, L.MAX_DEPTH_RANGE, integer=True)
@@ -143,3 +145,16 @@ def _check_vector(path: str, vec, bound: float, nonzero: bool = False) -> None:
         L.check_range(f"{path}[{c}]", v, (-bound, bound))
     if nonzero and not any(v != 0.0 for v in vec):
         raise DesignError(f"{path} must not be the zero vector")
+
+
+def _check_stage(stage) -> None:
+    """Kind, colour and gloss of the ``Stage``."""
+    if stage.kind not in STAGE_KINDS:
+        raise DesignError(f"design.stage.kind {shown(stage.kind)} is not one of {', '.join(STAGE_KINDS)}")
+    for c, v in enumerate(stage.color):
+        L.check_range(f"design.stage.color[{c}]", v, (0.0, 1.0))
+    L.check_range("design.stage.gloss", stage.gloss, (0.0, 1.0))
+    L.check_range("design.stage.z_mm", stage.z_mm, (-10.0, -1e-4), "mm")
+    L.check_range("design.stage.half_size_mm", stage.half_size_mm, (10.0, 1e6), "mm")
+    if not isinstance(stage.backdrop, bool):
+        raise DesignError(f"design.stage.backdrop must be true or false, got {shown(stage.backdrop)}")

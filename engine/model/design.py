@@ -287,6 +287,32 @@ class Cap:
     capsule: bool = True
 
 
+#: What the bottle stands on: ``none`` (it floats in the environment), ``shadow`` (a shadow
+#: catcher: the environment's own background with the bottle's shadow, caustic and reflection
+#: on it), ``table`` (a matte surface of ``Stage.color``), ``glossy`` (a riser under a clear
+#: coat: acrylic when white, black glass when black), ``mirror`` (a mirror tinted ``color``).
+STAGE_KINDS = ("none", "shadow", "table", "glossy", "mirror")
+
+
+@dataclass(frozen=True)
+class Stage:
+    """The ground the bottle stands on, at its standing plane (a hair below ``z = 0``, so no
+    two surfaces coincide), and as wide as the scene needs. ``color`` is linear RGB in 0..1 (the
+    table's or the riser's base albedo, the mirror's tint); ``gloss`` in 0..1 how sharp a
+    glossy riser's coat reflects (1: a mirror-sharp coat). ``backdrop`` adds a cyclorama sweep
+    behind the bottle (drawn from the same surface). The ground is the square of half-side
+    ``half_size_mm`` in the plane ``z = z_mm`` (mm; below 0, where the bottle stands; the SPEC
+    ground's numbers by default but wide enough to reach the horizon). The environment's turn
+    and strength stay ``Design.environment``'s."""
+
+    kind: str = "none"
+    color: RGB = (0.55, 0.55, 0.55)
+    gloss: float = 1.0
+    backdrop: bool = False
+    z_mm: float = -0.05
+    half_size_mm: float = 100000.0
+
+
 @dataclass(frozen=True)
 class Design:
     """Everything a design is. Compare with ``==``; hash for caches; never mutate."""
@@ -301,5 +327,6 @@ class Design:
     labels: tuple[Label, ...] = ()
     bumps: tuple[BumpTile, ...] = ()
     cap: Cap | None = None
+    stage: Stage = field(default_factory=Stage)
     name: str = "Untitled"
     notes: str = ""

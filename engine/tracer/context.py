@@ -20,10 +20,13 @@ from .kernels.integrator import (C_BUDGET, C_CUT_DEPTH, C_CUT_WEIGHT, C_LEAKS, C
                                  C_QUERIES, N_COUNTERS)
 from .kernels.sampling import C_COLS
 from .kernels.tile import render_pixels
+from .kernels.intersect import O_MAT as K_O_MAT
+from .kernels.materials import GROUND
 from .kernels.records import Cutoffs, FinishTables, Geometry, LabelTables, Pixels, PixelSums, Scene
 from .tables.labels import empty_label_arrays, label_arrays, with_buffers
 from .tables.finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays, search_tables
+from .tables.stage import open_sky_irradiance, scene_with_stage
 from .thread_geometry import scene_with_threads
 
 #: Boundaries one camera sample may visit before what it still holds is closed with the
@@ -33,13 +36,14 @@ MAX_NODES = 1 << 14
 
 
 def scene_tables(design):
-    """``(geometry, cap tables, scene tuple)`` of ``design``: the render objects of the bottle
-    (cached by shape and fill), its true threads and its closure, as the kernels search them.
-    What a render, the coverage of a final render's alpha and picking all intersect."""
+    """``(geometry, cap tables, scene)`` of ``design``: the render objects of the bottle
+    (cached by shape and fill), its true threads, its closure and the stage's ground, as the
+    kernels search them. What a render, the coverage of a final render's alpha and picking all
+    intersect."""
     geom = render_geometry_for(design)
     cap = cap_tables_for(design, geom)
     scene = scene_with_cap(scene_with_threads(scene_arrays(geom, design), design), cap, geom.fill_height)
-    return geom, cap, scene
+    return geom, cap, scene_with_stage(scene, design.stage)
 
 
 def camera_array(camera: PinholeCamera) -> np.ndarray:
@@ -63,8 +67,9 @@ class RenderContext:
     scene: Scene
     #: the environment's float32 texels (what the label and finish maps are made from)
     texels: np.ndarray
-    #: ``(scale, rotation rad, factor)``: the environment's scale and turn, and the factor of
-    #: the kernels' half-float copy of the map (:func:`engine.tracer.environment.half_texels`)
+    #: ``(scale, rotation rad, factor, E_up (rgb))``: the environment's scale and turn, the factor
+    #: of the kernels' half-float copy of the map (:func:`engine.tracer.environment.half_texels`)
+    #: and its open-sky irradiance for a ground (:func:`~engine.tracer.tables.stage.open_sky_irradiance`)
     env_params: np.ndarray
     camera: PinholeCamera
     cam: np.ndarray
@@ -96,7 +101,8 @@ class RenderContext:
         tex = np.ascontiguousarray(env.texels, dtype=np.float32)
         finish = finish_arrays(design, assets, geom, cap, scene, tex)
         half, factor = half_texels(tex)
-        params = np.array([float(env.scale), math.radians(float(env.rotation_deg)), factor])
+        sky = open_sky_irradiance(env) if design.stage.kind != "none" else np.zeros(3)
+        params = np.array([float(env.scale), math.radians(float(env.rotation_deg)), factor, *sky])
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
         return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
                    float(design.render.min_weight), int(scene.mat_i.shape[0]), level, env,
@@ -108,6 +114,14 @@ class RenderContext:
         assets differ)."""
         return dataclasses.replace(self, labels=label_arrays(design, assets, self.texels,
                                                              self.geometry.obj_i.shape[0]))
+
+    @property
+    def stochastic_objects(self) -> np.int64:
+        """Object-mask bits of the objects whose light is estimated by sampling (the stage's
+        ground): a pixel whose tree met one is noisy even where it differs from no neighbour."""
+        g = self.scene.geom
+        kinds = self.scene.mat_i[g.obj_i[:, K_O_MAT], 0]
+        return np.int64(sum(1 << int(k) for k in np.nonzero(kinds == GROUND)[0]))
 
     @property
     def finish_tables(self) -> FinishTables:

@@ -267,6 +267,7 @@ class RenderJob:
             self._set_progress(0.35)
             # (2...) anti-aliasing on edges: uniform rounds, then (adaptive) where samples scatter
             edges = adaptive.edge_mask(film.luminance(), film.signature, level)
+            edges |= (film.objects & ctx.stochastic_objects) != 0  # a sampled surface: noisy anywhere
             split = self.noise_space == "display" and self.policy == "split"
             plan = adaptive.split_plan(self.spp, self.adaptive) if split else adaptive.plan(self.spp, self.adaptive)
             mark = None

@@ -15,6 +15,8 @@ import numpy as np
 
 from .camera import PinholeCamera
 from .context import nearest_hits, scene_tables
+from .kernels import intersect as K
+from .kernels.materials import GROUND, M_KIND
 
 #: Rays cast per call of the search (bounds the memory of print-size coverage).
 CHUNK_RAYS = 1 << 20
@@ -36,12 +38,19 @@ def camera_hits(design, width: int, height: int, xs, ys, scene=None):
     return t, k, points
 
 
+def _ground_objects(scene) -> np.ndarray:
+    """The render objects of ``scene`` that are the stage's ground (not the bottle)."""
+    mats = scene.geom.obj_i[:, K.O_MAT]
+    return np.nonzero(scene.mat_i[mats, M_KIND] == GROUND)[0]
+
+
 def coverage(design, width: int, height: int, grid: int = 4) -> np.ndarray:
     """Fraction of each pixel the bottle (glass, threads, closure) covers, ``(height, width)``
     float32 in [0, 1], from ``grid x grid`` fixed points per pixel: alpha is geometric coverage,
     not transparency (a cut-out of glass keeps the colour the tracer computed, the studio seen
     through it included), deterministic and independent of the render's samples."""
     scene = scene_tables(design)[2]
+    ground = _ground_objects(scene)
     sub = (np.arange(grid) + 0.5) / grid
     dx, dy = (a.ravel() for a in np.meshgrid(sub, sub))
     out = np.zeros((height, width), np.float32)
@@ -53,7 +62,7 @@ def coverage(design, width: int, height: int, grid: int = 4) -> np.ndarray:
         x = np.broadcast_to(cols[None, :, None] + dx, shape)
         y = np.broadcast_to(rows[:, None, None] + dy, shape)
         _, k, _ = camera_hits(design, width, height, x, y, scene)
-        out[r0:r0 + len(rows)] = (k >= 0).reshape(shape).mean(axis=2)
+        out[r0:r0 + len(rows)] = ((k >= 0) & ~np.isin(k, ground)).reshape(shape).mean(axis=2)
     return out
 
 

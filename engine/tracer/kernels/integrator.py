@@ -164,7 +164,7 @@ def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_
         if inc != medium:
             counters[C_MISMATCH] += 1
         it = Interaction(px, py, pz, nx, ny, nz, dx, dy, dz, k, part, mat, inc, trn)
-        s = scatter(sc, lab, fin, env_p, it, wr, wg, wb, bseed, kids, work.scratch)
+        s = scatter(sc, lab, fin, env_p, tex, it, wr, wg, wb, bseed, kids, work.scratch)
         objmask |= s.bits
         if s.label_bits != 0:  # a sheet's terms are summed apart, so a relabel can recompute them alone
             ar += wr * s.ar

@@ -452,13 +452,15 @@ def record_sample(lab, s, h0):
 
 @njit(**INLINE)
 def finish_radiance(lr, lg, lb, ar, ag, ab):
-    """A sample's radiance: the rest plus the label terms, cleaned (non-finite -> 0, >= 0)."""
+    """A sample's radiance: the rest plus the label terms, cleaned (non-finite -> 0). A sample
+    may be negative where a control variate takes back more than the sample brought (the
+    ground's, :mod:`.surface`): only the pixel's mean is a radiance, and the film clamps that."""
     lr += ar
     lg += ag
     lb += ab
     if not (math.isfinite(lr) and math.isfinite(lg) and math.isfinite(lb)):
         lr = lg = lb = 0.0
-    return max(lr, 0.0), max(lg, 0.0), max(lb, 0.0)
+    return lr, lg, lb
 
 
 @njit(**JIT)

@@ -174,8 +174,10 @@ def finish_arrays(design, assets, geom, cap: CapTables | None, scene: Scene, tex
     """The finish tables of ``design`` for the kernels (module doc); ``scene`` is the combined
     scene (bottle and cap objects), ``texels`` the environment's."""
     n_obj = scene.geom.obj_i.shape[0]
+    ground = design.stage.kind not in ("none", "mirror")  # a diffuse ground: the lights reach it
     if not design.bumps and cap is None:
-        return empty_finish(n_obj)
+        empty = empty_finish(n_obj)
+        return empty._replace(lights=light_table(design.lights)) if ground else empty
     from .bump_rows import BOTTLE, bump_tables
     bt = bump_tables(design, assets)
     n_bottle = geom.obj_i.shape[0]
@@ -210,6 +212,6 @@ def finish_arrays(design, assets, geom, cap: CapTables | None, scene: Scene, tex
                                   else np.zeros((0, P_COLS)))
     plastic = bool(np.any(scene.mat_i[:, 0] == PLASTIC))
     irr = irradiance_table(texels) if plastic else _EMPTY_IRR
-    lights = light_table(design.lights) if plastic else np.zeros((0, 6))
+    lights = light_table(design.lights) if plastic or ground else np.zeros((0, 6))
     return FinishTables(obj_rows, kinds, params, np.ascontiguousarray(bt.atlas, np.float32), irr, lights,
                         *albedo_tables())

@@ -1,0 +1,104 @@
+"""The stage compiled for the kernels: the ground's render object and material, and the open sky.
+
+Design rule: the ground is one more render object after the bottle's and the closure's: a
+horizontal plane region (the square of the stage's half-side) at the stage's height, air on
+both sides, with a ``GROUND`` material row (:mod:`engine.tracer.kernels.materials`) that the
+surface layer shades (:func:`engine.tracer.kernels.surface.scatter`). A design whose stage is
+``none`` gets no object at all, so its images are those of before stages, bit for bit. The one
+number of the environment the ground needs, the irradiance of an upward surface under an open
+sky (:func:`open_sky_irradiance`), rides in the environment's parameter row. Units mm.
+"""
+from __future__ import annotations
+
+import math
+import threading
+
+import numpy as np
+
+from ...model.design import Stage
+from ..kernels import intersect as K
+from ..kernels.materials import (GROUND, MAT_COLS, MG_ALBEDO, MG_ALPHA, MG_BOUND_R, MG_BOUND_Z, MG_COAT_IOR,
+                                 MG_MIRROR, MG_SHADOW)
+from ..kernels.microfacet import MF_FAVG
+from ..kernels.outlines import RRECT
+from ..kernels.records import Geometry, Scene
+from ..ggx_albedo import dielectric_average
+from ..render_objects import AIR
+
+#: The glossy riser's clear coat (acrylic, black glass).
+COAT_IOR = 1.5
+#: Polar and azimuthal steps of the open-sky quadrature (:func:`open_sky_irradiance`).
+SKY_STEPS = (256, 1024)
+_SKY_CACHE: dict = {}
+_SKY_LOCK = threading.Lock()
+
+
+def material_row(stage: Stage, bound_r: float, bound_z: float) -> np.ndarray:
+    """The ``GROUND`` material row of ``stage`` (module rule); ``bound_r``, ``bound_z`` (mm) the
+    radius and top of an upright cylinder about the axis holding everything on the stage."""
+    row = np.zeros(MAT_COLS)
+    row[MG_BOUND_R], row[MG_BOUND_Z] = bound_r, bound_z
+    row[MG_ALBEDO:MG_ALBEDO + 3] = stage.color
+    if stage.kind == "glossy":
+        row[MG_COAT_IOR] = COAT_IOR
+        row[MG_ALPHA] = 0.5 * (1.0 - stage.gloss) ** 2  # gloss 1: a sharp coat; 0: GGX alpha 0.5
+        row[MF_FAVG:MF_FAVG + 3] = dielectric_average(COAT_IOR)
+    row[MG_SHADOW] = 1.0 if stage.kind == "shadow" else 0.0
+    row[MG_MIRROR] = 1.0 if stage.kind == "mirror" else 0.0
+    return row
+
+
+def scene_with_stage(scene: Scene, stage: Stage) -> Scene:
+    """``scene`` with the ground of ``stage`` appended as its last object and material (``scene``
+    itself for the stage ``none``)."""
+    if stage.kind == "none":
+        return scene
+    (seg, tab, slab_f, slab_i, obj_i, obj_f), media, mat_i, mat_f = scene
+    oi = np.zeros(K.O_COLS, np.int64)
+    of = np.zeros(K.F_COLS)
+    half, z = float(stage.half_size_mm), float(stage.z_mm)
+    oi[K.O_KIND], oi[K.O_XS], oi[K.O_XS_IN] = K.PLANE, RRECT, -1
+    oi[K.O_FRONT_LO] = oi[K.O_BACK_LO] = oi[K.O_FRONT_HI] = oi[K.O_BACK_HI] = AIR
+    oi[K.O_MAT] = mat_i.shape[0]
+    pad = 1e-9 * half
+    of[K.F_NSIGN], of[K.F_ZSPLIT], of[K.F_COS] = 1.0, np.inf, 1.0
+    of[K.F_RMAX], of[K.F_ZMIN], of[K.F_ZMAX] = math.sqrt(2.0) * half * (1 + 1e-9) + pad, z - pad, z + pad
+    of[K.F_PZ], of[K.F_PNZ] = z, 1.0
+    of[K.F_OUT0], of[K.F_OUT1], of[K.F_OUT2] = half, half, 0.0
+    of[K.F_EDGE] = obj_f[0, K.F_EDGE] if obj_f.shape[0] else 1e-9
+    mi = np.zeros((1, mat_i.shape[1]), np.int64)
+    mi[0, 0] = GROUND
+    mf = np.zeros((mat_f.shape[0], MAT_COLS))
+    mf[:, :mat_f.shape[1]] = mat_f
+    c = np.ascontiguousarray
+    # the bottle, its threads and closure: objects' boxes are (radius about the axis, z range)
+    bound_r = float(obj_f[:, K.F_RMAX].max()) * (1 + 1e-6) + 1e-6
+    bound_z = float(obj_f[:, K.F_ZMAX].max()) + 1e-6
+    return Scene(Geometry(seg, tab, slab_f, slab_i, c(np.vstack([obj_i, oi])), c(np.vstack([obj_f, of]))), media,
+                 c(np.vstack([mat_i, mi])), c(np.vstack([mf, material_row(stage, bound_r, bound_z)])))
+
+
+def open_sky_irradiance(environment) -> np.ndarray:
+    """``E_up`` (RGB, the environment's radiance units times its scale): the irradiance over pi
+    of an upward surface with nothing in the way, ``(1 / pi) int L(w) cos(theta) dw`` over the
+    upper hemisphere, by a midpoint rule in ``cos^2`` (so each cell carries equal weight) and
+    azimuth of :data:`SKY_STEPS` cells over the environment's own lookup; cached per map, scale
+    and turn (the turn does not change it, but the lookup takes it)."""
+    key = (id(environment.texels), float(environment.scale), float(environment.rotation_deg))
+    with _SKY_LOCK:
+        hit = _SKY_CACHE.get(key)
+    if hit is not None:
+        return hit
+    nt, nphi = SKY_STEPS
+    # cos(theta)^2 uniform in (0, 1): the cosine-weighted measure in equal parts
+    c2 = (np.arange(nt) + 0.5) / nt
+    cos_t, sin_t = np.sqrt(c2), np.sqrt(1.0 - c2)
+    phi = (np.arange(nphi) + 0.5) * (2.0 * math.pi / nphi)
+    d = np.stack([np.outer(sin_t, np.cos(phi)), np.outer(sin_t, np.sin(phi)),
+                  np.outer(cos_t, np.ones(nphi))], axis=-1).reshape(-1, 3)
+    out = environment.lookup(d).mean(axis=0)
+    with _SKY_LOCK:
+        if len(_SKY_CACHE) > 16:
+            _SKY_CACHE.clear()
+        _SKY_CACHE[key] = out
+    return out

@@ -1,0 +1,155 @@
+"""The stage: a ground under the bottle, its light through the glass, and where the method could fail.
+
+Energy (a white ground under clear glass in a white furnace stays white), the control variate's
+exactness where nothing is in the way, a camera below the ground, a mirror's regress, dark
+glass, the ground seen through the liquid, alpha without the ground, and the SPEC ground
+scene against its reference.
+"""
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from benchmarks.paths import ORACLE_SPECS
+from engine.model.design import Camera, Glass, Light, Stage
+from engine.tracer.context import RenderContext, TraceStats, trace_pixels, trace_rays
+from engine.tracer.environment import EnvironmentMap
+from engine.tracer.picking import coverage
+from engine.tracer.tables.stage import open_sky_irradiance
+from tests.test_tracer import WHITE, simple_design
+
+TABLE = Stage(kind="table", color=(1.0, 1.0, 1.0))
+
+
+def _on_stage(stage, **kw):
+    d = simple_design(**kw)
+    cam = Camera(eye=(0, -220, 120), target=(0, 0, 20), fov_y_deg=40)  # looking down on the ground
+    return dataclasses.replace(d, stage=stage, camera=cam, lights=())
+
+
+def _pixels(design, env=None, spp=16, first=1):
+    w, h = design.render.width, design.render.height
+    ctx = RenderContext.from_design(design, None, w, h, environment=env)
+    rows, cols = np.mgrid[0:h, 0:w]
+    res = trace_pixels(ctx, cols.ravel(), rows.ravel(), first, spp)
+    st = TraceStats()
+    st.add_counters(res.counters)
+    return (res.sums / spp).reshape(h, w, 3), res.objects.reshape(h, w), ctx, st
+
+
+def test_a_white_ground_under_clear_glass_in_a_white_furnace_stays_white():
+    img, objects, ctx, st = _pixels(_on_stage(TABLE, fill=40.0), env=WHITE)
+    ground = ctx.stochastic_objects
+    assert ((objects & ground) != 0).mean() > 0.3 and ((objects & 1) != 0).any()  # ground and bottle seen
+    assert np.abs(img - 1.0).max() < 1e-9  # every pixel: ground, glass, both, and the sky
+    assert st.escaped_inside == 0 and st.mismatches == 0
+
+
+def test_open_ground_is_exact_and_noise_free_and_shadowed_ground_is_darker():
+    design = _on_stage(Stage(kind="table", color=(0.5, 0.5, 0.5)), fill=40.0, glass_absorption=(0.5, 0.5, 0.5))
+    ctx = RenderContext.from_design(design, None, 8, 8)
+    e_up = open_sky_irradiance(ctx.environment)
+    down = np.tile([0.0, 0.0, -1.0], (64, 1))
+    # a metre from the bottle the control variate's probes miss it: albedo x the open sky, to rounding
+    far = np.column_stack([1000 + np.arange(64) * 0.37, np.arange(64) * 0.11, np.full(64, 300.0)])
+    out, _ = trace_rays(ctx, far, down)
+    assert np.abs(out - 0.5 * e_up).max() < 1e-12
+    # 3 mm from the dark bottle's foot the ground loses sky to it: its contact shadow
+    near = np.column_stack([23 + np.arange(64) * 0.01, np.zeros(64), np.full(64, 300.0)])
+    out, _ = trace_rays(ctx, near, down)
+    assert (out.mean(axis=0) < 0.8 * 0.5 * e_up).all()
+
+
+def test_the_open_sky_irradiance_of_a_white_sky_is_one():
+    assert np.allclose(open_sky_irradiance(WHITE), 1.0, atol=1e-12)
+    # a sky bright only below the horizon gives an upward surface nothing
+    tex = np.zeros((64, 128, 3), np.float32)
+    tex[40:] = 5.0
+    assert np.abs(open_sky_irradiance(EnvironmentMap(tex))).max() < 1e-6
+
+
+def test_a_camera_below_the_ground_sees_its_black_underside_and_never_the_bottle_above():
+    design = _on_stage(TABLE, fill=40.0)
+    design = dataclasses.replace(design, camera=Camera(eye=(0, -200, -30), target=(0, 0, 30), fov_y_deg=40))
+    img, objects, ctx, _ = _pixels(design, env=WHITE, spp=1, first=0)  # pixel centres: no sky mixed in
+    ground = ctx.stochastic_objects
+    assert ((objects & ground) != 0).mean() > 0.2
+    assert not ((objects & 1) != 0).any()  # the outer wall (object 0) is never met from below
+    assert np.all(img[(objects & ground) != 0] == 0.0)  # the underside absorbs
+    assert np.allclose(img[objects == 0], 1.0, atol=1e-12)  # where the ground does not reach, the sky
+
+
+def test_a_bottle_on_a_mirror_ends_its_regress_and_the_open_mirror_shows_the_tinted_sky():
+    design = _on_stage(Stage(kind="mirror", color=(0.9, 0.8, 0.7)), fill=40.0)
+    img, objects, ctx, st = _pixels(design, env=WHITE, spp=4)
+    assert st.escaped_inside == 0 and np.isfinite(img).all()
+    open_mirror = objects == ctx.stochastic_objects
+    assert open_mirror.any()
+    assert np.allclose(img[open_mirror], (0.9, 0.8, 0.7))
+    assert np.all(img <= 1.0 + 1e-9)  # a mirror under clear glass in a white sky: its tint at most
+
+
+def _ground_points(ctx, xy, repeats=32):
+    """Mean radiance of ``repeats`` vertical rays onto each ground point ``xy`` (mm), ``(len(xy), 3)``."""
+    xy = np.repeat(np.asarray(xy, float), repeats, axis=0)
+    origins = np.column_stack([xy, np.full(len(xy), 300.0)])
+    out, _ = trace_rays(ctx, origins, np.tile([0.0, 0.0, -1.0], (len(xy), 1)))
+    return out.reshape(-1, repeats, 3).mean(axis=1)
+
+
+# ground points in a ring 1-15 mm from the 20 mm bottle's foot
+RING = [((20 + g) * math.cos(a), (20 + g) * math.sin(a)) for g in (1.0, 4.0, 15.0)
+        for a in np.linspace(0, 2 * math.pi, 12, endpoint=False)]
+
+
+def test_dark_glass_casts_a_shadow_and_almost_no_caustic():
+    clear = _on_stage(Stage(kind="table", color=(0.6, 0.6, 0.6)), fill=None)
+    dark = dataclasses.replace(clear, glass=Glass(ior=1.5, absorption=(3.0, 3.0, 3.0)))
+    ctx_a = RenderContext.from_design(clear, None, 8, 8)
+    ctx_b = RenderContext.from_design(dark, None, 8, 8)
+    a, b = _ground_points(ctx_a, RING), _ground_points(ctx_b, RING)
+    open_sky = 0.6 * open_sky_irradiance(ctx_a.environment)
+    # beside the dark bottle the ground never receives more than the open sky gives (no caustic)...
+    assert (b <= open_sky * 1.001).all()
+    # ...and less the nearer its foot (its contact shadow; grazing reflections off the wall keep some light)
+    assert (b[:12] < 0.95 * open_sky).all() and (b[:12].mean(axis=0) < b[24:].mean(axis=0)).all()
+    assert b.sum() < a.sum()  # clear glass lets light through to the ground
+
+
+def test_the_ground_is_seen_through_the_glass_and_liquid():
+    design = _on_stage(TABLE, fill=40.0)
+    _, objects, ctx, _ = _pixels(design, spp=1)
+    ground = ctx.stochastic_objects
+    bottle_and_ground = ((objects & 1) != 0) & ((objects & ground) != 0)
+    assert bottle_and_ground.mean() > 0.05
+
+
+def test_alpha_covers_the_bottle_not_the_ground():
+    design = _on_stage(TABLE, fill=40.0)
+    bare = dataclasses.replace(design, stage=Stage())
+    assert np.array_equal(coverage(design, 24, 32), coverage(bare, 24, 32))
+
+
+def test_the_lights_light_the_ground_and_the_bottle_shadows_them():
+    lit = dataclasses.replace(_on_stage(Stage(kind="table", color=(0.5, 0.5, 0.5)), fill=None,
+                                        glass_absorption=(2.0, 2.0, 2.0)),
+                              lights=(Light(direction=(0.0, 1.0, 1.0), intensity=2.0),))
+    dark = dataclasses.replace(lit, lights=())
+    a = RenderContext.from_design(lit, None, 8, 8, environment=WHITE)
+    b = RenderContext.from_design(dark, None, 8, 8, environment=WHITE)
+    # the light comes from +y at 45 degrees: (0, -40) lies in the bottle's shadow, (0, 300) in the open
+    points = [(0.0, -40.0), (0.0, 300.0)]
+    gain = _ground_points(a, points, 8) - _ground_points(b, points, 8)
+    # open ground: albedo x irradiance x cos / pi of a light at 45 degrees
+    assert np.allclose(gain[1], 0.5 * 2.0 * math.cos(math.pi / 4) / math.pi, rtol=1e-9)
+    assert (gain[0] < 1e-3 * gain[1]).all()  # 5 mm of dark glass in the light's way
+
+
+def test_the_spec_ground_scene_is_within_two_per_cent_of_its_reference():
+    from benchmarks.oracle_render import reference_path, rel_rmse, render_spec
+    from engine.tracer.environment import read_radiance_image
+    spec = str(ORACLE_SPECS / "ground_public_1.json")
+    img, _, _ = render_spec(spec, spp=8, threads=2)
+    assert rel_rmse(img, read_radiance_image(reference_path(spec))) < 0.02

@@ -59,6 +59,8 @@ MIN_UP_SINE = 1e-6
 #: largest value (3.4e38) even summed over every sample of a pixel.
 ENV_SCALE_RANGE = (0.0, 1e6)
 LIGHT_INTENSITY_RANGE = (0.0, 1e6)
+#: A light's apparent diameter (degrees): a point to a wide soft box.
+LIGHT_ANGLE_RANGE = (0.0, 90.0)
 LIGHT_COLOR_RANGE = (0.0, 1e3)
 
 # ------------------------------------------------------------------------------- environment

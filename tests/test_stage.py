@@ -153,3 +153,92 @@ def test_the_spec_ground_scene_is_within_two_per_cent_of_its_reference():
     spec = str(ORACLE_SPECS / "ground_public_1.json")
     img, _, _ = render_spec(spec, spp=8, threads=2)
     assert rel_rmse(img, read_radiance_image(reference_path(spec))) < 0.02
+
+
+# ----------------------------------------------------------------------------- the lights' caustics
+def _lit(stage=TABLE, light=Light(direction=(0.3, 0.5, 1.0), intensity=2.0), **kw):
+    """A bottle on ``stage`` under ``light`` and an environment's sky."""
+    return dataclasses.replace(_on_stage(stage, **kw), lights=(light,))
+
+
+def _light_only(design, points, repeats=16):
+    """What ``design``'s lights add on the ground at ``points`` (mm): its radiance less that of
+    the same design without lights."""
+    a = RenderContext.from_design(design, None, 8, 8)
+    b = RenderContext.from_design(dataclasses.replace(design, lights=()), None, 8, 8)
+    return _ground_points(a, points, repeats) - _ground_points(b, points, repeats)
+
+
+def _caustic_flux(design):
+    """Red flux (mm^2 x irradiance) the lights' caustic grids hold, in the shadow and in the open:
+    the light that came through the bottle and landed on the ground."""
+    ctx = RenderContext.from_design(design, None, 8, 8)
+    cs, g = ctx.finish.caustics, ctx.finish.caustic_grid
+    return np.array([(cs[q, ..., 0].sum() + cs[q, ..., 3].sum()) * g[q, 2] ** 2 * math.pi for q in range(len(g))])
+
+
+def test_a_bottle_of_index_one_glass_casts_no_shadow_from_a_light():
+    """Index-matched glass lets the light through unbent and undimmed: the straight light (shadow
+    rays) and the traced light (the caustic grid) must add up to the open ground's everywhere,
+    across the shadow's edge too (the grid's division by its shadow share), to the photons' noise."""
+    d = _lit(Stage(kind="table", color=(1.0, 1.0, 1.0)), fill=None)
+    d = dataclasses.replace(d, glass=Glass(ior=1.0))
+    l = np.array([0.3, 0.5, 1.0]) / np.linalg.norm([0.3, 0.5, 1.0])
+    points = [(x, y) for x in np.linspace(-60, 30, 46) for y in (-40.0, -25.0, 0.0, 25.0) if x * x + y * y > 24 ** 2]
+    ratio = _light_only(d, points)[:, 0] / (2.0 * l[2] / math.pi)
+    assert abs(ratio.mean() - 1.0) < 0.01
+    assert ratio.std() < 0.05 and np.abs(ratio - 1.0).max() < 0.2
+
+
+def test_the_caustic_grid_is_the_same_for_any_number_of_threads():
+    from engine.tracer.tables.caustics import caustic_grids
+    from engine.tracer.tables.labels import with_buffers
+    ctx = RenderContext.from_design(_lit(fill=40.0), None, 8, 8)
+    args = (ctx.scene, with_buffers(ctx.labels), ctx.finish, ctx.env_params, ctx.lookup_texels,
+            ctx.scene.mat_i.shape[0] - 1, -0.05)
+    one, two = caustic_grids(*args, threads=1), caustic_grids(*args, threads=3)
+    assert np.array_equal(one[0], two[0]) and np.array_equal(one[1], two[1])
+    assert one[0][..., :6].max() > 0.0
+
+
+def test_clear_liquid_focuses_a_light_into_a_caustic_and_dark_glass_passes_almost_none():
+    clear = _lit(fill=40.0)
+    dark = dataclasses.replace(clear, glass=Glass(ior=1.5, absorption=(3.0, 3.0, 3.0)))
+    l = np.array([0.3, 0.5, 1.0]) / np.linalg.norm([0.3, 0.5, 1.0])
+    ctx = RenderContext.from_design(clear, None, 8, 8)
+    peak = ctx.finish.caustics[0, ..., :3].max()
+    assert peak > 3.0 * 2.0 * l[2] / math.pi  # focused: brighter than the open ground
+    # dark glass: only the outer surface's reflection reaches the ground (Fresnel over a cylinder's
+    # profile averages about a tenth, grazing at its sides)
+    assert _caustic_flux(dark)[0] < 0.15 * _caustic_flux(clear)[0]
+
+
+def test_a_sun_sized_light_softens_the_shadow_and_keeps_the_caustics_light():
+    dark_glass = Glass(ior=1.5, absorption=(3.0, 3.0, 3.0))
+    point = dataclasses.replace(_lit(light=Light(direction=(0.0, 1.0, 1.0), intensity=2.0), fill=None),
+                                glass=dark_glass)
+    sun = dataclasses.replace(point, lights=(dataclasses.replace(point.lights[0], angle_deg=0.53),))
+    # across the edge of the shadow of the bottle's side, 60 mm from it: the sun's penumbra is
+    # 60 x 0.53 degrees = 0.55 mm wide; the point light's edge is a step
+    xs = np.linspace(19.0, 21.5, 26)
+    points = [(x, -60.0) for x in xs]
+    p = _light_only(point, points, 64)[:, 0] / (2.0 * math.cos(math.pi / 4) / math.pi)
+    s = _light_only(sun, points, 64)[:, 0] / (2.0 * math.cos(math.pi / 4) / math.pi)
+    assert ((p > 0.1) & (p < 0.9)).sum() <= 1  # a step (one point may fall on it)
+    assert ((s > 0.1) & (s < 0.9)).sum() >= 3  # a ramp
+    clear_point, clear_sun = _lit(fill=40.0), _lit(fill=40.0, light=Light((0.3, 0.5, 1.0), intensity=2.0,
+                                                                          angle_deg=0.53))
+    a, b = _caustic_flux(clear_point)[0], _caustic_flux(clear_sun)[0]
+    assert abs(b / a - 1.0) < 0.03  # the same light, spread a little
+
+
+def test_a_light_from_above_through_a_thick_base_is_bounded_and_conserves_its_light():
+    """Light straight down through the neck, the liquid and a 5 mm base: focused under the
+    bottle, finite, and no more light lands than entered the bottle's cylinder."""
+    d = _lit(light=Light(direction=(0.0, 0.0, 1.0), intensity=1.0), fill=40.0)
+    ctx = RenderContext.from_design(d, None, 8, 8)
+    cs = ctx.finish.caustics[0]
+    assert np.isfinite(cs).all()
+    bound_r = 20.0 + 1e-3
+    # clear glass and liquid: all but the reflections (about a tenth) and the light the rim sends up
+    assert 0.6 * math.pi * bound_r ** 2 < _caustic_flux(d)[0] <= math.pi * bound_r ** 2 * 1.0

@@ -33,10 +33,14 @@ def migrate_2_to_3(doc: dict) -> dict:
 
 def migrate_3_to_4(doc: dict) -> dict:
     """The format-4 document of format-3 ``doc``: format 4 added the stage (what the bottle
-    stands on); a format-3 bottle floated in its environment, which is the stage ``none``."""
+    stands on; a format-3 bottle floated in its environment, which is the stage ``none``) and
+    the lights' apparent size (a format-3 light was a point: 0 degrees)."""
     design = doc.get("design")
     if not isinstance(design, dict):
         return dict(doc, format_version=4)  # the decoder names what is wrong
+    lights = design.get("lights")
+    if isinstance(lights, list):
+        design = dict(design, lights=[{"angle_deg": 0.0, **x} if isinstance(x, dict) else x for x in lights])
     stage = {"kind": "none", "color": [0.55, 0.55, 0.55], "gloss": 1.0, "backdrop": False, "z_mm": -0.05,
              "half_size_mm": 100000.0}
     return dict(doc, format_version=4, design={"stage": stage, **design})

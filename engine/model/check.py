@@ -53,6 +53,7 @@ def check_values(design) -> None:
         for c, v in enumerate(light.color):
             L.check_range(f"{where}.color[{c}]", v, L.LIGHT_COLOR_RANGE)
         L.check_range(f"{where}.intensity", light.intensity, L.LIGHT_INTENSITY_RANGE)
+        L.check_range(f"{where}.angle_deg", light.angle_deg, L.LIGHT_ANGLE_RANGE)
     check_label_values(design.labels)
     check_finish_values(design)
     _check_stage(design.stage)

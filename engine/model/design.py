@@ -61,11 +61,16 @@ class Environment:
 
 @dataclass(frozen=True)
 class Light:
-    """A distant light for the diffuse parts (labels, cap): direction towards the light."""
+    """A distant light: direction towards the light, colour, ``intensity`` (the irradiance of a
+    surface facing it, in the environment's units) and apparent diameter ``angle_deg`` (degrees;
+    0 a point at infinity, 0.53 the sun). It lights the diffuse parts (labels, closure, the
+    stage's ground) and casts the glass's caustic on the ground; the glass itself shows the
+    environment, not these lights."""
 
     direction: tuple[float, float, float] = (-0.5, -1.0, 1.0)
     color: RGB = (1.0, 1.0, 1.0)
     intensity: float = 1.0
+    angle_deg: float = 0.0
 
 
 @dataclass(frozen=True)

@@ -26,7 +26,7 @@ from .kernels.records import Cutoffs, FinishTables, Geometry, LabelTables, Pixel
 from .tables.labels import empty_label_arrays, label_arrays, with_buffers
 from .tables.finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays, search_tables
-from .tables.stage import open_sky_irradiance, scene_with_stage
+from .tables.stage import open_sky_irradiance, scene_with_stage, stage_caustics
 from .thread_geometry import scene_with_threads
 
 #: Boundaries one camera sample may visit before what it still holds is closed with the
@@ -104,9 +104,12 @@ class RenderContext:
         sky = open_sky_irradiance(env) if design.stage.kind != "none" else np.zeros(3)
         params = np.array([float(env.scale), math.radians(float(env.rotation_deg)), factor, *sky])
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
+        labels = label_arrays(design, assets, tex, geom.obj_i.shape[0])
+        if finish.lights.shape[0] and design.stage.kind not in ("none", "mirror"):
+            finish = finish._replace(**stage_caustics(design, assets, scene, labels, finish, params, half))
         return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
                    float(design.render.min_weight), int(scene.mat_i.shape[0]), level, env,
-                   label_arrays(design, assets, tex, geom.obj_i.shape[0]), finish, cap, half)
+                   labels, finish, cap, half)
 
     def with_labels(self, design, assets=None) -> "RenderContext":
         """This context with the labels (and lights) of ``design``: geometry, media, camera and

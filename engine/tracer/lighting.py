@@ -14,6 +14,7 @@ import math
 import numpy as np
 
 from .environment import ArrayCache
+from .kernels.ground import LIGHT_COLS
 
 #: Rows x columns of the irradiance table (lat-long, the environment's convention): a cosine
 #: lobe is smooth, so 32 x 64 holds it to well under 1 %.
@@ -75,12 +76,14 @@ def _read_only_irradiance(texels: np.ndarray) -> np.ndarray:
 
 
 def light_table(lights) -> np.ndarray:
-    """``Design.lights`` as rows ``(unit direction towards the light, colour x intensity)``."""
+    """``Design.lights`` as rows ``(unit direction towards the light, colour x intensity, cosine
+    of half its apparent diameter)`` (:data:`engine.tracer.kernels.ground.LIGHT_COLS` columns)."""
     rows = []
     for light in lights:
         d = np.asarray(light.direction, float)
         n = float(np.linalg.norm(d))
         if not (n > 0.0 and math.isfinite(n)) or light.intensity <= 0.0:
             continue
-        rows.append(np.concatenate([d / n, np.asarray(light.color, float) * float(light.intensity)]))
-    return np.ascontiguousarray(np.array(rows, float).reshape(-1, 6))
+        cos_half = math.cos(math.radians(0.5 * float(light.angle_deg)))
+        rows.append(np.concatenate([d / n, np.asarray(light.color, float) * float(light.intensity), [cos_half]]))
+    return np.ascontiguousarray(np.array(rows, float).reshape(-1, LIGHT_COLS))

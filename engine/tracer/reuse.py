@@ -15,15 +15,22 @@ from .relabel import RelabelPlan, plan_relabel
 
 #: Design fields the image depends on (an edit of any other field keeps the film).
 VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets",
-                           "labels", "lights", "bumps", "cap"})
+                           "labels", "lights", "bumps", "cap", "stage"})
 #: The strategy of a job whose film is the previous job's.
 KEEP_FILM = "keep film"
 
 
 def lights_shade(design) -> bool:
-    """Whether ``design``'s lights light anything: its labels, or its closure's diffuse
-    (plastic, cork) parts."""
-    return bool(design.labels) or design.cap is not None
+    """Whether ``design``'s lights light anything: its labels, its closure's diffuse
+    (plastic, cork) parts, or a diffuse ground."""
+    return bool(design.labels) or design.cap is not None or lit_ground(design)
+
+
+def lit_ground(design) -> bool:
+    """Whether ``design`` stands on a diffuse ground that its lights light: their light through
+    the bottle (the caustic grids, :mod:`engine.tracer.tables.caustics`) depends on the labels
+    and the lights, and no relabel record holds it."""
+    return bool(design.lights) and design.stage.kind not in ("none", "mirror")
 
 
 def _keeps_film(previous, design, change: Change) -> bool:
@@ -46,6 +53,8 @@ def reuse_of(previous, design, assets, sampling, changed) -> str | RelabelPlan |
     change = Change.of(changed)
     if _keeps_film(previous, design, change):
         return KEEP_FILM
+    if lit_ground(design) or lit_ground(previous.design):
+        return None  # labels or lights changed the light on the ground: a full render
     if change.assets is None:  # the caller named fields only: which assets changed is read here, once
         change = Change(change, changed_assets(previous.assets, assets))
     return plan_relabel(previous, design, assets, change)

@@ -22,7 +22,8 @@ scalars are made per hit inside the kernels. Units mm; directions are unit vecto
 ``Scattered``      what a surface did to a branch (:func:`.surface.scatter`)
 ``LabelTables``    the labels of a render (:mod:`engine.tracer.tables.labels`) and the record
                    buffers of a relabel
-``FinishTables``   reliefs, frosting and the closure's light (:mod:`engine.tracer.tables.finishes`)
+``FinishTables``   reliefs, frosting, the closure's light and the ground's caustics
+                   (:mod:`engine.tracer.tables.finishes`, :mod:`engine.tracer.tables.caustics`)
 =================  ============================================================================
 """
 from __future__ import annotations
@@ -57,6 +58,8 @@ LabelTables = namedtuple("LabelTables", ("rows", "nodes", "f", "texels", "tex_i"
                                          "finish", "size", "irr", "lights", "place", "objects",
                                          "hit_f", "hit_i", "hit_n", "rest", "smp_f", "smp_i"))
 #: Each object's first relief row and count, kinds, parameter rows, the relief atlas, the
-#: closure's irradiance table and lights, the GGX albedo tables (glass, mirror, mirror mean).
+#: closure's irradiance table and lights, the GGX albedo tables (glass, mirror, mirror mean), the
+#: ground's caustic grids (irradiance over pi per light, ``(n, rows, cols, 3)``) and their rows.
 FinishTables = namedtuple("FinishTables", ("obj_rows", "kinds", "params", "atlas", "irradiance", "lights",
-                                           "glass_albedo", "mirror_albedo", "mirror_avg"))
+                                           "glass_albedo", "mirror_albedo", "mirror_avg", "caustics",
+                                           "caustic_grid"))

@@ -17,22 +17,9 @@ It composes three kinds of layer, as Mitsuba's ``mask`` and ``bumpmap`` wrap a n
   rule is written): the geometric normal alone decides media, so a relief never sends a branch
   into a medium it is not in;
 * **the materials** (:mod:`.materials`, :mod:`.microfacet`): the smooth dielectric, the conductor,
-  the coated diffuse base, and the stage's ground (:func:`_ground`).
+  the coated diffuse base, and the stage's ground (:func:`.ground.ground`).
 
-The ground is Lambertian (optionally under a clear coat, or a tinted mirror, or a shadow
-catcher), so its light is an integral over the sky above it, through the glass and the liquid
-where the bottle stands in the way: the caustic and the coloured shadow are that light. It is
-estimated with a control variate whose mean is known exactly: the environment's irradiance
-``E_up`` of an upward surface with nothing in the way (``env_p[3:6]``, computed once per
-environment). Where nothing is in the way, what arrives along a direction is the environment
-itself, so only the directions towards the upright cylinder that holds the bottle and its
-closure (``MG_BOUND_*``) can differ: a hit sends back ``albedo (E_up - F L_env(w))`` at once and
-one child along a direction ``w`` drawn cosine-distributed within the azimuth and elevation that
-cylinder spans from the hit (a share ``F`` of the cosine-weighted sky), with weight ``albedo F``,
-whose subtree brings back what really arrives along ``w``. Open ground is exact and noise-free,
-and every sample of ground near the bottle probes the bottle. A shadow catcher is the
-same ground with the albedo ``L_env(d) / E_up`` of the background ``d`` shows there, so where
-nothing is in the way it shows the environment itself.
+The ground's material and its light are :mod:`.ground`'s.
 
 A design without labels, relief or closures takes the plain materials exactly as the tracer did
 before these layers (one table-length test per hit each), so such images are bit for bit the
@@ -41,8 +28,6 @@ same. Adding a material means one more branch in :func:`_material` (smooth) and 
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numba import njit
 
@@ -50,16 +35,14 @@ from .bumps import consistent_normal
 from .finish import FROST_STREAM, lit_by_lights, shading_frame
 from .jit import INLINE, JIT
 from .labels import label_hit
-from .materials import (CONDUCTOR, GROUND, K_SIDE, KD_X, KD_Y, KD_Z, KID_COLS, KW_B, KW_G, KW_R, M_KIND,
-                        MF_ALBEDO, MF_COAT_IOR, MG_ALBEDO, MG_ALPHA, MG_BOUND_R, MG_BOUND_Z, MG_COAT_IOR, MG_MIRROR,
-                        MG_SHADOW, PLASTIC, SMOOTH_DIELECTRIC, coat, conductor, keep_sides, smooth_dielectric)
+from .ground import ground
+from .materials import (CONDUCTOR, GROUND, KID_COLS, KW_B, KW_G, KW_R, M_KIND, MF_ALBEDO, MF_COAT_IOR, PLASTIC,
+                        SMOOTH_DIELECTRIC, coat, conductor, keep_sides, smooth_dielectric)
 from .microfacet import frosted_glass, rough_mirror
 from .records import Scattered
 from .sampling import env_lookup, uniform01
 
 AIR = 0
-#: Streams of a branch's seed the ground's direction draws from (frosting uses 7 and 8).
-GROUND_STREAM = 9
 
 
 @njit(**INLINE)
@@ -119,67 +102,6 @@ def _bumped(fin, sc, lab, it, bseed, kids, env_p, scratch):
         nk = 0
     keep_sides(kids, nk, dx, dy, dz, fx, fy, fz, eta)
     return nk, er, eg, eb, bits
-
-
-@njit(**JIT)
-def _ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch):
-    """The stage's ground at interaction ``it`` (module rule): ``(children, r, g, b, bits)``,
-    the radiance factors sent back at once (times the branch's weight; negative where the
-    control variate takes back what the child will bring) and the label bits the lights' shadow
-    rays consulted. Black from below. The design's distant lights reach the diffuse base through
-    one straight shadow ray each (:func:`~engine.tracer.kernels.finish.lit_by_lights`: the glass
-    dims and colours their light but does not bend it, so a light's own caustic is not drawn)."""
-    mat_f, mat = sc.mat_f, it.mat
-    bits = np.int64(0)
-    if it.dz >= 0.0:  # its lower side absorbs (a ray from below the stage ends there)
-        return 0, 0.0, 0.0, 0.0, bits
-    scale, rot = env_p[0] * env_p[2], env_p[1]
-    ar, ag, ab = mat_f[mat, MG_ALBEDO], mat_f[mat, MG_ALBEDO + 1], mat_f[mat, MG_ALBEDO + 2]
-    if mat_f[mat, MG_MIRROR] > 0.5:  # a tinted mirror: one branch
-        kids[0, KD_X], kids[0, KD_Y], kids[0, KD_Z] = it.dx, it.dy, -it.dz
-        kids[0, KW_R], kids[0, KW_G], kids[0, KW_B] = ar, ag, ab
-        kids[0, K_SIDE] = 0.0
-        return 1, 0.0, 0.0, 0.0, bits
-    if mat_f[mat, MG_SHADOW] > 0.5:  # the background seen here, over what an open sky gives
-        br, bg, bb = env_lookup(tex, scale, rot, it.dx, it.dy, it.dz)
-        ar = br / env_p[3] if env_p[3] > 0.0 else 1.0
-        ag = bg / env_p[4] if env_p[4] > 0.0 else 1.0
-        ab = bb / env_p[5] if env_p[5] > 0.0 else 1.0
-    nk, base = 0, 1.0
-    ior = mat_f[mat, MG_COAT_IOR]
-    if ior > 0.0:  # a clear coat: its mirror branch, and what reaches the base
-        cos_i = -it.dz
-        base = coat(ior, it.dx, it.dy, it.dz, 0.0, 0.0, 1.0, cos_i, 1.0, kids, 0)
-        if mat_f[mat, MG_ALPHA] > 0.0:
-            rough_mirror(fin.mirror_albedo, fin.mirror_avg, mat_f[mat, MG_ALPHA], it.dx, it.dy, it.dz, 0.0, 0.0,
-                         1.0, uniform01(bseed, FROST_STREAM), uniform01(bseed, FROST_STREAM + 1), kids, mat_f, mat,
-                         ior)
-        nk = 1
-    # the diffuse base: a cosine-distributed direction towards the bottle's cylinder, less the open
-    # sky's light along it (module rule). s = cos(theta)^2 is uniform under the cosine measure.
-    u1, u2 = uniform01(bseed, GROUND_STREAM), uniform01(bseed, GROUND_STREAM + 1)
-    rho, bound_r = math.sqrt(it.px * it.px + it.py * it.py), mat_f[mat, MG_BOUND_R]
-    if rho > bound_r:
-        half_az = math.asin(bound_r / rho)
-        elev = math.atan2(mat_f[mat, MG_BOUND_Z] - it.pz, rho - bound_r)
-        s_max = math.sin(elev) ** 2
-        share = s_max * half_az / math.pi
-        s, phi = u1 * s_max, math.atan2(-it.py, -it.px) + (2.0 * u2 - 1.0) * half_az
-    else:  # under the bottle's cylinder: the whole sky
-        share, s, phi = 1.0, u1, 2.0 * math.pi * u2
-    r = math.sqrt(max(0.0, 1.0 - s))
-    wx, wy, wz = r * math.cos(phi), r * math.sin(phi), math.sqrt(s)
-    ar, ag, ab = base * ar, base * ag, base * ab
-    kids[nk, KD_X], kids[nk, KD_Y], kids[nk, KD_Z] = wx, wy, wz
-    kids[nk, KW_R], kids[nk, KW_G], kids[nk, KW_B] = ar * share, ag * share, ab * share
-    kids[nk, K_SIDE] = 0.0
-    lr, lg, lb = env_lookup(tex, scale, rot, wx, wy, wz)
-    er, eg, eb = env_p[3] - share * lr, env_p[4] - share * lg, env_p[5] - share * lb
-    if fin.lights.shape[0] > 0:
-        dr, dg, db, bits = lit_by_lights(sc, lab, fin.lights, it.obj, AIR, it.px, it.py, it.pz, 0.0, 0.0, 1.0,
-                                         0.0, 0.0, 1.0, 0.0, 0.0, 1.0, scratch)
-        er, eg, eb = er + dr, eg + dg, eb + db
-    return nk + 1, ar * er, ag * eg, ab * eb, bits
 
 
 @njit(**INLINE)
@@ -263,7 +185,7 @@ def scatter(sc, lab, fin, env_p, tex, it, wr, wg, wb, bseed, kids, scratch):
             return Scattered(nk, er, eg, eb, ar, ag, ab, bits | lbits, lbits)
         bits = lbits
     if sc.mat_i[it.mat, M_KIND] == GROUND:
-        nk, er, eg, eb, gbits = _ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch)
+        nk, er, eg, eb, gbits = ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch)
         return Scattered(nk, er, eg, eb, 0.0, 0.0, 0.0, bits | gbits, np.int64(0))
     if fin.obj_rows[it.obj, 1] > 0 or sc.mat_i[it.mat, M_KIND] == PLASTIC:
         nk, er, eg, eb, fbits = _bumped(fin, sc, lab, it, bseed, kids, env_p, scratch)

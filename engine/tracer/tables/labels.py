@@ -45,6 +45,7 @@ from ..kernels.labels import (D_COLS, FINISH_CODES, H_COLS, L_BACK_B, L_BACK_R, 
                               LF_UNDER, P_BX, P_BY, P_COLS, P_CX, P_CY, P_OBJECT, P_SURFACE, P_V0, P_V1,
                               SURFACE_CODES)
 from ..kernels.records import LabelTables
+from ..kernels.ground import LIGHT_COLS
 from ..lighting import irradiance_table, light_table
 
 
@@ -206,7 +207,7 @@ def empty_label_arrays() -> LabelTables:
         a.setflags(write=False)
     place = np.zeros((0, P_COLS))
     place.setflags(write=False)  # as place_rows gives it (numba types read-only arrays apart)
-    return _tables(_Empty, np.zeros((0, 2)), irr, np.zeros((0, 6)), place, 0)
+    return _tables(_Empty, np.zeros((0, 2)), irr, np.zeros((0, LIGHT_COLS)), place, 0)
 
 
 def label_arrays(design, assets, env_texels, first_cap_object: int = 0) -> LabelTables:

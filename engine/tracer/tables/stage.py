@@ -102,3 +102,37 @@ def open_sky_irradiance(environment) -> np.ndarray:
             _SKY_CACHE.clear()
         _SKY_CACHE[key] = out
     return out
+
+
+#: The last caustic grids built, by what they depend on (a camera or environment edit keeps them).
+_CAUSTIC_CACHE: dict = {}
+_CAUSTIC_KEEP = 4
+
+
+def _caustic_key(design, assets) -> tuple:
+    """What the caustic grids of ``design`` depend on: everything but the camera, the render
+    settings and the environment (photons do not see the sky), and the label images' bytes."""
+    from ...model.design import Camera, Environment, RenderSettings
+    import dataclasses
+    import hashlib
+    bare = dataclasses.replace(design, camera=Camera(), render=RenderSettings(), environment=Environment())
+    images = tuple(sorted((name, hashlib.sha1(blob).hexdigest()) for name, blob in (assets or {}).items()))
+    return bare, images
+
+
+def stage_caustics(design, assets, scene: Scene, labels, finish, env_params, lookup_texels) -> dict:
+    """The finish tables' ``caustics`` and ``caustic_grid`` fields for ``design`` on its diffuse
+    ground (:func:`engine.tracer.tables.caustics.caustic_grids`), from a small cache."""
+    from .caustics import caustic_grids
+    from .labels import with_buffers
+    key = _caustic_key(design, assets)
+    with _SKY_LOCK:
+        hit = _CAUSTIC_CACHE.get(key)
+    if hit is None:
+        hit = caustic_grids(scene, with_buffers(labels), finish, env_params, lookup_texels,
+                            scene.mat_i.shape[0] - 1, float(design.stage.z_mm))
+        with _SKY_LOCK:
+            _CAUSTIC_CACHE[key] = hit
+            while len(_CAUSTIC_CACHE) > _CAUSTIC_KEEP:
+                _CAUSTIC_CACHE.pop(next(iter(_CAUSTIC_CACHE)))
+    return {"caustics": hit[0], "caustic_grid": hit[1]}

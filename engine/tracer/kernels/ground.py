@@ -1,0 +1,225 @@
+"""The stage's ground as a surface: its material, the sky's light on it and the lights'.
+
+Design rule: the ground is Lambertian (optionally under a clear coat, or a tinted mirror, or a
+shadow catcher), so its light is an integral over the sky above it, through the glass and the
+liquid where the bottle stands in the way: the caustic and the coloured shadow are that light.
+
+*The environment's light* is estimated with a control variate whose mean is known exactly: the
+environment's irradiance ``E_up`` of an upward surface with nothing in the way (``env_p[3:6]``,
+computed once per environment). Where nothing is in the way, what arrives along a direction is
+the environment itself, so only the directions towards the upright cylinder that holds the
+bottle and its closure (``MG_BOUND_*``) can differ: a hit sends back ``albedo (E_up - F
+L_env(w))`` at once and one child along a direction ``w`` drawn cosine-distributed within the
+azimuth and elevation that cylinder spans from the hit (a share ``F`` of the cosine-weighted
+sky), with weight ``albedo F``, whose subtree brings back what really arrives along ``w``. Open
+ground is exact and noise-free, and every sample of ground near the bottle probes the bottle.
+
+*A design light's light* (a disc in the sky, :data:`L_COS`) arrives straight, where one shadow
+ray towards a point of its disc meets nothing (:func:`light_on_ground`), or through the bottle:
+that part, the light's caustic and coloured shadow, cannot be found from the ground (a point
+light is met along one direction only), so it is traced from the light
+(:mod:`.caustics`) into a grid of irradiance that the ground looks up, on the side of the
+shadow's edge the shadow ray found (:func:`caustic_irradiance`).
+
+A shadow catcher is the same ground with the albedo ``L_env(d) / (E_up + E_lights)`` of the
+background ``d`` shows there over the open ground's irradiance, so where nothing is in the way
+it shows the environment itself, and where something is, the share of light that still arrives.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .finish import FROST_STREAM
+from .intersect import nearest_hit
+from .jit import INLINE, JIT
+from .materials import (K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, MG_ALBEDO, MG_ALPHA, MG_BOUND_R, MG_BOUND_Z,
+                        MG_COAT_IOR, MG_MIRROR, MG_SHADOW, coat)
+from .microfacet import rough_mirror
+from .sampling import env_lookup, uniform01
+
+AIR = 0
+#: Streams of a branch's seed the ground's direction draws from (frosting uses 7 and 8), then
+#: two per light for its disc.
+GROUND_STREAM = 9
+LIGHT_STREAM = 11
+#: Columns of a light row (:func:`engine.tracer.lighting.light_table`): unit direction towards
+#: the light, colour x intensity (irradiance on a surface facing it), cosine of its half angle.
+L_DX, L_DY, L_DZ, L_R, L_G, L_B, L_COS = range(7)
+LIGHT_COLS = 7
+#: Columns of a caustic grid row: the grid's corner (mm), its cell (mm), columns and rows used.
+G_X0, G_Y0, G_CELL, G_NX, G_NY = range(5)
+GRID_COLS = 5
+#: Channels of a caustic grid cell: irradiance over pi (rgb) of the light that came through the
+#: bottle landing in the light's shadow, and in the open; the share of the cell in the shadow.
+C_IN, C_OUT, C_SHADOW = 0, 3, 6
+CAUSTIC_COLS = 7
+#: Shadow shares below this are taken as none (the division by it would only amplify noise).
+MIN_SHARE = 1e-3
+
+
+@njit(**INLINE)
+def light_frame(x, y, z):
+    """Two unit vectors ``(u, v)`` completing unit ``(x, y, z)`` to a frame (``u`` horizontal
+    unless ``(x, y, z)`` is vertical)."""
+    h = math.sqrt(x * x + y * y)
+    if h < 1e-12:
+        return 1.0, 0.0, 0.0, 0.0, 1.0, 0.0
+    ux, uy, uz = -y / h, x / h, 0.0
+    return ux, uy, uz, y * uz - z * uy, z * ux - x * uz, x * uy - y * ux
+
+
+@njit(**INLINE)
+def in_disc(light, u1, u2):
+    """A unit direction towards ``light`` (a light row) drawn uniformly in its disc (solid
+    angle) from uniforms ``u1, u2``; its centre for a point light."""
+    lx, ly, lz, c = light[L_DX], light[L_DY], light[L_DZ], light[L_COS]
+    if c >= 1.0:
+        return lx, ly, lz
+    ux, uy, uz, vx, vy, vz = light_frame(lx, ly, lz)
+    ct = 1.0 - u1 * (1.0 - c)
+    st = math.sqrt(max(0.0, 1.0 - ct * ct))
+    phi = 2.0 * math.pi * u2
+    a, b = st * math.cos(phi), st * math.sin(phi)
+    return ct * lx + a * ux + b * vx, ct * ly + a * uy + b * vy, ct * lz + a * uz + b * vz
+
+
+@njit(**INLINE)
+def caustic_irradiance(fin, q, px, py, shadowed):
+    """Irradiance over pi ``(r, g, b)`` at ground point ``(px, py)`` (mm) of light ``q``'s light
+    that came through the bottle, for a point in its shadow (``shadowed``) or not: the grid's
+    light of that side over that side's share of the ground, bilinear (module rule of
+    :mod:`engine.tracer.tables.caustics`); zero outside the grid."""
+    g, cs = fin.caustic_grid, fin.caustics
+    if q >= g.shape[0] or g[q, G_CELL] <= 0.0:
+        return 0.0, 0.0, 0.0
+    cell = g[q, G_CELL]
+    fx = (px - g[q, G_X0]) / cell - 0.5  # cell centres at half-integers
+    fy = (py - g[q, G_Y0]) / cell - 0.5
+    nx, ny = int(g[q, G_NX]), int(g[q, G_NY])
+    if not (fx > -1.0 and fy > -1.0 and fx < nx and fy < ny):
+        return 0.0, 0.0, 0.0
+    i0, j0 = int(math.floor(fx)), int(math.floor(fy))
+    tx, ty = fx - i0, fy - j0
+    c0 = C_IN if shadowed else C_OUT
+    r = gr = b = share = 0.0
+    for dj in range(2):
+        j = j0 + dj
+        if j < 0 or j >= ny:
+            continue
+        wy = ty if dj else 1.0 - ty
+        for di in range(2):
+            i = i0 + di
+            if i < 0 or i >= nx:
+                continue
+            w = wy * (tx if di else 1.0 - tx)
+            r += w * cs[q, j, i, c0]
+            gr += w * cs[q, j, i, c0 + 1]
+            b += w * cs[q, j, i, c0 + 2]
+            share += w * cs[q, j, i, C_SHADOW]
+    if not shadowed:
+        share = 1.0 - share
+    if share < MIN_SHARE:
+        return 0.0, 0.0, 0.0
+    return r / share, gr / share, b / share
+
+
+@njit(**INLINE)
+def open_light(lights):
+    """Irradiance over pi ``(r, g, b)`` of ``lights`` on an upward surface with nothing in the
+    way (the mean over each disc of its cosine: ``l_z (1 + cos half angle) / 2``)."""
+    er = eg = eb = 0.0
+    for q in range(lights.shape[0]):
+        c = max(0.0, lights[q, L_DZ]) * 0.5 * (1.0 + lights[q, L_COS]) / math.pi
+        er, eg, eb = er + c * lights[q, L_R], eg + c * lights[q, L_G], eb + c * lights[q, L_B]
+    return er, eg, eb
+
+
+@njit(**JIT)
+def light_on_ground(sc, fin, k, px, py, pz, bseed, scratch):
+    """Irradiance over pi ``(r, g, b)`` of the design's lights on ground object ``k`` at ``p``
+    (mm): each light's straight light where one shadow ray (towards a point of its disc) meets
+    nothing, plus its caustic grid (module rule)."""
+    lights = fin.lights
+    er = eg = eb = 0.0
+    for q in range(lights.shape[0]):
+        u1, u2 = uniform01(bseed, LIGHT_STREAM + 2 * q), uniform01(bseed, LIGHT_STREAM + 2 * q + 1)
+        lx, ly, lz = in_disc(lights[q], u1, u2)
+        shadowed = True
+        if lz > 0.0:
+            shadowed = nearest_hit(sc.geom, px, py, pz, lx, ly, lz, AIR, k, 1, scratch)[1] >= 0
+            if not shadowed:
+                er += lz / math.pi * lights[q, L_R]
+                eg += lz / math.pi * lights[q, L_G]
+                eb += lz / math.pi * lights[q, L_B]
+        cr, cg, cb = caustic_irradiance(fin, q, px, py, shadowed)
+        er, eg, eb = er + cr, eg + cg, eb + cb
+    return er, eg, eb
+
+
+@njit(**JIT)
+def ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch):
+    """The stage's ground at interaction ``it`` (module rule): ``(children, r, g, b, bits)``,
+    the radiance factors sent back at once (times the branch's weight; negative where the
+    control variate takes back what the child will bring) and the object-mask bits consulted
+    (none). Black from below."""
+    mat_f, mat = sc.mat_f, it.mat
+    bits = np.int64(0)
+    if it.dz >= 0.0:  # its lower side absorbs (a ray from below the stage ends there)
+        return 0, 0.0, 0.0, 0.0, bits
+    scale, rot = env_p[0] * env_p[2], env_p[1]
+    ar, ag, ab = mat_f[mat, MG_ALBEDO], mat_f[mat, MG_ALBEDO + 1], mat_f[mat, MG_ALBEDO + 2]
+    if mat_f[mat, MG_MIRROR] > 0.5:  # a tinted mirror: one branch
+        kids[0, KD_X], kids[0, KD_Y], kids[0, KD_Z] = it.dx, it.dy, -it.dz
+        kids[0, KW_R], kids[0, KW_G], kids[0, KW_B] = ar, ag, ab
+        kids[0, K_SIDE] = 0.0
+        return 1, 0.0, 0.0, 0.0, bits
+    if mat_f[mat, MG_SHADOW] > 0.5:  # the background seen here, over what open ground receives
+        br, bg, bb = env_lookup(tex, scale, rot, it.dx, it.dy, it.dz)
+        lr, lg, lb = open_light(fin.lights)
+        er_, eg_, eb_ = env_p[3] + lr, env_p[4] + lg, env_p[5] + lb
+        ar = br / er_ if er_ > 0.0 else 1.0
+        ag = bg / eg_ if eg_ > 0.0 else 1.0
+        ab = bb / eb_ if eb_ > 0.0 else 1.0
+    nk, base = 0, 1.0
+    ior = mat_f[mat, MG_COAT_IOR]
+    if ior > 0.0:  # a clear coat: its mirror branch, and what reaches the base
+        cos_i = -it.dz
+        base = coat(ior, it.dx, it.dy, it.dz, 0.0, 0.0, 1.0, cos_i, 1.0, kids, 0)
+        if mat_f[mat, MG_ALPHA] > 0.0:
+            rough_mirror(fin.mirror_albedo, fin.mirror_avg, mat_f[mat, MG_ALPHA], it.dx, it.dy, it.dz, 0.0, 0.0,
+                         1.0, uniform01(bseed, FROST_STREAM), uniform01(bseed, FROST_STREAM + 1), kids, mat_f, mat,
+                         ior)
+        nk = 1
+    # the diffuse base: a cosine-distributed direction towards the bottle's cylinder, less the open
+    # sky's light along it (module rule). s = cos(theta)^2 is uniform under the cosine measure.
+    u1, u2 = uniform01(bseed, GROUND_STREAM), uniform01(bseed, GROUND_STREAM + 1)
+    rho, bound_r = math.sqrt(it.px * it.px + it.py * it.py), mat_f[mat, MG_BOUND_R]
+    if rho > bound_r:
+        half_az = math.asin(bound_r / rho)
+        elev = math.atan2(mat_f[mat, MG_BOUND_Z] - it.pz, rho - bound_r)
+        s_max = math.sin(elev) ** 2
+        share = s_max * half_az / math.pi
+        s, phi = u1 * s_max, math.atan2(-it.py, -it.px) + (2.0 * u2 - 1.0) * half_az
+    else:  # under the bottle's cylinder: the whole sky, and no control variate (below)
+        share, s, phi = 1.0, u1, 2.0 * math.pi * u2
+    r = math.sqrt(max(0.0, 1.0 - s))
+    wx, wy, wz = r * math.cos(phi), r * math.sin(phi), math.sqrt(s)
+    ar, ag, ab = base * ar, base * ag, base * ab
+    kids[nk, KD_X], kids[nk, KD_Y], kids[nk, KD_Z] = wx, wy, wz
+    kids[nk, KW_R], kids[nk, KW_G], kids[nk, KW_B] = ar * share, ag * share, ab * share
+    kids[nk, K_SIDE] = 0.0
+    if rho > bound_r:
+        lr, lg, lb = env_lookup(tex, scale, rot, wx, wy, wz)
+        er, eg, eb = env_p[3] - share * lr, env_p[4] - share * lg, env_p[5] - share * lb
+    else:
+        # under the bottle every direction meets it, and what comes through its base is scrambled
+        # by refraction: the sky along w says little about it, and subtracting it only adds the
+        # sky's own variance (measured: dark specks seen through the liquid)
+        er = eg = eb = 0.0
+    if fin.lights.shape[0] > 0:
+        dr, dg, db = light_on_ground(sc, fin, it.obj, it.px, it.py, it.pz, bseed, scratch)
+        er, eg, eb = er + dr, eg + dg, eb + db
+    return nk + 1, ar * er, ag * eg, ab * eb, bits

@@ -1,12 +1,13 @@
 """Where the panes sit: the preview the largest, the window inside the screen, the layout kept.
 
 Design rule: the preview is the central widget and takes what the docks leave: the section
-editor on the left, the 3D view above the design numbers on the right, and the materials and the
-camera as tabs below them. Every dock's panel sits in a scroll area, so no panel's size can push
-the window past the screen (a 1600 x 1000 screen fits everything, status bar included). The
-window opens on the available part of its screen; closing it stores its geometry, the docks'
-state, the section splitter and the tint thicknesses in the window's ``QSettings``, and the next
-window restores them (clamped to the screen it opens on).
+editor on the left, the 3D view above the design numbers on the right, and the materials, the
+camera, the stage, the labels, the bump tiles and the cap as tabs below them. Every dock's panel
+sits in a scroll area, so no panel's size can push the window past the screen (a 1600 x 1000
+screen fits everything, status bar included). The window opens on the available part of its
+screen; closing it stores its geometry, the docks' state, the section splitter and the tint
+thicknesses in the window's ``QSettings``, and the next window restores them (clamped to the
+screen it opens on).
 """
 from __future__ import annotations
 
@@ -15,7 +16,7 @@ from PySide6.QtWidgets import QDockWidget, QFrame, QScrollArea
 
 #: Widths (px) of the side docks on a fresh layout; the preview gets the rest.
 SECTION_WIDTH = 440
-SIDE_WIDTH = 350
+SIDE_WIDTH = 410
 #: Height (px) of the 3D view on a fresh layout.
 WIREFRAME_HEIGHT = 300
 #: Largest default window (px); bigger screens get this much, smaller ones all they have.
@@ -55,14 +56,16 @@ def build_docks(window) -> dict:
                                       scroll=False)
     docks["design"] = add_dock(window, "Design", window.trade_panel, Qt.RightDockWidgetArea)
     docks["materials"] = add_dock(window, "Materials", window.materials_panel, Qt.RightDockWidgetArea)
-    # why the short title: five tabs share the side's width; the name keeps saved layouts
+    # why the short title: six tabs share the side's width; the name keeps saved layouts
     docks["camera"] = add_dock(window, "Camera", window.camera_panel, Qt.RightDockWidgetArea,
                                name="Camera and environment")
     docks["camera"].setToolTip("Camera, environment and image size")
+    docks["stage"] = add_dock(window, "Stage", window.stage_panel, Qt.RightDockWidgetArea)
+    docks["stage"].setToolTip("What the bottle stands on")
     docks["labels"] = add_dock(window, "Labels", window.labels_panel, Qt.RightDockWidgetArea)
     docks["bumps"] = add_dock(window, "Bump tiles", window.bumps_panel, Qt.RightDockWidgetArea)
     docks["cap"] = add_dock(window, "Cap", window.cap_panel, Qt.RightDockWidgetArea)
-    for name in ("camera", "labels", "bumps", "cap"):  # one tab row: the side stays uncrowded
+    for name in ("camera", "stage", "labels", "bumps", "cap"):  # one tab row: the side stays uncrowded
         window.tabifyDockWidget(docks["materials"], docks[name])
     docks["materials"].raise_()
     return docks

@@ -29,6 +29,7 @@ from widgets.labels import LabelsPanel
 from widgets.materials_panel import MaterialsPanel
 from widgets.preview_view import PreviewView
 from widgets.section_panel import SectionPanel
+from widgets.stage_panel import StagePanel
 from widgets.trade_panel import TradeNumbersPanel
 
 #: Most pixels a preview render may have (a 4K pane would otherwise ask for 8 million).
@@ -89,6 +90,7 @@ class MainWindow(QMainWindow):
         self.materials_panel = MaterialsPanel(self.editor)
         self.trade_panel = TradeNumbersPanel(self.editor)
         self.camera_panel = CameraPanel(self.editor)
+        self.stage_panel = StagePanel(self.editor)
         self.labels_panel = LabelsPanel(self.editor)
         self.bumps_panel = BumpsPanel(self.editor)
         self.cap_panel = CapPanel(self.editor)
@@ -235,6 +237,7 @@ class MainWindow(QMainWindow):
         design = self.scene.design
         self.materials_panel.refresh(design)
         self.camera_panel.refresh(design)
+        self.stage_panel.refresh(design)
         self.labels_panel.refresh(design, self.scene.assets)
         self.bumps_panel.refresh(design, self.scene.assets)
         self.cap_panel.refresh(design)

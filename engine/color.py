@@ -6,9 +6,9 @@ render (exposure 1, clamp to [0, 1], the curve: :func:`srgb_encode`, :func:`tone
 window's noise criterion (:mod:`engine.tracer.adaptive`, which needs the curve's slope,
 :func:`display_slope`), artwork decoded to linear RGBA and region keys matched in sRGB
 (:func:`srgb_to_linear`, :func:`linear_to_srgb`, in float32 as the artwork is stored) and the
-colours a designer types (:func:`hex_to_linear`). So the 8-bit images the window and the PNG
-writers produce, the noise criterion and the colour pickers can never disagree. No imports but
-numpy: every package may use it.
+colours a designer types and reads (:func:`hex_to_linear`, :func:`linear_to_hex`). So the 8-bit
+images the window and the PNG writers produce, the noise criterion and the colour pickers can
+never disagree. No imports but numpy: every package may use it.
 """
 from __future__ import annotations
 
@@ -57,6 +57,13 @@ def hex_to_linear(text: str):
         return None
     srgb = np.array([int(s[i:i + 2], 16) / 255.0 for i in (0, 2, 4)])
     return tuple(round(float(c), 6) for c in _decode(srgb))
+
+
+def linear_to_hex(rgb) -> str:
+    """``'#rrggbb'`` (sRGB, 8 bits a channel) of linear RGB ``rgb`` (clamped to 0..1): the
+    colour :func:`hex_to_linear` reads back, as a designer types it."""
+    srgb = _encode(np.clip(np.asarray(rgb, dtype=np.float64), 0.0, 1.0))
+    return "#" + "".join(f"{int(round(float(c) * 255.0)):02x}" for c in srgb)
 
 
 def display_slope(value) -> np.ndarray:

@@ -110,6 +110,7 @@ def test_json_job_files_are_read_the_same_way(tmp_path):
     ("liquid_color = [0.01, 0.2, 0.3]", "liquid_color = [0.01, -0.2, 0.3]", "three numbers >= 0", None),
     ("camera = { fov_y_deg = 24 }", "camera = { fov_y_deg = 240 }", "(0, 180)", None),
     ("camera = { fov_y_deg = 24 }", "camera = { up = [0, 1, 0], eye = [0, -600, 150] }", "parallel", None),
+    ("camera = { fov_y_deg = 24 }", "stag = { kind = \"table\" }", "did you mean 'stage'", None),
     ("name = \"amber\"", "name = \"../amber\"", "becomes a file name", None),
     ("name = \"flint-empty\"", "name = \"amber\"", "two variants are named", None),
     ("glass_tint = [0, 0, 0]", "labels = { front = \"art.png\" }", "has no label 'front'", None),
@@ -186,3 +187,47 @@ def test_the_turntable_command_job_writes_flat_frame_names(tmp_path):
     assert [f.relpath for f in job.frames()] == ["frame_0000.exr", "frame_0001.exr", "frame_0002.exr"]
     with pytest.raises(JobError, match="--frames must be in 1..3600"):
         turntable_job(BORDEAUX, 0, str(tmp_path / "t"))
+
+
+def test_a_stage_override_merges_into_the_designs_stage(tmp_path):
+    from engine.color import hex_to_linear
+    from engine.model.design import Stage
+    text = JOB.replace('name = "amber"', 'name = "amber"\n'
+                       '  stage = { kind = "glossy", colour = "#808080", gloss = 0.5, backdrop = true }')
+    amber, flint = read_job(write(tmp_path, text)).variants
+    assert amber.design.stage == Stage(kind="glossy", color=hex_to_linear("#808080"), gloss=0.5, backdrop=True)
+    assert flint.design.stage == load_project(BORDEAUX)[0].stage, "a variant without it keeps the project's"
+    doc = {"output": "o", "projects": [{"file": BORDEAUX, "variants": [
+        {"name": "mirror", "stage": {"kind": "mirror", "color": [0.2, 0.3, 0.4]}},
+        {"name": "catcher", "stage": {"kind": "shadow-catcher"}}]}]}
+    mirror, catcher = read_job(write(tmp_path, json.dumps(doc, indent=1), "job.json")).variants
+    assert (mirror.design.stage.kind, mirror.design.stage.color) == ("mirror", (0.2, 0.3, 0.4))
+    assert catcher.design.stage.kind == "shadow"
+
+
+@pytest.mark.parametrize("stage, words", [
+    ('"table"', "stage: must be a table of kind, colour, color, gloss, backdrop"),
+    ("{}", "must be a table of"),
+    ('{ kind = "tabel" }', "stage: kind must be one of none, shadow (shadow-catcher), table, glossy, mirror"),
+    ("{ kind = 3 }", "kind must be one of"),
+    ('{ kind = "table", colour = "#12345" }', "colour must be an sRGB colour"),
+    ('{ kind = "table", colour = [1, 1, 1] }', "colour must be an sRGB colour"),
+    ('{ kind = "table", color = [0.1, 2, 0.1] }', "color must be three numbers in 0..1"),
+    ('{ kind = "table", color = "#ffffff" }', "color must be three numbers in 0..1"),
+    ('{ kind = "table", colour = "#123456", color = [0, 0, 0] }', "not both"),
+    ('{ kind = "glossy", gloss = 1.5 }', "gloss must be a number in 0..1"),
+    ('{ kind = "glossy", gloss = true }', "gloss must be a number in 0..1"),
+    ('{ kind = "table", backdrop = 1 }', "backdrop must be true or false"),
+    ('{ kind = "table", glos = 1 }', "unknown stage field 'glos'; did you mean 'gloss'?"),
+    ('{ kind = "table", gloss = 0.5 }', "gloss does nothing for the stage 'table'"),
+    ('{ colour = "#ffffff" }', "colour does nothing for the stage 'none'"),
+    ('{ kind = "none", backdrop = true }', "backdrop does nothing for the stage 'none'"),
+])
+def test_a_bad_stage_override_names_its_line(tmp_path, stage, words):
+    text = JOB.replace('name = "amber"', f'name = "amber"\n  stage = {stage}')
+    with pytest.raises(JobError) as err:
+        read_job(write(tmp_path, text))
+    message = str(err.value)
+    assert message.startswith(f"{tmp_path / 'job.toml'}:{line_of(text, 'stage = ')}: stage: "), message
+    assert words in message
+    assert not (tmp_path / "out").exists()

@@ -13,7 +13,7 @@ from __future__ import annotations
 import dataclasses
 
 from PySide6.QtCore import QSignalBlocker
-from PySide6.QtWidgets import QCheckBox, QComboBox, QFormLayout, QLabel, QVBoxLayout, QWidget
+from PySide6.QtWidgets import QCheckBox, QComboBox, QLabel, QWidget
 
 from engine.appearance.closure_shapes import default_cap
 from engine.appearance.closures import closure_trade
@@ -53,17 +53,9 @@ class CapPanel(QWidget):
         self.size_text = QLabel("")
         self.size_text.setWordWrap(True)
         ef.compact(self.kind, self.material)
-        form = QFormLayout()
-        form.addRow("Closure", self.kind)
-        form.addRow("Material", self.material)
-        form.addRow("Colour", self.color)
-        form.addRow("Height", self.cap_height)
-        form.addRow("Count / lugs", self.count)
-        form.addRow(self.capsule)
-        form.addRow(self.size_text)
-        layout = QVBoxLayout(self)
-        layout.addLayout(form)
-        layout.addStretch(1)
+        ef.form_page(self, (("Closure", self.kind), ("Material", self.material), ("Colour", self.color),
+                            ("Height", self.cap_height), ("Count / lugs", self.count), self.capsule,
+                            self.size_text))
         self.kind.currentIndexChanged.connect(lambda _: self.set_kind(self.kind.currentData()))
         self.material.currentIndexChanged.connect(lambda _: self._edit("Cap material", None,
                                                                        material=self.material.currentData()))

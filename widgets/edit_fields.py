@@ -1,5 +1,6 @@
-"""Small pieces the appearance panels (labels, bump tiles, cap) share: number fields, a colour
-button for linear-RGB model colours, a picture from a numpy array, and the list-edit helpers.
+"""Small pieces the appearance panels (labels, bump tiles, cap, stage) share: number fields, a
+form page, a colour button for linear-RGB model colours, a picture from a numpy array, and the
+list-edit helpers.
 
 Design rule: the model stores colours as linear RGB (0..1); designers see and pick sRGB. The
 conversion happens here, once, with the engine's own curves
@@ -10,7 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 from PySide6.QtGui import QColor, QImage
-from PySide6.QtWidgets import QColorDialog, QComboBox, QDoubleSpinBox, QPushButton, QSpinBox
+from PySide6.QtWidgets import (QColorDialog, QComboBox, QDoubleSpinBox, QFormLayout, QPushButton, QSpinBox,
+                               QVBoxLayout)
 
 from engine.appearance.images import EXTENSIONS
 from engine.color import linear_to_srgb, srgb_to_linear
@@ -41,6 +43,21 @@ def compact(*combos) -> None:
     for combo in combos:
         combo.setSizeAdjustPolicy(QComboBox.AdjustToMinimumContentsLengthWithIcon)
         combo.setMinimumContentsLength(10)
+
+
+def form_page(widget, rows) -> QFormLayout:
+    """Lay ``widget`` out as a form of ``rows`` above a stretch (the fields stay at the top of a
+    tall dock); a row is ``(label, field)`` or a lone widget across the form."""
+    form = QFormLayout()
+    for row in rows:
+        if isinstance(row, tuple):
+            form.addRow(*row)
+        else:
+            form.addRow(row)
+    layout = QVBoxLayout(widget)
+    layout.addLayout(form)
+    layout.addStretch(1)
+    return form
 
 
 def srgb_of(linear) -> tuple[float, float, float]:

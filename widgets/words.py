@@ -49,6 +49,17 @@ ENVIRONMENTS = {
     "file": ("Image file", "An equirectangular image embedded in the project (EXR, HDR, PNG)"),
 }
 
+#: What the bottle stands on (``Stage.kind``), in the order the Stage panel lists them.
+STAGES = {
+    "none": ("None", "No ground: the bottle floats in its environment"),
+    "shadow": ("Shadow catcher", "The environment's own background, with the bottle's shadow, "
+                                 "caustic and reflection on it"),
+    "table": ("Table", "A matte surface of the stage colour"),
+    "glossy": ("Glossy riser", "A riser of the stage colour under a clear coat: acrylic when "
+                               "white, black glass when black"),
+    "mirror": ("Mirror", "A mirror tinted with the stage colour"),
+}
+
 
 def word(table: dict, key: str) -> str:
     """The word for ``key`` in ``table`` (the key itself when the table has none)."""

@@ -17,6 +17,8 @@ key                 meaning
 ``empty``           ``true``: no liquid
 ``labels``          ``{label name = "artwork.png"}``: replaces the front artwork of that label
 ``camera``          ``{eye, target, up, fov_y_deg}``: replaces those camera fields
+``stage``           ``{kind, colour = "#rrggbb" (sRGB) or color = [r, g, b] (linear 0..1),
+                    gloss (0..1), backdrop}``: replaces those fields of the design's stage
 ==================  ==================================================================
 """
 from __future__ import annotations
@@ -26,13 +28,17 @@ import difflib
 import math
 import os
 
+from ..color import hex_to_linear
 from ..errors import GlassbenchError, InputFileError
 from ..io.read import read_bounded
-from ..model.design import Camera, Liquid
+from ..model.design import Camera, Liquid, Stage
 from ..operations.labels import set_front_artwork
+from ..operations.stage import KIND_NAMES, stage_kind, unused
 
 OVERRIDE_KEYS = ("glass_tint", "liquid_color", "fill_height_mm", "fill_ml", "empty", "labels",
-                 "camera")
+                 "camera", "stage")
+#: The keys of a ``stage`` override (``colour``: sRGB hex; ``color``: linear RGB, as stored).
+STAGE_KEYS = ("kind", "colour", "color", "gloss", "backdrop")
 #: Largest label artwork read (bytes).
 MAX_ARTWORK_BYTES = 64 << 20
 #: Leading bytes of the image formats label artwork may have.
@@ -57,8 +63,7 @@ def apply_overrides(design, assets: dict, table: dict, tree, key_path: tuple, ba
 
     for key in table:
         if key not in OVERRIDE_KEYS:
-            near = difflib.get_close_matches(str(key), OVERRIDE_KEYS, n=1)
-            hint = f"; did you mean {near[0]!r}?" if near else f" (known: {', '.join(OVERRIDE_KEYS)})"
+            hint = _did_you_mean(key, OVERRIDE_KEYS)
             raise tree.error(key_path + (key,), f"unknown override {key!r}{hint}")
     assets = dict(assets)
     if "glass_tint" in table:
@@ -70,6 +75,9 @@ def apply_overrides(design, assets: dict, table: dict, tree, key_path: tuple, ba
     if "camera" in table:
         cam = camera_from_table(table["camera"], design.camera, lambda m: fail("camera", m))
         design = dataclasses.replace(design, camera=cam)
+    if "stage" in table:
+        stage = stage_from_table(table["stage"], design.stage, lambda m: fail("stage", m))
+        design = dataclasses.replace(design, stage=stage)
     return design, assets
 
 
@@ -180,6 +188,46 @@ def camera_from_table(value, base: Camera, fail) -> Camera:
     return cam
 
 
+def stage_from_table(value, base: Stage, fail) -> Stage:
+    """``base`` with the fields of a ``{kind, colour | color, gloss, backdrop}`` table replaced,
+    checked: a kind of :mod:`engine.operations.stage` (its alias too), ``colour`` an sRGB hex
+    string or ``color`` three linear numbers in 0..1, ``gloss`` a number in 0..1, ``backdrop``
+    true or false, and nothing the resulting kind would not draw."""
+    if not isinstance(value, dict) or not value:
+        raise fail(f"must be a table of {', '.join(STAGE_KEYS)}, got {_show(value)}")
+    if "colour" in value and "color" in value:
+        raise fail("give colour (\"#rrggbb\", sRGB) or color ([r, g, b], linear), not both")
+    fields = {}
+    for key, v in value.items():
+        if key == "kind":
+            fields["kind"] = stage_kind(v)
+            if fields["kind"] is None:
+                raise fail(f"kind must be one of {KIND_NAMES}, got {_show(v)}")
+        elif key == "colour":
+            fields["color"] = hex_to_linear(v) if isinstance(v, str) else None
+            if fields["color"] is None:
+                raise fail(f"colour must be an sRGB colour like \"#8c8c8c\", got {_show(v)}")
+        elif key == "color":
+            if not (isinstance(v, list) and len(v) == 3 and all(_is_number(c) and 0 <= c <= 1 for c in v)):
+                raise fail(f"color must be three numbers in 0..1 (linear RGB), got {_show(v)}")
+            fields["color"] = tuple(float(c) for c in v)
+        elif key == "gloss":
+            if not (_is_number(v) and 0 <= v <= 1):
+                raise fail(f"gloss must be a number in 0..1, got {_show(v)}")
+            fields["gloss"] = float(v)
+        elif key == "backdrop":
+            if not isinstance(v, bool):
+                raise fail(f"backdrop must be true or false, got {_show(v)}")
+            fields["backdrop"] = v
+        else:
+            raise fail(f"unknown stage field {key!r}{_did_you_mean(key, STAGE_KEYS)}")
+    stage = dataclasses.replace(base, **fields)
+    for name in unused(stage.kind, fields):
+        typed = "colour" if name == "color" and "colour" in value else name
+        raise fail(f"{typed} does nothing for the stage {stage.kind!r}; leave it out or give another kind")
+    return stage
+
+
 def camera_problem(cam: Camera) -> str | None:
     """Why the tracer could not use ``cam`` (eye on the target, up along the view), or ``None``."""
     d = [t - e for t, e in zip(cam.target, cam.eye)]
@@ -200,6 +248,12 @@ def check_variant_design(design, assets, tree, key_path: tuple) -> None:
         check_design(design, assets)
     except (GlassbenchError, ValueError) as exc:
         raise tree.error(key_path, f"the variant is not a valid design: {exc}") from None
+
+
+def _did_you_mean(key, known) -> str:
+    """The end of an "unknown key" message: the nearest of ``known``, or all of them."""
+    near = difflib.get_close_matches(str(key), known, n=1)
+    return f"; did you mean {near[0]!r}?" if near else f" (known: {', '.join(known)})"
 
 
 def _is_number(v) -> bool:

@@ -1,6 +1,6 @@
 """The ``glassbench`` subcommands that need no window, one module of this package per group
 (:data:`DELEGATED`): ``project`` (info, export-mesh, new), ``render``, ``batch`` (batch,
-turntable), ``labels`` (labels, dieline, label), ``finishes`` (cap, bump), ``export``
+turntable), ``labels`` (labels, dieline, label), ``finishes`` (cap, bump), ``stage``, ``export``
 (export-cad, export-scene, share).
 
 Design rule: each subcommand is a small function over the engine's public API; ``main``
@@ -24,6 +24,7 @@ DELEGATED = {".project": ("info", "export-mesh", "new"),
              ".batch": ("batch", "turntable"),
              ".labels": ("labels", "dieline", "label"),
              ".finishes": ("cap", "bump"),
+             ".stage": ("stage",),
              ".export": ("export-cad", "export-scene", "share")}
 SUBCOMMANDS = sum(DELEGATED.values(), ())
 EXIT_ERROR = 2

@@ -1,0 +1,44 @@
+"""The stage as a designer names it: its kinds (with an alias) and which fields each kind draws.
+
+Design rule: the Stage panel, ``glassbench stage`` and the batch override ``stage`` read a
+typed kind with :func:`stage_kind` (the model's :data:`~engine.model.design.STAGE_KINDS` and
+the alias ``shadow-catcher``) and ask :data:`STAGE_USES` which of the stage's fields a kind
+draws, so the panel greys out what the command line and a job file refuse (:func:`unused`): a
+gloss given to a matte table, a colour given to a shadow catcher would silently do nothing.
+A field a kind does not draw keeps its value (switching to a kind that draws it uses it
+again). Ranges are the model's check (:func:`engine.model.check.check_values`).
+"""
+from __future__ import annotations
+
+from ..model.design import STAGE_KINDS
+
+#: Other names a designer may type for a kind.
+STAGE_ALIASES = {"shadow-catcher": "shadow"}
+#: The ``Stage`` fields each kind draws (``color``: the table's or riser's albedo, the mirror's
+#: tint; a shadow catcher takes the environment's background instead).
+STAGE_USES = {"none": frozenset(),
+              "shadow": frozenset({"backdrop"}),
+              "table": frozenset({"color", "backdrop"}),
+              "glossy": frozenset({"color", "gloss", "backdrop"}),
+              "mirror": frozenset({"color", "backdrop"})}
+#: The kinds as a sentence lists them, aliases in brackets.
+KIND_NAMES = ", ".join(k + "".join(f" ({a})" for a, t in STAGE_ALIASES.items() if t == k)
+                       for k in STAGE_KINDS)
+
+
+def stage_kind(text) -> str | None:
+    """The kind of :data:`STAGE_KINDS` that ``text`` names (any case, an alias resolved), or
+    ``None`` when it names none."""
+    if not isinstance(text, str):
+        return None
+    key = text.strip().lower()
+    key = STAGE_ALIASES.get(key, key)
+    return key if key in STAGE_KINDS else None
+
+
+def unused(kind: str, given: dict) -> list[str]:
+    """The names in ``given`` (``Stage`` field -> value asked for) that a stage of ``kind``
+    would not draw, in ``given``'s order; turning the backdrop off is always allowed."""
+    uses = STAGE_USES[kind]
+    return [name for name, value in given.items()
+            if name not in uses and name != "kind" and not (name == "backdrop" and value is False)]

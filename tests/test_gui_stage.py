@@ -119,8 +119,6 @@ def test_a_stage_edit_starts_a_render_of_the_new_stage(make_window, qtbot):
     assert rc.job.error is None and rc.job.design.stage.kind == "table"
 
 
-@pytest.mark.xfail(strict=True, reason="engine/tracer/reuse.py: VISUAL_FIELDS lacks 'stage', so the "
-                   "render after a stage edit keeps the previous film")
 def test_a_stage_edit_is_traced_anew_not_kept(make_window, qtbot):
     w = make_window()
     rc = w.render_controller

@@ -63,10 +63,18 @@ def test_reuse_keeps_the_film_for_the_notes_and_not_for_the_glass():
     assert reuse_of(previous, glass, {}, "sampling", Change({"glass"})) is None
 
 
-@pytest.mark.xfail(strict=True, reason="engine/tracer/reuse.py: VISUAL_FIELDS lacks 'stage', so a "
-                   "stage edit keeps the previous film (the preview does not show it)")
 def test_a_stage_edit_needs_a_full_render():
     design = simple_design()
     previous = _finished_job(design)
     staged = dataclasses.replace(design, stage=Stage(kind="table"))
     assert reuse_of(previous, staged, {}, "sampling", Change({"stage"})) is None
+
+
+def test_with_a_lit_ground_a_label_or_light_edit_renders_again_instead_of_relabelling():
+    """The lights' caustic grid on the ground depends on the labels (they block the light) and
+    the lights, and no relabel record holds the ground's light."""
+    from engine.model.design import Light
+    design = dataclasses.replace(simple_design(), stage=Stage(kind="table"), lights=(Light(),))
+    previous = _finished_job(design)
+    brighter = dataclasses.replace(design, lights=(Light(intensity=2.0),))
+    assert reuse_of(previous, brighter, {}, "sampling", Change({"lights"})) is None

@@ -193,9 +193,9 @@ def test_a_stage_override_merges_into_the_designs_stage(tmp_path):
     from engine.color import hex_to_linear
     from engine.model.design import Stage
     text = JOB.replace('name = "amber"', 'name = "amber"\n'
-                       '  stage = { kind = "glossy", colour = "#808080", gloss = 0.5, backdrop = true }')
+                       '  stage = { kind = "glossy", colour = "#808080", gloss = 0.5, backdrop = false }')
     amber, flint = read_job(write(tmp_path, text)).variants
-    assert amber.design.stage == Stage(kind="glossy", color=hex_to_linear("#808080"), gloss=0.5, backdrop=True)
+    assert amber.design.stage == Stage(kind="glossy", color=hex_to_linear("#808080"), gloss=0.5)
     assert flint.design.stage == load_project(BORDEAUX)[0].stage, "a variant without it keeps the project's"
     doc = {"output": "o", "projects": [{"file": BORDEAUX, "variants": [
         {"name": "mirror", "stage": {"kind": "mirror", "color": [0.2, 0.3, 0.4]}},
@@ -222,6 +222,7 @@ def test_a_stage_override_merges_into_the_designs_stage(tmp_path):
     ('{ kind = "table", gloss = 0.5 }', "gloss does nothing for the stage 'table'"),
     ('{ colour = "#ffffff" }', "colour does nothing for the stage 'none'"),
     ('{ kind = "none", backdrop = true }', "backdrop does nothing for the stage 'none'"),
+    ('{ kind = "table", backdrop = true }', "backdrop does nothing for the stage 'table'"),
 ])
 def test_a_bad_stage_override_names_its_line(tmp_path, stage, words):
     text = JOB.replace('name = "amber"', f'name = "amber"\n  stage = {stage}')

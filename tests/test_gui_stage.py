@@ -32,14 +32,16 @@ def test_choosing_a_table_is_one_undoable_step_and_the_panel_follows_the_scene(m
     w.undo_stack.redo()
     assert _shown_kind(panel) == "table"
     # an edit made elsewhere (here from code, through the same editor) shows in the panel
-    assert w.editor.apply("Riser", None, stage=Stage(kind="glossy", color=(0.1, 0.2, 0.3), gloss=0.3, backdrop=True))
-    assert _shown_kind(panel) == "glossy" and panel.gloss.value() == 0.3 and panel.backdrop.isChecked()
+    assert w.editor.apply("Riser", None, stage=Stage(kind="glossy", color=(0.1, 0.2, 0.3), gloss=0.3))
+    assert _shown_kind(panel) == "glossy" and panel.gloss.value() == 0.3
     assert panel.color.text() == linear_to_hex((0.1, 0.2, 0.3))
     panel.gloss.setValue(0.8)
-    panel.backdrop.setChecked(False)
-    assert w.scene.design.stage == Stage(kind="glossy", color=(0.1, 0.2, 0.3), gloss=0.8, backdrop=False)
+    assert w.scene.design.stage == Stage(kind="glossy", color=(0.1, 0.2, 0.3), gloss=0.8)
     w.undo_stack.undo()
-    assert w.scene.design.stage.backdrop and panel.backdrop.isChecked(), "the backdrop was a step of its own"
+    assert w.scene.design.stage.gloss == 0.3 and panel.gloss.value() == 0.3, "the gloss was a step of its own"
+    # the backdrop sweep is not drawn yet: the engine refuses it and the panel does not offer it
+    assert not w.editor.apply("Backdrop", None, stage=Stage(kind="table", backdrop=True))
+    assert not hasattr(panel, "backdrop")
 
 
 def test_gloss_is_enabled_only_for_the_glossy_riser(make_window):
@@ -49,13 +51,12 @@ def test_gloss_is_enabled_only_for_the_glossy_riser(make_window):
     for kind in STAGE_KINDS:
         words.select_key(panel.kind, kind)
         assert w.scene.design.stage.kind == kind
-        enabled[kind] = (panel.color.isEnabled(), panel.gloss.isEnabled(), panel.backdrop.isEnabled())
-    assert enabled == {"none": (False, False, False), "shadow": (False, False, True),
-                       "table": (True, False, True), "glossy": (True, True, True),
-                       "mirror": (True, False, True)}
+        enabled[kind] = (panel.color.isEnabled(), panel.gloss.isEnabled())
+    assert enabled == {"none": (False, False), "shadow": (False, False), "table": (True, False),
+                       "glossy": (True, True), "mirror": (True, False)}
     w.undo_stack.undo()  # back to the riser, from the scene: the panel enables its gloss again
     assert _shown_kind(panel) == "glossy" and panel.gloss.isEnabled()
-    for control in (panel.kind, panel.color, panel.gloss, panel.backdrop):
+    for control in (panel.kind, panel.color, panel.gloss):
         assert control.toolTip(), "every control says what it does"
 
 

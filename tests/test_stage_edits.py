@@ -25,9 +25,10 @@ def test_kinds_are_read_in_any_case_with_the_shadow_catcher_alias():
 
 
 def test_only_what_a_kind_draws_may_be_given():
-    assert unused("glossy", {"kind": "glossy", "color": (1, 1, 1), "gloss": 0.5, "backdrop": True}) == []
+    assert unused("glossy", {"kind": "glossy", "color": (1, 1, 1), "gloss": 0.5}) == []
+    assert unused("glossy", {"backdrop": True}) == ["backdrop"], "no kind draws the backdrop yet"
     assert unused("table", {"gloss": 0.5, "color": (1, 1, 1)}) == ["gloss"]
-    assert unused("shadow", {"color": (1, 1, 1), "backdrop": True}) == ["color"]
+    assert unused("shadow", {"color": (1, 1, 1), "backdrop": True}) == ["color", "backdrop"]
     assert unused("none", {"backdrop": True}) == ["backdrop"]
     assert unused("none", {"backdrop": False}) == [], "turning the backdrop off is never in vain"
 

@@ -9,7 +9,6 @@ are typed and shown in sRGB hex; the model keeps them linear (:mod:`engine.color
 """
 from __future__ import annotations
 
-import argparse
 import dataclasses
 
 from ..color import linear_to_hex
@@ -19,7 +18,7 @@ from ..operations.stage import KIND_NAMES, STAGE_USES, stage_kind, unused
 from .finishes import _save, srgb_hex_to_linear
 
 #: The option that sets each ``Stage`` field (for the messages).
-OPTIONS = {"color": "--colour", "gloss": "--gloss", "backdrop": "--backdrop"}
+OPTIONS = {"color": "--colour", "gloss": "--gloss"}
 #: What each kind is, in the words ``show`` prints.
 KIND_WORDS = {"none": "none (the bottle floats in its environment)", "shadow": "shadow catcher",
               "table": "table", "glossy": "glossy riser", "mirror": "mirror"}
@@ -35,8 +34,6 @@ def add_parsers(sub) -> None:
                    help="sRGB colour of the table or riser, or the mirror's tint, e.g. '#8c8c8c'")
     p.add_argument("--gloss", type=float, default=None, metavar="G",
                    help="glossy riser: how sharp its clear coat reflects, 0..1 (1: mirror-sharp)")
-    p.add_argument("--backdrop", action=argparse.BooleanOptionalAction, default=None,
-                   help="a cyclorama sweep behind the bottle (stored; not drawn yet)")
 
 
 def describe(stage) -> str:
@@ -49,17 +46,15 @@ def describe(stage) -> str:
         parts.append(f"colour {linear_to_hex(stage.color)} (linear {linear})")
     if "gloss" in uses:
         parts.append(f"gloss {stage.gloss:g}")
-    if "backdrop" in uses:
-        parts.append("backdrop" if stage.backdrop else "no backdrop")
     return ", ".join(parts)
 
 
 def cmd_stage(args) -> int:
-    """``stage PROJECT set KIND [--colour HEX] [--gloss G] [--backdrop|--no-backdrop]``,
+    """``stage PROJECT set KIND [--colour HEX] [--gloss G]``,
     ``stage PROJECT show``."""
     from ..files.project import load_project
     design, assets = load_project(args.project)
-    given = {"color": args.colour, "gloss": args.gloss, "backdrop": args.backdrop}
+    given = {"color": args.colour, "gloss": args.gloss}
     given = {k: v for k, v in given.items() if v is not None}
     if args.action == "show":
         if args.kind is not None or given:

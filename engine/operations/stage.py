@@ -15,12 +15,13 @@ from ..model.design import STAGE_KINDS
 #: Other names a designer may type for a kind.
 STAGE_ALIASES = {"shadow-catcher": "shadow"}
 #: The ``Stage`` fields each kind draws (``color``: the table's or riser's albedo, the mirror's
-#: tint; a shadow catcher takes the environment's background instead).
+#: tint; a shadow catcher takes the environment's background instead). No kind draws the
+#: backdrop sweep yet (the model refuses it: :func:`engine.model.check.check_values`).
 STAGE_USES = {"none": frozenset(),
-              "shadow": frozenset({"backdrop"}),
-              "table": frozenset({"color", "backdrop"}),
-              "glossy": frozenset({"color", "gloss", "backdrop"}),
-              "mirror": frozenset({"color", "backdrop"})}
+              "shadow": frozenset(),
+              "table": frozenset({"color"}),
+              "glossy": frozenset({"color", "gloss"}),
+              "mirror": frozenset({"color"})}
 #: The kinds as a sentence lists them, aliases in brackets.
 KIND_NAMES = ", ".join(k + "".join(f" ({a})" for a, t in STAGE_ALIASES.items() if t == k)
                        for k in STAGE_KINDS)

@@ -242,3 +242,27 @@ def test_a_light_from_above_through_a_thick_base_is_bounded_and_conserves_its_li
     bound_r = 20.0 + 1e-3
     # clear glass and liquid: all but the reflections (about a tenth) and the light the rim sends up
     assert 0.6 * math.pi * bound_r ** 2 < _caustic_flux(d)[0] <= math.pi * bound_r ** 2 * 1.0
+
+
+def test_a_shadow_catchers_cutout_holds_the_shadow_in_alpha_and_composites_back_to_the_render():
+    from engine.tracer.picking import coverage, cutout
+    design = _on_stage(Stage(kind="shadow"), fill=40.0, glass_absorption=(0.3, 0.3, 0.3))
+    img, objects, ctx, _ = _pixels(design, spp=8)
+    colour, alpha = cutout(design, None, img)
+    h, w = img.shape[:2]
+    bottle = coverage(design, w, h)
+    assert (alpha >= bottle - 1e-6).all() and (alpha[bottle == 1.0] == 1.0).all()
+    open_ground = objects == ctx.stochastic_objects  # only the ground met: the environment itself
+    # to the half floats the kernels read the sky in, but where the far ground shows the studio's
+    # sharp edges the render's 8 samples per pixel average it differently from the cutout's 16
+    assert open_ground.any() and np.percentile(alpha[open_ground], 75) < 1e-4 and alpha[open_ground].max() < 0.05
+    assert (alpha[(bottle == 0.0) & ~open_ground] > 0.02).any(), "the bottle's shadow is in alpha"
+    # laid over the background the catcher showed, the cutout gives the render back
+    from engine.tracer.picking import _pixel_parts
+    _, _, bg = _pixel_parts(design, w, h, 4, ctx.environment)
+    back = alpha[..., None] * colour + (1.0 - alpha[..., None]) * bg
+    ground_only = (bottle == 0.0) & (objects != 0) & (img <= bg).all(axis=2)  # (a caustic: alpha 0, lost)
+    assert np.allclose(back[ground_only], img[ground_only], atol=1e-4)
+    # a stage other than the catcher: alpha is the bottle's coverage alone
+    table = dataclasses.replace(design, stage=TABLE)
+    assert np.array_equal(cutout(table, None, img)[1], bottle)

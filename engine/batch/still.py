@@ -125,11 +125,11 @@ class FinalRender:
                 self.state = "cancelled"
             else:
                 from ..files.images import save_image
-                cov = None
-                if self.alpha:
-                    from ..tracer.picking import coverage
-                    cov = coverage(self.design, self.width, self.height)
-                save_image(self.path, job.image(), cov)
+                rgb, cov = job.image(), None
+                if self.alpha:  # the bottle's coverage, and on a shadow catcher its shadow
+                    from ..tracer.picking import cutout
+                    rgb, cov = cutout(self.design, self.assets, rgb)
+                save_image(self.path, rgb, cov)
                 self.state = "written"
         except Exception as exc:  # reported to the caller, never lost
             self.error, self.state = exc, "failed"

@@ -53,9 +53,9 @@ def render_frame(payload, camera, render, alpha: bool, threads: int, topic: str 
     t0 = time.perf_counter()
     rgb = render_image(design, assets, threads=max(1, int(threads)), on_tile=report.tile)
     cov = None
-    if alpha:
-        from ..tracer.picking import coverage
-        cov = coverage(design, render.width, render.height)
+    if alpha:  # the bottle's coverage, and on a shadow catcher its shadow
+        from ..tracer.picking import cutout
+        rgb, cov = cutout(design, assets, rgb)
     seconds = time.perf_counter() - t0
     report.send(1.0)
     return {"rgb": rgb, "alpha": cov, "seconds": seconds,

@@ -74,11 +74,11 @@ def render_command(project_path, out_path, width=None, height=None, spp=None, th
         print(file=sys.stderr)
     if job.error is not None:
         raise job.error
-    cov = None
-    if alpha:
-        from ..tracer.picking import coverage
-        cov = coverage(design, job.width, job.height)
+    rgb, cov = job.image(), None
+    if alpha:  # the bottle's coverage, and on a shadow catcher its shadow
+        from ..tracer.picking import cutout
+        rgb, cov = cutout(design, assets, rgb)
     secs = time.perf_counter() - t0
-    save_image(out_path, job.image(), cov)
+    save_image(out_path, rgb, cov)
     print(f"rendered {job.width}x{job.height}, {job.spp} spp, in {secs:.2f} s")
     return 0

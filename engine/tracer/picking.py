@@ -44,16 +44,19 @@ def _ground_objects(scene) -> np.ndarray:
     return np.nonzero(scene.mat_i[mats, M_KIND] == GROUND)[0]
 
 
-def coverage(design, width: int, height: int, grid: int = 4) -> np.ndarray:
-    """Fraction of each pixel the bottle (glass, threads, closure) covers, ``(height, width)``
-    float32 in [0, 1], from ``grid x grid`` fixed points per pixel: alpha is geometric coverage,
-    not transparency (a cut-out of glass keeps the colour the tracer computed, the studio seen
-    through it included), deterministic and independent of the render's samples."""
+def _pixel_parts(design, width: int, height: int, grid: int, env=None):
+    """Per pixel of a ``width x height`` image, from ``grid x grid`` fixed points: the share the
+    bottle covers, the share the stage's ground covers and, with ``env`` (an environment map),
+    the mean radiance it shows along the camera rays that miss the bottle, ``(H, W, 3)`` (what a
+    shadow catcher shows where nothing is in the way, the sky above the horizon included)."""
     scene = scene_tables(design)[2]
     ground = _ground_objects(scene)
     sub = (np.arange(grid) + 0.5) / grid
     dx, dy = (a.ravel() for a in np.meshgrid(sub, sub))
-    out = np.zeros((height, width), np.float32)
+    bottle = np.zeros((height, width), np.float32)
+    on_ground = np.zeros((height, width), np.float32)
+    bg = np.zeros((height, width, 3)) if env is not None else None
+    cam = PinholeCamera.from_design(design.camera, width, height)
     rows_per_chunk = max(1, CHUNK_RAYS // (width * len(dx)))
     cols = np.arange(width, dtype=float)
     for r0 in range(0, height, rows_per_chunk):
@@ -62,8 +65,49 @@ def coverage(design, width: int, height: int, grid: int = 4) -> np.ndarray:
         x = np.broadcast_to(cols[None, :, None] + dx, shape)
         y = np.broadcast_to(rows[:, None, None] + dy, shape)
         _, k, _ = camera_hits(design, width, height, x, y, scene)
-        out[r0:r0 + len(rows)] = ((k >= 0) & ~np.isin(k, ground)).reshape(shape).mean(axis=2)
-    return out
+        g = np.isin(k, ground)
+        band = slice(r0, r0 + len(rows))
+        bottle[band] = ((k >= 0) & ~g).reshape(shape).mean(axis=2)
+        on_ground[band] = g.reshape(shape).mean(axis=2)
+        if env is not None:
+            _, d = cam.rays(x.ravel(), y.ravel())
+            behind = (k < 0) | g
+            seen = np.where(behind[:, None], env.lookup(d), 0.0).reshape(*shape, 3).sum(axis=2)
+            n = behind.reshape(shape).sum(axis=2)[..., None]
+            bg[band] = np.divide(seen, n, out=np.zeros_like(seen), where=n > 0)
+    return bottle, on_ground, bg
+
+
+def coverage(design, width: int, height: int, grid: int = 4) -> np.ndarray:
+    """Fraction of each pixel the bottle (glass, threads, closure) covers, ``(height, width)``
+    float32 in [0, 1], from ``grid x grid`` fixed points per pixel: alpha is geometric coverage,
+    not transparency (a cut-out of glass keeps the colour the tracer computed, the studio seen
+    through it included), deterministic and independent of the render's samples."""
+    return _pixel_parts(design, width, height, grid)[0]
+
+
+def cutout(design, assets, rgb, grid: int = 4):
+    """``(colour, alpha)`` of a final render ``rgb`` ``(H, W, 3)`` (linear) to composite over
+    another background: alpha is the bottle's :func:`coverage`, and on a shadow catcher also
+    the shadow. There the ground shows the environment's background ``b`` darkened to ``c``;
+    the shadow's alpha over the part of the pixel the bottle leaves is ``1 - min(c / b)`` (the
+    most darkened channel) and the colour is what, laid over ``b`` with the pixel's alpha,
+    gives back ``c`` exactly (a coloured shadow keeps its colour, no channel goes negative). A caustic
+    brighter than the background has alpha 0 there: straight alpha cannot add light.
+    ``colour`` is unassociated (:func:`engine.files.images.save_image` multiplies for EXR)."""
+    h, w = rgb.shape[:2]
+    if design.stage.kind != "shadow":
+        return rgb, coverage(design, w, h, grid)
+    from .environment import environment_from_design
+    bottle, _, bg = _pixel_parts(design, w, h, grid, environment_from_design(design.environment, assets))
+    rgb = np.asarray(rgb, float)
+    kept = np.divide(rgb, bg, out=np.ones_like(rgb), where=bg > 0.0).min(axis=2)
+    shade = np.clip(1.0 - kept, 0.0, 1.0)
+    alpha = bottle + (1.0 - bottle) * shade  # the bottle's share, and the shadow's depth over the rest
+    with np.errstate(invalid="ignore", divide="ignore"):
+        colour = (rgb - (1.0 - alpha)[..., None] * bg) / alpha[..., None]
+    colour = np.where(alpha[..., None] > 1e-6, np.maximum(colour, 0.0), 0.0)
+    return colour.astype(np.float32), np.clip(alpha, 0.0, 1.0).astype(np.float32)
 
 
 def wall_point(design, u: float, v: float):

@@ -10,10 +10,13 @@ script after changing the format or the shapes. Writes:
   green glass, red wine filled to 750 ml.
 * ``square.glassbench``: rounded-square spirits bottle with a round neck, rotated 30 deg.
 * ``jar.glassbench``: a wide preserve jar, amber syrup.
+* ``bordeaux_table.glassbench``: the Bordeaux standing on a white table in a low sun from
+  behind, so its shadow and the wine's red caustic fall towards the camera.
 * ``bordeaux_profile.dxf``: the Bordeaux section as a DXF (``glassbench new --from-dxf``).
 """
 from __future__ import annotations
 
+import dataclasses
 import math
 import sys
 from pathlib import Path
@@ -23,7 +26,7 @@ sys.path.insert(0, str(HERE.parent))
 
 from engine.geometry import capacity# noqa: E402
 from engine.cli.project import framing_camera  # noqa: E402
-from engine.model.design import Design, Glass, Liquid, RenderSettings  # noqa: E402
+from engine.model.design import Camera, Design, Glass, Light, Liquid, RenderSettings, Stage  # noqa: E402
 from engine.files.dxf_import import section_to_dxf  # noqa: E402
 from engine.files.project import save_project  # noqa: E402
 from engine.operations.check import check_design  # noqa: E402
@@ -89,6 +92,17 @@ def bordeaux() -> Design:
                   name="Bordeaux 750 ml", notes="Punted Bordeaux wine bottle, 75 mm x 300 mm.")
 
 
+def bordeaux_on_table() -> Design:
+    """The Bordeaux on a white table under a sun (0.53 degrees) low behind it: the camera
+    looks down a little more, so the table in front, where the red caustic falls, is seen."""
+    bottle = bordeaux()
+    return dataclasses.replace(
+        bottle, stage=Stage(kind="table", color=(0.8, 0.8, 0.8)),
+        lights=(Light(direction=(0.35, 1.0, 0.75), color=(1.0, 0.96, 0.9), intensity=2.5, angle_deg=0.53),),
+        camera=Camera(eye=(0.0, -720.0, 420.0), target=(0.0, -60.0, 120.0), fov_y_deg=30.0),
+        name="Bordeaux on a table", notes="The Bordeaux 750 ml on a white table, a low sun behind it.")
+
+
 def square_profile(body_r: float, z_s: float, angle_deg: float, neck_r: float, top: float) -> Section:
     heel_r = 6.0
     base = Line((0.0, 0.0), (body_r - heel_r, 0.0))
@@ -143,7 +157,7 @@ def report(design: Design) -> str:
 def build_all(folder: Path = HERE) -> dict[str, Design]:
     """Build, check and save every sample into ``folder``; returns them by file name."""
     samples = {"bordeaux.glassbench": bordeaux(), "square.glassbench": square(),
-               "jar.glassbench": jar()}
+               "jar.glassbench": jar(), "bordeaux_table.glassbench": bordeaux_on_table()}
     for name, design in samples.items():
         check_design(design, {})
         save_project(folder / name, design, {}, keep_backup=False)

@@ -111,7 +111,7 @@ def mitsuba_points(spec_path, ref, spps, design=None, reference_spp=0):
     with tempfile.TemporaryDirectory() as folder:
         extra = label_shapes(design, folder) if design is not None else None
         scene, load_s, tris = load_scene(spec_path, folder, extra_shapes=extra)
-        mi.render(scene, spp=1, seed=99)  # compile
+        np.array(mi.render(scene, spp=1, seed=99))  # compile (drjit is lazy: the copy waits for the image)
         if reference_spp:
             t0 = time.perf_counter()
             ref = np.array(mi.render(scene, spp=reference_spp, seed=1234))
@@ -263,8 +263,14 @@ def time_to_reach(points, err):
 
 def speedups(g_pts, mt) -> list[tuple[int, float]]:
     """``[(spp, ratio)]``: Mitsuba's time at each of its points ``(spp, seconds, error)`` over the
-    time glassbench's points ``(seconds, error)`` need for that error (:func:`time_to_reach`)."""
+    time glassbench's points ``(seconds, error)`` need for that error (:func:`time_to_reach`);
+    0 where glassbench never reaches it (:func:`shown_ratio`)."""
     return [(spp, ms / time_to_reach(g_pts, me)) for spp, ms, me in mt]
+
+
+def shown_ratio(r: float) -> str:
+    """A ratio as printed: ``12.3x``, or ``not reached`` (0: glassbench's best error is above)."""
+    return f"{r:.1f}x" if r > 0 else "not reached"
 
 
 def speedup_min(speed: dict, names=PUBLIC, spps=MIN_OVER_SPPS) -> float:
@@ -343,7 +349,9 @@ def main(argv=None) -> int:
             gb, prog, mt, meshed, builds = [], [], [], {tol: [] for tol in MESH_TOLERANCES}, {}
             for r in range(a.repeats):  # alternating: a slow phase of the machine slows both sides
                 if a.repeats > 1:
-                    print(f"  run {r + 1} of {a.repeats}")
+                    # (the load shows a slow phase: Mitsuba's thread pool loses far more than
+                    # glassbench's workers when another job holds a core, 2.9x at 256 spp on public_1)
+                    print(f"  run {r + 1} of {a.repeats} (load average {os.getloadavg()[0]:.2f})")
                 finished, waves = glassbench_points(spec, ref, settings, a.threads)
                 gb.append(finished)
                 prog.append(waves)
@@ -395,12 +403,12 @@ def main(argv=None) -> int:
         speed[name] = dict(ratios)  # (the labelled scene and the jar are reported, not in the minimum)
         below = all(r > 1.0 for _, r in ratios)
         print("    glassbench reaches Mitsuba's error at " +
-              ", ".join(f"{spp} spp {r:.1f}x" for spp, r in ratios) +
+              ", ".join(f"{spp} spp {shown_ratio(r)}" for spp, r in ratios) +
               f" faster; below Mitsuba's curve everywhere: {'yes' if below else 'no'}")
         shown = [spp for spp in RATIO_SPPS if spp in speed[name]]
         if shown:
             print(f"    {name}: at Mitsuba's {' / '.join(map(str, shown))}-spp error glassbench is "
-                  + " / ".join(f"{speed[name][spp]:.1f}" for spp in shown) + "x faster")
+                  + " / ".join(shown_ratio(speed[name][spp]) for spp in shown) + " faster")
         ax.plot(*zip(*sorted((s_, e_) for _, s_, e_, _ in gb)), "s", color="tab:blue", alpha=0.5)
         if prog:
             ax.plot(*zip(*sorted((s_, e_) for _, s_, e_, _ in prog)), ".", color="tab:cyan", alpha=0.6,
@@ -412,7 +420,7 @@ def main(argv=None) -> int:
         for label, secs, err, _ in gb:
             ax.annotate(label, (secs, err), fontsize=5, xytext=(2, 2), textcoords="offset points")
         against = f"Mitsuba {ref_spp} spp" if labelled else "the reference"
-        ax.set_title(f"{name}: " + ", ".join(f"{speed[name][spp]:.1f}x" for spp in shown)
+        ax.set_title(f"{name}: " + ", ".join(shown_ratio(speed[name][spp]) for spp in shown)
                      + f" at Mitsuba {'/'.join(map(str, shown))} spp", fontsize=8)
         ax.set_ylabel(f"rel RMSE against {against}")
         ax.legend(fontsize=6)

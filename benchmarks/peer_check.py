@@ -203,12 +203,12 @@ def time_conversions(name: str, conversions: dict, spp: int = 256, repeats: int 
         for label, conv in conversions.items():
             os.makedirs(os.path.join(folder, label))
             scenes[label] = load_scene(spec_path(name), os.path.join(folder, label), conversion=conv)
-            mi.render(scenes[label][0], spp=spp, seed=1)  # compile
+            np.array(mi.render(scenes[label][0], spp=spp, seed=1))  # compile
         best = {label: math.inf for label in scenes}
         for _ in range(repeats):
             for label, (scene, _, _) in scenes.items():
                 t0 = time.perf_counter()
-                mi.render(scene, spp=spp, seed=2)
+                np.array(mi.render(scene, spp=spp, seed=2))  # (drjit is lazy: the copy waits for the image)
                 best[label] = min(best[label], time.perf_counter() - t0)
         for label, (_, load_s, tris) in scenes.items():
             print(f"    {name} {label}: {tris} triangles, {spp} spp in {best[label]:.2f} s "

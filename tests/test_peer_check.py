@@ -70,3 +70,10 @@ def test_peer_speedup_min_is_over_the_public_scenes_at_256_and_1024_spp():
              "thick_jar": {256: 1.0, 1024: 1.0}, "labelled": {256: 0.5}}
     assert peer.speedup_min(speed) == 8.5
     assert math.isnan(peer.speedup_min({"labelled": {256: 3.0}}))
+
+
+def test_an_error_glassbench_never_reaches_is_a_zero_ratio_shown_as_such():
+    g_pts = [(0.5, 0.05), (4.0, 0.014)]
+    mt = [(64, 1.7, 0.05), (1024, 24.0, 0.0125)]  # the thick jar's 1024 spp: below glassbench's best
+    assert peer.speedups(g_pts, mt) == [(64, 1.7 / 0.5), (1024, 0.0)]
+    assert peer.shown_ratio(0.0) == "not reached" and peer.shown_ratio(3.4) == "3.4x"

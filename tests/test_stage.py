@@ -16,6 +16,7 @@ from benchmarks.paths import ORACLE_SPECS
 from engine.model.design import Camera, Glass, Light, Stage
 from engine.tracer.context import RenderContext, TraceStats, trace_pixels, trace_rays
 from engine.tracer.environment import EnvironmentMap
+from engine.tracer.kernels.ground import S_R1, S_RMAX
 from engine.tracer.picking import coverage
 from engine.tracer.tables.stage import open_sky_irradiance
 from tests.test_tracer import WHITE, simple_design
@@ -41,7 +42,7 @@ def _pixels(design, env=None, spp=16, first=1):
 
 def test_a_white_ground_under_clear_glass_in_a_white_furnace_stays_white():
     img, objects, ctx, st = _pixels(_on_stage(TABLE, fill=40.0), env=WHITE)
-    ground = ctx.stochastic_objects
+    ground = ctx.ground_objects
     assert ((objects & ground) != 0).mean() > 0.3 and ((objects & 1) != 0).any()  # ground and bottle seen
     assert np.abs(img - 1.0).max() < 1e-9  # every pixel: ground, glass, both, and the sky
     assert st.escaped_inside == 0 and st.mismatches == 0
@@ -52,9 +53,19 @@ def test_open_ground_is_exact_and_noise_free_and_shadowed_ground_is_darker():
     ctx = RenderContext.from_design(design, None, 8, 8)
     e_up = open_sky_irradiance(ctx.environment)
     down = np.tile([0.0, 0.0, -1.0], (64, 1))
-    # a metre from the bottle the control variate's probes miss it: albedo x the open sky, to rounding
+    # a metre from the bottle, in the sky grid: the bottle's sliver of sky is taken (1e-6 of the
+    # light), the same for every sample and smooth from point to point
     far = np.column_stack([1000 + np.arange(64) * 0.37, np.arange(64) * 0.11, np.full(64, 300.0)])
     out, _ = trace_rays(ctx, far, down)
+    again, _ = trace_rays(ctx, far, down)
+    assert np.array_equal(out, again)
+    assert (out < 0.5 * e_up).all() and np.abs(out - 0.5 * e_up).max() < 1e-5 * e_up.max()
+    assert np.abs(np.diff(out, axis=0)).max() < 1e-8
+    # beyond the grid the ground probes per hit, and there its probes miss: albedo x the open sky, to rounding
+    reach = ctx.finish.sky_grid[S_RMAX]
+    assert 1000.0 < reach < 3000.0
+    beyond = far + [reach, 0.0, 0.0]
+    out, _ = trace_rays(ctx, beyond, down)
     assert np.abs(out - 0.5 * e_up).max() < 1e-12
     # 3 mm from the dark bottle's foot the ground loses sky to it: its contact shadow
     near = np.column_stack([23 + np.arange(64) * 0.01, np.zeros(64), np.full(64, 300.0)])
@@ -74,7 +85,7 @@ def test_a_camera_below_the_ground_sees_its_black_underside_and_never_the_bottle
     design = _on_stage(TABLE, fill=40.0)
     design = dataclasses.replace(design, camera=Camera(eye=(0, -200, -30), target=(0, 0, 30), fov_y_deg=40))
     img, objects, ctx, _ = _pixels(design, env=WHITE, spp=1, first=0)  # pixel centres: no sky mixed in
-    ground = ctx.stochastic_objects
+    ground = ctx.ground_objects
     assert ((objects & ground) != 0).mean() > 0.2
     assert not ((objects & 1) != 0).any()  # the outer wall (object 0) is never met from below
     assert np.all(img[(objects & ground) != 0] == 0.0)  # the underside absorbs
@@ -85,7 +96,7 @@ def test_a_bottle_on_a_mirror_ends_its_regress_and_the_open_mirror_shows_the_tin
     design = _on_stage(Stage(kind="mirror", color=(0.9, 0.8, 0.7)), fill=40.0)
     img, objects, ctx, st = _pixels(design, env=WHITE, spp=4)
     assert st.escaped_inside == 0 and np.isfinite(img).all()
-    open_mirror = objects == ctx.stochastic_objects
+    open_mirror = objects == ctx.ground_objects
     assert open_mirror.any()
     assert np.allclose(img[open_mirror], (0.9, 0.8, 0.7))
     assert np.all(img <= 1.0 + 1e-9)  # a mirror under clear glass in a white sky: its tint at most
@@ -121,7 +132,7 @@ def test_dark_glass_casts_a_shadow_and_almost_no_caustic():
 def test_the_ground_is_seen_through_the_glass_and_liquid():
     design = _on_stage(TABLE, fill=40.0)
     _, objects, ctx, _ = _pixels(design, spp=1)
-    ground = ctx.stochastic_objects
+    ground = ctx.ground_objects
     bottle_and_ground = ((objects & 1) != 0) & ((objects & ground) != 0)
     assert bottle_and_ground.mean() > 0.05
 
@@ -252,11 +263,20 @@ def test_a_shadow_catchers_cutout_holds_the_shadow_in_alpha_and_composites_back_
     h, w = img.shape[:2]
     bottle = coverage(design, w, h)
     assert (alpha >= bottle - 1e-6).all() and (alpha[bottle == 1.0] == 1.0).all()
-    open_ground = objects == ctx.stochastic_objects  # only the ground met: the environment itself
-    # to the half floats the kernels read the sky in, but where the far ground shows the studio's
-    # sharp edges the render's 8 samples per pixel average it differently from the cutout's 16
-    assert open_ground.any() and np.percentile(alpha[open_ground], 75) < 1e-4 and alpha[open_ground].max() < 0.05
-    assert (alpha[(bottle == 0.0) & ~open_ground] > 0.02).any(), "the bottle's shadow is in alpha"
+    # where each pixel's centre ray meets the ground: how far from the bottle's axis (mm)
+    rows, cols = np.mgrid[0:h, 0:w]
+    eye, d = ctx.camera.rays(cols.ravel() + 0.5, rows.ravel() + 0.5)
+    t = (design.stage.z_mm - eye[:, 2]) / np.where(d[:, 2] < 0.0, d[:, 2], -1e-300)
+    rho = np.hypot(eye[:, 0] + t * d[:, 0], eye[:, 1] + t * d[:, 1]).reshape(h, w)
+    ground = (objects & ctx.ground_objects) != 0
+    bound_r = float(ctx.finish.sky_grid[S_R1])
+    near, far = ground & (bottle == 0.0) & (rho < 1.5 * bound_r), ground & (bottle == 0.0) & (rho > 6.0 * bound_r)
+    assert near.any() and far.any()
+    assert np.median(alpha[near]) > 0.05, "the bottle's shadow is in alpha"
+    # the sky it hides falls with distance: far off, the catcher shows the environment itself (to
+    # the bottle's faint sky shadow, and where the far ground shows the studio's sharp edges the
+    # render's 8 samples per pixel average it differently from the cutout's 16)
+    assert np.median(alpha[far]) < 0.02 and np.median(alpha[far]) < 0.2 * np.median(alpha[near])
     # laid over the background the catcher showed, the cutout gives the render back
     from engine.tracer.picking import _pixel_parts
     _, _, bg = _pixel_parts(design, w, h, 4, ctx.environment)

@@ -21,12 +21,13 @@ from .kernels.integrator import (C_BUDGET, C_CUT_DEPTH, C_CUT_WEIGHT, C_LEAKS, C
 from .kernels.sampling import C_COLS
 from .kernels.tile import render_pixels
 from .kernels.intersect import O_MAT as K_O_MAT
+from .kernels.ground import NOISY_BIT
 from .kernels.materials import GROUND
 from .kernels.records import Cutoffs, FinishTables, Geometry, LabelTables, Pixels, PixelSums, Scene
 from .tables.labels import empty_label_arrays, label_arrays, with_buffers
 from .tables.finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays, search_tables
-from .tables.stage import open_sky_irradiance, scene_with_stage, stage_caustics
+from .tables.stage import open_sky_irradiance, scene_with_stage, stage_caustics, stage_sky
 from .thread_geometry import scene_with_threads
 
 #: Boundaries one camera sample may visit before what it still holds is closed with the
@@ -89,10 +90,14 @@ class RenderContext:
     lookup_texels: np.ndarray = field(repr=False, default=None)
 
     @classmethod
-    def from_design(cls, design, assets=None, width=None, height=None, environment=None) -> "RenderContext":
+    def from_design(cls, design, assets=None, width=None, height=None, environment=None, *, grids=True,
+                    cancelled=None) -> "RenderContext":
         """Compile ``design`` for an image of ``width x height`` pixels (default: its render
-        settings); ``environment`` replaces the design's (tests: a uniform white one). Raises
-        the geometry engine's errors for an invalid shape."""
+        settings); ``environment`` replaces the design's (tests: a uniform white one). A diffuse
+        ground gets its grids (the sky's, the lights' caustics) unless ``grids`` is false (a
+        draft: the ground probes per hit and shows no caustic); ``cancelled()`` true stops their
+        build (:class:`~engine.tracer.tables.sky.GridCancelled`). Raises the geometry engine's
+        errors for an invalid shape."""
         w = int(width or design.render.width)
         h = int(height or design.render.height)
         geom, cap, scene = scene_tables(design)
@@ -105,8 +110,10 @@ class RenderContext:
         params = np.array([float(env.scale), math.radians(float(env.rotation_deg)), factor, *sky])
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
         labels = label_arrays(design, assets, tex, geom.obj_i.shape[0])
-        if finish.lights.shape[0] and design.stage.kind not in ("none", "mirror"):
+        if grids and finish.lights.shape[0] and design.stage.kind not in ("none", "mirror"):
             finish = finish._replace(**stage_caustics(design, assets, scene, labels, finish, params, half))
+        if grids and design.stage.kind not in ("none", "mirror"):
+            finish = finish._replace(**stage_sky(design, assets, scene, labels, finish, params, half, cancelled))
         return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
                    float(design.render.min_weight), int(scene.mat_i.shape[0]), level, env,
                    labels, finish, cap, half)
@@ -119,12 +126,19 @@ class RenderContext:
                                                              self.geometry.obj_i.shape[0]))
 
     @property
-    def stochastic_objects(self) -> np.int64:
-        """Object-mask bits of the objects whose light is estimated by sampling (the stage's
-        ground): a pixel whose tree met one is noisy even where it differs from no neighbour."""
+    def ground_objects(self) -> np.int64:
+        """Object-mask bits of the stage's ground (none without one)."""
         g = self.scene.geom
         kinds = self.scene.mat_i[g.obj_i[:, K_O_MAT], 0]
         return np.int64(sum(1 << int(k) for k in np.nonzero(kinds == GROUND)[0]))
+
+    @property
+    def stochastic_objects(self) -> np.int64:
+        """Object-mask bits that say a tree's light was estimated by sampling (the ground's
+        :data:`~engine.tracer.kernels.ground.NOISY_BIT`: a probe beyond its sky grid, a rough
+        coat, a light's penumbra): such a pixel is noisy even where it differs from no
+        neighbour. Zero without a ground."""
+        return NOISY_BIT if self.ground_objects else np.int64(0)
 
     @property
     def finish_tables(self) -> FinishTables:

@@ -8,7 +8,9 @@ material), how (:func:`engine.tracer.context.trace_pixels`, compiled, GIL-free),
 (:func:`engine.tracer.reuse.reuse_of`: the whole film, or a relabel). Waves: (0) a preview, the
 centres of coarse blocks; (1) every other pixel's centre; (2...) stratified anti-aliasing samples
 for the pixels on edges, in doubling rounds up to ``spp``; then adaptive rounds for the edge
-pixels whose own samples still scatter (up to ``ADAPTIVE_FACTOR x spp``). Waves are separated by
+pixels whose own samples still scatter (up to ``ADAPTIVE_FACTOR x spp``). A design on a diffuse
+ground whose grids are not built yet gets a draft preview first (its ground probed per hit)
+while they build, on the job's thread. Waves are separated by
 a barrier, and a pixel's samples are seeded by (pixel, sample), so the image is bit-identical
 for any thread count and tile order. ``cancel()`` raises a flag the kernels poll between pixels:
 a job stops within one pixel's work.
@@ -35,6 +37,8 @@ from .film import Film
 from .relabel import LabelRecorder, RelabelPlan, replay
 from .reuse import KEEP_FILM, VISUAL_FIELDS, reuse_of  # noqa: F401 - VISUAL_FIELDS for callers
 from .scheduler import TileScheduler
+from .tables.sky import GridCancelled
+from .tables.stage import stage_grids_ready
 
 NOISE_TARGET = adaptive.NOISE_TARGET
 
@@ -228,6 +232,8 @@ class RenderJob:
                 self._render(reuse.context)
             else:
                 self._render()
+        except GridCancelled:  # the ground's grids stopped building because the job was cancelled
+            self.cancel()
         except BaseException as exc:  # reported, never swallowed
             self.error = exc
             self.cancel()
@@ -247,11 +253,13 @@ class RenderJob:
                 self._returned.set()
 
     def _render(self, ctx=None) -> None:
-        if ctx is None:
+        draft = None
+        if ctx is None and not stage_grids_ready(self.design, self.assets):
+            # a diffuse ground whose grids are not built yet (seconds): the first picture comes
+            # from a draft whose ground probes per hit and shows no caustic, while they build
+            draft = RenderContext.from_design(self.design, self.assets, self.width, self.height, grids=False)
+        elif ctx is None:
             ctx = RenderContext.from_design(self.design, self.assets, self.width, self.height)
-        self.context = ctx
-        self.film = film = Film(self.width, self.height, ctx.n_materials)
-        level = max(ctx.reference_level, 1e-6)
         h, w = self.height, self.width
         b = adaptive.preview_block(w, h)
         with ThreadPoolExecutor(max_workers=self.threads, thread_name_prefix="render",
@@ -260,6 +268,16 @@ class RenderJob:
             grid = np.zeros((h, w), bool)
             grid[np.minimum(np.arange(0, h, b) + b // 2, h - 1)[:, None],
                  np.minimum(np.arange(0, w, b) + b // 2, w - 1)[None, :]] = True
+            if draft is not None:
+                self.context, self.film = draft, Film(self.width, self.height, draft.n_materials)
+                self._wave(pool, draft, 0, grid, None, preview=b)
+                ctx = RenderContext.from_design(self.design, self.assets, self.width, self.height,
+                                                cancelled=self._cancel.is_set)
+                if self.records is not None:  # (the draft's samples are not the render's)
+                    self.records = LabelRecorder(self.width)
+            self.context = ctx
+            self.film = film = Film(self.width, self.height, ctx.n_materials)
+            level = max(ctx.reference_level, 1e-6)
             self._wave(pool, ctx, 0, grid, None, preview=b)
             self._set_progress(0.03)
             # (1) every other centre

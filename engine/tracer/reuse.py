@@ -30,7 +30,14 @@ def lit_ground(design) -> bool:
     """Whether ``design`` stands on a diffuse ground that its lights light: their light through
     the bottle (the caustic grids, :mod:`engine.tracer.tables.caustics`) depends on the labels
     and the lights, and no relabel record holds it."""
-    return bool(design.lights) and design.stage.kind not in ("none", "mirror")
+    return bool(design.lights) and diffuse_ground(design)
+
+
+def diffuse_ground(design) -> bool:
+    """Whether ``design`` stands on a diffuse ground: the sky's light on it through the bottle
+    (the sky grid, :mod:`engine.tracer.tables.sky`) depends on the labels, and no relabel
+    record holds it."""
+    return design.stage.kind not in ("none", "mirror")
 
 
 def _keeps_film(previous, design, change: Change) -> bool:
@@ -53,8 +60,8 @@ def reuse_of(previous, design, assets, sampling, changed) -> str | RelabelPlan |
     change = Change.of(changed)
     if _keeps_film(previous, design, change):
         return KEEP_FILM
-    if lit_ground(design) or lit_ground(previous.design):
-        return None  # labels or lights changed the light on the ground: a full render
+    if diffuse_ground(design) or diffuse_ground(previous.design):
+        return None  # labels or lights changed the light on the ground (its grids): a full render
     if change.assets is None:  # the caller named fields only: which assets changed is read here, once
         change = Change(change, changed_assets(previous.assets, assets))
     return plan_relabel(previous, design, assets, change)

@@ -14,6 +14,14 @@ azimuth and elevation that cylinder spans from the hit (a share ``F`` of the cos
 sky), with weight ``albedo F``, whose subtree brings back what really arrives along ``w``. Open
 ground is exact and noise-free, and every sample of ground near the bottle probes the bottle.
 
+Within the *sky grid* (:mod:`engine.tracer.tables.sky`: polar cells about the bottle's axis out
+to many times its radius) that estimate is made once per design, not per sample: each cell
+holds the sky's irradiance at its centre, from many stratified probes of the same control
+variate, and a hit reads it bilinearly (:func:`sky_irradiance`) and sends no probe. The ground
+is then noise-free wherever the lights' shadow rays agree, and its pixels need no more samples
+than any other; only the ground beyond the grid, a rough coat and a light's penumbra are
+sampled per hit, and set :data:`NOISY_BIT` in the object mask so the sampler knows.
+
 *A design light's light* (a disc in the sky, :data:`L_COS`) arrives straight, where one shadow
 ray towards a point of its disc meets nothing (:func:`light_on_ground`), or through the bottle:
 that part, the light's caustic and coloured shadow, cannot be found from the ground (a point
@@ -58,6 +66,19 @@ C_IN, C_OUT, C_SHADOW = 0, 3, 6
 CAUSTIC_COLS = 7
 #: Shadow shares below this are taken as none (the division by it would only amplify noise).
 MIN_SHARE = 1e-3
+#: Columns of the sky grid's row (:mod:`engine.tracer.tables.sky`): the width of the rings
+#: inside radius ``S_R1`` (mm, the bottle's bounding radius), that radius, the outer rings'
+#: growth (each ``1 + S_GROW`` times as far out as the last), rings inside ``S_R1`` and in all,
+#: sectors, and the outermost ring's outer radius (mm). Zero rings: no grid.
+S_DR, S_R1, S_GROW, S_NIN, S_NRING, S_NSEC, S_RMAX = range(7)
+SKY_COLS = 7
+#: Object-mask bit a ground hit sets when its light was sampled (a probe, a rough coat's
+#: direction, a light's penumbra): the pixel is noisy wherever it is (objects use the bits
+#: below it, labels those from :data:`engine.tracer.kernels.labels.LABEL_BIT0` = 32 up).
+NOISY_BIT = np.int64(1) << np.int64(31)
+#: Points on a light disc's rim a ground hit sends shadow rays to: where all agree, the whole
+#: disc is seen or hidden and its light is exact; else the hit is in the penumbra.
+RIM_POINTS = 4
 
 
 @njit(**INLINE)
@@ -127,6 +148,52 @@ def caustic_irradiance(fin, q, px, py, shadowed):
 
 
 @njit(**INLINE)
+def sky_ring(row, rho):
+    """The ring coordinate of radius ``rho`` (mm) in sky grid ``row``: ring ``i`` spans
+    ``[i, i + 1)`` (uniform rings inside ``S_R1``, geometric beyond; continuous at ``S_R1``)."""
+    if rho <= row[S_R1]:
+        return rho / row[S_DR]
+    return row[S_NIN] + math.log(rho / row[S_R1]) / math.log1p(row[S_GROW])
+
+
+@njit(**INLINE)
+def sky_irradiance(fin, px, py):
+    """``(r, g, b, inside)``: the sky's irradiance over pi at ground point ``(px, py)`` (mm) from
+    the sky grid (bilinear in ring and sector between cell centres), and whether the point lies
+    within the grid (else zeros: the caller probes)."""
+    row, sky = fin.sky_grid, fin.sky
+    nring = int(row[S_NRING])
+    if nring <= 0:
+        return 0.0, 0.0, 0.0, False
+    rho = math.sqrt(px * px + py * py)
+    if rho >= row[S_RMAX]:
+        return 0.0, 0.0, 0.0, False
+    nsec = int(row[S_NSEC])
+    f = sky_ring(row, rho) - 0.5
+    if f <= 0.0:
+        i0, tf = 0, 0.0
+    elif f >= nring - 1:
+        i0, tf = nring - 1, 0.0
+    else:
+        i0 = int(math.floor(f))
+        tf = f - i0
+    i1 = min(i0 + 1, nring - 1)
+    g = (math.atan2(py, px) / (2.0 * math.pi)) % 1.0 * nsec - 0.5
+    j = math.floor(g)
+    tg = g - j
+    j0 = int(j) % nsec
+    j1 = (j0 + 1) % nsec
+    r = gr = b = 0.0
+    for i, wi in ((i0, 1.0 - tf), (i1, tf)):
+        for jj, wj in ((j0, 1.0 - tg), (j1, tg)):
+            w = wi * wj
+            r += w * sky[i, jj, 0]
+            gr += w * sky[i, jj, 1]
+            b += w * sky[i, jj, 2]
+    return r, gr, b, True
+
+
+@njit(**INLINE)
 def open_light(lights):
     """Irradiance over pi ``(r, g, b)`` of ``lights`` on an upward surface with nothing in the
     way (the mean over each disc of its cosine: ``l_z (1 + cos half angle) / 2``)."""
@@ -137,26 +204,63 @@ def open_light(lights):
     return er, eg, eb
 
 
+@njit(**INLINE)
+def _blocked(sc, k, px, py, pz, lx, ly, lz, scratch):
+    """Whether the light along unit ``l`` is hidden from ground object ``k`` at ``p`` (mm)."""
+    return lz <= 0.0 or nearest_hit(sc.geom, px, py, pz, lx, ly, lz, AIR, k, 1, scratch)[1] >= 0
+
+
+@njit(**INLINE)
+def _rim_agrees(sc, k, px, py, pz, light, scratch):
+    """``(agree, hidden)``: whether shadow rays to :data:`RIM_POINTS` points of ``light``'s disc
+    rim all find the same, and whether that is hidden."""
+    lx, ly, lz, c = light[L_DX], light[L_DY], light[L_DZ], light[L_COS]
+    ux, uy, uz, vx, vy, vz = light_frame(lx, ly, lz)
+    st = math.sqrt(max(0.0, 1.0 - c * c))
+    first = True
+    for m in range(RIM_POINTS):
+        a = 2.0 * math.pi * m / RIM_POINTS
+        ca, sa = st * math.cos(a), st * math.sin(a)
+        h = _blocked(sc, k, px, py, pz, c * lx + ca * ux + sa * vx, c * ly + ca * uy + sa * vy,
+                     c * lz + ca * uz + sa * vz, scratch)
+        if m == 0:
+            first = h
+        elif h != first:
+            return False, first
+    return True, first
+
+
 @njit(**JIT)
 def light_on_ground(sc, fin, k, px, py, pz, bseed, scratch):
-    """Irradiance over pi ``(r, g, b)`` of the design's lights on ground object ``k`` at ``p``
-    (mm): each light's straight light where one shadow ray (towards a point of its disc) meets
-    nothing, plus its caustic grid (module rule)."""
+    """``(r, g, b, sampled)``: irradiance over pi of the design's lights on ground object ``k``
+    at ``p`` (mm), each light's straight light plus its caustic grid (module rule), and whether
+    any of it was sampled. A point light's straight light is one shadow ray's; a disc's is exact
+    (its mean cosine, ``l_z (1 + cos half angle) / 2``) or none where shadow rays to its rim
+    agree, else one shadow ray's towards a point drawn in the disc (the penumbra)."""
     lights = fin.lights
     er = eg = eb = 0.0
+    sampled = False
     for q in range(lights.shape[0]):
-        u1, u2 = uniform01(bseed, LIGHT_STREAM + 2 * q), uniform01(bseed, LIGHT_STREAM + 2 * q + 1)
-        lx, ly, lz = in_disc(lights[q], u1, u2)
-        shadowed = True
-        if lz > 0.0:
-            shadowed = nearest_hit(sc.geom, px, py, pz, lx, ly, lz, AIR, k, 1, scratch)[1] >= 0
-            if not shadowed:
-                er += lz / math.pi * lights[q, L_R]
-                eg += lz / math.pi * lights[q, L_G]
-                eb += lz / math.pi * lights[q, L_B]
+        light = lights[q]
+        if light[L_COS] >= 1.0:
+            agree, shadowed = True, _blocked(sc, k, px, py, pz, light[L_DX], light[L_DY], light[L_DZ], scratch)
+            cos_in = light[L_DZ]
+        else:
+            agree, shadowed = _rim_agrees(sc, k, px, py, pz, light, scratch)
+            cos_in = light[L_DZ] * 0.5 * (1.0 + light[L_COS])
+        if not agree:
+            sampled = True
+            u1, u2 = uniform01(bseed, LIGHT_STREAM + 2 * q), uniform01(bseed, LIGHT_STREAM + 2 * q + 1)
+            lx, ly, lz = in_disc(light, u1, u2)
+            shadowed = _blocked(sc, k, px, py, pz, lx, ly, lz, scratch)
+            cos_in = lz
+        if not shadowed and cos_in > 0.0:
+            er += cos_in / math.pi * light[L_R]
+            eg += cos_in / math.pi * light[L_G]
+            eb += cos_in / math.pi * light[L_B]
         cr, cg, cb = caustic_irradiance(fin, q, px, py, shadowed)
         er, eg, eb = er + cr, eg + cg, eb + cb
-    return er, eg, eb
+    return er, eg, eb, sampled
 
 
 @njit(**JIT)
@@ -164,7 +268,7 @@ def ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch):
     """The stage's ground at interaction ``it`` (module rule): ``(children, r, g, b, bits)``,
     the radiance factors sent back at once (times the branch's weight; negative where the
     control variate takes back what the child will bring) and the object-mask bits consulted
-    (none). Black from below."""
+    (:data:`NOISY_BIT` where its light was sampled). Black from below."""
     mat_f, mat = sc.mat_f, it.mat
     bits = np.int64(0)
     if it.dz >= 0.0:  # its lower side absorbs (a ray from below the stage ends there)
@@ -189,10 +293,21 @@ def ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch):
         cos_i = -it.dz
         base = coat(ior, it.dx, it.dy, it.dz, 0.0, 0.0, 1.0, cos_i, 1.0, kids, 0)
         if mat_f[mat, MG_ALPHA] > 0.0:
+            bits |= NOISY_BIT
             rough_mirror(fin.mirror_albedo, fin.mirror_avg, mat_f[mat, MG_ALPHA], it.dx, it.dy, it.dz, 0.0, 0.0,
                          1.0, uniform01(bseed, FROST_STREAM), uniform01(bseed, FROST_STREAM + 1), kids, mat_f, mat,
                          ior)
         nk = 1
+    ar, ag, ab = base * ar, base * ag, base * ab
+    er, eg, eb, gridded = sky_irradiance(fin, it.px, it.py)
+    if gridded:  # the sky grid's estimate, made once per design (module rule)
+        if fin.lights.shape[0] > 0:
+            dr, dg, db, sampled = light_on_ground(sc, fin, it.obj, it.px, it.py, it.pz, bseed, scratch)
+            er, eg, eb = er + dr, eg + dg, eb + db
+            if sampled:
+                bits |= NOISY_BIT
+        return nk, ar * er, ag * eg, ab * eb, bits
+    bits |= NOISY_BIT
     # the diffuse base: a cosine-distributed direction towards the bottle's cylinder, less the open
     # sky's light along it (module rule). s = cos(theta)^2 is uniform under the cosine measure.
     u1, u2 = uniform01(bseed, GROUND_STREAM), uniform01(bseed, GROUND_STREAM + 1)
@@ -207,7 +322,6 @@ def ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch):
         share, s, phi = 1.0, u1, 2.0 * math.pi * u2
     r = math.sqrt(max(0.0, 1.0 - s))
     wx, wy, wz = r * math.cos(phi), r * math.sin(phi), math.sqrt(s)
-    ar, ag, ab = base * ar, base * ag, base * ab
     kids[nk, KD_X], kids[nk, KD_Y], kids[nk, KD_Z] = wx, wy, wz
     kids[nk, KW_R], kids[nk, KW_G], kids[nk, KW_B] = ar * share, ag * share, ab * share
     kids[nk, K_SIDE] = 0.0
@@ -220,6 +334,6 @@ def ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch):
         # sky's own variance (measured: dark specks seen through the liquid)
         er = eg = eb = 0.0
     if fin.lights.shape[0] > 0:
-        dr, dg, db = light_on_ground(sc, fin, it.obj, it.px, it.py, it.pz, bseed, scratch)
+        dr, dg, db, _ = light_on_ground(sc, fin, it.obj, it.px, it.py, it.pz, bseed, scratch)
         er, eg, eb = er + dr, eg + dg, eb + db
     return nk + 1, ar * er, ag * eg, ab * eb, bits

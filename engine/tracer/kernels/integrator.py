@@ -75,7 +75,7 @@ def _close(tex, scale, rot, lr, lg, lb, wr, wg, wb, dx, dy, dz):
 
 @njit(**JIT)
 def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_rec, counters, rec_rays, rec_n,
-                 lab, fin):
+                 lab, fin, leaving=-1):
     """Radiance ``(r, g, b)`` of one camera ray and its record.
 
     Parameters
@@ -97,6 +97,9 @@ def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_
         What lies on the surfaces: labels (empty tables without labels) and reliefs, frosting
         and closures; the surface layer reads them (:func:`engine.tracer.kernels.surface.scatter`)
         and the labels consulted set their bits (from ``labels.LABEL_BIT0``) in the object mask.
+    leaving : int
+        The object the ray starts on, leaving it on the side its direction points to (a probe
+        from the ground: :mod:`.sky`); -1 (default) for a ray starting in free air.
 
     Returns ``(r, g, b, signature, object mask)``: radiance (finite, >= 0), a hash of the
     dominant path's objects, and a bit per object the tree met.
@@ -114,7 +117,8 @@ def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_
     stk_f[0, K_OX], stk_f[0, K_OY], stk_f[0, K_OZ] = ox, oy, oz
     stk_f[0, K_DX], stk_f[0, K_DY], stk_f[0, K_DZ] = dx, dy, dz
     stk_f[0, K_WR], stk_f[0, K_WG], stk_f[0, K_WB] = 1.0, 1.0, 1.0
-    stk_i[0, KI_MEDIUM], stk_i[0, KI_DEPTH], stk_i[0, KI_LAST], stk_i[0, KI_SIDE] = AIR, 0, -1, 0
+    stk_i[0, KI_MEDIUM], stk_i[0, KI_DEPTH] = AIR, 0
+    stk_i[0, KI_LAST], stk_i[0, KI_SIDE] = leaving, (1 if leaving >= 0 else 0)
     stk_u[0] = seed
     top = 1
     nodes = 0

@@ -6,7 +6,9 @@ both sides, with a ``GROUND`` material row (:mod:`engine.tracer.kernels.material
 surface layer shades (:func:`engine.tracer.kernels.surface.scatter`). A design whose stage is
 ``none`` gets no object at all, so its images are those of before stages, bit for bit. The one
 number of the environment the ground needs, the irradiance of an upward surface under an open
-sky (:func:`open_sky_irradiance`), rides in the environment's parameter row. Units mm.
+sky (:func:`open_sky_irradiance`), rides in the environment's parameter row. A diffuse ground
+also gets its sky grid (:func:`stage_sky`, :mod:`engine.tracer.tables.sky`) and, under lights,
+their caustic grids (:func:`stage_caustics`). Units mm.
 """
 from __future__ import annotations
 
@@ -136,3 +138,57 @@ def stage_caustics(design, assets, scene: Scene, labels, finish, env_params, loo
             while len(_CAUSTIC_CACHE) > _CAUSTIC_KEEP:
                 _CAUSTIC_CACHE.pop(next(iter(_CAUSTIC_CACHE)))
     return {"caustics": hit[0], "caustic_grid": hit[1]}
+
+
+#: The last sky grids built, by what they depend on (a camera edit keeps them).
+_SKY_GRID_CACHE: dict = {}
+
+
+def _sky_key(design, assets) -> tuple:
+    """What the sky grid of ``design`` depends on: everything but the camera and the render
+    settings other than the tree's cut-offs, and the assets' bytes."""
+    from ...model.design import Camera, RenderSettings
+    import dataclasses
+    import hashlib
+    bare = dataclasses.replace(design, camera=Camera(), render=RenderSettings())
+    images = tuple(sorted((name, hashlib.sha1(blob).hexdigest()) for name, blob in (assets or {}).items()))
+    return bare, int(design.render.max_depth), float(design.render.min_weight), images
+
+
+def stage_sky(design, assets, scene: Scene, labels, finish, env_params, lookup_texels, cancelled=None) -> dict:
+    """The finish tables' ``sky`` and ``sky_grid`` fields for ``design`` on its diffuse ground
+    (:func:`engine.tracer.tables.sky.sky_grid`, stopped by ``cancelled()``), from a small
+    cache; ``finish`` must carry no sky grid yet."""
+    from .labels import with_buffers
+    from .sky import sky_grid
+    key = _sky_key(design, assets)
+    with _SKY_LOCK:
+        hit = _SKY_GRID_CACHE.get(key)
+    if hit is None:
+        hit = sky_grid(scene, with_buffers(labels), finish, env_params, lookup_texels,
+                       scene.geom.obj_i.shape[0] - 1, float(design.stage.z_mm),
+                       math.sqrt(2.0) * float(design.stage.half_size_mm), int(design.render.max_depth),
+                       float(design.render.min_weight), cancelled=cancelled)
+        with _SKY_LOCK:
+            _SKY_GRID_CACHE[key] = hit
+            while len(_SKY_GRID_CACHE) > _CAUSTIC_KEEP:
+                _SKY_GRID_CACHE.pop(next(iter(_SKY_GRID_CACHE)))
+    return {"sky": hit[0], "sky_grid": hit[1]}
+
+
+def clear_stage_caches() -> None:
+    """Forget every caustic and sky grid built (a benchmark timing a design's first render)."""
+    with _SKY_LOCK:
+        _CAUSTIC_CACHE.clear()
+        _SKY_GRID_CACHE.clear()
+
+
+def stage_grids_ready(design, assets) -> bool:
+    """Whether a render of ``design`` would find its ground's grids built (none needed without a
+    diffuse ground): else its first image may come from a draft (:class:`engine.tracer.job.RenderJob`)."""
+    if design.stage.kind in ("none", "mirror"):
+        return True
+    with _SKY_LOCK:
+        sky = _sky_key(design, assets) in _SKY_GRID_CACHE
+        caustics = not design.lights or _caustic_key(design, assets) in _CAUSTIC_CACHE
+    return sky and caustics

@@ -1,0 +1,75 @@
+"""The sky's light on the ground near the bottle, estimated once per design: the sky grid's cells.
+
+Design rule: a cell's value is the ground's own control-variate estimate
+(:func:`engine.tracer.kernels.ground.ground`) made with many probes at once at the cell's centre:
+``n_side x n_side`` directions stratified over the cosine-weighted window the bottle's bounding
+cylinder spans from there (the whole sky under the cylinder), each traced by the camera's own
+integrator (:func:`~.integrator.trace_sample`, leaving the ground), less the open sky along it.
+Cell ``c`` draws batch ``b``'s jitter from ``mix64(seed ^ c)`` and the batch: a grid is bit for
+bit the same for any split of its cells into chunks and threads. The finish tables passed in carry no sky grid, so a probe
+whose tree meets the ground again probes from there, as a render without the grid would.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .integrator import trace_sample
+from .intersect import O_MAT
+from .jit import JIT
+from .materials import MG_BOUND_R, MG_BOUND_Z
+from .sampling import branch_seed, env_lookup, mix64, uniform01
+
+
+#: Columns of a cell's record: the sums over its probes of what arrives less the open sky
+#: (rgb; what arrives, under the cylinder), of the squared luminance of that, and the share of
+#: the cosine-weighted sky the probes stand for (1 under the cylinder, where nothing is taken off).
+Y_R, Y_G, Y_B, Y_SQ, Y_SHARE = range(5)
+Y_COLS = 5
+
+
+@njit(**JIT)
+def sky_cells(sc, lab, fin, env_p, tex, ground, z0, cells, idx, n_side, batch, seed, cut, work, depth_rec,
+              counters, rec, rec_n, out):
+    """Probe batch ``batch`` (``n_side^2`` stratified directions) of the cells ``idx`` (rows of
+    ``cells``, ``(x, y)`` centres in mm on the ground plane ``z = z0`` of ground object
+    ``ground``) into the same rows of ``out`` (``Y_*`` columns; module rule). ``rec``, ``rec_n``:
+    an empty ray record (:func:`~.integrator.trace_sample`'s; nothing is recorded)."""
+    mat = sc.geom.obj_i[ground, O_MAT]
+    bound_r, bound_z = sc.mat_f[mat, MG_BOUND_R], sc.mat_f[mat, MG_BOUND_Z]
+    scale, rot = env_p[0] * env_p[2], env_p[1]
+    n = n_side * n_side
+    for j in range(idx.shape[0]):
+        c = idx[j]
+        px, py = cells[c, 0], cells[c, 1]
+        cs = mix64(np.uint64(seed) ^ np.uint64(c))
+        rho = math.sqrt(px * px + py * py)
+        outside = rho > bound_r
+        if outside:  # the cylinder's window, as the ground's own probe draws it
+            half_az = math.asin(bound_r / rho)
+            s_max = math.sin(math.atan2(bound_z - z0, rho - bound_r)) ** 2
+            share, phi0 = s_max * half_az / math.pi, math.atan2(-py, -px)
+        else:
+            half_az, s_max, share, phi0 = math.pi, 1.0, 1.0, 0.0
+        sr = sg = sb = sq = 0.0
+        for a in range(n_side):
+            for b in range(n_side):
+                k = batch * n + a * n_side + b
+                u1 = (a + uniform01(cs, 2 * k)) / n_side
+                u2 = (b + uniform01(cs, 2 * k + 1)) / n_side
+                s = u1 * s_max
+                phi = phi0 + (2.0 * u2 - 1.0) * half_az
+                r = math.sqrt(max(0.0, 1.0 - s))
+                wx, wy, wz = r * math.cos(phi), r * math.sin(phi), math.sqrt(s)
+                lr, lg, lb, _, _ = trace_sample(sc, tex, env_p, px, py, z0, wx, wy, wz, branch_seed(cs, k), cut,
+                                                work, depth_rec, counters, rec, rec_n, lab, fin, ground)
+                if outside:
+                    er, eg, eb = env_lookup(tex, scale, rot, wx, wy, wz)
+                    lr, lg, lb = lr - er, lg - eg, lb - eb
+                sr, sg, sb = sr + lr, sg + lg, sb + lb
+                lum = (lr + lg + lb) / 3.0
+                sq += lum * lum
+        out[j, Y_R], out[j, Y_G], out[j, Y_B], out[j, Y_SQ] = sr, sg, sb, sq
+        out[j, Y_SHARE] = share if outside else 1.0

@@ -1,0 +1,149 @@
+"""The ground's sky grid: the environment's light on the ground near the bottle, once per design.
+
+Design rule: a diffuse ground's light from the environment is an integral over the sky that the
+ground's kernel estimates with a control variate and one probe through the bottle per hit
+(:func:`engine.tracer.kernels.ground.ground`). Every pixel of ground near the bottle then needs
+many samples to average its probes, and every ground hit seen through or in the glass does too.
+That light does not depend on the camera, so it is estimated once per design on a polar grid
+about the bottle's axis (:func:`sky_row`): rings :data:`CELLS_PER_RADIUS` to the bottle's
+bounding radius and sectors as wide at that radius, then rings growing geometrically (each
+``1 + 1 / CELLS_PER_RADIUS`` times as far out: cells stay as wide as they are far from the
+bottle over the distance, where the shadow blurs in proportion) out to :data:`REACH` radii or
+the stage's edge. Each cell holds the control variate's estimate at its centre from
+``PROBES_SIDE^2`` stratified probes (:func:`engine.tracer.kernels.sky.sky_cells`; the outer
+rings, whose share of the sky is small, ``OUTER_PROBES_SIDE^2``), and more batches of as many
+where its standard error is still above :data:`SE_TOL` of the open sky; the ground reads it
+bilinearly (:func:`engine.tracer.kernels.ground.sky_irradiance`). Measured on the Bordeaux on
+its table: the ground then converges with the bottle's own samples (see
+``benchmarks/RESULTS.md``). Beyond the grid the per-hit probe remains. Cells are traced in
+chunks, each cell from its own seeds: the grid is bit for bit the same for any number of
+threads. Time and memory are bounded by :data:`MAX_CELLS` and the probes per cell. Units mm.
+"""
+from __future__ import annotations
+
+import math
+import os
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from ..kernels.intersect import O_MAT
+from ..kernels.ground import S_DR, S_GROW, S_NIN, S_NRING, S_NSEC, S_R1, S_RMAX, SKY_COLS
+from ..kernels.materials import MG_BOUND_R
+from ..kernels.records import Cutoffs
+from ..kernels.integrator import N_COUNTERS
+from ..kernels.sky import Y_COLS, Y_SHARE, Y_SQ, sky_cells
+from ..kernels.tile import make_work
+
+#: Rings across the bottle's bounding radius, and sectors per radian at it (a 40 mm bound: 2.5 mm).
+CELLS_PER_RADIUS = 16
+#: The grid reaches this many bounding radii from the axis (or the stage's edge if nearer).
+REACH = 64.0
+#: Probes per cell: a side of the stratified square, within ``INNER_REACH`` radii and beyond.
+PROBES_SIDE = 8
+OUTER_PROBES_SIDE = 4
+INNER_REACH = 6.0
+#: Cells at most (rings x sectors).
+MAX_CELLS = 1 << 15
+#: A cell's estimate gets more batches of probes while its standard error is above this share
+#: of the open sky's irradiance, up to ``MAX_BATCHES`` batches in all; cells per kernel call.
+SE_TOL = 0.02
+MAX_BATCHES = 4
+CHUNK = 32
+#: The ray tree's node budget per probe (as a render's).
+MAX_NODES = 4096
+_SEED = 0x5EED_5C1E
+
+
+def sky_row(bound_r: float, reach_mm: float) -> np.ndarray:
+    """The sky grid's row (``S_*`` columns of :mod:`engine.tracer.kernels.ground`) for a bottle of
+    bounding radius ``bound_r`` (mm) out to ``reach_mm`` from the axis (module rule)."""
+    row = np.zeros(SKY_COLS)
+    dr = bound_r / CELLS_PER_RADIUS
+    grow = 1.0 / CELLS_PER_RADIUS
+    n_in = CELLS_PER_RADIUS
+    reach = max(reach_mm, bound_r * (1.0 + grow))
+    n_out = max(1, math.ceil(math.log(reach / bound_r) / math.log1p(grow)))
+    n_sec = math.ceil(2.0 * math.pi * CELLS_PER_RADIUS)
+    n_out = max(1, min(n_out, MAX_CELLS // n_sec - n_in))
+    row[S_DR], row[S_R1], row[S_GROW] = dr, bound_r, grow
+    row[S_NIN], row[S_NRING], row[S_NSEC] = n_in, n_in + n_out, n_sec
+    row[S_RMAX] = bound_r * (1.0 + grow) ** n_out
+    return row
+
+
+def cell_centres(row: np.ndarray) -> np.ndarray:
+    """``(rings * sectors, 2)``: the centre ``(x, y)`` (mm) of every cell of grid ``row``, ring by
+    ring, at the ring coordinate ``i + 0.5`` and sector angle ``2 pi (j + 0.5) / sectors``."""
+    n_in, n_ring, n_sec = int(row[S_NIN]), int(row[S_NRING]), int(row[S_NSEC])
+    f = np.arange(n_ring) + 0.5
+    rho = np.where(f <= n_in, f * row[S_DR], row[S_R1] * (1.0 + row[S_GROW]) ** (f - n_in))
+    phi = (np.arange(n_sec) + 0.5) * (2.0 * math.pi / n_sec)
+    return np.stack([np.outer(rho, np.cos(phi)), np.outer(rho, np.sin(phi))], axis=-1).reshape(-1, 2)
+
+
+class GridCancelled(Exception):
+    """A grid's build was stopped: the render that asked for it was cancelled."""
+
+
+def sky_grid(scene, lab, fin, env_p, tex, ground: int, z0: float, reach_mm: float, max_depth: int,
+             min_weight: float, threads: int | None = None, cancelled=None) -> tuple[np.ndarray, np.ndarray]:
+    """``(sky, row)``: the sky grid of the scene's ground object ``ground`` at height ``z0`` (mm)
+    out to ``reach_mm`` (module rule): ``sky`` ``(rings, sectors, 3)`` irradiance over pi, traced
+    with the render's cut-offs ``max_depth`` and ``min_weight`` and no Russian roulette. ``fin``
+    must carry no sky grid (its probes' own ground hits probe). A cell whose estimate's standard
+    error is above :data:`SE_TOL` of the open sky's irradiance gets another batch of probes, up
+    to :data:`MAX_BATCHES`. Raises :class:`GridCancelled` once ``cancelled()`` is true (checked
+    between chunks of cells)."""
+    mat = int(scene.geom.obj_i[ground, O_MAT])
+    bound_r = float(scene.mat_f[mat, MG_BOUND_R])
+    row = sky_row(bound_r, min(reach_mm, REACH * bound_r))
+    n_ring, n_sec = int(row[S_NRING]), int(row[S_NSEC])
+    cells = np.ascontiguousarray(cell_centres(row))
+    inner = int(math.ceil(sky_ring_of(row, INNER_REACH * bound_r)))
+    side = np.where(np.arange(len(cells)) // n_sec < inner, PROBES_SIDE, OUTER_PROBES_SIDE)
+    cut = Cutoffs(int(max_depth), float(min_weight), 0.0, MAX_NODES)
+    threads = max(1, threads or (os.cpu_count() or 1))
+    sums = np.zeros((len(cells), Y_COLS))
+    probes = np.zeros(len(cells))
+    open_sky = float(np.mean(env_p[3:6]))
+
+    def run(idx, n_side, batch):
+        out = np.zeros((len(idx), Y_COLS))
+        if cancelled is not None and cancelled():
+            return idx, n_side, out
+        depth = np.full(scene.mat_i.shape[0], 255, np.int64)
+        sky_cells(scene, lab, fin, env_p, tex, ground, float(z0), cells, np.ascontiguousarray(idx, np.int64),
+                  int(n_side), int(batch), _SEED, cut, make_work(int(max_depth)), depth,
+                  np.zeros(N_COUNTERS, np.int64), np.zeros((0, 6), np.float32), np.zeros(1, np.int64), out)
+        return idx, n_side, out
+
+    todo = np.arange(len(cells))
+    with ThreadPoolExecutor(threads) as pool:
+        for batch in range(MAX_BATCHES):
+            jobs = [(todo[side[todo] == n][k:k + CHUNK], n, batch) for n in (PROBES_SIDE, OUTER_PROBES_SIDE)
+                    for k in range(0, int((side[todo] == n).sum()), CHUNK)]
+            for idx, n_side, out in pool.map(lambda job: run(*job), jobs):
+                sums[idx, :Y_SQ + 1] += out[:, :Y_SQ + 1]  # (each cell's batches add in batch order)
+                sums[idx, Y_SHARE] = out[:, Y_SHARE]
+                probes[idx] += n_side * n_side
+            if cancelled is not None and cancelled():
+                raise GridCancelled("the sky grid's render was cancelled")
+            n = np.maximum(probes, 1.0)
+            lum = sums[:, :3].mean(axis=1) / n
+            se = sums[:, Y_SHARE] * np.sqrt(np.maximum(sums[:, Y_SQ] / n - lum ** 2, 0.0) / n)
+            todo = np.nonzero(se > SE_TOL * open_sky)[0]
+            if not len(todo):
+                break
+    mean = sums[:, :3] / probes[:, None]
+    outside = sums[:, Y_SHARE:Y_SHARE + 1] < 1.0
+    sky = np.where(outside, np.asarray(env_p[3:6]) + sums[:, Y_SHARE:Y_SHARE + 1] * mean, mean)
+    return np.ascontiguousarray(sky.reshape(n_ring, n_sec, 3)), row
+
+
+def sky_ring_of(row: np.ndarray, rho: float) -> float:
+    """:func:`engine.tracer.kernels.ground.sky_ring` in Python: the ring coordinate of radius ``rho`` (mm)."""
+    if rho <= row[S_R1]:
+        return rho / row[S_DR]
+    return float(row[S_NIN] + math.log(rho / row[S_R1]) / math.log1p(row[S_GROW]))
+

@@ -27,6 +27,7 @@ from .kernels.records import Cutoffs, FinishTables, Geometry, LabelTables, Pixel
 from .tables.labels import empty_label_arrays, label_arrays, with_buffers
 from .tables.finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays, search_tables
+from .tables.sky import sky_grid_pays
 from .tables.stage import open_sky_irradiance, scene_with_stage, stage_caustics, stage_sky
 from .thread_geometry import scene_with_threads
 
@@ -90,14 +91,16 @@ class RenderContext:
     lookup_texels: np.ndarray = field(repr=False, default=None)
 
     @classmethod
-    def from_design(cls, design, assets=None, width=None, height=None, environment=None, *, grids=True,
+    def from_design(cls, design, assets=None, width=None, height=None, environment=None, *, grids=None,
                     cancelled=None) -> "RenderContext":
         """Compile ``design`` for an image of ``width x height`` pixels (default: its render
         settings); ``environment`` replaces the design's (tests: a uniform white one). A diffuse
-        ground gets its grids (the sky's, the lights' caustics) unless ``grids`` is false (a
-        draft: the ground probes per hit and shows no caustic); ``cancelled()`` true stops their
-        build (:class:`~engine.tracer.tables.sky.GridCancelled`). Raises the geometry engine's
-        errors for an invalid shape."""
+        ground gets its lights' caustic grids and, where the image pays for it
+        (:func:`~engine.tracer.tables.sky.sky_grid_pays`; ``grids`` true: always), its sky grid;
+        ``grids`` false makes a draft (the ground probes per hit and shows no caustic).
+        ``cancelled()`` true stops the sky grid's build
+        (:class:`~engine.tracer.tables.sky.GridCancelled`). Raises the geometry engine's errors
+        for an invalid shape."""
         w = int(width or design.render.width)
         h = int(height or design.render.height)
         geom, cap, scene = scene_tables(design)
@@ -110,9 +113,9 @@ class RenderContext:
         params = np.array([float(env.scale), math.radians(float(env.rotation_deg)), factor, *sky])
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
         labels = label_arrays(design, assets, tex, geom.obj_i.shape[0])
-        if grids and finish.lights.shape[0] and design.stage.kind not in ("none", "mirror"):
+        if grids is not False and finish.lights.shape[0] and design.stage.kind not in ("none", "mirror"):
             finish = finish._replace(**stage_caustics(design, assets, scene, labels, finish, params, half))
-        if grids and design.stage.kind not in ("none", "mirror"):
+        if (sky_grid_pays(w, h) if grids is None else grids) and design.stage.kind not in ("none", "mirror"):
             finish = finish._replace(**stage_sky(design, assets, scene, labels, finish, params, half, cancelled))
         return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
                    float(design.render.min_weight), int(scene.mat_i.shape[0]), level, env,

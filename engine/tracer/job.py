@@ -254,7 +254,7 @@ class RenderJob:
 
     def _render(self, ctx=None) -> None:
         draft = None
-        if ctx is None and not stage_grids_ready(self.design, self.assets):
+        if ctx is None and not stage_grids_ready(self.design, self.assets, self.width, self.height):
             # a diffuse ground whose grids are not built yet (seconds): the first picture comes
             # from a draft whose ground probes per hit and shows no caustic, while they build
             draft = RenderContext.from_design(self.design, self.assets, self.width, self.height, grids=False)

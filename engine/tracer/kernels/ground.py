@@ -69,9 +69,12 @@ MIN_SHARE = 1e-3
 #: Columns of the sky grid's row (:mod:`engine.tracer.tables.sky`): the width of the rings
 #: inside radius ``S_R1`` (mm, the bottle's bounding radius), that radius, the outer rings'
 #: growth (each ``1 + S_GROW`` times as far out as the last), rings inside ``S_R1`` and in all,
-#: sectors, and the outermost ring's outer radius (mm). Zero rings: no grid.
+#: sectors of a ring outside (inner rings have fewer: :func:`ring_cells`), and the outermost
+#: ring's outer radius (mm). Zero rings: no grid.
 S_DR, S_R1, S_GROW, S_NIN, S_NRING, S_NSEC, S_RMAX = range(7)
 SKY_COLS = 7
+#: Sectors of the innermost rings at least.
+MIN_SECTORS = 8
 #: Object-mask bit a ground hit sets when its light was sampled (a probe, a rough coat's
 #: direction, a light's penumbra): the pixel is noisy wherever it is (objects use the bits
 #: below it, labels those from :data:`engine.tracer.kernels.labels.LABEL_BIT0` = 32 up).
@@ -157,10 +160,49 @@ def sky_ring(row, rho):
 
 
 @njit(**INLINE)
+def ring_sectors(row, i):
+    """Sectors of ring ``i`` of sky grid ``row``: the outer rings' count, and inside ``S_R1`` in
+    proportion to the ring's radius (cells about as wide as they are deep), at least
+    :data:`MIN_SECTORS`."""
+    nsec, n_in = int(row[S_NSEC]), int(row[S_NIN])
+    if i >= n_in:
+        return nsec
+    return min(nsec, max(MIN_SECTORS, int(math.ceil(nsec * (i + 0.5) / n_in))))
+
+
+@njit(**INLINE)
+def ring_cells(row, i):
+    """``(first, count)``: the index of ring ``i``'s first cell in the grid's cell list (rings
+    in order, sectors by rising angle) and its sectors."""
+    n_in = int(row[S_NIN])
+    first = 0
+    for k in range(min(i, n_in)):
+        first += ring_sectors(row, k)
+    if i > n_in:
+        first += (i - n_in) * int(row[S_NSEC])
+    return first, ring_sectors(row, i)
+
+
+@njit(**INLINE)
+def _ring_value(sky, row, i, phi):
+    """The sky grid's value on ring ``i`` at angle ``phi`` (radians, in [0, 2 pi)), linear
+    between its sectors' centres."""
+    first, ns = ring_cells(row, i)
+    g = phi / (2.0 * math.pi) * ns - 0.5
+    j = math.floor(g)
+    t = g - j
+    j0 = int(j) % ns
+    j1 = (j0 + 1) % ns
+    a, b = sky[first + j0], sky[first + j1]
+    return (1.0 - t) * a[0] + t * b[0], (1.0 - t) * a[1] + t * b[1], (1.0 - t) * a[2] + t * b[2]
+
+
+@njit(**INLINE)
 def sky_irradiance(fin, px, py):
     """``(r, g, b, inside)``: the sky's irradiance over pi at ground point ``(px, py)`` (mm) from
-    the sky grid (bilinear in ring and sector between cell centres), and whether the point lies
-    within the grid (else zeros: the caller probes)."""
+    the sky grid (linear along each ring between its cells' centres, then between the two rings
+    whose centres bracket the point), and whether the point lies within the grid (else zeros:
+    the caller probes)."""
     row, sky = fin.sky_grid, fin.sky
     nring = int(row[S_NRING])
     if nring <= 0:
@@ -168,7 +210,6 @@ def sky_irradiance(fin, px, py):
     rho = math.sqrt(px * px + py * py)
     if rho >= row[S_RMAX]:
         return 0.0, 0.0, 0.0, False
-    nsec = int(row[S_NSEC])
     f = sky_ring(row, rho) - 0.5
     if f <= 0.0:
         i0, tf = 0, 0.0
@@ -178,19 +219,10 @@ def sky_irradiance(fin, px, py):
         i0 = int(math.floor(f))
         tf = f - i0
     i1 = min(i0 + 1, nring - 1)
-    g = (math.atan2(py, px) / (2.0 * math.pi)) % 1.0 * nsec - 0.5
-    j = math.floor(g)
-    tg = g - j
-    j0 = int(j) % nsec
-    j1 = (j0 + 1) % nsec
-    r = gr = b = 0.0
-    for i, wi in ((i0, 1.0 - tf), (i1, tf)):
-        for jj, wj in ((j0, 1.0 - tg), (j1, tg)):
-            w = wi * wj
-            r += w * sky[i, jj, 0]
-            gr += w * sky[i, jj, 1]
-            b += w * sky[i, jj, 2]
-    return r, gr, b, True
+    phi = (math.atan2(py, px) / (2.0 * math.pi)) % 1.0 * (2.0 * math.pi)
+    r0, g0, b0 = _ring_value(sky, row, i0, phi)
+    r1, g1, b1 = _ring_value(sky, row, i1, phi)
+    return (1.0 - tf) * r0 + tf * r1, (1.0 - tf) * g0 + tf * g1, (1.0 - tf) * b0 + tf * b1, True
 
 
 @njit(**INLINE)

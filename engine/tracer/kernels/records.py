@@ -60,7 +60,7 @@ LabelTables = namedtuple("LabelTables", ("rows", "nodes", "f", "texels", "tex_i"
 #: Each object's first relief row and count, kinds, parameter rows, the relief atlas, the
 #: closure's irradiance table and lights, the GGX albedo tables (glass, mirror, mirror mean), the
 #: ground's caustic grids (irradiance over pi per light, ``(n, rows, cols, 3)``) and their rows,
-#: and the ground's sky grid (irradiance over pi, ``(rings, sectors, 3)``) and its row
+#: and the ground's sky grid (irradiance over pi per cell, ``(cells, 3)``) and its row
 #: (:mod:`engine.tracer.tables.sky`).
 FinishTables = namedtuple("FinishTables", ("obj_rows", "kinds", "params", "atlas", "irradiance", "lights",
                                            "glass_albedo", "mirror_albedo", "mirror_avg", "caustics",

@@ -5,7 +5,8 @@ Design rule: a cell's value is the ground's own control-variate estimate
 ``n_side x n_side`` directions stratified over the cosine-weighted window the bottle's bounding
 cylinder spans from there (the whole sky under the cylinder), each traced by the camera's own
 integrator (:func:`~.integrator.trace_sample`, leaving the ground), less the open sky along it.
-Cell ``c`` draws batch ``b``'s jitter from ``mix64(seed ^ c)`` and the batch: a grid is bit for
+A probe's tree is cut where the ground's own probe would cut it: its branches weigh ``albedo x
+share`` of the pixel's (at most :data:`MAX_CUT`). Cell ``c`` draws batch ``b``'s jitter from ``mix64(seed ^ c)`` and the batch: a grid is bit for
 bit the same for any split of its cells into chunks and threads. The finish tables passed in carry no sky grid, so a probe
 whose tree meets the ground again probes from there, as a render without the grid would.
 """
@@ -19,7 +20,8 @@ from numba import njit
 from .integrator import trace_sample
 from .intersect import O_MAT
 from .jit import JIT
-from .materials import MG_BOUND_R, MG_BOUND_Z
+from .materials import MG_ALBEDO, MG_BOUND_R, MG_BOUND_Z, MG_SHADOW
+from .records import Cutoffs
 from .sampling import branch_seed, env_lookup, mix64, uniform01
 
 
@@ -28,6 +30,8 @@ from .sampling import branch_seed, env_lookup, mix64, uniform01
 #: the cosine-weighted sky the probes stand for (1 under the cylinder, where nothing is taken off).
 Y_R, Y_G, Y_B, Y_SQ, Y_SHARE = range(5)
 Y_COLS = 5
+#: A probe's weight cut at most (the first reflection off glass, 4 %, is always traced).
+MAX_CUT = 0.03
 
 
 @njit(**JIT)
@@ -39,6 +43,9 @@ def sky_cells(sc, lab, fin, env_p, tex, ground, z0, cells, idx, n_side, batch, s
     an empty ray record (:func:`~.integrator.trace_sample`'s; nothing is recorded)."""
     mat = sc.geom.obj_i[ground, O_MAT]
     bound_r, bound_z = sc.mat_f[mat, MG_BOUND_R], sc.mat_f[mat, MG_BOUND_Z]
+    albedo = 1.0
+    if sc.mat_f[mat, MG_SHADOW] < 0.5:
+        albedo = max(sc.mat_f[mat, MG_ALBEDO], max(sc.mat_f[mat, MG_ALBEDO + 1], sc.mat_f[mat, MG_ALBEDO + 2]))
     scale, rot = env_p[0] * env_p[2], env_p[1]
     n = n_side * n_side
     for j in range(idx.shape[0]):
@@ -53,6 +60,10 @@ def sky_cells(sc, lab, fin, env_p, tex, ground, z0, cells, idx, n_side, batch, s
             share, phi0 = s_max * half_az / math.pi, math.atan2(-py, -px)
         else:
             half_az, s_max, share, phi0 = math.pi, 1.0, 1.0, 0.0
+        # the tree's weight cut as the ground's own probe would meet it (its weight: albedo x share)
+        weight = max(albedo * share, 1e-9)
+        cut_c = Cutoffs(cut.max_depth, min(max(cut.min_weight, cut.min_weight / weight), MAX_CUT), cut.rr_weight,
+                        cut.max_nodes)
         sr = sg = sb = sq = 0.0
         for a in range(n_side):
             for b in range(n_side):
@@ -63,7 +74,7 @@ def sky_cells(sc, lab, fin, env_p, tex, ground, z0, cells, idx, n_side, batch, s
                 phi = phi0 + (2.0 * u2 - 1.0) * half_az
                 r = math.sqrt(max(0.0, 1.0 - s))
                 wx, wy, wz = r * math.cos(phi), r * math.sin(phi), math.sqrt(s)
-                lr, lg, lb, _, _ = trace_sample(sc, tex, env_p, px, py, z0, wx, wy, wz, branch_seed(cs, k), cut,
+                lr, lg, lb, _, _ = trace_sample(sc, tex, env_p, px, py, z0, wx, wy, wz, branch_seed(cs, k), cut_c,
                                                 work, depth_rec, counters, rec, rec_n, lab, fin, ground)
                 if outside:
                     er, eg, eb = env_lookup(tex, scale, rot, wx, wy, wz)

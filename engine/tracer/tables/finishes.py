@@ -166,7 +166,7 @@ _EMPTY_IRR = np.zeros((2, 2, 3), np.float32)
 #: No caustic grids (a design without a diffuse ground or without lights).
 NO_CAUSTICS = (np.zeros((0, 1, 1, CAUSTIC_COLS)), np.zeros((0, GRID_COLS)))
 #: No sky grid (a design without a diffuse ground: :mod:`engine.tracer.tables.sky`).
-NO_SKY = (np.zeros((1, 1, 3)), np.zeros(SKY_COLS))
+NO_SKY = (np.zeros((1, 3)), np.zeros(SKY_COLS))
 
 
 def empty_finish(n_objects: int) -> FinishTables:

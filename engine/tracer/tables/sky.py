@@ -6,7 +6,8 @@ ground's kernel estimates with a control variate and one probe through the bottl
 many samples to average its probes, and every ground hit seen through or in the glass does too.
 That light does not depend on the camera, so it is estimated once per design on a polar grid
 about the bottle's axis (:func:`sky_row`): rings :data:`CELLS_PER_RADIUS` to the bottle's
-bounding radius and sectors as wide at that radius, then rings growing geometrically (each
+bounding radius, each with sectors about as wide as it is deep (as wide at that radius), then
+rings growing geometrically (each
 ``1 + 1 / CELLS_PER_RADIUS`` times as far out: cells stay as wide as they are far from the
 bottle over the distance, where the shadow blurs in proportion) out to :data:`REACH` radii or
 the stage's edge. Each cell holds the control variate's estimate at its centre from
@@ -28,8 +29,8 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from ..kernels.intersect import O_MAT
-from ..kernels.ground import S_DR, S_GROW, S_NIN, S_NRING, S_NSEC, S_R1, S_RMAX, SKY_COLS
-from ..kernels.materials import MG_BOUND_R
+from ..kernels.ground import S_DR, S_GROW, S_NIN, S_NRING, S_NSEC, S_R1, S_RMAX, SKY_COLS, ring_sectors
+from ..kernels.materials import MG_ALBEDO, MG_BOUND_R, MG_SHADOW
 from ..kernels.records import Cutoffs
 from ..kernels.integrator import N_COUNTERS
 from ..kernels.sky import Y_COLS, Y_SHARE, Y_SQ, sky_cells
@@ -45,9 +46,10 @@ OUTER_PROBES_SIDE = 4
 INNER_REACH = 6.0
 #: Cells at most (rings x sectors).
 MAX_CELLS = 1 << 15
-#: A cell's estimate gets more batches of probes while its standard error is above this share
-#: of the open sky's irradiance, up to ``MAX_BATCHES`` batches in all; cells per kernel call.
-SE_TOL = 0.02
+#: A cell's estimate gets more batches of probes while its standard error times the ground's
+#: albedo (the error of the light the ground sends back) is above this share of the open sky's
+#: irradiance, up to ``MAX_BATCHES`` batches in all; cells per kernel call.
+SE_TOL = 0.015
 MAX_BATCHES = 4
 CHUNK = 32
 #: The ray tree's node budget per probe (as a render's).
@@ -72,14 +74,37 @@ def sky_row(bound_r: float, reach_mm: float) -> np.ndarray:
     return row
 
 
-def cell_centres(row: np.ndarray) -> np.ndarray:
-    """``(rings * sectors, 2)``: the centre ``(x, y)`` (mm) of every cell of grid ``row``, ring by
-    ring, at the ring coordinate ``i + 0.5`` and sector angle ``2 pi (j + 0.5) / sectors``."""
-    n_in, n_ring, n_sec = int(row[S_NIN]), int(row[S_NRING]), int(row[S_NSEC])
-    f = np.arange(n_ring) + 0.5
-    rho = np.where(f <= n_in, f * row[S_DR], row[S_R1] * (1.0 + row[S_GROW]) ** (f - n_in))
-    phi = (np.arange(n_sec) + 0.5) * (2.0 * math.pi / n_sec)
-    return np.stack([np.outer(rho, np.cos(phi)), np.outer(rho, np.sin(phi))], axis=-1).reshape(-1, 2)
+def cell_centres(row: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """``(centres, rings)``: the centre ``(x, y)`` (mm) of every cell of grid ``row`` in the
+    kernels' order (:func:`~engine.tracer.kernels.ground.ring_cells`: ring by ring, sectors by
+    rising angle), at the ring coordinate ``i + 0.5`` and sector angle ``2 pi (j + 0.5) /
+    sectors``, and each cell's ring."""
+    n_in, n_ring = int(row[S_NIN]), int(row[S_NRING])
+    centres, rings = [], []
+    for i in range(n_ring):
+        f = i + 0.5
+        rho = f * row[S_DR] if f <= n_in else row[S_R1] * (1.0 + row[S_GROW]) ** (f - n_in)
+        ns = ring_sectors(row, i)
+        phi = (np.arange(ns) + 0.5) * (2.0 * math.pi / ns)
+        centres.append(np.column_stack([rho * np.cos(phi), rho * np.sin(phi)]))
+        rings.append(np.full(ns, i))
+    return np.concatenate(centres), np.concatenate(rings)
+
+
+#: Images of fewer pixels probe per hit instead (:func:`sky_grid_pays`).
+GRID_MIN_PIXELS = 100_000
+
+
+def sky_grid_pays(width: int, height: int) -> bool:
+    """Whether an image of ``width x height`` pixels is worth a sky grid. The grid costs about
+    the same for any image (some 8,000 cells of 64 to 256 probes); probing per hit costs about
+    8 to 16 probes per pixel of ground near the bottle. Measured: on the window's 715 x 953
+    preview of the Bordeaux on its table the grid converges in 10.9 s against 47.9 s; on the
+    256 x 256 SPEC ground scene the per-hit probe reaches Mitsuba's 1024-spp error about twice
+    as fast (the grid's build is most of such a render). Below :data:`GRID_MIN_PIXELS` (the
+    oracle's images, the window's quarter-size live pass during a drag, thumbnails) the ground
+    probes per hit."""
+    return int(width) * int(height) >= GRID_MIN_PIXELS
 
 
 class GridCancelled(Exception):
@@ -89,19 +114,22 @@ class GridCancelled(Exception):
 def sky_grid(scene, lab, fin, env_p, tex, ground: int, z0: float, reach_mm: float, max_depth: int,
              min_weight: float, threads: int | None = None, cancelled=None) -> tuple[np.ndarray, np.ndarray]:
     """``(sky, row)``: the sky grid of the scene's ground object ``ground`` at height ``z0`` (mm)
-    out to ``reach_mm`` (module rule): ``sky`` ``(rings, sectors, 3)`` irradiance over pi, traced
+    out to ``reach_mm`` (module rule): ``sky`` ``(cells, 3)`` irradiance over pi, traced
     with the render's cut-offs ``max_depth`` and ``min_weight`` and no Russian roulette. ``fin``
     must carry no sky grid (its probes' own ground hits probe). A cell whose estimate's standard
-    error is above :data:`SE_TOL` of the open sky's irradiance gets another batch of probes, up
-    to :data:`MAX_BATCHES`. Raises :class:`GridCancelled` once ``cancelled()`` is true (checked
+    error times the ground's albedo is above :data:`SE_TOL` of the open sky's irradiance gets
+    another batch of probes, up to :data:`MAX_BATCHES`. Raises :class:`GridCancelled` once ``cancelled()`` is true (checked
     between chunks of cells)."""
     mat = int(scene.geom.obj_i[ground, O_MAT])
     bound_r = float(scene.mat_f[mat, MG_BOUND_R])
     row = sky_row(bound_r, min(reach_mm, REACH * bound_r))
-    n_ring, n_sec = int(row[S_NRING]), int(row[S_NSEC])
-    cells = np.ascontiguousarray(cell_centres(row))
+    cells, rings = cell_centres(row)
+    cells = np.ascontiguousarray(cells)
     inner = int(math.ceil(sky_ring_of(row, INNER_REACH * bound_r)))
-    side = np.where(np.arange(len(cells)) // n_sec < inner, PROBES_SIDE, OUTER_PROBES_SIDE)
+    side = np.where(rings < inner, PROBES_SIDE, OUTER_PROBES_SIDE)
+    # the error that matters is the ground's: albedo x the cell's (a shadow catcher's is ~1)
+    albedo = 1.0 if scene.mat_f[mat, MG_SHADOW] > 0.5 else max(float(scene.mat_f[mat, MG_ALBEDO:MG_ALBEDO + 3].max()),
+                                                                 1e-3)
     cut = Cutoffs(int(max_depth), float(min_weight), 0.0, MAX_NODES)
     threads = max(1, threads or (os.cpu_count() or 1))
     sums = np.zeros((len(cells), Y_COLS))
@@ -132,13 +160,13 @@ def sky_grid(scene, lab, fin, env_p, tex, ground: int, z0: float, reach_mm: floa
             n = np.maximum(probes, 1.0)
             lum = sums[:, :3].mean(axis=1) / n
             se = sums[:, Y_SHARE] * np.sqrt(np.maximum(sums[:, Y_SQ] / n - lum ** 2, 0.0) / n)
-            todo = np.nonzero(se > SE_TOL * open_sky)[0]
+            todo = np.nonzero(albedo * se > SE_TOL * open_sky)[0]
             if not len(todo):
                 break
     mean = sums[:, :3] / probes[:, None]
     outside = sums[:, Y_SHARE:Y_SHARE + 1] < 1.0
     sky = np.where(outside, np.asarray(env_p[3:6]) + sums[:, Y_SHARE:Y_SHARE + 1] * mean, mean)
-    return np.ascontiguousarray(sky.reshape(n_ring, n_sec, 3)), row
+    return np.ascontiguousarray(sky), row
 
 
 def sky_ring_of(row: np.ndarray, rho: float) -> float:

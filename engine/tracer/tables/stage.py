@@ -183,12 +183,15 @@ def clear_stage_caches() -> None:
         _SKY_GRID_CACHE.clear()
 
 
-def stage_grids_ready(design, assets) -> bool:
-    """Whether a render of ``design`` would find its ground's grids built (none needed without a
-    diffuse ground): else its first image may come from a draft (:class:`engine.tracer.job.RenderJob`)."""
+def stage_grids_ready(design, assets, width: int, height: int) -> bool:
+    """Whether a render of ``design`` at ``width x height`` pixels would find its ground's grids
+    built (none needed without a diffuse ground; no sky grid for an image too small to pay for
+    it, :func:`engine.tracer.tables.sky.sky_grid_pays`): else its first image may come from a
+    draft (:class:`engine.tracer.job.RenderJob`)."""
+    from .sky import sky_grid_pays
     if design.stage.kind in ("none", "mirror"):
         return True
     with _SKY_LOCK:
-        sky = _sky_key(design, assets) in _SKY_GRID_CACHE
+        sky = not sky_grid_pays(width, height) or _sky_key(design, assets) in _SKY_GRID_CACHE
         caustics = not design.lights or _caustic_key(design, assets) in _CAUSTIC_CACHE
     return sky and caustics

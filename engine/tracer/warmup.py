@@ -51,6 +51,27 @@ def warm_up() -> None:
         none = np.zeros(0, np.int64)
         replay_samples(with_buffers(ctx.labels), none, none, np.zeros((0, 3)), np.zeros((0, 2), np.int64),
                        np.zeros((0, H_COLS)), np.zeros((0, 2), np.int64), np.zeros((0, 3)), np.zeros(0))
+        # the stage's passes before a render: the sky grid's probes, a light's photons (a small
+        # ground: few cells)
+        import dataclasses
+
+        from engine.model.design import Light, Stage
+        staged = dataclasses.replace(_tiny_design(), stage=Stage(kind="table", half_size_mm=40.0), lights=(Light(),))
+        sc = RenderContext.from_design(staged, None, 8, 8, grids=False)  # (the passes themselves, one probe each:)
+        from .kernels.caustics import P_COLS, trace_photons
+        from .kernels.integrator import N_COUNTERS
+        from .kernels.records import Cutoffs
+        from .kernels.sky import Y_COLS, sky_cells
+        from .kernels.tile import make_work
+
+        lab, fin, ground = with_buffers(sc.labels), sc.finish_tables, sc.scene.geom.obj_i.shape[0] - 1
+        sky_cells(sc.scene, lab, fin, sc.env_params, sc.lookup_texels, ground, 0.0, np.array([[20.0, 0.0]]),
+                  np.zeros(1, np.int64), 1, 0, 1, Cutoffs(8, 0.01, 0.0, 64), make_work(8), np.full(8, 255, np.int64),
+                  np.zeros(N_COUNTERS, np.int64), np.zeros((0, 6), np.float32), np.zeros(1, np.int64),
+                  np.zeros((1, Y_COLS)))
+        trace_photons(sc.scene, lab, fin, sc.env_params, sc.lookup_texels, fin.lights[0],
+                      np.array([0.0, 0.0, 100.0, 20.0, 20.0]), 0.0, 0, 1, np.uint64(1), 8, make_work(8),
+                      np.zeros((1, P_COLS)))
         _DONE.set()
 
 

@@ -29,7 +29,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from ..kernels.intersect import O_MAT
-from ..kernels.ground import S_DR, S_GROW, S_NIN, S_NRING, S_NSEC, S_R1, S_RMAX, SKY_COLS, ring_sectors
+from ..kernels.ground import S_DR, S_GROW, S_NIN, S_NRING, S_NSEC, S_R1, S_RMAX, SKY_COLS, ring_sectors, sky_ring
 from ..kernels.materials import MG_ALBEDO, MG_BOUND_R, MG_SHADOW
 from ..kernels.records import Cutoffs
 from ..kernels.integrator import N_COUNTERS
@@ -125,7 +125,7 @@ def sky_grid(scene, lab, fin, env_p, tex, ground: int, z0: float, reach_mm: floa
     row = sky_row(bound_r, min(reach_mm, REACH * bound_r))
     cells, rings = cell_centres(row)
     cells = np.ascontiguousarray(cells)
-    inner = int(math.ceil(sky_ring_of(row, INNER_REACH * bound_r)))
+    inner = int(math.ceil(sky_ring(row, INNER_REACH * bound_r)))
     side = np.where(rings < inner, PROBES_SIDE, OUTER_PROBES_SIDE)
     # the error that matters is the ground's: albedo x the cell's (a shadow catcher's is ~1)
     albedo = 1.0 if scene.mat_f[mat, MG_SHADOW] > 0.5 else max(float(scene.mat_f[mat, MG_ALBEDO:MG_ALBEDO + 3].max()),
@@ -167,11 +167,3 @@ def sky_grid(scene, lab, fin, env_p, tex, ground: int, z0: float, reach_mm: floa
     outside = sums[:, Y_SHARE:Y_SHARE + 1] < 1.0
     sky = np.where(outside, np.asarray(env_p[3:6]) + sums[:, Y_SHARE:Y_SHARE + 1] * mean, mean)
     return np.ascontiguousarray(sky), row
-
-
-def sky_ring_of(row: np.ndarray, rho: float) -> float:
-    """:func:`engine.tracer.kernels.ground.sky_ring` in Python: the ring coordinate of radius ``rho`` (mm)."""
-    if rho <= row[S_R1]:
-        return rho / row[S_DR]
-    return float(row[S_NIN] + math.log(rho / row[S_R1]) / math.log1p(row[S_GROW]))
-

@@ -111,15 +111,19 @@ _CAUSTIC_CACHE: dict = {}
 _CAUSTIC_KEEP = 4
 
 
+def _asset_hashes(assets) -> tuple:
+    """The assets' names and the SHA-1 of their bytes, sorted: what a grid's key holds of them."""
+    import hashlib
+    return tuple(sorted((name, hashlib.sha1(blob).hexdigest()) for name, blob in (assets or {}).items()))
+
+
 def _caustic_key(design, assets) -> tuple:
     """What the caustic grids of ``design`` depend on: everything but the camera, the render
     settings and the environment (photons do not see the sky), and the label images' bytes."""
     from ...model.design import Camera, Environment, RenderSettings
     import dataclasses
-    import hashlib
     bare = dataclasses.replace(design, camera=Camera(), render=RenderSettings(), environment=Environment())
-    images = tuple(sorted((name, hashlib.sha1(blob).hexdigest()) for name, blob in (assets or {}).items()))
-    return bare, images
+    return bare, _asset_hashes(assets)
 
 
 def stage_caustics(design, assets, scene: Scene, labels, finish, env_params, lookup_texels) -> dict:
@@ -149,10 +153,8 @@ def _sky_key(design, assets) -> tuple:
     settings other than the tree's cut-offs, and the assets' bytes."""
     from ...model.design import Camera, RenderSettings
     import dataclasses
-    import hashlib
     bare = dataclasses.replace(design, camera=Camera(), render=RenderSettings())
-    images = tuple(sorted((name, hashlib.sha1(blob).hexdigest()) for name, blob in (assets or {}).items()))
-    return bare, int(design.render.max_depth), float(design.render.min_weight), images
+    return bare, int(design.render.max_depth), float(design.render.min_weight), _asset_hashes(assets)
 
 
 def stage_sky(design, assets, scene: Scene, labels, finish, env_params, lookup_texels, cancelled=None) -> dict:

@@ -226,6 +226,18 @@ def sky_irradiance(fin, px, py):
 
 
 @njit(**INLINE)
+def cylinder_window(px, py, pz, rho, bound_r, bound_z):
+    """``(half azimuth, s_max, share, azimuth)`` of the window the bottle's bounding cylinder
+    (radius ``bound_r``, top ``bound_z``, mm) spans from ground point ``p`` at ``rho > bound_r``
+    from the axis (mm): its half width and centre in azimuth (radians), ``cos^2`` of its lowest
+    zenith angle's complement (``s`` runs over ``[0, s_max]``), and its share of the
+    cosine-weighted sky. The ground's probe and the sky grid's draw directions in it."""
+    half_az = math.asin(bound_r / rho)
+    s_max = math.sin(math.atan2(bound_z - pz, rho - bound_r)) ** 2
+    return half_az, s_max, s_max * half_az / math.pi, math.atan2(-py, -px)
+
+
+@njit(**INLINE)
 def open_light(lights):
     """Irradiance over pi ``(r, g, b)`` of ``lights`` on an upward surface with nothing in the
     way (the mean over each disc of its cosine: ``l_z (1 + cos half angle) / 2``)."""
@@ -345,11 +357,8 @@ def ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch):
     u1, u2 = uniform01(bseed, GROUND_STREAM), uniform01(bseed, GROUND_STREAM + 1)
     rho, bound_r = math.sqrt(it.px * it.px + it.py * it.py), mat_f[mat, MG_BOUND_R]
     if rho > bound_r:
-        half_az = math.asin(bound_r / rho)
-        elev = math.atan2(mat_f[mat, MG_BOUND_Z] - it.pz, rho - bound_r)
-        s_max = math.sin(elev) ** 2
-        share = s_max * half_az / math.pi
-        s, phi = u1 * s_max, math.atan2(-it.py, -it.px) + (2.0 * u2 - 1.0) * half_az
+        half_az, s_max, share, phi0 = cylinder_window(it.px, it.py, it.pz, rho, bound_r, mat_f[mat, MG_BOUND_Z])
+        s, phi = u1 * s_max, phi0 + (2.0 * u2 - 1.0) * half_az
     else:  # under the bottle's cylinder: the whole sky, and no control variate (below)
         share, s, phi = 1.0, u1, 2.0 * math.pi * u2
     r = math.sqrt(max(0.0, 1.0 - s))

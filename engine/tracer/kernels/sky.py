@@ -17,6 +17,7 @@ import math
 import numpy as np
 from numba import njit
 
+from .ground import cylinder_window
 from .integrator import trace_sample
 from .intersect import O_MAT
 from .jit import JIT
@@ -55,9 +56,7 @@ def sky_cells(sc, lab, fin, env_p, tex, ground, z0, cells, idx, n_side, batch, s
         rho = math.sqrt(px * px + py * py)
         outside = rho > bound_r
         if outside:  # the cylinder's window, as the ground's own probe draws it
-            half_az = math.asin(bound_r / rho)
-            s_max = math.sin(math.atan2(bound_z - z0, rho - bound_r)) ** 2
-            share, phi0 = s_max * half_az / math.pi, math.atan2(-py, -px)
+            half_az, s_max, share, phi0 = cylinder_window(px, py, z0, rho, bound_r, bound_z)
         else:
             half_az, s_max, share, phi0 = math.pi, 1.0, 1.0, 0.0
         # the tree's weight cut as the ground's own probe would meet it (its weight: albedo x share)

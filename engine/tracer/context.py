@@ -20,15 +20,13 @@ from .kernels.integrator import (C_BUDGET, C_CUT_DEPTH, C_CUT_WEIGHT, C_LEAKS, C
                                  C_QUERIES, N_COUNTERS)
 from .kernels.sampling import C_COLS
 from .kernels.tile import render_pixels
-from .kernels.intersect import O_MAT as K_O_MAT
 from .kernels.ground import NOISY_BIT
-from .kernels.materials import GROUND
 from .kernels.records import Cutoffs, FinishTables, Geometry, LabelTables, Pixels, PixelSums, Scene
 from .tables.labels import empty_label_arrays, label_arrays, with_buffers
 from .tables.finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays, search_tables
 from .tables.sky import sky_grid_pays
-from .tables.stage import open_sky_irradiance, scene_with_stage, stage_caustics, stage_sky
+from .tables.stage import ground_objects, open_sky_irradiance, scene_with_stage, stage_caustics, stage_sky
 from .thread_geometry import scene_with_threads
 
 #: Boundaries one camera sample may visit before what it still holds is closed with the
@@ -131,9 +129,7 @@ class RenderContext:
     @property
     def ground_objects(self) -> np.int64:
         """Object-mask bits of the stage's ground (none without one)."""
-        g = self.scene.geom
-        kinds = self.scene.mat_i[g.obj_i[:, K_O_MAT], 0]
-        return np.int64(sum(1 << int(k) for k in np.nonzero(kinds == GROUND)[0]))
+        return np.int64(sum(1 << int(k) for k in ground_objects(self.scene)))
 
     @property
     def stochastic_objects(self) -> np.int64:

@@ -15,8 +15,7 @@ import numpy as np
 
 from .camera import PinholeCamera
 from .context import nearest_hits, scene_tables
-from .kernels import intersect as K
-from .kernels.materials import GROUND, M_KIND
+from .tables.stage import ground_objects
 
 #: Rays cast per call of the search (bounds the memory of print-size coverage).
 CHUNK_RAYS = 1 << 20
@@ -38,19 +37,13 @@ def camera_hits(design, width: int, height: int, xs, ys, scene=None):
     return t, k, points
 
 
-def _ground_objects(scene) -> np.ndarray:
-    """The render objects of ``scene`` that are the stage's ground (not the bottle)."""
-    mats = scene.geom.obj_i[:, K.O_MAT]
-    return np.nonzero(scene.mat_i[mats, M_KIND] == GROUND)[0]
-
-
 def _pixel_parts(design, width: int, height: int, grid: int, env=None):
     """Per pixel of a ``width x height`` image, from ``grid x grid`` fixed points: the share the
     bottle covers, the share the stage's ground covers and, with ``env`` (an environment map),
     the mean radiance it shows along the camera rays that miss the bottle, ``(H, W, 3)`` (what a
     shadow catcher shows where nothing is in the way, the sky above the horizon included)."""
     scene = scene_tables(design)[2]
-    ground = _ground_objects(scene)
+    ground = ground_objects(scene)
     sub = (np.arange(grid) + 0.5) / grid
     dx, dy = (a.ravel() for a in np.meshgrid(sub, sub))
     bottle = np.zeros((height, width), np.float32)

@@ -80,6 +80,12 @@ def scene_with_stage(scene: Scene, stage: Stage) -> Scene:
                  c(np.vstack([mat_i, mi])), c(np.vstack([mf, material_row(stage, bound_r, bound_z)])))
 
 
+def ground_objects(scene: Scene) -> np.ndarray:
+    """Indices of the render objects of ``scene`` that are the stage's ground (none without one)."""
+    mats = scene.geom.obj_i[:, K.O_MAT]
+    return np.nonzero(scene.mat_i[mats, 0] == GROUND)[0]
+
+
 def open_sky_irradiance(environment) -> np.ndarray:
     """``E_up`` (RGB, the environment's radiance units times its scale): the irradiance over pi
     of an upward surface with nothing in the way, ``(1 / pi) int L(w) cos(theta) dw`` over the

@@ -203,6 +203,9 @@ def test_a_stage_override_merges_into_the_designs_stage(tmp_path):
     mirror, catcher = read_job(write(tmp_path, json.dumps(doc, indent=1), "job.json")).variants
     assert (mirror.design.stage.kind, mirror.design.stage.color) == ("mirror", (0.2, 0.3, 0.4))
     assert catcher.design.stage.kind == "shadow"
+    swept = JOB.replace('name = "amber"', 'name = "amber"\n  stage = { kind = "table", backdrop = true }')
+    amber = read_job(write(tmp_path, swept)).variants[0]
+    assert amber.design.stage.draws_backdrop, "a variant may stand on a table with its sweep"
 
 
 @pytest.mark.parametrize("stage, words", [
@@ -222,7 +225,7 @@ def test_a_stage_override_merges_into_the_designs_stage(tmp_path):
     ('{ kind = "table", gloss = 0.5 }', "gloss does nothing for the stage 'table'"),
     ('{ colour = "#ffffff" }', "colour does nothing for the stage 'none'"),
     ('{ kind = "none", backdrop = true }', "backdrop does nothing for the stage 'none'"),
-    ('{ kind = "table", backdrop = true }', "backdrop does nothing for the stage 'table'"),
+    ('{ kind = "mirror", backdrop = true }', "backdrop does nothing for the stage 'mirror'"),
 ])
 def test_a_bad_stage_override_names_its_line(tmp_path, stage, words):
     text = JOB.replace('name = "amber"', f'name = "amber"\n  stage = {stage}')

@@ -46,6 +46,19 @@ def test_set_keeps_what_it_is_not_given_and_reads_the_alias(project, capsys):
     assert capsys.readouterr().out == "stage: none (the bottle floats in its environment)\n"
 
 
+def test_set_raises_a_backdrop_sweep_behind_a_table_and_takes_it_away(project, capsys):
+    assert cli.main(["stage", str(project), "set", "table", "--backdrop"]) == 0
+    assert load_project(project)[0].stage == Stage(kind="table", backdrop=True)
+    assert "with its backdrop sweep" in capsys.readouterr().out
+    assert cli.main(["stage", str(project), "set", "glossy", "--gloss", "0.5"]) == 0
+    assert load_project(project)[0].stage.draws_backdrop, "kept when not given"
+    assert cli.main(["stage", str(project), "set", "glossy", "--no-backdrop"]) == 0
+    assert load_project(project)[0].stage == Stage(kind="glossy", gloss=0.5)
+    capsys.readouterr()
+    assert cli.main(["stage", str(project), "show"]) == 0
+    assert "backdrop" not in capsys.readouterr().out
+
+
 @pytest.mark.parametrize("args, words", [
     (["set", "tabel"], "'tabel' is not one of none, shadow (shadow-catcher), table, glossy, mirror"),
     (["set"], "stage set needs a KIND"),
@@ -55,6 +68,8 @@ def test_set_keeps_what_it_is_not_given_and_reads_the_alias(project, capsys):
     (["set", "glossy", "--gloss", "-0.1"], "--gloss = -0.1 is outside 0..1"),
     (["set", "glossy", "--gloss", "nan"], "--gloss = nan is outside 0..1"),
     (["set", "table", "--gloss", "0.5"], "--gloss does nothing for the stage 'table'"),
+    (["set", "mirror", "--backdrop"], "--backdrop does nothing for the stage 'mirror'"),
+    (["set", "shadow", "--backdrop"], "--backdrop does nothing for the stage 'shadow'"),
     (["set", "shadow", "--colour", "#ffffff"], "--colour does nothing for the stage 'shadow'"),
     (["show", "table"], "stage show takes no KIND"),
 ])
@@ -73,8 +88,8 @@ def test_argument_errors_exit_2_and_a_missing_project_is_named(project, tmp_path
     with pytest.raises(SystemExit):
         cli.main(["stage", str(project), "paint", "table"])
     assert "invalid choice: 'paint'" in capsys.readouterr().err
-    with pytest.raises(SystemExit):  # the backdrop sweep is not drawn yet: no option offers it
-        cli.main(["stage", str(project), "set", "table", "--backdrop"])
+    with pytest.raises(SystemExit):
+        cli.main(["stage", str(project), "set", "table", "--backdrop=yes"])
     assert "--backdrop" in capsys.readouterr().err
     assert cli.main(["stage", str(tmp_path / "missing.glassbench"), "show"]) == 2
     assert "missing.glassbench" in capsys.readouterr().err

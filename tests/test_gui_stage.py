@@ -39,9 +39,28 @@ def test_choosing_a_table_is_one_undoable_step_and_the_panel_follows_the_scene(m
     assert w.scene.design.stage == Stage(kind="glossy", color=(0.1, 0.2, 0.3), gloss=0.8)
     w.undo_stack.undo()
     assert w.scene.design.stage.gloss == 0.3 and panel.gloss.value() == 0.3, "the gloss was a step of its own"
-    # the backdrop sweep is not drawn yet: the engine refuses it and the panel does not offer it
-    assert not w.editor.apply("Backdrop", None, stage=Stage(kind="table", backdrop=True))
-    assert not hasattr(panel, "backdrop")
+
+
+def test_the_backdrop_sweep_is_one_undoable_step_offered_for_a_table_or_riser(make_window):
+    w = make_window()
+    panel = w.stage_panel
+    assert not panel.backdrop.isEnabled(), "nothing to raise a sweep from without a table"
+    words.select_key(panel.kind, "table")
+    assert panel.backdrop.isEnabled() and not panel.backdrop.isChecked()
+    steps = w.undo_stack.count()
+    panel.backdrop.click()
+    assert w.scene.design.stage == Stage(kind="table", backdrop=True)
+    assert w.undo_stack.count() == steps + 1 and w.undo_stack.undoText() == "Backdrop sweep"
+    words.select_key(panel.kind, "glossy")
+    assert panel.backdrop.isEnabled() and panel.backdrop.isChecked(), "the riser rises behind too"
+    words.select_key(panel.kind, "shadow")
+    assert not panel.backdrop.isEnabled() and panel.backdrop.isChecked(), "kept, greyed, not drawn"
+    assert not w.scene.design.stage.draws_backdrop
+    w.undo_stack.undo()
+    w.undo_stack.undo()
+    assert w.scene.design.stage == Stage(kind="table", backdrop=True) and panel.backdrop.isChecked()
+    w.undo_stack.undo()
+    assert w.scene.design.stage == Stage(kind="table") and not panel.backdrop.isChecked()
 
 
 def test_gloss_is_enabled_only_for_the_glossy_riser(make_window):
@@ -56,7 +75,7 @@ def test_gloss_is_enabled_only_for_the_glossy_riser(make_window):
                        "glossy": (True, True), "mirror": (True, False)}
     w.undo_stack.undo()  # back to the riser, from the scene: the panel enables its gloss again
     assert _shown_kind(panel) == "glossy" and panel.gloss.isEnabled()
-    for control in (panel.kind, panel.color, panel.gloss):
+    for control in (panel.kind, panel.color, panel.gloss, panel.backdrop):
         assert control.toolTip(), "every control says what it does"
 
 

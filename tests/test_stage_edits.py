@@ -9,7 +9,7 @@ import pytest
 
 from engine.color import hex_to_linear, linear_to_hex
 from engine.model.changes import Change
-from engine.model.design import STAGE_KINDS, Stage
+from engine.model.design import BACKDROP_KINDS, STAGE_KINDS, Stage
 from engine.model.scene import Scene
 from engine.operations.stage import KIND_NAMES, STAGE_USES, stage_kind, unused
 from engine.tracer.reuse import KEEP_FILM, reuse_of
@@ -26,7 +26,10 @@ def test_kinds_are_read_in_any_case_with_the_shadow_catcher_alias():
 
 def test_only_what_a_kind_draws_may_be_given():
     assert unused("glossy", {"kind": "glossy", "color": (1, 1, 1), "gloss": 0.5}) == []
-    assert unused("glossy", {"backdrop": True}) == ["backdrop"], "no kind draws the backdrop yet"
+    assert unused("glossy", {"backdrop": True}) == [] and unused("table", {"backdrop": True}) == []
+    assert unused("mirror", {"backdrop": True}) == ["backdrop"]
+    assert {k for k, uses in STAGE_USES.items() if "backdrop" in uses} == set(BACKDROP_KINDS), \
+        "the kinds offered a sweep are the kinds that draw one"
     assert unused("table", {"gloss": 0.5, "color": (1, 1, 1)}) == ["gloss"]
     assert unused("shadow", {"color": (1, 1, 1), "backdrop": True}) == ["color", "backdrop"]
     assert unused("none", {"backdrop": True}) == ["backdrop"]

@@ -1,5 +1,5 @@
 """Stage panel: what the bottle stands on (none, shadow catcher, table, glossy riser, mirror), its
-colour and a glossy riser's gloss (the backdrop sweep is not drawn yet, so not offered).
+colour, a glossy riser's gloss and the backdrop sweep of a table or riser.
 
 Design rule: as the other panels, each edit becomes ``editor.apply(text, merge_key, stage=...)``,
 one undoable step checked by the engine, and the panel follows the scene for ``design.stage``
@@ -14,7 +14,7 @@ from __future__ import annotations
 import dataclasses
 
 from PySide6.QtCore import QSignalBlocker
-from PySide6.QtWidgets import QComboBox, QWidget
+from PySide6.QtWidgets import QCheckBox, QComboBox, QWidget
 
 from engine.model.design import STAGE_KINDS
 from engine.operations.stage import STAGE_USES
@@ -40,10 +40,15 @@ class StagePanel(QWidget):
                               "sRGB; click to pick)")
         self.gloss = ef.spin(0, 1, 2, 0.05, "", "Glossy riser: how sharp its clear coat reflects "
                              "(1: mirror-sharp; 0: a blurred, satin sheen)")
-        ef.form_page(self, (("Ground", self.kind), ("Colour", self.color), ("Gloss", self.gloss)))
+        self.backdrop = QCheckBox("Backdrop sweep")
+        self.backdrop.setToolTip("Table or riser: its sheet rises behind the bottle, as the camera "
+                                 "sees it, in a cyclorama sweep (hides the environment there)")
+        ef.form_page(self, (("Ground", self.kind), ("Colour", self.color), ("Gloss", self.gloss),
+                            self.backdrop))
         self.kind.currentIndexChanged.connect(lambda _: self.set_kind(self.kind.currentData()))
         self.color.clicked.connect(self._pick_color)
         self.gloss.valueChanged.connect(lambda v: self._edit("Stage gloss", "stage-gloss", gloss=v))
+        self.backdrop.toggled.connect(self.set_backdrop)
         ef.follow(self, editor.scene, self.FIELDS, lambda d, a: self.refresh(d))
 
     def choose_color(self, initial_linear, title: str):
@@ -61,6 +66,13 @@ class StagePanel(QWidget):
         """Make the stage's colour linear RGB ``rgb`` (0..1; one undo step); ``False`` if refused."""
         return self._edit("Stage colour", None, color=tuple(float(c) for c in rgb))
 
+    def set_backdrop(self, on: bool) -> bool:
+        """Raise the table's or riser's backdrop sweep, or take it away (one undo step);
+        ``False`` if refused or already so."""
+        if bool(on) == self.editor.design.stage.backdrop:
+            return False
+        return self._edit("Backdrop sweep" if on else "No backdrop sweep", None, backdrop=bool(on))
+
     def _pick_color(self):
         rgb = self.choose_color(self.editor.design.stage.color, "Stage colour")
         if rgb is not None:
@@ -75,13 +87,15 @@ class StagePanel(QWidget):
     def refresh(self, design):
         """Show ``design.stage``: its values, and only the controls its kind uses enabled."""
         stage = design.stage
-        blockers = [QSignalBlocker(w) for w in (self.kind, self.gloss)]
+        blockers = [QSignalBlocker(w) for w in (self.kind, self.gloss, self.backdrop)]
         words.select_key(self.kind, stage.kind)
         self.color.set_linear(stage.color)
         self.gloss.setValue(stage.gloss)
         uses = STAGE_USES.get(stage.kind, frozenset())
         self.color.setEnabled("color" in uses)
         self.gloss.setEnabled("gloss" in uses)
+        self.backdrop.setChecked(stage.backdrop)
+        self.backdrop.setEnabled("backdrop" in uses)
         del blockers
 
 

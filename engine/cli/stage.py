@@ -9,6 +9,7 @@ are typed and shown in sRGB hex; the model keeps them linear (:mod:`engine.color
 """
 from __future__ import annotations
 
+import argparse
 import dataclasses
 
 from ..color import linear_to_hex
@@ -18,7 +19,7 @@ from ..operations.stage import KIND_NAMES, STAGE_USES, stage_kind, unused
 from .finishes import _save, srgb_hex_to_linear
 
 #: The option that sets each ``Stage`` field (for the messages).
-OPTIONS = {"color": "--colour", "gloss": "--gloss"}
+OPTIONS = {"color": "--colour", "gloss": "--gloss", "backdrop": "--backdrop"}
 #: What each kind is, in the words ``show`` prints.
 KIND_WORDS = {"none": "none (the bottle floats in its environment)", "shadow": "shadow catcher",
               "table": "table", "glossy": "glossy riser", "mirror": "mirror"}
@@ -34,6 +35,9 @@ def add_parsers(sub) -> None:
                    help="sRGB colour of the table or riser, or the mirror's tint, e.g. '#8c8c8c'")
     p.add_argument("--gloss", type=float, default=None, metavar="G",
                    help="glossy riser: how sharp its clear coat reflects, 0..1 (1: mirror-sharp)")
+    p.add_argument("--backdrop", action=argparse.BooleanOptionalAction, default=None,
+                   help="table or riser: raise its sheet behind the bottle in a cyclorama sweep "
+                        "(--no-backdrop: take it away)")
 
 
 def describe(stage) -> str:
@@ -46,15 +50,17 @@ def describe(stage) -> str:
         parts.append(f"colour {linear_to_hex(stage.color)} (linear {linear})")
     if "gloss" in uses:
         parts.append(f"gloss {stage.gloss:g}")
+    if "backdrop" in uses and stage.backdrop:
+        parts.append("with its backdrop sweep")
     return ", ".join(parts)
 
 
 def cmd_stage(args) -> int:
-    """``stage PROJECT set KIND [--colour HEX] [--gloss G]``,
+    """``stage PROJECT set KIND [--colour HEX] [--gloss G] [--backdrop | --no-backdrop]``,
     ``stage PROJECT show``."""
     from ..files.project import load_project
     design, assets = load_project(args.project)
-    given = {"color": args.colour, "gloss": args.gloss}
+    given = {"color": args.colour, "gloss": args.gloss, "backdrop": args.backdrop}
     given = {k: v for k, v in given.items() if v is not None}
     if args.action == "show":
         if args.kind is not None or given:

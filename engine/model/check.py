@@ -159,5 +159,3 @@ def _check_stage(stage) -> None:
     L.check_range("design.stage.half_size_mm", stage.half_size_mm, (10.0, 1e6), "mm")
     if not isinstance(stage.backdrop, bool):
         raise DesignError(f"design.stage.backdrop must be true or false, got {shown(stage.backdrop)}")
-    if stage.backdrop:  # kept in the format for the sweep to come; a field that drew nothing would mislead
-        raise DesignError("design.stage.backdrop: the backdrop sweep is not drawn yet; leave it off")

@@ -297,6 +297,9 @@ class Cap:
 #: on it), ``table`` (a matte surface of ``Stage.color``), ``glossy`` (a riser under a clear
 #: coat: acrylic when white, black glass when black), ``mirror`` (a mirror tinted ``color``).
 STAGE_KINDS = ("none", "shadow", "table", "glossy", "mirror")
+#: The kinds whose sheet rises behind the bottle in a backdrop sweep when ``Stage.backdrop`` is
+#: on (a shadow catcher shows the environment there, a mirror's sweep would show nothing useful).
+BACKDROP_KINDS = ("table", "glossy")
 
 
 @dataclass(frozen=True)
@@ -304,8 +307,9 @@ class Stage:
     """The ground the bottle stands on, at its standing plane (a hair below ``z = 0``, so no
     two surfaces coincide), and as wide as the scene needs. ``color`` is linear RGB in 0..1 (the
     table's or the riser's base albedo, the mirror's tint); ``gloss`` in 0..1 how sharp a
-    glossy riser's coat reflects (1: a mirror-sharp coat). ``backdrop`` adds a cyclorama sweep
-    behind the bottle (drawn from the same surface). The ground is the square of half-side
+    glossy riser's coat reflects (1: a mirror-sharp coat). ``backdrop`` raises the table's or
+    riser's sheet behind the bottle, as seen from the camera, in a cyclorama sweep (a curve and
+    a wall: :func:`engine.tracer.tables.stage.sweep_row`; other kinds keep the flag but draw none). The ground is the square of half-side
     ``half_size_mm`` in the plane ``z = z_mm`` (mm; below 0, where the bottle stands; the SPEC
     ground's numbers by default but wide enough to reach the horizon). The environment's turn
     and strength stay ``Design.environment``'s."""
@@ -315,6 +319,11 @@ class Stage:
     gloss: float = 1.0
     backdrop: bool = False
     z_mm: float = -0.05
+
+    @property
+    def draws_backdrop(self) -> bool:
+        """Whether this stage draws its backdrop sweep (on, and a kind of :data:`BACKDROP_KINDS`)."""
+        return bool(self.backdrop) and self.kind in BACKDROP_KINDS
     half_size_mm: float = 100000.0
 
 

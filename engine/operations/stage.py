@@ -15,12 +15,12 @@ from ..model.design import STAGE_KINDS
 #: Other names a designer may type for a kind.
 STAGE_ALIASES = {"shadow-catcher": "shadow"}
 #: The ``Stage`` fields each kind draws (``color``: the table's or riser's albedo, the mirror's
-#: tint; a shadow catcher takes the environment's background instead). No kind draws the
-#: backdrop sweep yet (the model refuses it: :func:`engine.model.check.check_values`).
+#: tint; a shadow catcher takes the environment's background instead; ``backdrop``: the sweep,
+#: :data:`~engine.model.design.BACKDROP_KINDS`).
 STAGE_USES = {"none": frozenset(),
               "shadow": frozenset(),
-              "table": frozenset({"color"}),
-              "glossy": frozenset({"color", "gloss"}),
+              "table": frozenset({"color", "backdrop"}),
+              "glossy": frozenset({"color", "gloss", "backdrop"}),
               "mirror": frozenset({"color"})}
 #: The kinds as a sentence lists them, aliases in brackets.
 KIND_NAMES = ", ".join(k + "".join(f" ({a})" for a, t in STAGE_ALIASES.items() if t == k)

@@ -9,7 +9,6 @@ benchmarks and the job all trace through the same code.
 from __future__ import annotations
 
 import dataclasses
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
@@ -26,7 +25,7 @@ from .tables.labels import empty_label_arrays, label_arrays, with_buffers
 from .tables.finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays, search_tables
 from .tables.sky import sky_grid_pays
-from .tables.stage import ground_objects, open_sky_irradiance, scene_with_stage, stage_caustics, stage_sky
+from .tables.stage import environment_params, ground_objects, scene_with_stage, stage_caustics, stage_sky
 from .thread_geometry import scene_with_threads
 
 #: Boundaries one camera sample may visit before what it still holds is closed with the
@@ -43,7 +42,7 @@ def scene_tables(design):
     geom = render_geometry_for(design)
     cap = cap_tables_for(design, geom)
     scene = scene_with_cap(scene_with_threads(scene_arrays(geom, design), design), cap, geom.fill_height)
-    return geom, cap, scene_with_stage(scene, design.stage)
+    return geom, cap, scene_with_stage(scene, design.stage, design.camera)
 
 
 def camera_array(camera: PinholeCamera) -> np.ndarray:
@@ -69,7 +68,8 @@ class RenderContext:
     texels: np.ndarray
     #: ``(scale, rotation rad, factor, E_up (rgb))``: the environment's scale and turn, the factor
     #: of the kernels' half-float copy of the map (:func:`engine.tracer.environment.half_texels`)
-    #: and its open-sky irradiance for a ground (:func:`~engine.tracer.tables.stage.open_sky_irradiance`)
+    #: and its open-sky irradiance for a ground, then a backdrop sweep's open-sky table
+    #: (:func:`~engine.tracer.tables.stage.environment_params`)
     env_params: np.ndarray
     camera: PinholeCamera
     cam: np.ndarray
@@ -107,8 +107,7 @@ class RenderContext:
         tex = np.ascontiguousarray(env.texels, dtype=np.float32)
         finish = finish_arrays(design, assets, geom, cap, scene, tex)
         half, factor = half_texels(tex)
-        sky = open_sky_irradiance(env) if design.stage.kind != "none" else np.zeros(3)
-        params = np.array([float(env.scale), math.radians(float(env.rotation_deg)), factor, *sky])
+        params = environment_params(design, env, factor)
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
         labels = label_arrays(design, assets, tex, geom.obj_i.shape[0])
         if grids is not False and finish.lights.shape[0] and design.stage.kind not in ("none", "mirror"):

@@ -63,8 +63,9 @@ def warm_up() -> None:
         from .kernels.records import Cutoffs
         from .kernels.sky import Y_COLS, sky_cells
         from .kernels.tile import make_work
+        from .tables.stage import ground_object
 
-        lab, fin, ground = with_buffers(sc.labels), sc.finish_tables, sc.scene.geom.obj_i.shape[0] - 1
+        lab, fin, ground = with_buffers(sc.labels), sc.finish_tables, ground_object(sc.scene)
         sky_cells(sc.scene, lab, fin, sc.env_params, sc.lookup_texels, ground, 0.0, np.array([[20.0, 0.0]]),
                   np.zeros(1, np.int64), 1, 0, 1, Cutoffs(8, 0.01, 0.0, 64), make_work(8), np.full(8, 255, np.int64),
                   np.zeros(N_COUNTERS, np.int64), np.zeros((0, 6), np.float32), np.zeros(1, np.int64),

@@ -8,7 +8,8 @@ across the light's beam that covers the bottle's bounding cylinder, along a dire
 in the disc, and follows one branch per boundary through the same surface layer the camera's
 trees use (:func:`~engine.tracer.kernels.surface.scatter`: Fresnel, labels by their alpha,
 the closure's metal), chosen with probability proportional to its weight, so its power is the
-light's (times absorption and the colours of what it met). Where it lands on the ground from
+light's (times absorption and the colours of what it met), unless something stands between the
+light and its start (a backdrop sweep: the beam starts outside the bottle). Where it lands on the ground from
 above, having met something, its landing point and power are written out; the table builder
 (:mod:`engine.tracer.tables.caustics`) splats them into an irradiance grid that the ground
 looks up (:func:`~.ground.caustic_irradiance`). Photon ``i`` draws from ``mix64(seed ^ i)``: the grid is
@@ -24,7 +25,7 @@ from numba import njit
 from .intersect import O_MAT, nearest_hit, object_media
 from .ground import in_disc, light_frame
 from .jit import JIT
-from .materials import GROUND, K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND
+from .materials import BACKDROP, GROUND, K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND
 from .records import Interaction
 from .sampling import branch_seed, mix64, uniform01
 from .surface import scatter
@@ -67,6 +68,9 @@ def trace_photons(sc, lab, fin, env_p, tex, light, beam, ground_z, first, count,
         medium, last, side = AIR, -1, 0
         t_straight = (ground_z - oz) / dz
         out[j, P_SX], out[j, P_SY] = ox + t_straight * dx, oy + t_straight * dy
+        if nearest_hit(sc.geom, ox, oy, oz, lx, ly, lz, AIR, -1, 0, scratch)[1] >= 0:
+            out[j, P_SHADOW] = 1.0  # the beam itself is in a shadow (a backdrop sweep's): no light
+            continue
         for depth in range(max_depth):
             t, k, part, nx, ny, nz = nearest_hit(sc.geom, ox, oy, oz, dx, dy, dz, medium, last, side, scratch)
             if k < 0:
@@ -85,6 +89,8 @@ def trace_photons(sc, lab, fin, env_p, tex, light, beam, ground_z, first, count,
                     out[j, P_R], out[j, P_G], out[j, P_B] = wr, wg, wb
                     if nearest_hit(sc.geom, px, py, pz, lx, ly, lz, AIR, k, 1, scratch)[1] >= 0:
                         out[j, P_IN] = 1.0
+                break
+            if mat_i[mat, M_KIND] == BACKDROP:  # the sweep is lit straight only (:mod:`.backdrop`)
                 break
             front, back = object_media(obj_i, obj_f, k, pz)
             inc, trn = (front, back) if nx * dx + ny * dy + nz * dz < 0.0 else (back, front)

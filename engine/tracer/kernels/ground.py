@@ -44,7 +44,7 @@ from .finish import FROST_STREAM
 from .intersect import nearest_hit
 from .jit import INLINE, JIT
 from .materials import (K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, MG_ALBEDO, MG_ALPHA, MG_BOUND_R, MG_BOUND_Z,
-                        MG_COAT_IOR, MG_MIRROR, MG_SHADOW, coat)
+                        MG_COAT_IOR, MG_MIRROR, MG_SHADOW, MG_WIDE, coat)
 from .microfacet import rough_mirror
 from .sampling import env_lookup, uniform01
 
@@ -238,6 +238,25 @@ def cylinder_window(px, py, pz, rho, bound_r, bound_z):
 
 
 @njit(**INLINE)
+def probe_window(mat_f, mat, px, py, pz):
+    """``(half azimuth, s_max, share, azimuth, controlled)``: where ground material ``mat``'s
+    probe from ground point ``p`` (mm) draws its directions (:func:`cylinder_window`'s
+    columns) and whether the open sky's light along them is taken off (the control variate).
+    Beside the bottle: the window of its bounding cylinder, or the whole sky where a backdrop
+    stands on the ground (it hides sky there too), controlled both; under the cylinder: the
+    whole sky, uncontrolled (what comes through the base is scrambled by refraction: the sky
+    along a direction says little about it, and subtracting it only adds the sky's variance,
+    measured as dark specks seen through the liquid)."""
+    rho, bound_r = math.sqrt(px * px + py * py), mat_f[mat, MG_BOUND_R]
+    if rho <= bound_r:
+        return math.pi, 1.0, 1.0, math.pi, False
+    if mat_f[mat, MG_WIDE] > 0.5:
+        return math.pi, 1.0, 1.0, math.pi, True
+    half_az, s_max, share, phi0 = cylinder_window(px, py, pz, rho, bound_r, mat_f[mat, MG_BOUND_Z])
+    return half_az, s_max, share, phi0, True
+
+
+@njit(**INLINE)
 def open_light(lights):
     """Irradiance over pi ``(r, g, b)`` of ``lights`` on an upward surface with nothing in the
     way (the mean over each disc of its cosine: ``l_z (1 + cos half angle) / 2``)."""
@@ -352,28 +371,20 @@ def ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch):
                 bits |= NOISY_BIT
         return nk, ar * er, ag * eg, ab * eb, bits
     bits |= NOISY_BIT
-    # the diffuse base: a cosine-distributed direction towards the bottle's cylinder, less the open
-    # sky's light along it (module rule). s = cos(theta)^2 is uniform under the cosine measure.
+    # the diffuse base: a cosine-distributed direction in the probe's window, less the open sky's
+    # light along it (module rule). s = cos(theta)^2 is uniform under the cosine measure.
     u1, u2 = uniform01(bseed, GROUND_STREAM), uniform01(bseed, GROUND_STREAM + 1)
-    rho, bound_r = math.sqrt(it.px * it.px + it.py * it.py), mat_f[mat, MG_BOUND_R]
-    if rho > bound_r:
-        half_az, s_max, share, phi0 = cylinder_window(it.px, it.py, it.pz, rho, bound_r, mat_f[mat, MG_BOUND_Z])
-        s, phi = u1 * s_max, phi0 + (2.0 * u2 - 1.0) * half_az
-    else:  # under the bottle's cylinder: the whole sky, and no control variate (below)
-        share, s, phi = 1.0, u1, 2.0 * math.pi * u2
+    half_az, s_max, share, phi0, controlled = probe_window(mat_f, mat, it.px, it.py, it.pz)
+    s, phi = u1 * s_max, phi0 + (2.0 * u2 - 1.0) * half_az
     r = math.sqrt(max(0.0, 1.0 - s))
     wx, wy, wz = r * math.cos(phi), r * math.sin(phi), math.sqrt(s)
     kids[nk, KD_X], kids[nk, KD_Y], kids[nk, KD_Z] = wx, wy, wz
     kids[nk, KW_R], kids[nk, KW_G], kids[nk, KW_B] = ar * share, ag * share, ab * share
     kids[nk, K_SIDE] = 0.0
-    if rho > bound_r:
+    er = eg = eb = 0.0
+    if controlled:
         lr, lg, lb = env_lookup(tex, scale, rot, wx, wy, wz)
         er, eg, eb = env_p[3] - share * lr, env_p[4] - share * lg, env_p[5] - share * lb
-    else:
-        # under the bottle every direction meets it, and what comes through its base is scrambled
-        # by refraction: the sky along w says little about it, and subtracting it only adds the
-        # sky's own variance (measured: dark specks seen through the liquid)
-        er = eg = eb = 0.0
     if fin.lights.shape[0] > 0:
         dr, dg, db, _ = light_on_ground(sc, fin, it.obj, it.px, it.py, it.pz, bseed, scratch)
         er, eg, eb = er + dr, eg + dg, eb + db

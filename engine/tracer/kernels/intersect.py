@@ -1,8 +1,8 @@
 """Nearest hit over the render objects: the surface interaction of a ray.
 
 Design rule: a render object (one row of ``obj_i`` / ``obj_f``, :mod:`engine.tracer.
-render_objects`) is a surface with an exact intersector (revolved chain, swept wall or plane
-region), the medium on each side of its oriented normal (switching at a height for the inner
+render_objects`) is a surface with an exact intersector (revolved chain, swept wall, plane
+region or the stage's backdrop sweep), the medium on each side of its oriented normal (switching at a height for the inner
 wall, which is wet below the fill line) and a material. :func:`nearest_hit` returns the first
 true crossing along a ray and never the crossing the ray started from: a hit on the object
 the ray just left counts only when it crosses back from the side the ray went to (a ray on
@@ -18,6 +18,8 @@ appearance kernels.
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numba import njit
 
@@ -31,7 +33,7 @@ from .roots import cone_roots
 from .swept import SL_RMAX, SL_RULED, SL_Z0, SL_Z1, ruled_normal, ruled_roots, swept_normal, swept_roots
 
 # object kinds
-REVOLVED, SWEPT, PLANE = 0, 1, 2
+REVOLVED, SWEPT, PLANE, SWEEP = 0, 1, 2, 3
 # obj_i columns
 (O_KIND, O_FIRST, O_COUNT, O_XS, O_XS_IN, O_NSEC, O_FRONT_LO, O_BACK_LO, O_FRONT_HI, O_BACK_HI, O_MAT,
  O_ZSORT) = range(12)
@@ -40,6 +42,13 @@ O_COLS = 12
 (F_NSIGN, F_ZSPLIT, F_RMAX, F_ZMIN, F_ZMAX, F_PZ, F_PNZ, F_OUT0, F_OUT1, F_OUT2, F_IN0, F_IN1,
  F_IN2, F_COS, F_SIN, F_LEAF, F_EDGE) = range(17)
 F_COLS = 17
+#: A backdrop sweep's (``SWEEP``) numbers in its ``obj_f`` row: the floor's height (mm) in
+#: ``F_PZ``, its facing (``F_COS``, ``F_SIN``: the unit horizontal direction from the bottle
+#: towards the wall), and these: where the curve leaves the floor (distance from the axis),
+#: the curve's radius, the wall's half width and its top (mm; :func:`_sweep_hit`).
+F_SW_START, F_SW_RADIUS, F_SW_HALF, F_SW_TOP = F_OUT0, F_OUT1, F_OUT2, F_IN0
+#: A sweep's parts: the quarter cylinder rising from the floor, and the vertical wall above it.
+SWEEP_CURVE, SWEEP_WALL = 0, 1
 #: The object a ray leaves is searched from this fraction of the edge distance on (1e-9 of the
 #: bottle's size): below the noise of any root, far below any legitimate re-hit.
 START_FRACTION = 1e-2
@@ -61,6 +70,8 @@ def object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, part, px, py, pz, param=
     sgn = obj_f[k, F_NSIGN]
     if kind == PLANE:
         return 0.0, 0.0, obj_f[k, F_PNZ]
+    if kind == SWEEP:
+        return _sweep_normal(obj_f, k, part, px, py, pz)
     if kind == REVOLVED:
         nx, ny, nz = segment_normal(seg, part, px, py, pz, param)
     elif slab_f[part, SL_RULED] > 0.5:
@@ -113,6 +124,64 @@ def _plane_hit(obj_i, obj_f, k, ox, oy, oz, dx, dy, dz, tlo, thi):
         if outline_sd(obj_i[k, O_XS_IN], obj_f[k, F_IN0], obj_f[k, F_IN1], obj_f[k, F_IN2], xb, yb) < 0.0:
             return np.inf
     return t
+
+
+@njit(**INLINE)
+def _sweep_normal(obj_f, k, part, px, py, pz):
+    """Unit normal of sweep object ``k`` at its point ``p`` on ``part``, facing the bottle: on
+    the curve towards its axis, on the wall back towards the bottle."""
+    c, s = obj_f[k, F_COS], obj_f[k, F_SIN]
+    if part == SWEEP_WALL:
+        return -c, -s, 0.0
+    r = obj_f[k, F_SW_RADIUS]
+    nv = (obj_f[k, F_SW_START] - (c * px + s * py)) / r
+    nz = (obj_f[k, F_PZ] + r - pz) / r
+    h = 1.0 / np.sqrt(nv * nv + nz * nz)
+    return c * nv * h, s * nv * h, nz * h
+
+
+@njit(**JIT)
+def _sweep_hit(obj_f, k, ox, oy, oz, dx, dy, dz, tlo, thi, roots):
+    """Crossings of the ray with sweep object ``k`` in ``(tlo, thi)``, nearest first, written
+    into ``roots`` as ``t`` and into ``roots[4:]`` as their parts; returns how many (at most 3).
+
+    In the sweep's vertical plane of depth ``v`` (along its facing, from the axis) and height
+    ``z`` the surface is a quarter circle of radius ``R`` about ``(v0, z0 + R)`` from the floor
+    point ``(v0, z0)`` to ``(v0 + R, z0 + R)``, then the line ``v = v0 + R`` up to the top,
+    extruded across ``|u| <= half width``: a circle and a line in 2D, solved in closed form."""
+    c, s = obj_f[k, F_COS], obj_f[k, F_SIN]
+    v0, r, half, top, z0 = obj_f[k, F_SW_START], obj_f[k, F_SW_RADIUS], obj_f[k, F_SW_HALF], obj_f[k, F_SW_TOP], \
+        obj_f[k, F_PZ]
+    ov, ou, dv, du = c * ox + s * oy, -s * ox + c * oy, c * dx + s * dy, -s * dx + c * dy
+    n = 0
+    # the curve: |(ov - v0 + t dv, oz - zc + t dz)| = r, solved from the ray's closest approach
+    # to the circle's centre in the plane (a far origin's large terms cancel there first: a
+    # ray skimming the floor from 100 m keeps its hit to the rounding of its own origin)
+    zc = z0 + r
+    pv, pz = ov - v0, oz - zc
+    a = dv * dv + dz * dz
+    if a > 0.0:
+        tc = -(pv * dv + pz * dz) / a
+        qv, qz = pv + tc * dv, pz + tc * dz
+        q = math.sqrt(qv * qv + qz * qz)
+        if q <= r:
+            dt = math.sqrt((r - q) * (r + q) / a)
+            for t in (tc - dt, tc + dt):
+                if t > tlo and t < thi and pv + t * dv >= 0.0 and pz + t * dz <= 0.0 and abs(ou + t * du) <= half:
+                    roots[n], roots[4 + n] = t, SWEEP_CURVE
+                    n += 1
+    if dv != 0.0:  # the wall
+        t = (v0 + r - ov) / dv
+        z = oz + t * dz
+        if t > tlo and t < thi and z > zc and z <= top and abs(ou + t * du) <= half:
+            roots[n], roots[4 + n] = t, SWEEP_WALL
+            n += 1
+    for i in range(1, n):  # nearest first (the curve's two already are)
+        j = i
+        while j > 0 and roots[j] < roots[j - 1]:
+            roots[j], roots[j - 1], roots[4 + j], roots[3 + j] = roots[j - 1], roots[j], roots[3 + j], roots[4 + j]
+            j -= 1
+    return n
 
 
 @njit(**INLINE)
@@ -175,6 +244,18 @@ def nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last_obj, last_side, scrat
                     best, best_k, best_part, pending = t, k, -1, False
                     bnx, bny, bnz = 0.0, 0.0, nz
                     best_param = np.nan
+            continue
+        if kind == SWEEP:
+            n = _sweep_hit(obj_f, k, ox, oy, oz, dx, dy, dz, t0, best, roots)
+            for q in range(n):
+                t, part = roots[q], int(roots[4 + q])
+                px, py, pz = ox + t * dx, oy + t * dy, oz + t * dz
+                nx, ny, nz = _sweep_normal(obj_f, k, part, px, py, pz)
+                if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last_obj, last_side):
+                    best, best_k, best_part, pending = t, k, part, False
+                    bnx, bny, bnz = nx, ny, nz
+                    best_param = np.nan
+                    break
             continue
         first, count = obj_i[k, O_FIRST], obj_i[k, O_COUNT]
         j0, j1 = first, first + count

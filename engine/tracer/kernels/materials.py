@@ -13,6 +13,8 @@ PLASTIC            a dielectric coat (IOR) over a lit diffuse base (albedo RGB)
 GROUND             the stage under the bottle: a Lambertian base (or a shadow catcher, or a
                    tinted mirror) under an optional clear coat; black from below
                    (:func:`engine.tracer.kernels.surface.scatter`)
+BACKDROP           the stage's backdrop sweep behind the bottle: the ground's base and coat on
+                   a curved surface; black from behind (:mod:`engine.tracer.kernels.backdrop`)
 =================  =========================================================================
 
 Paper labels are a decal over another material (:mod:`~engine.tracer.kernels.appearance`).
@@ -27,7 +29,7 @@ from numba import njit
 
 from .jit import INLINE, JIT
 
-SMOOTH_DIELECTRIC, CONDUCTOR, PLASTIC, GROUND = 0, 1, 2, 3
+SMOOTH_DIELECTRIC, CONDUCTOR, PLASTIC, GROUND, BACKDROP = 0, 1, 2, 3, 4
 MAX_CHILDREN = 4
 # kids columns: direction, RGB weight factor, medium side (0: incident side, 1: transmitted)
 KD_X, KD_Y, KD_Z, KW_R, KW_G, KW_B, K_SIDE = range(7)
@@ -40,9 +42,12 @@ MF_ALBEDO, MF_COAT_IOR = 0, 3
 # GROUND (the stage, :mod:`.surface`): albedo of the base or the mirror's tint (rgb), the coat's
 # index (0: none), a shadow catcher (1) or not, a mirror (1) or not, the coat's GGX alpha (0: sharp),
 # the radius and top (mm) of an upright cylinder about the z axis holding everything on the stage;
-# columns MF_FAVG.. (microfacet) the coat's mean Fresnel for a rough coat's energy
+# columns MF_FAVG.. (microfacet) the coat's mean Fresnel for a rough coat's energy; MG_WIDE 1 where
+# a backdrop stands on the ground (its probes span the whole sky: :func:`.ground.probe_window`).
+# BACKDROP: the same columns (its albedo, coat, alpha, mean Fresnel).
 MG_ALBEDO, MG_COAT_IOR, MG_SHADOW, MG_MIRROR, MG_ALPHA, MG_BOUND_R, MG_BOUND_Z = 0, 3, 4, 5, 6, 7, 8
-MAT_COLS = 12
+MG_WIDE = 12
+MAT_COLS = 13
 
 
 @njit(**JIT)

@@ -2,8 +2,8 @@
 
 Design rule: a cell's value is the ground's own control-variate estimate
 (:func:`engine.tracer.kernels.ground.ground`) made with many probes at once at the cell's centre:
-``n_side x n_side`` directions stratified over the cosine-weighted window the bottle's bounding
-cylinder spans from there (the whole sky under the cylinder), each traced by the camera's own
+``n_side x n_side`` directions stratified over the ground's own probe window
+(:func:`~.ground.probe_window`: the bottle's bounding cylinder, or the whole sky), each traced by the camera's own
 integrator (:func:`~.integrator.trace_sample`, leaving the ground), less the open sky along it.
 A probe's tree is cut where the ground's own probe would cut it: its branches weigh ``albedo x
 share`` of the pixel's (at most :data:`MAX_CUT`). Cell ``c`` draws batch ``b``'s jitter from ``mix64(seed ^ c)`` and the batch: a grid is bit for
@@ -17,20 +17,21 @@ import math
 import numpy as np
 from numba import njit
 
-from .ground import cylinder_window
+from .ground import probe_window
 from .integrator import trace_sample
 from .intersect import O_MAT
 from .jit import JIT
-from .materials import MG_ALBEDO, MG_BOUND_R, MG_BOUND_Z, MG_SHADOW
+from .materials import MG_ALBEDO, MG_SHADOW
 from .records import Cutoffs
 from .sampling import branch_seed, env_lookup, mix64, uniform01
 
 
 #: Columns of a cell's record: the sums over its probes of what arrives less the open sky
-#: (rgb; what arrives, under the cylinder), of the squared luminance of that, and the share of
-#: the cosine-weighted sky the probes stand for (1 under the cylinder, where nothing is taken off).
-Y_R, Y_G, Y_B, Y_SQ, Y_SHARE = range(5)
-Y_COLS = 5
+#: (rgb; what arrives, under the cylinder), of the squared luminance of that, the share of
+#: the cosine-weighted sky the probes stand for, and 1 where the open sky was taken off (the
+#: control variate: :func:`~.ground.probe_window`), 0 under the cylinder.
+Y_R, Y_G, Y_B, Y_SQ, Y_SHARE, Y_CONTROLLED = range(6)
+Y_COLS = 6
 #: A probe's weight cut at most (the first reflection off glass, 4 %, is always traced).
 MAX_CUT = 0.03
 
@@ -43,7 +44,6 @@ def sky_cells(sc, lab, fin, env_p, tex, ground, z0, cells, idx, n_side, batch, s
     ``ground``) into the same rows of ``out`` (``Y_*`` columns; module rule). ``rec``, ``rec_n``:
     an empty ray record (:func:`~.integrator.trace_sample`'s; nothing is recorded)."""
     mat = sc.geom.obj_i[ground, O_MAT]
-    bound_r, bound_z = sc.mat_f[mat, MG_BOUND_R], sc.mat_f[mat, MG_BOUND_Z]
     albedo = 1.0
     if sc.mat_f[mat, MG_SHADOW] < 0.5:
         albedo = max(sc.mat_f[mat, MG_ALBEDO], max(sc.mat_f[mat, MG_ALBEDO + 1], sc.mat_f[mat, MG_ALBEDO + 2]))
@@ -53,12 +53,7 @@ def sky_cells(sc, lab, fin, env_p, tex, ground, z0, cells, idx, n_side, batch, s
         c = idx[j]
         px, py = cells[c, 0], cells[c, 1]
         cs = mix64(np.uint64(seed) ^ np.uint64(c))
-        rho = math.sqrt(px * px + py * py)
-        outside = rho > bound_r
-        if outside:  # the cylinder's window, as the ground's own probe draws it
-            half_az, s_max, share, phi0 = cylinder_window(px, py, z0, rho, bound_r, bound_z)
-        else:
-            half_az, s_max, share, phi0 = math.pi, 1.0, 1.0, 0.0
+        half_az, s_max, share, phi0, controlled = probe_window(sc.mat_f, mat, px, py, z0)
         # the tree's weight cut as the ground's own probe would meet it (its weight: albedo x share)
         weight = max(albedo * share, 1e-9)
         cut_c = Cutoffs(cut.max_depth, min(max(cut.min_weight, cut.min_weight / weight), MAX_CUT), cut.rr_weight,
@@ -75,11 +70,12 @@ def sky_cells(sc, lab, fin, env_p, tex, ground, z0, cells, idx, n_side, batch, s
                 wx, wy, wz = r * math.cos(phi), r * math.sin(phi), math.sqrt(s)
                 lr, lg, lb, _, _ = trace_sample(sc, tex, env_p, px, py, z0, wx, wy, wz, branch_seed(cs, k), cut_c,
                                                 work, depth_rec, counters, rec, rec_n, lab, fin, ground)
-                if outside:
+                if controlled:
                     er, eg, eb = env_lookup(tex, scale, rot, wx, wy, wz)
                     lr, lg, lb = lr - er, lg - eg, lb - eb
                 sr, sg, sb = sr + lr, sg + lg, sb + lb
                 lum = (lr + lg + lb) / 3.0
                 sq += lum * lum
         out[j, Y_R], out[j, Y_G], out[j, Y_B], out[j, Y_SQ] = sr, sg, sb, sq
-        out[j, Y_SHARE] = share if outside else 1.0
+        out[j, Y_SHARE] = share
+        out[j, Y_CONTROLLED] = 1.0 if controlled else 0.0

@@ -17,7 +17,8 @@ It composes three kinds of layer, as Mitsuba's ``mask`` and ``bumpmap`` wrap a n
   rule is written): the geometric normal alone decides media, so a relief never sends a branch
   into a medium it is not in;
 * **the materials** (:mod:`.materials`, :mod:`.microfacet`): the smooth dielectric, the conductor,
-  the coated diffuse base, and the stage's ground (:func:`.ground.ground`).
+  the coated diffuse base, the stage's ground (:func:`.ground.ground`) and its backdrop sweep
+  (:func:`.backdrop.backdrop`).
 
 The ground's material and its light are :mod:`.ground`'s.
 
@@ -31,12 +32,13 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .backdrop import backdrop
 from .bumps import consistent_normal
 from .finish import FROST_STREAM, lit_by_lights, shading_frame
 from .jit import INLINE, JIT
 from .labels import label_hit
 from .ground import ground
-from .materials import (CONDUCTOR, GROUND, KID_COLS, KW_B, KW_G, KW_R, M_KIND, MF_ALBEDO, MF_COAT_IOR, PLASTIC,
+from .materials import (BACKDROP, CONDUCTOR, GROUND, KID_COLS, KW_B, KW_G, KW_R, M_KIND, MF_ALBEDO, MF_COAT_IOR, PLASTIC,
                         SMOOTH_DIELECTRIC, coat, conductor, keep_sides, smooth_dielectric)
 from .microfacet import frosted_glass, rough_mirror
 from .records import Scattered
@@ -186,6 +188,9 @@ def scatter(sc, lab, fin, env_p, tex, it, wr, wg, wb, bseed, kids, scratch):
         bits = lbits
     if sc.mat_i[it.mat, M_KIND] == GROUND:
         nk, er, eg, eb, gbits = ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch)
+        return Scattered(nk, er, eg, eb, 0.0, 0.0, 0.0, bits | gbits, np.int64(0))
+    if sc.mat_i[it.mat, M_KIND] == BACKDROP:
+        nk, er, eg, eb, gbits = backdrop(sc, lab, fin, env_p, tex, it, bseed, kids, scratch)
         return Scattered(nk, er, eg, eb, 0.0, 0.0, 0.0, bits | gbits, np.int64(0))
     if fin.obj_rows[it.obj, 1] > 0 or sc.mat_i[it.mat, M_KIND] == PLASTIC:
         nk, er, eg, eb, fbits = _bumped(fin, sc, lab, it, bseed, kids, env_p, scratch)

@@ -28,12 +28,13 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from ..kernels import intersect as K
 from ..kernels.intersect import O_MAT
 from ..kernels.ground import S_DR, S_GROW, S_NIN, S_NRING, S_NSEC, S_R1, S_RMAX, SKY_COLS, ring_sectors, sky_ring
-from ..kernels.materials import MG_ALBEDO, MG_BOUND_R, MG_SHADOW
+from ..kernels.materials import MG_ALBEDO, MG_BOUND_R, MG_SHADOW, MG_WIDE
 from ..kernels.records import Cutoffs
 from ..kernels.integrator import N_COUNTERS
-from ..kernels.sky import Y_COLS, Y_SHARE, Y_SQ, sky_cells
+from ..kernels.sky import Y_COLS, Y_CONTROLLED, Y_SHARE, Y_SQ, sky_cells
 from ..kernels.tile import make_work
 
 #: Rings across the bottle's bounding radius, and sectors per radian at it (a 40 mm bound: 2.5 mm).
@@ -51,6 +52,9 @@ MAX_CELLS = 1 << 15
 #: irradiance, up to ``MAX_BATCHES`` batches in all; cells per kernel call.
 SE_TOL = 0.015
 MAX_BATCHES = 4
+#: Batches more where a backdrop stands on the ground (its probes span the whole sky, and the
+#: sweep they meet is itself sampled).
+WIDE_BATCHES = 4
 CHUNK = 32
 #: The ray tree's node budget per probe (as a render's).
 MAX_NODES = 4096
@@ -107,6 +111,21 @@ def sky_grid_pays(width: int, height: int) -> bool:
     return int(width) * int(height) >= GRID_MIN_PIXELS
 
 
+def under_sweep_to_edge(scene, cells: np.ndarray) -> np.ndarray:
+    """``cells`` ``(n, 2)`` (mm) with the centres that lie under a backdrop sweep (beyond where
+    its curve leaves the floor, hidden from every camera) moved back onto that line: their
+    probes would see only the sweep's dark underside, and bilinear reads would bleed that
+    darkness onto the visible floor beside the line."""
+    k = np.nonzero(scene.geom.obj_i[:, K.O_KIND] == K.SWEEP)[0]
+    if not len(k):
+        return cells
+    f = scene.geom.obj_f[k[0]]
+    facing = np.array([f[K.F_COS], f[K.F_SIN]])
+    edge = f[K.F_SW_START] * (1.0 - 1e-6)
+    v = cells @ facing
+    return cells - np.maximum(v - edge, 0.0)[:, None] * facing
+
+
 class GridCancelled(Exception):
     """A grid's build was stopped: the render that asked for it was cancelled."""
 
@@ -124,9 +143,10 @@ def sky_grid(scene, lab, fin, env_p, tex, ground: int, z0: float, reach_mm: floa
     bound_r = float(scene.mat_f[mat, MG_BOUND_R])
     row = sky_row(bound_r, min(reach_mm, REACH * bound_r))
     cells, rings = cell_centres(row)
-    cells = np.ascontiguousarray(cells)
+    cells = np.ascontiguousarray(under_sweep_to_edge(scene, cells))
     inner = int(math.ceil(sky_ring(row, INNER_REACH * bound_r)))
-    side = np.where(rings < inner, PROBES_SIDE, OUTER_PROBES_SIDE)
+    wide = scene.mat_f[mat, MG_WIDE] > 0.5  # a backdrop: no cell's light is the open sky's
+    side = np.where((rings < inner) | wide, PROBES_SIDE, OUTER_PROBES_SIDE)
     # the error that matters is the ground's: albedo x the cell's (a shadow catcher's is ~1)
     albedo = 1.0 if scene.mat_f[mat, MG_SHADOW] > 0.5 else max(float(scene.mat_f[mat, MG_ALBEDO:MG_ALBEDO + 3].max()),
                                                                  1e-3)
@@ -148,12 +168,12 @@ def sky_grid(scene, lab, fin, env_p, tex, ground: int, z0: float, reach_mm: floa
 
     todo = np.arange(len(cells))
     with ThreadPoolExecutor(threads) as pool:
-        for batch in range(MAX_BATCHES):
+        for batch in range(MAX_BATCHES + (WIDE_BATCHES if wide else 0)):
             jobs = [(todo[side[todo] == n][k:k + CHUNK], n, batch) for n in (PROBES_SIDE, OUTER_PROBES_SIDE)
                     for k in range(0, int((side[todo] == n).sum()), CHUNK)]
             for idx, n_side, out in pool.map(lambda job: run(*job), jobs):
                 sums[idx, :Y_SQ + 1] += out[:, :Y_SQ + 1]  # (each cell's batches add in batch order)
-                sums[idx, Y_SHARE] = out[:, Y_SHARE]
+                sums[idx, Y_SHARE:] = out[:, Y_SHARE:]
                 probes[idx] += n_side * n_side
             if cancelled is not None and cancelled():
                 raise GridCancelled("the sky grid's render was cancelled")
@@ -164,6 +184,6 @@ def sky_grid(scene, lab, fin, env_p, tex, ground: int, z0: float, reach_mm: floa
             if not len(todo):
                 break
     mean = sums[:, :3] / probes[:, None]
-    outside = sums[:, Y_SHARE:Y_SHARE + 1] < 1.0
-    sky = np.where(outside, np.asarray(env_p[3:6]) + sums[:, Y_SHARE:Y_SHARE + 1] * mean, mean)
+    controlled = sums[:, Y_CONTROLLED:Y_CONTROLLED + 1] > 0.5
+    sky = np.where(controlled, np.asarray(env_p[3:6]) + sums[:, Y_SHARE:Y_SHARE + 1] * mean, mean)
     return np.ascontiguousarray(sky), row

@@ -6,8 +6,11 @@ both sides, with a ``GROUND`` material row (:mod:`engine.tracer.kernels.material
 surface layer shades (:func:`engine.tracer.kernels.surface.scatter`). A design whose stage is
 ``none`` gets no object at all, so its images are those of before stages, bit for bit. The one
 number of the environment the ground needs, the irradiance of an upward surface under an open
-sky (:func:`open_sky_irradiance`), rides in the environment's parameter row. A diffuse ground
-also gets its sky grid (:func:`stage_sky`, :mod:`engine.tracer.tables.sky`) and, under lights,
+sky (:func:`open_sky_irradiance`), rides in the environment's parameter row. A table or riser
+with its backdrop on gets one more object after the ground: the sweep (:func:`sweep_row`, a
+``BACKDROP`` material of the same sheet), behind the bottle as the camera sees it, and the
+ground's probes then span the whole sky (``MG_WIDE``: the sweep hides sky from it too). A
+diffuse ground also gets its sky grid (:func:`stage_sky`, :mod:`engine.tracer.tables.sky`) and, under lights,
 their caustic grids (:func:`stage_caustics`). Units mm.
 """
 from __future__ import annotations
@@ -19,8 +22,8 @@ import numpy as np
 
 from ...model.design import Stage
 from ..kernels import intersect as K
-from ..kernels.materials import (GROUND, MAT_COLS, MG_ALBEDO, MG_ALPHA, MG_BOUND_R, MG_BOUND_Z, MG_COAT_IOR,
-                                 MG_MIRROR, MG_SHADOW)
+from ..kernels.materials import (BACKDROP, GROUND, MAT_COLS, MG_ALBEDO, MG_ALPHA, MG_BOUND_R, MG_BOUND_Z,
+                                 MG_COAT_IOR, MG_MIRROR, MG_SHADOW, MG_WIDE)
 from ..kernels.microfacet import MF_FAVG
 from ..kernels.outlines import RRECT
 from ..kernels.records import Geometry, Scene
@@ -31,6 +34,11 @@ from ..render_objects import AIR
 COAT_IOR = 1.5
 #: Polar and azimuthal steps of the open-sky quadrature (:func:`open_sky_irradiance`).
 SKY_STEPS = (256, 1024)
+#: The backdrop sweep in the bottle's size ``h`` (its height above the stage or its bounding
+#: radius, the larger): the curve leaves the floor ``SWEEP_GAP h`` beyond the bottle's bounding
+#: radius and rises with radius ``SWEEP_CURVE h`` to the wall, which reaches ``SWEEP_EXTENT h``
+#: above the floor and as far to each side (far enough to fill any frame that shows the bottle).
+SWEEP_GAP, SWEEP_CURVE, SWEEP_EXTENT = 0.75, 1.0, 40.0
 _SKY_CACHE: dict = {}
 _SKY_LOCK = threading.Lock()
 
@@ -50,18 +58,54 @@ def material_row(stage: Stage, bound_r: float, bound_z: float) -> np.ndarray:
     return row
 
 
-def scene_with_stage(scene: Scene, stage: Stage) -> Scene:
-    """``scene`` with the ground of ``stage`` appended as its last object and material (``scene``
-    itself for the stage ``none``)."""
+def sweep_facing(camera) -> tuple[float, float]:
+    """``(cos, sin)``: the unit horizontal direction from the bottle's axis away from ``camera``'s
+    eye (a ``Camera``, mm), where its backdrop sweep stands: behind the bottle as the camera sees
+    it (from straight above: along the view's horizontal part, else +y)."""
+    for x, y in ((-camera.eye[0], -camera.eye[1]),
+                 (camera.target[0] - camera.eye[0], camera.target[1] - camera.eye[1])):
+        n = math.hypot(x, y)
+        if n > 1e-9 * max(1.0, *(abs(v) for v in camera.eye)):
+            return x / n, y / n
+    return 0.0, 1.0
+
+
+def sweep_row(stage: Stage, camera, bound_r: float, bound_z: float, edge: float) -> np.ndarray:
+    """The ``obj_f`` row of ``stage``'s backdrop sweep (:data:`~..kernels.intersect.SWEEP`'s
+    columns) for a bottle within radius ``bound_r`` and below ``bound_z`` (mm), seen by
+    ``camera``: facing away from the camera (:func:`sweep_facing`), sized by
+    :data:`SWEEP_GAP` and its kin; ``edge`` the objects' edge distance."""
+    z = float(stage.z_mm)
+    h = max(bound_r, bound_z - z)
+    start, radius, extent = bound_r + SWEEP_GAP * h, SWEEP_CURVE * h, SWEEP_EXTENT * h
+    of = np.zeros(K.F_COLS)
+    of[K.F_COS], of[K.F_SIN] = sweep_facing(camera)
+    of[K.F_NSIGN], of[K.F_ZSPLIT], of[K.F_PZ], of[K.F_EDGE] = 1.0, np.inf, z, edge
+    of[K.F_SW_START], of[K.F_SW_RADIUS], of[K.F_SW_HALF], of[K.F_SW_TOP] = start, radius, extent, z + extent
+    of[K.F_RMAX] = math.hypot(start + radius, extent) * (1 + 1e-9)
+    of[K.F_ZMIN], of[K.F_ZMAX] = z - 1e-9 * extent, z + extent * (1 + 1e-9)
+    return of
+
+
+def _air_object(kind: int, mat: int) -> np.ndarray:
+    """An ``obj_i`` row of ``kind`` with air on both sides and material ``mat``."""
+    oi = np.zeros(K.O_COLS, np.int64)
+    oi[K.O_KIND], oi[K.O_XS_IN], oi[K.O_MAT] = kind, -1, mat
+    oi[K.O_FRONT_LO] = oi[K.O_BACK_LO] = oi[K.O_FRONT_HI] = oi[K.O_BACK_HI] = AIR
+    return oi
+
+
+def scene_with_stage(scene: Scene, stage: Stage, camera=None) -> Scene:
+    """``scene`` with the ground of ``stage`` appended as its last object and material and, when
+    the stage draws one, its backdrop sweep after it, facing ``camera`` (a ``Camera``, mm;
+    ``scene`` itself for the stage ``none``)."""
     if stage.kind == "none":
         return scene
     (seg, tab, slab_f, slab_i, obj_i, obj_f), media, mat_i, mat_f = scene
-    oi = np.zeros(K.O_COLS, np.int64)
+    oi = _air_object(K.PLANE, mat_i.shape[0])
+    oi[K.O_XS] = RRECT
     of = np.zeros(K.F_COLS)
     half, z = float(stage.half_size_mm), float(stage.z_mm)
-    oi[K.O_KIND], oi[K.O_XS], oi[K.O_XS_IN] = K.PLANE, RRECT, -1
-    oi[K.O_FRONT_LO] = oi[K.O_BACK_LO] = oi[K.O_FRONT_HI] = oi[K.O_BACK_HI] = AIR
-    oi[K.O_MAT] = mat_i.shape[0]
     pad = 1e-9 * half
     of[K.F_NSIGN], of[K.F_ZSPLIT], of[K.F_COS] = 1.0, np.inf, 1.0
     of[K.F_RMAX], of[K.F_ZMIN], of[K.F_ZMAX] = math.sqrt(2.0) * half * (1 + 1e-9) + pad, z - pad, z + pad
@@ -72,18 +116,62 @@ def scene_with_stage(scene: Scene, stage: Stage) -> Scene:
     mi[0, 0] = GROUND
     mf = np.zeros((mat_f.shape[0], MAT_COLS))
     mf[:, :mat_f.shape[1]] = mat_f
-    c = np.ascontiguousarray
     # the bottle, its threads and closure: objects' boxes are (radius about the axis, z range)
     bound_r = float(obj_f[:, K.F_RMAX].max()) * (1 + 1e-6) + 1e-6
     bound_z = float(obj_f[:, K.F_ZMAX].max()) + 1e-6
-    return Scene(Geometry(seg, tab, slab_f, slab_i, c(np.vstack([obj_i, oi])), c(np.vstack([obj_f, of]))), media,
-                 c(np.vstack([mat_i, mi])), c(np.vstack([mf, material_row(stage, bound_r, bound_z)])))
+    row = material_row(stage, bound_r, bound_z)
+    new_i, new_f, new_mi, new_mf = [oi], [of], [mi], [row]
+    if stage.draws_backdrop:
+        from ...model.design import Camera
+        row[MG_WIDE] = 1.0
+        sweep = row.copy()
+        sweep[MG_WIDE] = 0.0
+        new_i.append(_air_object(K.SWEEP, mat_i.shape[0] + 1))
+        new_f.append(sweep_row(stage, camera if camera is not None else Camera(), bound_r, bound_z, of[K.F_EDGE]))
+        new_mi.append(np.array([[BACKDROP] + [0] * (mat_i.shape[1] - 1)], np.int64))
+        new_mf.append(sweep)
+    c = np.ascontiguousarray
+    return Scene(Geometry(seg, tab, slab_f, slab_i, c(np.vstack([obj_i, *new_i])), c(np.vstack([obj_f, *new_f]))),
+                 media, c(np.vstack([mat_i, *new_mi])), c(np.vstack([mf, *new_mf])))
 
 
 def ground_objects(scene: Scene) -> np.ndarray:
-    """Indices of the render objects of ``scene`` that are the stage's ground (none without one)."""
+    """Indices of the render objects of ``scene`` that are the stage's (its ground and backdrop
+    sweep; none without one)."""
     mats = scene.geom.obj_i[:, K.O_MAT]
-    return np.nonzero(scene.mat_i[mats, 0] == GROUND)[0]
+    return np.nonzero(np.isin(scene.mat_i[mats, 0], (GROUND, BACKDROP)))[0]
+
+
+def ground_object(scene: Scene) -> int:
+    """The render object of ``scene`` that is the stage's ground plane (the sweep follows it)."""
+    mats = scene.geom.obj_i[:, K.O_MAT]
+    return int(np.nonzero(scene.mat_i[mats, 0] == GROUND)[0][0])
+
+
+def _cosine_directions(steps) -> np.ndarray:
+    """``(n, 3)`` unit directions about +z in a frame's coordinates, a midpoint rule of ``steps``
+    = (polar, azimuthal) cells in ``cos^2`` and azimuth: the cosine-weighted hemisphere in equal
+    parts (so a mean over them is an irradiance over pi)."""
+    nt, nphi = steps
+    c2 = (np.arange(nt) + 0.5) / nt
+    cos_t, sin_t = np.sqrt(c2), np.sqrt(1.0 - c2)
+    phi = (np.arange(nphi) + 0.5) * (2.0 * math.pi / nphi)
+    return np.stack([np.outer(sin_t, np.cos(phi)), np.outer(sin_t, np.sin(phi)),
+                     np.outer(cos_t, np.ones(nphi))], axis=-1).reshape(-1, 3)
+
+
+def _cached(key, build):
+    """``build()``, kept in the small cache of sky integrals under ``key``."""
+    with _SKY_LOCK:
+        hit = _SKY_CACHE.get(key)
+    if hit is not None:
+        return hit
+    out = build()
+    with _SKY_LOCK:
+        if len(_SKY_CACHE) > 16:
+            _SKY_CACHE.clear()
+        _SKY_CACHE[key] = out
+    return out
 
 
 def open_sky_irradiance(environment) -> np.ndarray:
@@ -93,23 +181,47 @@ def open_sky_irradiance(environment) -> np.ndarray:
     azimuth of :data:`SKY_STEPS` cells over the environment's own lookup; cached per map, scale
     and turn (the turn does not change it, but the lookup takes it)."""
     key = (id(environment.texels), float(environment.scale), float(environment.rotation_deg))
-    with _SKY_LOCK:
-        hit = _SKY_CACHE.get(key)
-    if hit is not None:
-        return hit
-    nt, nphi = SKY_STEPS
-    # cos(theta)^2 uniform in (0, 1): the cosine-weighted measure in equal parts
-    c2 = (np.arange(nt) + 0.5) / nt
-    cos_t, sin_t = np.sqrt(c2), np.sqrt(1.0 - c2)
-    phi = (np.arange(nphi) + 0.5) * (2.0 * math.pi / nphi)
-    d = np.stack([np.outer(sin_t, np.cos(phi)), np.outer(sin_t, np.sin(phi)),
-                  np.outer(cos_t, np.ones(nphi))], axis=-1).reshape(-1, 3)
-    out = environment.lookup(d).mean(axis=0)
-    with _SKY_LOCK:
-        if len(_SKY_CACHE) > 16:
-            _SKY_CACHE.clear()
-        _SKY_CACHE[key] = out
-    return out
+    return _cached(key, lambda: environment.lookup(_cosine_directions(SKY_STEPS)).mean(axis=0))
+
+
+#: Tilts of the sweep's normal (from up to level, facing the bottle) its open-sky table holds,
+#: and the quadrature's polar and azimuthal steps per tilt (:func:`sweep_sky_irradiance`).
+SWEEP_TILTS = 33
+SWEEP_SKY_STEPS = (64, 256)
+
+
+def sweep_sky_irradiance(environment, facing) -> np.ndarray:
+    """``(SWEEP_TILTS, 3)``: the irradiance over pi of the sweep's sheet with nothing in the way
+    (the environment over the whole hemisphere about its normal, the sky below the horizon
+    included), at normals tilted from up (row 0) to level facing back along ``facing`` (the
+    sweep's ``(cos, sin)``, last row: the wall), evenly in angle; the control variate's mean of
+    :func:`engine.tracer.kernels.backdrop.backdrop`. By a midpoint rule in ``cos^2`` and
+    azimuth (:data:`SWEEP_SKY_STEPS`), cached per map, scale, turn and facing."""
+    fc, fs = (float(x) for x in facing)
+
+    def build():
+        local = _cosine_directions(SWEEP_SKY_STEPS)
+        out = np.zeros((SWEEP_TILTS, 3))
+        for i, tilt in enumerate(np.linspace(0.0, 0.5 * math.pi, SWEEP_TILTS)):
+            n = np.array([-math.sin(tilt) * fc, -math.sin(tilt) * fs, math.cos(tilt)])
+            u = np.array([-fs, fc, 0.0])  # level, across the sweep
+            out[i] = environment.lookup(local @ np.stack([u, np.cross(n, u), n])).mean(axis=0)
+        return out
+    key = ("sweep", id(environment.texels), float(environment.scale), float(environment.rotation_deg), fc, fs)
+    return _cached(key, build)
+
+
+def environment_params(design, environment, factor: float) -> np.ndarray:
+    """The kernels' environment row for ``design`` under ``environment``: scale, turn (rad), the
+    half-float map's ``factor``, the open sky's irradiance ``E_up`` on a ground (zeros without
+    one) and, with a backdrop sweep, the count of its open-sky tilts and their table
+    (:func:`sweep_sky_irradiance`, flattened; the kernels' ``env_p[6]`` on)."""
+    sky = open_sky_irradiance(environment) if design.stage.kind != "none" else np.zeros(3)
+    row = [float(environment.scale), math.radians(float(environment.rotation_deg)), factor, *sky]
+    if design.stage.draws_backdrop:
+        table = sweep_sky_irradiance(environment, sweep_facing(design.camera))
+        row += [float(len(table)), *table.ravel()]
+    return np.array(row)
 
 
 #: The last caustic grids built, by what they depend on (a camera or environment edit keeps them).
@@ -123,13 +235,19 @@ def _asset_hashes(assets) -> tuple:
     return tuple(sorted((name, hashlib.sha1(blob).hexdigest()) for name, blob in (assets or {}).items()))
 
 
+def _facing_key(design):
+    """What a grid holds of the camera: where the backdrop sweep faces, if it is drawn."""
+    return sweep_facing(design.camera) if design.stage.draws_backdrop else None
+
+
 def _caustic_key(design, assets) -> tuple:
-    """What the caustic grids of ``design`` depend on: everything but the camera, the render
-    settings and the environment (photons do not see the sky), and the label images' bytes."""
+    """What the caustic grids of ``design`` depend on: everything but the camera (other than
+    where the backdrop sweep faces), the render settings and the environment (photons do not
+    see the sky), and the label images' bytes."""
     from ...model.design import Camera, Environment, RenderSettings
     import dataclasses
     bare = dataclasses.replace(design, camera=Camera(), render=RenderSettings(), environment=Environment())
-    return bare, _asset_hashes(assets)
+    return bare, _asset_hashes(assets), _facing_key(design)
 
 
 def stage_caustics(design, assets, scene: Scene, labels, finish, env_params, lookup_texels) -> dict:
@@ -142,7 +260,7 @@ def stage_caustics(design, assets, scene: Scene, labels, finish, env_params, loo
         hit = _CAUSTIC_CACHE.get(key)
     if hit is None:
         hit = caustic_grids(scene, with_buffers(labels), finish, env_params, lookup_texels,
-                            scene.mat_i.shape[0] - 1, float(design.stage.z_mm))
+                            int(scene.geom.obj_i[ground_object(scene), K.O_MAT]), float(design.stage.z_mm))
         with _SKY_LOCK:
             _CAUSTIC_CACHE[key] = hit
             while len(_CAUSTIC_CACHE) > _CAUSTIC_KEEP:
@@ -155,12 +273,14 @@ _SKY_GRID_CACHE: dict = {}
 
 
 def _sky_key(design, assets) -> tuple:
-    """What the sky grid of ``design`` depends on: everything but the camera and the render
-    settings other than the tree's cut-offs, and the assets' bytes."""
+    """What the sky grid of ``design`` depends on: everything but the camera (other than where
+    the backdrop sweep faces) and the render settings other than the tree's cut-offs, and the
+    assets' bytes."""
     from ...model.design import Camera, RenderSettings
     import dataclasses
     bare = dataclasses.replace(design, camera=Camera(), render=RenderSettings())
-    return bare, int(design.render.max_depth), float(design.render.min_weight), _asset_hashes(assets)
+    return (bare, int(design.render.max_depth), float(design.render.min_weight), _asset_hashes(assets),
+            _facing_key(design))
 
 
 def stage_sky(design, assets, scene: Scene, labels, finish, env_params, lookup_texels, cancelled=None) -> dict:
@@ -174,7 +294,7 @@ def stage_sky(design, assets, scene: Scene, labels, finish, env_params, lookup_t
         hit = _SKY_GRID_CACHE.get(key)
     if hit is None:
         hit = sky_grid(scene, with_buffers(labels), finish, env_params, lookup_texels,
-                       scene.geom.obj_i.shape[0] - 1, float(design.stage.z_mm),
+                       ground_object(scene), float(design.stage.z_mm),
                        math.sqrt(2.0) * float(design.stage.half_size_mm), int(design.render.max_depth),
                        float(design.render.min_weight), cancelled=cancelled)
         with _SKY_LOCK:

@@ -199,8 +199,35 @@ def test_the_sweeps_open_sky_table_is_the_open_sky_where_it_faces_up_and_one_in_
     env = environment_from_design(Environment())
     table = S.sweep_sky_irradiance(env, (0.0, 1.0))
     assert np.allclose(table[0], S.open_sky_irradiance(env), rtol=2e-3), "row 0 faces up: the ground's E_up"
-    assert np.allclose(S.sweep_sky_irradiance(WHITE, (0.6, 0.8)), 1.0, atol=1e-6)
+    assert np.allclose(S.sweep_sky_irradiance(WHITE, (0.6, 0.8), (1.0, 1.0, 1.0)), 1.0, atol=1e-6)
+    # a black floor: the wall sees the white sky over half its hemisphere (cosine-weighted)
+    assert np.allclose(S.sweep_sky_irradiance(WHITE, (0.6, 0.8))[-1], 0.5, atol=1e-6)
     # a wall facing the studio's key light sees more than one facing away
     toward = S.sweep_sky_irradiance(env, (math.cos(math.radians(65)), math.sin(math.radians(65))))[-1].sum()
     away = S.sweep_sky_irradiance(env, (math.cos(math.radians(-115)), math.sin(math.radians(-115))))[-1].sum()
     assert toward > 2.0 * away
+
+
+def test_the_sweep_grid_agrees_with_probing_per_hit_and_makes_its_pixels_noise_free():
+    from engine.tracer.context import RenderContext, trace_rays
+    from engine.tracer.kernels.backdrop import W_COLS
+    design = _lit(Stage(kind="table", color=(0.8, 0.8, 0.8), backdrop=True),
+                  light=Light(direction=(-0.4, -1.0, 0.8), intensity=1.5), fill=40.0)
+    ctx = RenderContext.from_design(design, None, 8, 8, grids=True)
+    assert ctx.finish.sweep_grid[1] > 0, "a sweep grid was built"
+    probing = dataclasses.replace(ctx, finish=ctx.finish._replace(sweep_grid=np.zeros(W_COLS)))
+    k, row = _sweep(design)
+    r = row[K.F_SW_RADIUS]
+    # points on the curve's foot, its middle, the wall, beside the bottle and in its shadow's way
+    points = [(u, s * r) for u in (-150.0, 0.0, 60.0) for s in (0.02, 0.5, 1.2, 2.5)]
+    repeats = 2048
+    for u, s in points:
+        p, n = _surface_point(row, u, mpmath.mpf(s))
+        p, n = np.array([float(x) for x in p]), np.array([float(x) for x in n])
+        o, d = np.tile(p + 10.0 * n, (repeats, 1)), np.tile(-n, (repeats, 1))
+        grid, _ = trace_rays(ctx, o[:4], d[:4])
+        assert np.ptp(grid, axis=0).max() == 0.0, "the grid's reading is the same for every sample"
+        probed, _ = trace_rays(probing, o, d)
+        mean, se = probed.mean(axis=0), probed.std(axis=0) / math.sqrt(repeats)
+        assert np.all(np.abs(grid[0] - mean) < 4 * se + 0.02 * mean), (u, s, grid[0], mean, se)
+

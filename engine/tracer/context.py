@@ -25,7 +25,8 @@ from .tables.labels import empty_label_arrays, label_arrays, with_buffers
 from .tables.finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays, search_tables
 from .tables.sky import sky_grid_pays
-from .tables.stage import environment_params, ground_objects, scene_with_stage, stage_caustics, stage_sky
+from .tables.stage import (environment_params, ground_objects, scene_with_stage, stage_caustics, stage_sky,
+                           stage_sweep)
 from .thread_geometry import scene_with_threads
 
 #: Boundaries one camera sample may visit before what it still holds is closed with the
@@ -94,7 +95,8 @@ class RenderContext:
         """Compile ``design`` for an image of ``width x height`` pixels (default: its render
         settings); ``environment`` replaces the design's (tests: a uniform white one). A diffuse
         ground gets its lights' caustic grids and, where the image pays for it
-        (:func:`~engine.tracer.tables.sky.sky_grid_pays`; ``grids`` true: always), its sky grid;
+        (:func:`~engine.tracer.tables.sky.sky_grid_pays`; ``grids`` true: always), its sky grid
+        (and a backdrop sweep its sweep grid);
         ``grids`` false makes a draft (the ground probes per hit and shows no caustic).
         ``cancelled()`` true stops the sky grid's build
         (:class:`~engine.tracer.tables.sky.GridCancelled`). Raises the geometry engine's errors
@@ -113,6 +115,8 @@ class RenderContext:
         if grids is not False and finish.lights.shape[0] and design.stage.kind not in ("none", "mirror"):
             finish = finish._replace(**stage_caustics(design, assets, scene, labels, finish, params, half))
         if (sky_grid_pays(w, h) if grids is None else grids) and design.stage.kind not in ("none", "mirror"):
+            if design.stage.draws_backdrop:  # first: the sky grid's probes that meet the sweep read it
+                finish = finish._replace(**stage_sweep(design, assets, scene, labels, finish, params, half, cancelled))
             finish = finish._replace(**stage_sky(design, assets, scene, labels, finish, params, half, cancelled))
         return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
                    float(design.render.min_weight), int(scene.mat_i.shape[0]), level, env,

@@ -60,8 +60,9 @@ LabelTables = namedtuple("LabelTables", ("rows", "nodes", "f", "texels", "tex_i"
 #: Each object's first relief row and count, kinds, parameter rows, the relief atlas, the
 #: closure's irradiance table and lights, the GGX albedo tables (glass, mirror, mirror mean), the
 #: ground's caustic grids (irradiance over pi per light, ``(n, rows, cols, 3)``) and their rows,
-#: and the ground's sky grid (irradiance over pi per cell, ``(cells, 3)``) and its row
-#: (:mod:`engine.tracer.tables.sky`).
+#: the ground's sky grid (irradiance over pi per cell, ``(cells, 3)``) and its row
+#: (:mod:`engine.tracer.tables.sky`), and the backdrop sweep's grid and its row
+#: (:mod:`engine.tracer.tables.sweep`).
 FinishTables = namedtuple("FinishTables", ("obj_rows", "kinds", "params", "atlas", "irradiance", "lights",
                                            "glass_albedo", "mirror_albedo", "mirror_avg", "caustics",
-                                           "caustic_grid", "sky", "sky_grid"))
+                                           "caustic_grid", "sky", "sky_grid", "sweep", "sweep_grid"))

@@ -36,6 +36,7 @@ from ..kernels import profile as R
 from ..kernels.bumps import FROSTED, P_ALPHA, P_COLS, P_V0, P_V1
 from ..kernels.labels import LABEL_BIT0
 from ..ggx_albedo import albedo_tables, conductor_average, dielectric_average
+from ..kernels.backdrop import W_COLS
 from ..kernels.ground import CAUSTIC_COLS, GRID_COLS, LIGHT_COLS, SKY_COLS
 from ..lighting import irradiance_table, light_table
 from ..kernels.materials import CONDUCTOR, MAT_COLS, MF_ALBEDO, MF_COAT_IOR, MF_K, MF_N, MF_TINT, PLASTIC
@@ -167,13 +168,15 @@ _EMPTY_IRR = np.zeros((2, 2, 3), np.float32)
 NO_CAUSTICS = (np.zeros((0, 1, 1, CAUSTIC_COLS)), np.zeros((0, GRID_COLS)))
 #: No sky grid (a design without a diffuse ground: :mod:`engine.tracer.tables.sky`).
 NO_SKY = (np.zeros((1, 3)), np.zeros(SKY_COLS))
+#: No sweep grid (a design without a backdrop sweep: :mod:`engine.tracer.tables.sweep`).
+NO_SWEEP = (np.zeros((1, 3)), np.zeros(W_COLS))
 
 
 def empty_finish(n_objects: int) -> FinishTables:
     """The finish tables of a plain design: no rows on any object."""
     return FinishTables(np.zeros((n_objects, 2), np.int64), np.zeros(0, np.int64), np.zeros((0, P_COLS)),
                         np.zeros((1, 3), np.float32), _EMPTY_IRR, np.zeros((0, LIGHT_COLS)), *albedo_tables(),
-                        *NO_CAUSTICS, *NO_SKY)
+                        *NO_CAUSTICS, *NO_SKY, *NO_SWEEP)
 
 
 def finish_arrays(design, assets, geom, cap: CapTables | None, scene: Scene, texels) -> FinishTables:
@@ -220,4 +223,4 @@ def finish_arrays(design, assets, geom, cap: CapTables | None, scene: Scene, tex
     irr = irradiance_table(texels) if plastic else _EMPTY_IRR
     lights = light_table(design.lights) if plastic or ground else np.zeros((0, LIGHT_COLS))
     return FinishTables(obj_rows, kinds, params, np.ascontiguousarray(bt.atlas, np.float32), irr, lights,
-                        *albedo_tables(), *NO_CAUSTICS, *NO_SKY)
+                        *albedo_tables(), *NO_CAUSTICS, *NO_SKY, *NO_SWEEP)

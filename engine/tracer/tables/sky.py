@@ -130,6 +130,44 @@ class GridCancelled(Exception):
     """A grid's build was stopped: the render that asked for it was cancelled."""
 
 
+def probe_cells(run, side: np.ndarray, batches: int, tolerance: float, threads: int | None = None,
+                cancelled=None) -> tuple[np.ndarray, np.ndarray]:
+    """``(sums, probes)``: a grid's cells probed in batches (``Y_*`` sums and probes per cell).
+    ``run(idx, n_side, batch, out)`` traces batch ``batch`` of ``n_side^2`` probes for cells
+    ``idx`` into ``out``; cell ``i`` takes ``side[i]`` per side. After each batch, the cells whose
+    estimate's standard error is above ``tolerance`` get another, up to ``batches`` in all.
+    Chunks of :data:`CHUNK` cells run on ``threads``; each cell's batches add in batch order, so
+    the sums are the same for any split. Raises :class:`GridCancelled` once ``cancelled()``."""
+    threads = max(1, threads or (os.cpu_count() or 1))
+    sums = np.zeros((len(side), Y_COLS))
+    probes = np.zeros(len(side))
+
+    def job(idx, n_side, batch):
+        out = np.zeros((len(idx), Y_COLS))
+        if cancelled is None or not cancelled():
+            run(idx, n_side, batch, out)
+        return idx, n_side, out
+
+    todo = np.arange(len(side))
+    with ThreadPoolExecutor(threads) as pool:
+        for batch in range(batches):
+            jobs = [(todo[side[todo] == n][k:k + CHUNK], n, batch) for n in np.unique(side)
+                    for k in range(0, int((side[todo] == n).sum()), CHUNK)]
+            for idx, n_side, out in pool.map(lambda a: job(*a), jobs):
+                sums[idx, :Y_SQ + 1] += out[:, :Y_SQ + 1]
+                sums[idx, Y_SHARE:] = out[:, Y_SHARE:]
+                probes[idx] += n_side * n_side
+            if cancelled is not None and cancelled():
+                raise GridCancelled("a grid's render was cancelled")
+            n = np.maximum(probes, 1.0)
+            lum = sums[:, :3].mean(axis=1) / n
+            se = sums[:, Y_SHARE] * np.sqrt(np.maximum(sums[:, Y_SQ] / n - lum ** 2, 0.0) / n)
+            todo = np.nonzero(se > tolerance)[0]
+            if not len(todo):
+                break
+    return sums, probes
+
+
 def sky_grid(scene, lab, fin, env_p, tex, ground: int, z0: float, reach_mm: float, max_depth: int,
              min_weight: float, threads: int | None = None, cancelled=None) -> tuple[np.ndarray, np.ndarray]:
     """``(sky, row)``: the sky grid of the scene's ground object ``ground`` at height ``z0`` (mm)
@@ -151,38 +189,15 @@ def sky_grid(scene, lab, fin, env_p, tex, ground: int, z0: float, reach_mm: floa
     albedo = 1.0 if scene.mat_f[mat, MG_SHADOW] > 0.5 else max(float(scene.mat_f[mat, MG_ALBEDO:MG_ALBEDO + 3].max()),
                                                                  1e-3)
     cut = Cutoffs(int(max_depth), float(min_weight), 0.0, MAX_NODES)
-    threads = max(1, threads or (os.cpu_count() or 1))
-    sums = np.zeros((len(cells), Y_COLS))
-    probes = np.zeros(len(cells))
-    open_sky = float(np.mean(env_p[3:6]))
 
-    def run(idx, n_side, batch):
-        out = np.zeros((len(idx), Y_COLS))
-        if cancelled is not None and cancelled():
-            return idx, n_side, out
+    def run(idx, n_side, batch, out):
         depth = np.full(scene.mat_i.shape[0], 255, np.int64)
         sky_cells(scene, lab, fin, env_p, tex, ground, float(z0), cells, np.ascontiguousarray(idx, np.int64),
                   int(n_side), int(batch), _SEED, cut, make_work(int(max_depth)), depth,
                   np.zeros(N_COUNTERS, np.int64), np.zeros((0, 6), np.float32), np.zeros(1, np.int64), out)
-        return idx, n_side, out
 
-    todo = np.arange(len(cells))
-    with ThreadPoolExecutor(threads) as pool:
-        for batch in range(MAX_BATCHES + (WIDE_BATCHES if wide else 0)):
-            jobs = [(todo[side[todo] == n][k:k + CHUNK], n, batch) for n in (PROBES_SIDE, OUTER_PROBES_SIDE)
-                    for k in range(0, int((side[todo] == n).sum()), CHUNK)]
-            for idx, n_side, out in pool.map(lambda job: run(*job), jobs):
-                sums[idx, :Y_SQ + 1] += out[:, :Y_SQ + 1]  # (each cell's batches add in batch order)
-                sums[idx, Y_SHARE:] = out[:, Y_SHARE:]
-                probes[idx] += n_side * n_side
-            if cancelled is not None and cancelled():
-                raise GridCancelled("the sky grid's render was cancelled")
-            n = np.maximum(probes, 1.0)
-            lum = sums[:, :3].mean(axis=1) / n
-            se = sums[:, Y_SHARE] * np.sqrt(np.maximum(sums[:, Y_SQ] / n - lum ** 2, 0.0) / n)
-            todo = np.nonzero(albedo * se > SE_TOL * open_sky)[0]
-            if not len(todo):
-                break
+    sums, probes = probe_cells(run, side, MAX_BATCHES + (WIDE_BATCHES if wide else 0),
+                               SE_TOL * float(np.mean(env_p[3:6])) / albedo, threads, cancelled)
     mean = sums[:, :3] / probes[:, None]
     controlled = sums[:, Y_CONTROLLED:Y_CONTROLLED + 1] > 0.5
     sky = np.where(controlled, np.asarray(env_p[3:6]) + sums[:, Y_SHARE:Y_SHARE + 1] * mean, mean)

@@ -190,14 +190,16 @@ SWEEP_TILTS = 33
 SWEEP_SKY_STEPS = (64, 256)
 
 
-def sweep_sky_irradiance(environment, facing) -> np.ndarray:
+def sweep_sky_irradiance(environment, facing, floor=(0.0, 0.0, 0.0)) -> np.ndarray:
     """``(SWEEP_TILTS, 3)``: the irradiance over pi of the sweep's sheet with nothing in the way
-    (the environment over the whole hemisphere about its normal, the sky below the horizon
-    included), at normals tilted from up (row 0) to level facing back along ``facing`` (the
-    sweep's ``(cos, sin)``, last row: the wall), evenly in angle; the control variate's mean of
+    but the floor (the environment above the horizon; below it the open floor's radiance
+    ``floor``, RGB: every direction down from the sweep meets the floor or the sweep's own
+    foot), at normals tilted from up (row 0) to level facing back along ``facing`` (the sweep's
+    ``(cos, sin)``, last row: the wall), evenly in angle; the control variate's mean of
     :func:`engine.tracer.kernels.backdrop.backdrop`. By a midpoint rule in ``cos^2`` and
-    azimuth (:data:`SWEEP_SKY_STEPS`), cached per map, scale, turn and facing."""
+    azimuth (:data:`SWEEP_SKY_STEPS`), cached per map, scale, turn, facing and floor."""
     fc, fs = (float(x) for x in facing)
+    floor = np.asarray(floor, float)
 
     def build():
         local = _cosine_directions(SWEEP_SKY_STEPS)
@@ -205,28 +207,63 @@ def sweep_sky_irradiance(environment, facing) -> np.ndarray:
         for i, tilt in enumerate(np.linspace(0.0, 0.5 * math.pi, SWEEP_TILTS)):
             n = np.array([-math.sin(tilt) * fc, -math.sin(tilt) * fs, math.cos(tilt)])
             u = np.array([-fs, fc, 0.0])  # level, across the sweep
-            out[i] = environment.lookup(local @ np.stack([u, np.cross(n, u), n])).mean(axis=0)
+            d = local @ np.stack([u, np.cross(n, u), n])
+            seen = np.where(d[:, 2:3] > 0.0, environment.lookup(d), floor)
+            out[i] = seen.mean(axis=0)
         return out
-    key = ("sweep", id(environment.texels), float(environment.scale), float(environment.rotation_deg), fc, fs)
+    key = ("sweep", id(environment.texels), float(environment.scale), float(environment.rotation_deg), fc, fs,
+           *floor.tolist())
     return _cached(key, build)
+
+
+def open_floor(design, e_up) -> np.ndarray:
+    """The open floor's radiance (RGB) the backdrop's control variate assumes below its horizon:
+    the stage's albedo times the open sky's irradiance ``e_up`` (over pi) and the open light of
+    the design's lights above the horizon that do not stand behind the sweep (a light behind it
+    leaves the floor in its shadow)."""
+    from ..lighting import light_table
+    from ..kernels.ground import L_B, L_COS, L_DX, L_DY, L_DZ, L_R
+    fc, fs = sweep_facing(design.camera)
+    e = np.array(e_up, float)
+    for row in light_table(design.lights):
+        if row[L_DZ] > 0.0 and fc * row[L_DX] + fs * row[L_DY] <= 0.0:
+            e += row[L_DZ] * 0.5 * (1.0 + row[L_COS]) / math.pi * row[L_R:L_B + 1]
+    return np.asarray(design.stage.color, float) * e
 
 
 def environment_params(design, environment, factor: float) -> np.ndarray:
     """The kernels' environment row for ``design`` under ``environment``: scale, turn (rad), the
     half-float map's ``factor``, the open sky's irradiance ``E_up`` on a ground (zeros without
-    one) and, with a backdrop sweep, the count of its open-sky tilts and their table
-    (:func:`sweep_sky_irradiance`, flattened; the kernels' ``env_p[6]`` on)."""
+    one) and, with a backdrop sweep, the count of its open-sky tilts, their table
+    (:func:`sweep_sky_irradiance`, flattened) and the open floor's radiance it assumes
+    (:func:`open_floor`): the kernels' ``env_p[6]`` on."""
     sky = open_sky_irradiance(environment) if design.stage.kind != "none" else np.zeros(3)
     row = [float(environment.scale), math.radians(float(environment.rotation_deg)), factor, *sky]
     if design.stage.draws_backdrop:
-        table = sweep_sky_irradiance(environment, sweep_facing(design.camera))
-        row += [float(len(table)), *table.ravel()]
+        floor = open_floor(design, sky)
+        table = sweep_sky_irradiance(environment, sweep_facing(design.camera), floor)
+        row += [float(len(table)), *table.ravel(), *floor]
     return np.array(row)
 
 
 #: The last caustic grids built, by what they depend on (a camera or environment edit keeps them).
 _CAUSTIC_CACHE: dict = {}
 _CAUSTIC_KEEP = 4
+
+
+def _kept(cache: dict, key, build):
+    """``cache[key]``, built by ``build()`` first if missing; the cache keeps the last
+    :data:`_CAUSTIC_KEEP` entries (a grid is built outside the lock: two threads asking at
+    once may both build it, and get equal grids)."""
+    with _SKY_LOCK:
+        hit = cache.get(key)
+    if hit is None:
+        hit = build()
+        with _SKY_LOCK:
+            cache[key] = hit
+            while len(cache) > _CAUSTIC_KEEP:
+                cache.pop(next(iter(cache)))
+    return hit
 
 
 def _asset_hashes(assets) -> tuple:
@@ -255,16 +292,9 @@ def stage_caustics(design, assets, scene: Scene, labels, finish, env_params, loo
     ground (:func:`engine.tracer.tables.caustics.caustic_grids`), from a small cache."""
     from .caustics import caustic_grids
     from .labels import with_buffers
-    key = _caustic_key(design, assets)
-    with _SKY_LOCK:
-        hit = _CAUSTIC_CACHE.get(key)
-    if hit is None:
-        hit = caustic_grids(scene, with_buffers(labels), finish, env_params, lookup_texels,
-                            int(scene.geom.obj_i[ground_object(scene), K.O_MAT]), float(design.stage.z_mm))
-        with _SKY_LOCK:
-            _CAUSTIC_CACHE[key] = hit
-            while len(_CAUSTIC_CACHE) > _CAUSTIC_KEEP:
-                _CAUSTIC_CACHE.pop(next(iter(_CAUSTIC_CACHE)))
+    hit = _kept(_CAUSTIC_CACHE, _caustic_key(design, assets), lambda: caustic_grids(
+        scene, with_buffers(labels), finish, env_params, lookup_texels,
+        int(scene.geom.obj_i[ground_object(scene), K.O_MAT]), float(design.stage.z_mm)))
     return {"caustics": hit[0], "caustic_grid": hit[1]}
 
 
@@ -289,19 +319,27 @@ def stage_sky(design, assets, scene: Scene, labels, finish, env_params, lookup_t
     cache; ``finish`` must carry no sky grid yet."""
     from .labels import with_buffers
     from .sky import sky_grid
-    key = _sky_key(design, assets)
-    with _SKY_LOCK:
-        hit = _SKY_GRID_CACHE.get(key)
-    if hit is None:
-        hit = sky_grid(scene, with_buffers(labels), finish, env_params, lookup_texels,
-                       ground_object(scene), float(design.stage.z_mm),
-                       math.sqrt(2.0) * float(design.stage.half_size_mm), int(design.render.max_depth),
-                       float(design.render.min_weight), cancelled=cancelled)
-        with _SKY_LOCK:
-            _SKY_GRID_CACHE[key] = hit
-            while len(_SKY_GRID_CACHE) > _CAUSTIC_KEEP:
-                _SKY_GRID_CACHE.pop(next(iter(_SKY_GRID_CACHE)))
+    hit = _kept(_SKY_GRID_CACHE, _sky_key(design, assets), lambda: sky_grid(
+        scene, with_buffers(labels), finish, env_params, lookup_texels, ground_object(scene), float(design.stage.z_mm),
+        math.sqrt(2.0) * float(design.stage.half_size_mm), int(design.render.max_depth),
+        float(design.render.min_weight), cancelled=cancelled))
     return {"sky": hit[0], "sky_grid": hit[1]}
+
+
+#: The last sweep grids built, by what they depend on (the sky grid's key).
+_SWEEP_GRID_CACHE: dict = {}
+
+
+def stage_sweep(design, assets, scene: Scene, labels, finish, env_params, lookup_texels, cancelled=None) -> dict:
+    """The finish tables' ``sweep`` and ``sweep_grid`` fields for ``design``'s backdrop sweep
+    (:func:`engine.tracer.tables.sweep.sweep_grid`, stopped by ``cancelled()``), from a small
+    cache; ``finish`` must carry no sweep or sky grid yet (the sky grid is built after it)."""
+    from .labels import with_buffers
+    from .sweep import sweep_grid
+    hit = _kept(_SWEEP_GRID_CACHE, _sky_key(design, assets), lambda: sweep_grid(
+        scene, with_buffers(labels), finish, env_params, lookup_texels, int(design.render.max_depth),
+        float(design.render.min_weight), cancelled=cancelled))
+    return {"sweep": hit[0], "sweep_grid": hit[1]}
 
 
 def clear_stage_caches() -> None:
@@ -309,6 +347,7 @@ def clear_stage_caches() -> None:
     with _SKY_LOCK:
         _CAUSTIC_CACHE.clear()
         _SKY_GRID_CACHE.clear()
+        _SWEEP_GRID_CACHE.clear()
 
 
 def stage_grids_ready(design, assets, width: int, height: int) -> bool:
@@ -320,6 +359,8 @@ def stage_grids_ready(design, assets, width: int, height: int) -> bool:
     if design.stage.kind in ("none", "mirror"):
         return True
     with _SKY_LOCK:
-        sky = not sky_grid_pays(width, height) or _sky_key(design, assets) in _SKY_GRID_CACHE
+        key = _sky_key(design, assets)
+        sky = not sky_grid_pays(width, height) or (
+            key in _SKY_GRID_CACHE and (not design.stage.draws_backdrop or key in _SWEEP_GRID_CACHE))
         caustics = not design.lights or _caustic_key(design, assets) in _CAUSTIC_CACHE
     return sky and caustics

@@ -13,6 +13,8 @@ L_env(w))`` at once and one child along a direction ``w`` drawn cosine-distribut
 azimuth and elevation that cylinder spans from the hit (a share ``F`` of the cosine-weighted
 sky), with weight ``albedo F``, whose subtree brings back what really arrives along ``w``. Open
 ground is exact and noise-free, and every sample of ground near the bottle probes the bottle.
+Where a backdrop sweep stands on the ground (``MG_WIDE``) it hides sky too, so the window is
+the whole sky (:func:`probe_window`), still controlled.
 
 Within the *sky grid* (:mod:`engine.tracer.tables.sky`: polar cells about the bottle's axis out
 to many times its radius) that estimate is made once per design, not per sample: each cell

@@ -28,7 +28,7 @@ from ..kernels.microfacet import MF_FAVG
 from ..kernels.outlines import RRECT
 from ..kernels.records import Geometry, Scene
 from ..ggx_albedo import dielectric_average
-from ..render_objects import AIR
+from ..render_objects import AIR, cached
 
 #: The glossy riser's clear coat (acrylic, black glass).
 COAT_IOR = 1.5
@@ -40,6 +40,8 @@ SKY_STEPS = (256, 1024)
 #: above the floor and as far to each side (far enough to fill any frame that shows the bottle).
 SWEEP_GAP, SWEEP_CURVE, SWEEP_EXTENT = 0.75, 1.0, 40.0
 _SKY_CACHE: dict = {}
+#: Sky integrals kept (maps x turns x sweep facings a session goes through).
+_SKY_KEEP = 16
 _SKY_LOCK = threading.Lock()
 
 
@@ -160,20 +162,6 @@ def _cosine_directions(steps) -> np.ndarray:
                      np.outer(cos_t, np.ones(nphi))], axis=-1).reshape(-1, 3)
 
 
-def _cached(key, build):
-    """``build()``, kept in the small cache of sky integrals under ``key``."""
-    with _SKY_LOCK:
-        hit = _SKY_CACHE.get(key)
-    if hit is not None:
-        return hit
-    out = build()
-    with _SKY_LOCK:
-        if len(_SKY_CACHE) > 16:
-            _SKY_CACHE.clear()
-        _SKY_CACHE[key] = out
-    return out
-
-
 def open_sky_irradiance(environment) -> np.ndarray:
     """``E_up`` (RGB, the environment's radiance units times its scale): the irradiance over pi
     of an upward surface with nothing in the way, ``(1 / pi) int L(w) cos(theta) dw`` over the
@@ -181,7 +169,8 @@ def open_sky_irradiance(environment) -> np.ndarray:
     azimuth of :data:`SKY_STEPS` cells over the environment's own lookup; cached per map, scale
     and turn (the turn does not change it, but the lookup takes it)."""
     key = (id(environment.texels), float(environment.scale), float(environment.rotation_deg))
-    return _cached(key, lambda: environment.lookup(_cosine_directions(SKY_STEPS)).mean(axis=0))
+    return cached(_SKY_CACHE, _SKY_LOCK, _SKY_KEEP, key,
+                  lambda *_: environment.lookup(_cosine_directions(SKY_STEPS)).mean(axis=0))
 
 
 #: Tilts of the sweep's normal (from up to level, facing the bottle) its open-sky table holds,
@@ -213,7 +202,7 @@ def sweep_sky_irradiance(environment, facing, floor=(0.0, 0.0, 0.0)) -> np.ndarr
         return out
     key = ("sweep", id(environment.texels), float(environment.scale), float(environment.rotation_deg), fc, fs,
            *floor.tolist())
-    return _cached(key, build)
+    return cached(_SKY_CACHE, _SKY_LOCK, _SKY_KEEP, key, lambda *_: build())
 
 
 def open_floor(design, e_up) -> np.ndarray:
@@ -251,21 +240,6 @@ _CAUSTIC_CACHE: dict = {}
 _CAUSTIC_KEEP = 4
 
 
-def _kept(cache: dict, key, build):
-    """``cache[key]``, built by ``build()`` first if missing; the cache keeps the last
-    :data:`_CAUSTIC_KEEP` entries (a grid is built outside the lock: two threads asking at
-    once may both build it, and get equal grids)."""
-    with _SKY_LOCK:
-        hit = cache.get(key)
-    if hit is None:
-        hit = build()
-        with _SKY_LOCK:
-            cache[key] = hit
-            while len(cache) > _CAUSTIC_KEEP:
-                cache.pop(next(iter(cache)))
-    return hit
-
-
 def _asset_hashes(assets) -> tuple:
     """The assets' names and the SHA-1 of their bytes, sorted: what a grid's key holds of them."""
     import hashlib
@@ -292,7 +266,7 @@ def stage_caustics(design, assets, scene: Scene, labels, finish, env_params, loo
     ground (:func:`engine.tracer.tables.caustics.caustic_grids`), from a small cache."""
     from .caustics import caustic_grids
     from .labels import with_buffers
-    hit = _kept(_CAUSTIC_CACHE, _caustic_key(design, assets), lambda: caustic_grids(
+    hit = cached(_CAUSTIC_CACHE, _SKY_LOCK, _CAUSTIC_KEEP, _caustic_key(design, assets), lambda *_: caustic_grids(
         scene, with_buffers(labels), finish, env_params, lookup_texels,
         int(scene.geom.obj_i[ground_object(scene), K.O_MAT]), float(design.stage.z_mm)))
     return {"caustics": hit[0], "caustic_grid": hit[1]}
@@ -319,7 +293,7 @@ def stage_sky(design, assets, scene: Scene, labels, finish, env_params, lookup_t
     cache; ``finish`` must carry no sky grid yet."""
     from .labels import with_buffers
     from .sky import sky_grid
-    hit = _kept(_SKY_GRID_CACHE, _sky_key(design, assets), lambda: sky_grid(
+    hit = cached(_SKY_GRID_CACHE, _SKY_LOCK, _CAUSTIC_KEEP, _sky_key(design, assets), lambda *_: sky_grid(
         scene, with_buffers(labels), finish, env_params, lookup_texels, ground_object(scene), float(design.stage.z_mm),
         math.sqrt(2.0) * float(design.stage.half_size_mm), int(design.render.max_depth),
         float(design.render.min_weight), cancelled=cancelled))
@@ -336,7 +310,7 @@ def stage_sweep(design, assets, scene: Scene, labels, finish, env_params, lookup
     cache; ``finish`` must carry no sweep or sky grid yet (the sky grid is built after it)."""
     from .labels import with_buffers
     from .sweep import sweep_grid
-    hit = _kept(_SWEEP_GRID_CACHE, _sky_key(design, assets), lambda: sweep_grid(
+    hit = cached(_SWEEP_GRID_CACHE, _SKY_LOCK, _CAUSTIC_KEEP, _sky_key(design, assets), lambda *_: sweep_grid(
         scene, with_buffers(labels), finish, env_params, lookup_texels, int(design.render.max_depth),
         float(design.render.min_weight), cancelled=cancelled))
     return {"sweep": hit[0], "sweep_grid": hit[1]}

@@ -129,6 +129,8 @@ def main(argv=None) -> int:
                     help="sampling policies to render (the first is the figure line's; the others its peers)")
     a = ap.parse_args(argv)
     os.makedirs(OUT, exist_ok=True)
+    from engine.tracer.warmup import warm_up
+    warm_up()  # (the window warms its kernels at launch: no sample's time should carry a compile)
     policies = [p for p in a.policies.split(",") if p]
     rows = []
     for path in samples([s for s in a.samples.split(",") if s]):

@@ -63,8 +63,8 @@ def warm_up() -> None:
         from .kernels.records import Cutoffs
         from .kernels.sky import Y_COLS, sky_cells, sweep_cells
         from .kernels.tile import make_work
+        from .tables.sky import sweep_object
         from .tables.stage import ground_object
-        from .tables.sweep import sweep_object
 
         lab, fin, ground = with_buffers(sc.labels), sc.finish_tables, ground_object(sc.scene)
         sky_cells(sc.scene, lab, fin, sc.env_params, sc.lookup_texels, ground, 0.0, np.array([[20.0, 0.0]]),

@@ -22,7 +22,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .intersect import O_MAT, nearest_hit, object_media
+from .intersect import O_KIND, O_MAT, SWEEP, nearest_hit, object_media
 from .ground import in_disc, light_frame
 from .jit import JIT
 from .materials import BACKDROP, GROUND, K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND
@@ -55,6 +55,9 @@ def trace_photons(sc, lab, fin, env_p, tex, light, beam, ground_z, first, count,
     obj_i, obj_f, media, mat_i = sc.geom.obj_i, sc.geom.obj_f, sc.media, sc.mat_i
     kids, scratch = work.kids, work.scratch
     ux, uy, uz, vx, vy, vz = light_frame(light[0], light[1], light[2])
+    swept = False  # a backdrop sweep may stand between the light and the beam (nothing else can)
+    for k in range(obj_i.shape[0]):
+        swept = swept or obj_i[k, O_KIND] == SWEEP
     for j in range(count):
         for c in range(P_COLS):
             out[j, c] = 0.0
@@ -68,7 +71,7 @@ def trace_photons(sc, lab, fin, env_p, tex, light, beam, ground_z, first, count,
         medium, last, side = AIR, -1, 0
         t_straight = (ground_z - oz) / dz
         out[j, P_SX], out[j, P_SY] = ox + t_straight * dx, oy + t_straight * dy
-        if nearest_hit(sc.geom, ox, oy, oz, lx, ly, lz, AIR, -1, 0, scratch)[1] >= 0:
+        if swept and nearest_hit(sc.geom, ox, oy, oz, lx, ly, lz, AIR, -1, 0, scratch)[1] >= 0:
             out[j, P_SHADOW] = 1.0  # the beam itself is in a shadow (a backdrop sweep's): no light
             continue
         for depth in range(max_depth):

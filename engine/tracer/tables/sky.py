@@ -111,15 +111,21 @@ def sky_grid_pays(width: int, height: int) -> bool:
     return int(width) * int(height) >= GRID_MIN_PIXELS
 
 
+def sweep_object(scene) -> int | None:
+    """The render object of ``scene`` that is the backdrop sweep, or ``None``."""
+    k = np.nonzero(scene.geom.obj_i[:, K.O_KIND] == K.SWEEP)[0]
+    return int(k[0]) if len(k) else None
+
+
 def under_sweep_to_edge(scene, cells: np.ndarray) -> np.ndarray:
     """``cells`` ``(n, 2)`` (mm) with the centres that lie under a backdrop sweep (beyond where
     its curve leaves the floor, hidden from every camera) moved back onto that line: their
     probes would see only the sweep's dark underside, and bilinear reads would bleed that
     darkness onto the visible floor beside the line."""
-    k = np.nonzero(scene.geom.obj_i[:, K.O_KIND] == K.SWEEP)[0]
-    if not len(k):
+    k = sweep_object(scene)
+    if k is None:
         return cells
-    f = scene.geom.obj_f[k[0]]
+    f = scene.geom.obj_f[k]
     facing = np.array([f[K.F_COS], f[K.F_SIN]])
     edge = f[K.F_SW_START] * (1.0 - 1e-6)
     v = cells @ facing

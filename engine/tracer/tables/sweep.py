@@ -23,7 +23,7 @@ from ..kernels.materials import MG_ALBEDO
 from ..kernels.records import Cutoffs
 from ..kernels.sky import Y_SQ, sweep_cells
 from ..kernels.tile import make_work
-from .sky import MAX_BATCHES, MAX_NODES, PROBES_SIDE, SE_TOL, WIDE_BATCHES, probe_cells
+from .sky import MAX_BATCHES, MAX_NODES, PROBES_SIDE, SE_TOL, WIDE_BATCHES, probe_cells, sweep_object
 
 #: Cells across the sweep and along its profile.
 CELLS = (96, 64)
@@ -35,12 +35,6 @@ _SEED = 0x5EED_5EE9
 #: Bordeaux on its table with a sweep: most cells take all 512 probes either way (about 1 %
 #: standard error), the grid builds in about 3.5 s on 2 cores.
 SWEEP_TOL = 0.5
-
-
-def sweep_object(scene) -> int | None:
-    """The render object of ``scene`` that is the backdrop sweep, or ``None``."""
-    k = np.nonzero(scene.geom.obj_i[:, K.O_KIND] == K.SWEEP)[0]
-    return int(k[0]) if len(k) else None
 
 
 def grid_row(obj_f_row: np.ndarray) -> np.ndarray:

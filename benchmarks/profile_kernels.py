@@ -82,7 +82,7 @@ def frame_loop(scene: str, seconds: float, ready: str) -> None:
 
 def main(argv=None) -> int:
     p = argparse.ArgumentParser(prog="python -m benchmarks.profile_kernels")
-    p.add_argument("--scene", default="bordeaux", help="bordeaux, square, jar, public_1..4")
+    p.add_argument("--scene", default="bordeaux", help="a bundled sample (resources/NAME.glassbench) or public_1..4")
     p.add_argument("--seconds", type=float, default=8.0, help="recording time")
     p.add_argument("--top", type=int, default=25, help="rows of the table")
     p.add_argument("--loop", default=None, help=argparse.SUPPRESS)  # the child: its ready file

@@ -38,6 +38,7 @@ from __future__ import annotations
 import argparse
 import csv
 import dataclasses
+import glob
 import os
 import subprocess
 import sys
@@ -50,8 +51,9 @@ from benchmarks.paths import ORACLE_SPECS
 
 OUT = os.path.join(os.path.dirname(os.path.abspath(__file__)), "out")
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-SAMPLES = {"bordeaux": "resources/bordeaux.glassbench", "square": "resources/square.glassbench",
-           "jar": "resources/jar.glassbench"}
+#: The bundled samples by name (``resources/NAME.glassbench``).
+SAMPLES = {os.path.basename(p)[:-len(".glassbench")]: os.path.relpath(p, ROOT)
+           for p in sorted(glob.glob(os.path.join(ROOT, "resources", "*.glassbench")))}
 
 
 def load_scene(name, **render):

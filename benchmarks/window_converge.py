@@ -11,11 +11,15 @@ window's default pane size, 715 x 953, with the window's noise criterion,
 (intersection queries) and rays per pixel. "Converged" must be honest: at ``--check-scale`` of
 that size each sample's converged image is compared, in display levels (0..255 after the tone
 map), with a reference of the same design rendered with a noise target of half a display level
-and 4 x the samples; a design on a diffuse ground builds its grids (the sky's and the lights'
-caustics, :mod:`engine.tracer.tables.sky`) within the time, as the window's first render of it
-does; the RMS and the 99th percentile of the difference are printed (targets 1.5
-and 10 levels). Writes ``benchmarks/out/window_converge.csv`` and ``window_converge.png`` (seconds
-and rays per pixel per sample against the targets) and prints last
+and 4 x the samples, drawn from another part of each pixel's sample sequence
+(``RenderJob(_sample_base=...)``: a reference that shared the render's first samples would agree
+with it where both stopped at the same count, whatever their error). A design on a diffuse
+ground builds its grids (the sky's and the lights' caustics, :mod:`engine.tracer.tables.sky`)
+within the time, as the window's first render of it does. The RMS and the 99th percentile of
+the difference are printed (targets 1.5 and 10 levels), with the reference's own noise (the RMS
+of its difference from a second independent reference, over sqrt 2), which the difference
+includes, and the render's own error (the two in quadrature's difference). Writes ``benchmarks/out/window_converge.csv`` and ``window_converge.png`` (seconds and
+rays per pixel per sample against the targets) and prints last
 ``window_converge_worst=S window_converge_median=M`` (seconds over the samples; targets: worst
 <= 15 s, median <= 5 s on 2 cores).
 """
@@ -36,6 +40,8 @@ WINDOW_SIZE = (715, 953)
 #: The honesty check's reference: noise target in display units, sample factor.
 REFERENCE_NOISE = 0.5 / 255.0
 REFERENCE_SPP_FACTOR = 4
+#: Where the references' anti-aliasing samples start in each pixel's sequence (the render's at 1).
+REFERENCE_BASES = (1 << 20, 2 << 20)
 TARGET_WORST_S, TARGET_MEDIAN_S = 15.0, 5.0
 TARGET_RMS_LEVELS, TARGET_P99_LEVELS = 1.5, 10.0
 
@@ -71,13 +77,21 @@ def levels(image) -> np.ndarray:
     return srgb_encode(image) * 255.0
 
 
-def reference(design, assets, width, height, threads) -> np.ndarray:
+def reference(design, assets, width, height, threads, base=REFERENCE_BASES[0]) -> np.ndarray:
     """The honesty check's reference image (module doc): the classic policy (each pixel's own
     sample scatter, which assumes nothing of stratification) with a noise target of half a
-    display level and 4 x the samples."""
+    display level and 4 x the samples, its anti-aliasing samples from sample ``base`` of each
+    pixel's sequence on."""
     ref, _ = render(design, assets, width, height, threads, noise_target=REFERENCE_NOISE,
-                    spp=REFERENCE_SPP_FACTOR * design.render.spp, policy="classic")
+                    spp=REFERENCE_SPP_FACTOR * design.render.spp, policy="classic", _sample_base=base)
     return ref.image()
+
+
+def reference_noise(design, assets, width, height, threads, ref) -> float:
+    """The display levels RMS of the reference ``ref``'s own error: its difference from a second
+    reference on other samples (:data:`REFERENCE_BASES`), over sqrt 2."""
+    other = reference(design, assets, width, height, threads, base=REFERENCE_BASES[1])
+    return float(np.sqrt(np.mean((levels(ref) - levels(other)) ** 2) / 2.0))
 
 
 def honesty(design, assets, width, height, threads, ref, policy) -> tuple[float, float]:
@@ -138,6 +152,7 @@ def main(argv=None) -> int:
         design, assets = load_project(path)
         w, h = max(8, round(a.width * a.check_scale)), max(8, round(a.height * a.check_scale))
         ref = None if a.no_check else reference(design, assets, w, h, a.threads)
+        ref_noise = None if a.no_check else reference_noise(design, assets, w, h, a.threads, ref)
         for policy in policies:  # (each policy's render and check back to back: the machine is shared)
             clear_stage_caches()  # (the time includes the ground's grids, as a design's first render does)
             job, secs = render(design, assets, a.width, a.height, a.threads, policy=policy)
@@ -148,9 +163,14 @@ def main(argv=None) -> int:
             if ref is not None:
                 row["check_size"] = f"{w}x{h}"
                 row["rms_levels"], row["p99_levels"] = honesty(design, assets, w, h, a.threads, ref, policy)
+                row["reference_noise_levels"] = ref_noise
+                # the render's own error: the difference less the reference's noise (independent)
+                row["own_rms_levels"] = float(np.sqrt(max(row["rms_levels"] ** 2 - ref_noise ** 2, 0.0)))
             rows.append(row)
             check = (f", against the reference at {row['check_size']}: {row['rms_levels']:.2f} levels RMS, "
-                     f"p99 {row['p99_levels']:.1f}" if "rms_levels" in row else "")
+                     f"p99 {row['p99_levels']:.1f} (the reference's own noise {ref_noise:.2f}, "
+                     f"the render's own {row['own_rms_levels']:.2f})"
+                     if "rms_levels" in row else "")
             print(f"{name} [{policy}]: {secs:.1f} s, {rays / 1e6:.1f} M rays, {row['rays_per_pixel']:.0f} rays/pixel, "
                   f"{row['samples_per_pixel']:.1f} samples/pixel{check}", flush=True)
     with open(os.path.join(OUT, "window_converge.csv"), "w", newline="") as fh:

@@ -124,10 +124,59 @@ def test_one_lucky_agreement_does_not_stop_a_pixel_whose_neighbours_still_scatte
 
 def test_the_split_plan_doubles_from_eight_and_the_window_uses_it():
     assert adaptive.split_plan(16, True) == [(4, False), (8, False), (16, True), (32, True), (64, True),
-                                             (128, True), (256, True)]
+                                             (128, True), (256, True), (512, True)]
+    assert adaptive.split_plan(16, True)[-1][0] == adaptive.SPLIT_FACTOR * 16
+    assert adaptive.plan(16, True)[-1][0] == adaptive.ADAPTIVE_FACTOR * 16  # final renders keep theirs
     assert adaptive.split_plan(16, False) == [(4, False), (8, False), (16, False)]
     from engine.tracer.job import RenderJob
     from app.engine_bridge import WINDOW_NOISE
     from tests.test_tracer import simple_design
     job = RenderJob(simple_design(), width=8, height=8, **WINDOW_NOISE)
     assert job.policy == "split" and job.noise_space == "display"
+
+
+def test_the_window_plays_its_own_roulette_and_final_renders_theirs(monkeypatch):
+    """The split policy's adaptive rounds play :data:`adaptive.SPLIT_ROULETTE`, the classic
+    policy's :data:`adaptive.ROULETTE`; the uniform rounds trace whole trees."""
+    from engine.tracer.job import RenderJob
+    from tests.test_tracer import simple_design
+
+    seen = {}
+    real = RenderJob._wave
+
+    def spy(self, pool, ctx, wave, mask, want, preview=None, roulette=0.0):
+        seen.setdefault(self.policy, set()).add(roulette)
+        return real(self, pool, ctx, wave, mask, want, preview=preview, roulette=roulette)
+
+    monkeypatch.setattr(RenderJob, "_wave", spy)
+    for policy in ("split", "classic"):
+        job = RenderJob(simple_design(), width=24, height=32, spp=4, threads=1, noise_space="display",
+                        noise_target=0.1 / 255.0, policy=policy).start()
+        job.wait()
+        assert job.error is None
+    assert seen["split"] == {0.0, adaptive.SPLIT_ROULETTE}
+    assert seen["classic"] == {0.0, adaptive.ROULETTE}
+
+
+def test_a_sample_base_draws_other_samples_of_the_same_pixels():
+    """``RenderJob(_sample_base=B)`` (the benchmarks' independent references) traces other
+    anti-aliasing samples: the pixels without them keep their centre bit for bit, the
+    anti-aliased ones change, and the image stays the same picture."""
+    from engine.tracer.job import RenderJob
+    from tests.test_tracer import simple_design
+
+    def image(base):
+        job = RenderJob(simple_design(), width=48, height=64, spp=8, threads=1, adaptive=False,
+                        _sample_base=base).start()
+        job.wait()
+        assert job.error is None
+        return job.image(), job.film.aa_count.copy()
+
+    a, count_a = image(0)
+    b, count_b = image(1 << 20)
+    assert np.array_equal(count_a, count_b) and count_a.any()
+    plain = count_a == 0
+    assert np.array_equal(a[plain], b[plain])
+    assert not np.array_equal(a[~plain], b[~plain])
+    edge_a, edge_b = a[~plain], b[~plain]
+    assert abs(edge_a.mean() - edge_b.mean()) < 0.05 * edge_a.mean()  # the same picture, unbiased

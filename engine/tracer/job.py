@@ -8,7 +8,8 @@ material), how (:func:`engine.tracer.context.trace_pixels`, compiled, GIL-free),
 (:func:`engine.tracer.reuse.reuse_of`: the whole film, or a relabel). Waves: (0) a preview, the
 centres of coarse blocks; (1) every other pixel's centre; (2...) stratified anti-aliasing samples
 for the pixels on edges, in doubling rounds up to ``spp``; then adaptive rounds for the edge
-pixels whose own samples still scatter (up to ``ADAPTIVE_FACTOR x spp``). A design on a diffuse
+pixels whose own samples still scatter (up to ``ADAPTIVE_FACTOR x spp``; the window's split
+policy ``SPLIT_FACTOR x spp``, its samples playing a heavier roulette). A design on a diffuse
 ground whose grids are not built yet gets a draft preview first (its ground probed per hit)
 while they build, on the job's thread. Waves are separated by
 a barrier, and a pixel's samples are seeded by (pixel, sample), so the image is bit-identical
@@ -93,12 +94,16 @@ class RenderJob:
         Niceness added to each worker thread (Linux; ignored elsewhere): the window passes a
         positive value so that, with every core rendering, the scheduler still prefers its GUI
         thread. Never changes the image.
+    _sample_base : int
+        Benchmarks only: anti-aliasing sample ``k`` of a pixel is traced as sample ``k +
+        _sample_base`` of its sequence (other positions, other seeds), so that a reference
+        image shares no anti-aliasing sample with the render it checks. 0 for every render.
     """
 
     def __init__(self, design, assets=None, *, width=None, height=None, spp=None, threads=None,
                  tile=32, on_tile=None, on_done=None, on_wave=None, adaptive=True, noise_target=NOISE_TARGET,
                  noise_space="linear", previous=None, changed=None, worker_nice=0, policy="split",
-                 _tile_shuffle_seed=None):
+                 _tile_shuffle_seed=None, _sample_base=0):
         self.design = design
         self.assets = assets
         self.width = int(width or design.render.width)
@@ -138,6 +143,7 @@ class RenderJob:
         self.recoloured_pixels = None
         self._previous = previous
         self._changed = changed
+        self._sample_base = int(_sample_base)
         self._scheduler = TileScheduler(self.width, self.height, self.tile, self.threads, _tile_shuffle_seed)
         self.worker_nice = max(0, int(worker_nice))
         self._cancel_flag = np.zeros(1, np.int64)
@@ -289,6 +295,7 @@ class RenderJob:
             split = self.noise_space == "display" and self.policy == "split"
             plan = adaptive.split_plan(self.spp, self.adaptive) if split else adaptive.plan(self.spp, self.adaptive)
             mark = None
+            rr = adaptive.SPLIT_ROULETTE if split else adaptive.ROULETTE
             for r, (target, varied) in enumerate(plan):
                 if varied and split:
                     want = adaptive.split_targets(film, mark, target, self.noise_target)
@@ -300,7 +307,7 @@ class RenderJob:
                 if not mask.any():
                     break
                 mark = film.mark() if split else None
-                self._wave(pool, ctx, 2 + r, mask, want, roulette=adaptive.ROULETTE if varied else 0.0)
+                self._wave(pool, ctx, 2 + r, mask, want, roulette=rr if varied else 0.0)
                 self._set_progress(0.35 + 0.65 * (r + 1) / len(plan))
 
     def _wave(self, pool, ctx, wave, mask, want, preview=None, roulette=0.0) -> None:
@@ -337,7 +344,8 @@ class RenderJob:
             else:
                 have = film.aa_count[rows, cols]
                 count = want[rows, cols] - have
-                res = trace_pixels(ctx, cols, rows, have + 1, count, cancel=self._cancel_flag, roulette=roulette,
+                res = trace_pixels(ctx, cols, rows, have + 1 + self._sample_base, count, cancel=self._cancel_flag,
+                                   roulette=roulette,
                                    record_labels=recording)
                 if res.finished < len(cols):
                     return

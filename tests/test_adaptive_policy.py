@@ -124,7 +124,7 @@ def test_one_lucky_agreement_does_not_stop_a_pixel_whose_neighbours_still_scatte
 
 def test_the_split_plan_doubles_from_eight_and_the_window_uses_it():
     assert adaptive.split_plan(16, True) == [(4, False), (8, False), (16, True), (32, True), (64, True),
-                                             (128, True), (256, True), (512, True)]
+                                             (128, True), (256, True), (384, True)]
     assert adaptive.split_plan(16, True)[-1][0] == adaptive.SPLIT_FACTOR * 16
     assert adaptive.plan(16, True)[-1][0] == adaptive.ADAPTIVE_FACTOR * 16  # final renders keep theirs
     assert adaptive.split_plan(16, False) == [(4, False), (8, False), (16, False)]

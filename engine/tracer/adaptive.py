@@ -172,17 +172,19 @@ SPLIT_POOL = 0.5
 #: relief, whose scatter comes from where a sample lands (facet edges, a softbox through a
 #: chain of total internal reflections), not from the tree: a cheaper sample that follows fewer
 #: faint branches costs them little accuracy, and the samples it saves buy a higher cap.
-#: Measured at 119 x 159 against the honesty reference (``benchmarks.window_converge``):
-#: knurled jar 1.84 -> 1.46 levels RMS with 10 % more rays, cut decanter 1.38 -> 1.13 with
-#: 10 % more; (16, 0.05) -> (16, 0.2) alone: 34 % fewer rays, 1.84 -> 2.00 levels.
-SPLIT_FACTOR = 32
+#: Measured with ``python -m benchmarks.window_levers`` (119 x 159, levels RMS against an
+#: independent reference, rays), against (16, 0.05): knurled jar 2.26 -> 2.14 levels with 0.88 x
+#: the rays, cut decanter 1.71 -> 1.67 with 0.87 x, frosted logo 1.84 -> 1.75 with 1.08 x, jar
+#: 1.25 -> 1.36 with 1.04 x (thick glass without relief: its scatter is the tree's, which the
+#: roulette adds to). (32, 0.2) was more honest on relief at 1.1-1.4 x the rays of (16, 0.05).
+SPLIT_FACTOR = 24
 SPLIT_ROULETTE = 0.2
 
 
 def split_plan(spp: int, adaptive: bool):
     """The window's anti-aliasing rounds ``[(samples, varied)]``: edge pixels to 4, then to
     :data:`SPLIT_FIRST` (the first split of a pixel's samples into two equal nets), then (with
-    ``adaptive``) doubling rounds for the pixels whose split
+    ``adaptive``) doubling rounds (the last one to the cap) for the pixels whose split
     estimate (:func:`split_targets`) is still above their tolerance, up to ``SPLIT_FACTOR x spp``."""
     first = min(FIRST_AA, spp)
     rounds = [(first, False)]

@@ -345,8 +345,7 @@ class RenderJob:
                 have = film.aa_count[rows, cols]
                 count = want[rows, cols] - have
                 res = trace_pixels(ctx, cols, rows, have + 1 + self._sample_base, count, cancel=self._cancel_flag,
-                                   roulette=roulette,
-                                   record_labels=recording)
+                                   roulette=roulette, record_labels=recording)
                 if res.finished < len(cols):
                     return
                 film.add_aa(cols, rows, count, res)

@@ -5,7 +5,7 @@ Usage::
     python -m benchmarks.oracle_accuracy [--scenes public_1,...,public_4,thick_jar] [--threads 2]
 
 Design rule: one setting, glassbench's most converged one in the peer benchmark (``CONVERGED``:
-16 anti-aliasing samples on edges, adaptive rounds to a 0.005 noise target, the oracle renders'
+16 anti-aliasing samples on edges, adaptive rounds to a 0.002 noise target, the oracle renders'
 tree cut-offs), renders each scene once; its rel RMSE (SPEC 7) against the reference is printed
 per scene with the reference's own noise, and last ``oracle_worst=X`` (the largest, as a
 fraction; issue 26's target is <= 0.01). The public scenes' references are the oracle's; the thick
@@ -21,7 +21,7 @@ from benchmarks import thick_jar
 from benchmarks.peer_check import PUBLIC, reference, spec_path
 
 #: ``(label, anti-aliasing samples, noise target, tree cut)``: :data:`benchmarks.peer.GLASSBENCH_SETTINGS`' last.
-CONVERGED = ("adaptive 0.005", 16, 0.005, None)
+CONVERGED = ("adaptive 0.002", 16, 0.002, None)
 
 
 def accuracy(name: str, threads: int = 2) -> tuple[float, float, float]:

@@ -148,28 +148,31 @@ GLASSBENCH_SETTINGS = (
     # ("AA 1": every centre, then one stratified sample in each edge pixel, its value there;
     # the centres alone are each setting's image after wave 1)
     ("AA 1", 1, None, None), ("AA 4", 4, None, None), ("AA 16", 16, None, None), ("AA 64", 64, None, None),
-    # a render setting of 4 samples with adaptive rounds: the front between 4 and 64 samples
-    ("AA 4 adaptive 0.2", 4, 0.2, None), ("AA 4 adaptive 0.1", 4, 0.1, None), ("AA 4 adaptive 0.05", 4, 0.05, None),
-    ("AA 4 adaptive 0.02", 4, 0.02, None), ("AA 4 adaptive 0.01", 4, 0.01, None),
-    # 2 samples on edges before the adaptive rounds: easy edges stop there (public_3: 1.68 % rel
-    # RMSE in 0.70-0.71 s, where the front through 4 samples gives 1.81 %)
-    ("AA 2 adaptive 0.05", 2, 0.05, None), ("AA 2 adaptive 0.035", 2, 0.035, None),
-    ("adaptive 0.02", 16, 0.02, None), ("adaptive 0.01", 16, 0.01, None), ("adaptive 0.005", 16, 0.005, None),
+    # a render setting of 4 samples with adaptive rounds (Neyman allocation up to 64 x spp,
+    # engine.tracer.adaptive.noise_targets): the front between 2 % and 0.7 % rel RMSE, where
+    # Mitsuba's 256 and 1024 spp fall
+    ("AA 4 adaptive 0.05", 4, 0.05, None), ("AA 4 adaptive 0.02", 4, 0.02, None),
+    ("AA 4 adaptive 0.01", 4, 0.01, None), ("AA 4 adaptive 0.005", 4, 0.005, None),
+    ("AA 4 adaptive 0.0025", 4, 0.0025, None),
+    # 2 samples on edges before the adaptive rounds: easy edges stop there
+    ("AA 2 adaptive 0.01", 2, 0.01, None), ("AA 2 adaptive 0.005", 2, 0.005, None),
+    # 16 samples on edges: the converged end (benchmarks.oracle_accuracy renders the last)
+    ("adaptive 0.005", 16, 0.005, None), ("adaptive 0.002", 16, 0.002, None),
     # drafts: the same sampling with the tree cut at draft_cut(target); their progressive
     # points (below) are the centre-only and 4-sample renders at that cut
     *((f"AA {n} adaptive {t:g} cut {draft_cut(t):g}", n, t, draft_cut(t))
-      for n, t in ((4, 0.2), (4, 0.1), (4, 0.07), (4, 0.05), (2, 0.05), (2, 0.035))),
+      for n, t in ((4, 0.05), (4, 0.02), (2, 0.02))),
 )
 #: ``--quick``: the labels of the settings it renders.
-QUICK_SETTINGS = ("AA 1", "AA 4", "AA 4 adaptive 0.2", "AA 4 adaptive 0.1", "AA 4 adaptive 0.05",
-                  "AA 4 adaptive 0.02", "AA 2 adaptive 0.05", "adaptive 0.02", "adaptive 0.01",
-                  "AA 4 adaptive 0.1 cut 0.02", "AA 2 adaptive 0.05 cut 0.01")
+QUICK_SETTINGS = ("AA 1", "AA 4", "AA 4 adaptive 0.05", "AA 4 adaptive 0.02", "AA 4 adaptive 0.01",
+                  "AA 4 adaptive 0.005", "AA 2 adaptive 0.01", "adaptive 0.005",
+                  "AA 4 adaptive 0.02 cut 0.004", "AA 2 adaptive 0.02 cut 0.004")
 
 
 #: The settings also rendered with Embree + refinement in place of the analytic search
 #: (:mod:`benchmarks.embree_render`), at each of ``MESH_TOLERANCES`` (mesh tolerance, distance
 #: past the ray's start, bracket; mm, as :data:`benchmarks.tracer.EMBREE_TOLERANCES`).
-MESH_SETTINGS = ("AA 1", "AA 4", "AA 4 adaptive 0.1", "AA 4 adaptive 0.02", "adaptive 0.01")
+MESH_SETTINGS = ("AA 1", "AA 4", "AA 4 adaptive 0.02", "AA 4 adaptive 0.005", "adaptive 0.005")
 MESH_TOLERANCES = ((0.1, 0.25, 0.25), (0.02, 0.05, 0.05))
 
 

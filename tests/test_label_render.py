@@ -282,7 +282,9 @@ def test_design_without_labels_renders_as_before():
     when sample positions became Sobol and the centre joined the adaptive scatter, with the
     roulette rule of 05be126, and with the studio's texels rounded to half floats and back when
     the kernels began to read half floats: that commit's float32 lookups then add the same
-    numbers): bit for bit."""
+    numbers; when final renders' adaptive rounds became a Neyman allocation with the default
+    tolerance 0.005, re-rendered from the tree just before, which matched the old reference
+    bit for bit, with only the adaptive rule changed): bit for bit."""
     from engine.files.project import load_project
     ref = np.load(os.path.join(os.path.dirname(__file__), "data", "bordeaux_nolabel_48x64_spp4.npy"))
     d, a = load_project(BORDEAUX)

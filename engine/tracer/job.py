@@ -8,8 +8,9 @@ material), how (:func:`engine.tracer.context.trace_pixels`, compiled, GIL-free),
 (:func:`engine.tracer.reuse.reuse_of`: the whole film, or a relabel). Waves: (0) a preview, the
 centres of coarse blocks; (1) every other pixel's centre; (2...) stratified anti-aliasing samples
 for the pixels on edges, in doubling rounds up to ``spp``; then adaptive rounds for the edge
-pixels whose own samples still scatter (up to ``ADAPTIVE_FACTOR x spp``; the window's split
-policy ``SPLIT_FACTOR x spp``, its samples playing a heavier roulette). A design on a diffuse
+pixels whose own samples still scatter (final renders up to ``LINEAR_FACTOR x spp``, samples in
+proportion to a pixel's scatter; the window's split policy ``SPLIT_FACTOR x spp``, its samples
+playing a heavier roulette). A design on a diffuse
 ground whose grids are not built yet gets a draft preview first (its ground probed per hit)
 while they build, on the job's thread. Waves are separated by
 a barrier, and a pixel's samples are seeded by (pixel, sample), so the image is bit-identical
@@ -80,9 +81,10 @@ class RenderJob:
     adaptive : bool
         Add the adaptive rounds after the uniform anti-aliasing rounds.
     noise_target : float
-        Adaptive rounds stop adding samples to a pixel once its standard error is below this
-        fraction of the design's reference level (the environment's mean radiance), or with
-        ``noise_space="display"`` below this many display units once tone-mapped.
+        The adaptive rounds' tolerance: a fraction of the design's reference level (the
+        environment's mean radiance) in linear space, where a pixel gets one sample per
+        tolerance of its one-sample scatter (Neyman allocation); with ``noise_space="display"``
+        each pixel's standard error below this many display units once tone-mapped.
     noise_space : str
         "linear" (references, final renders) or "display" (the window:
         :data:`~engine.tracer.adaptive.DISPLAY_NOISE`): see :func:`adaptive.noise_targets`.
@@ -293,7 +295,11 @@ class RenderJob:
             edges = adaptive.edge_mask(film.luminance(), film.signature, level)
             edges |= (film.objects & ctx.stochastic_objects) != 0  # a sampled surface: noisy anywhere
             split = self.noise_space == "display" and self.policy == "split"
-            plan = adaptive.split_plan(self.spp, self.adaptive) if split else adaptive.plan(self.spp, self.adaptive)
+            if split:
+                plan = adaptive.split_plan(self.spp, self.adaptive)
+            else:
+                factor = adaptive.LINEAR_FACTOR if self.noise_space == "linear" else adaptive.ADAPTIVE_FACTOR
+                plan = adaptive.plan(self.spp, self.adaptive, factor)
             mark = None
             rr = adaptive.SPLIT_ROULETTE if split else adaptive.ROULETTE
             for r, (target, varied) in enumerate(plan):

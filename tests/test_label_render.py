@@ -283,9 +283,9 @@ def test_design_without_labels_renders_as_before():
     roulette rule of 05be126, and with the studio's texels rounded to half floats and back when
     the kernels began to read half floats: that commit's float32 lookups then add the same
     numbers; when final renders' adaptive rounds became a Neyman allocation with the default
-    tolerance 0.005 and again when their neighbour share became 0.3, re-rendered from the tree
-    just before, which matched the old reference bit for bit, with only the adaptive rule
-    changed): bit for bit."""
+    tolerance 0.005, again when their neighbour share became 0.3 and the tolerance 0.002,
+    re-rendered from the tree just before, which matched the old reference bit for bit, with
+    only the adaptive rule changed): bit for bit."""
     from engine.files.project import load_project
     ref = np.load(os.path.join(os.path.dirname(__file__), "data", "bordeaux_nolabel_48x64_spp4.npy"))
     d, a = load_project(BORDEAUX)

@@ -129,9 +129,9 @@ def noise_targets(film, cap: int, noise_target: float, level: float, space: str 
     scatters by it, more where a pixel is hard. Asking every pixel for the same standard
     error (``n = var / tolerance^2``, the rule before) pours samples into the few pixels that
     scatter most (light trapped in a thick base: 30 pixels held half of public_1's error) up to
-    the cap, and too many into the moderate ones. Measured on public_1-4 (4 samples on edges,
-    ``python -m benchmarks.peer``): 0.98 % rel RMSE in 0.76 s on public_1 where the old rule
-    gave 1.07 % in 1.16 s. A pixel asks at least ``NEIGHBOUR_SHARE`` of what its neediest
+    the cap, and too many into the moderate ones. Measured on public_1-4 (4 samples on edges;
+    ``benchmarks/RESULTS.md``, stop 34): 0.98 % rel RMSE in 0.76 s on public_1 where the old
+    rule gave 1.07 % in 1.16 s. A pixel asks at least ``NEIGHBOUR_SHARE`` of what its neediest
     neighbour asks: a thin feature that a neighbour's samples caught crosses into this pixel
     too, where four stratified samples may all have missed it.
 

@@ -10,12 +10,11 @@ centres of coarse blocks; (1) every other pixel's centre; (2...) stratified anti
 for the pixels on edges, in doubling rounds up to ``spp``; then adaptive rounds for the edge
 pixels whose own samples still scatter (final renders up to ``LINEAR_FACTOR x spp``, samples in
 proportion to a pixel's scatter; the window's split policy ``SPLIT_FACTOR x spp``, its samples
-playing a heavier roulette). A design on a diffuse
-ground whose grids are not built yet gets a draft preview first (its ground probed per hit)
-while they build, on the job's thread. Waves are separated by
-a barrier, and a pixel's samples are seeded by (pixel, sample), so the image is bit-identical
-for any thread count and tile order. ``cancel()`` raises a flag the kernels poll between pixels:
-a job stops within one pixel's work.
+playing a heavier roulette). A design on a diffuse ground whose grids are not built yet gets a
+draft preview first (its ground probed per hit) while they build, on the job's thread. Waves
+are separated by a barrier, and a pixel's samples are seeded by (pixel, sample), so the image is
+bit-identical for any thread count and tile order. ``cancel()`` raises a flag the kernels poll
+between pixels: a job stops within one pixel's work.
 
 Threading contract: ``on_tile(job, tile)`` and ``on_done(job)`` run on worker threads,
 ``on_wave(job, wave)`` on the job's own thread between waves; GUI code must marshal to its own

@@ -18,8 +18,9 @@ ground builds its grids (the sky's and the lights' caustics, :mod:`engine.tracer
 within the time, as the window's first render of it does. The RMS and the 99th percentile of
 the difference are printed (targets 1.5 and 10 levels), with the reference's own noise (the RMS
 of its difference from a second independent reference, over sqrt 2), which the difference
-includes, and the render's own error (the two in quadrature's difference). Writes ``benchmarks/out/window_converge.csv`` and ``window_converge.png`` (seconds and
-rays per pixel per sample against the targets) and prints last
+includes, and the render's own error (the two in quadrature's difference). Writes
+``benchmarks/out/window_converge.csv`` and ``window_converge.png`` (seconds and rays per pixel
+per sample against the targets) and prints last
 ``window_converge_worst=S window_converge_median=M`` (seconds over the samples; targets: worst
 <= 15 s, median <= 5 s on 2 cores).
 """

@@ -232,6 +232,16 @@ def split_plan(spp: int, adaptive: bool):
     return rounds
 
 
+def rounds(spp: int, adaptive: bool, split: bool, space: str):
+    """``(plan, roulette)`` of a render: the anti-aliasing rounds (:func:`split_plan` for the
+    window's split policy, else :func:`plan` up to :data:`LINEAR_FACTOR` x spp in linear space
+    and :data:`ADAPTIVE_FACTOR` x spp in display space) and the Russian roulette weight their
+    adaptive rounds play (:data:`SPLIT_ROULETTE` or :data:`ROULETTE`)."""
+    if split:
+        return split_plan(spp, adaptive), SPLIT_ROULETTE
+    return plan(spp, adaptive, LINEAR_FACTOR if space == "linear" else ADAPTIVE_FACTOR), ROULETTE
+
+
 def split_targets(film, mark, cap: int, noise_target: float) -> np.ndarray:
     """Samples each anti-aliased pixel should reach (0 for the others): twice what it has, up
     to ``cap``, while its remaining error in display units is above ``noise_target``.

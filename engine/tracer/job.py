@@ -294,13 +294,8 @@ class RenderJob:
             edges = adaptive.edge_mask(film.luminance(), film.signature, level)
             edges |= (film.objects & ctx.stochastic_objects) != 0  # a sampled surface: noisy anywhere
             split = self.noise_space == "display" and self.policy == "split"
-            if split:
-                plan = adaptive.split_plan(self.spp, self.adaptive)
-            else:
-                factor = adaptive.LINEAR_FACTOR if self.noise_space == "linear" else adaptive.ADAPTIVE_FACTOR
-                plan = adaptive.plan(self.spp, self.adaptive, factor)
+            plan, rr = adaptive.rounds(self.spp, self.adaptive, split, self.noise_space)
             mark = None
-            rr = adaptive.SPLIT_ROULETTE if split else adaptive.ROULETTE
             for r, (target, varied) in enumerate(plan):
                 if varied and split:
                     want = adaptive.split_targets(film, mark, target, self.noise_target)

@@ -165,15 +165,16 @@ def format_table(table: dict) -> list[str]:
 def check(names=PUBLIC, force: bool = False, conversion=None) -> dict:
     """The convergence table of ``names`` (rendered, or read from the cache where the key
     matches), printed; :func:`verdict` judges it."""
-    from benchmarks.peer_scene import CONVERSION
+    from benchmarks.peer_scene import spec_conversion
 
-    conversion = {**CONVERSION, **(conversion or {})}
+    overrides, used = conversion, {}
     cache = {}
     if os.path.exists(CACHE):
         with open(CACHE) as fh:
             cache = json.load(fh)
     table = {}
     for name in names:
+        conversion = used[name] = spec_conversion(spec_path(name), overrides)
         key = f"{name}@{conversion_key([name], conversion)}"
         if not force and key in cache:
             table[name] = cache[key]["row"]
@@ -184,7 +185,9 @@ def check(names=PUBLIC, force: bool = False, conversion=None) -> dict:
         os.makedirs(OUT, exist_ok=True)
         with open(CACHE, "w") as fh:
             json.dump(cache, fh, indent=1)
-    print(f"  Mitsuba's scene ({conversion}) against the references, rel RMSE:")
+    kinds = {json.dumps(c, sort_keys=True) for c in used.values()}
+    said = kinds.pop() if len(kinds) == 1 else "; ".join(f"{n}: {c}" for n, c in used.items())
+    print(f"  Mitsuba's scene ({said}) against the references, rel RMSE:")
     for line in format_table(table):
         print(line)
     return table

@@ -447,14 +447,24 @@ def _medium(sigma):
             "albedo": {"type": "rgb", "value": [0.0, 0.0, 0.0]}}
 
 
+def spec_conversion(spec_path, conversion=None) -> dict:
+    """The conversion of a SPEC file's scene: :data:`CONVERSION`, then the spec's own
+    ``render.tessellation.vertex_normals`` where it has one (the thick jar's reference carries
+    exact vertex normals: :mod:`benchmarks.thick_jar`), then ``conversion``'s keys."""
+    tess = (json.load(open(spec_path)).get("render") or {}).get("tessellation", {})
+    own = {"vertex_normals": bool(tess["vertex_normals"])} if "vertex_normals" in tess else {}
+    return {**CONVERSION, **own, **(conversion or {})}
+
+
 def scene_dict(spec_path, folder, extra_shapes=None, conversion=None) -> tuple[dict, int]:
     """Mitsuba's scene dictionary of a SPEC file (meshes written into ``folder``) and its
     triangle count; ``extra_shapes`` (name: shape dict) are added as they are (labels).
-    ``conversion`` (default :data:`CONVERSION`) is the facets' turning and whether they carry
-    the exact vertex normals."""
+    ``conversion`` (default :data:`CONVERSION`, with the spec's own ``render.tessellation.
+    vertex_normals`` where it has one) is the facets' turning and whether they carry the exact
+    vertex normals."""
     import mitsuba as mi
 
-    conv = {**CONVERSION, **(conversion or {})}
+    conv = spec_conversion(spec_path, conversion)
     spec = json.load(open(spec_path))
     tess = (spec.get("render") or {}).get("tessellation", {})
     spec["render"] = {**(spec.get("render") or {}),

@@ -180,9 +180,9 @@ def test_the_window_plays_its_own_roulette_and_final_renders_theirs(monkeypatch)
     seen = {}
     real = RenderJob._wave
 
-    def spy(self, pool, ctx, wave, mask, want, preview=None, roulette=0.0):
+    def spy(self, pool, ctx, wave, mask, want, preview=None, roulette=0.0, **kw):
         seen.setdefault(self.policy, set()).add(roulette)
-        return real(self, pool, ctx, wave, mask, want, preview=preview, roulette=roulette)
+        return real(self, pool, ctx, wave, mask, want, preview=preview, roulette=roulette, **kw)
 
     monkeypatch.setattr(RenderJob, "_wave", spy)
     for policy in ("split", "classic"):
@@ -216,3 +216,57 @@ def test_a_sample_base_draws_other_samples_of_the_same_pixels():
     assert not np.array_equal(a[~plain], b[~plain])
     edge_a, edge_b = a[~plain], b[~plain]
     assert abs(edge_a.mean() - edge_b.mean()) < 0.05 * edge_a.mean()  # the same picture, unbiased
+
+
+
+def test_final_renders_measure_smooth_pixels_on_the_bottle_and_the_window_does_not():
+    """The edge test compares neighbouring centres and misses detail inside a pixel: final
+    renders (adaptive, linear) measure every pixel on the bottle without an edge, the window's
+    rounds and renders without adaptive rounds do not."""
+    objects = np.array([[0, 1, 1, 4]])
+    edges = np.array([[False, True, False, False]])
+    assert adaptive.measure_mask(objects, edges, True, "linear").tolist() == [[False, False, True, True]]
+    assert not adaptive.measure_mask(objects, edges, True, "display").any()
+    assert not adaptive.measure_mask(objects, edges, False, "linear").any()
+
+
+def test_a_measurement_stays_only_where_it_finds_detail_inside_the_pixel():
+    """Pixel 0's samples agree with its centre (its centre stays its value), pixel 2's mean is
+    a step above it (a caustic inside the pixel: it becomes an edge); pixel 1 was not measured."""
+    film = _film_with([[0.30, 0.31, 0.29, 0.30], [0.5] * 4, [0.30, 0.30, 0.30, 0.90]],
+                      centres=[0.30, 0.1, 0.30])
+    measured = np.array([[True, False, True]])
+    inner = adaptive.inner_steps(film, measured, 1.0)
+    assert inner.tolist() == [[False, False, True]]
+    film.forget(measured & ~inner)
+    assert film.aa_count.tolist() == [[0, 4, 4]]
+    assert film.image()[0, 0, 0] == np.float32(0.30), "a forgotten measurement shows the centre"
+    assert adaptive.noise_targets(film, 64, 0.01, 1.0)[0, 0] == 0, "and leaves the adaptive rounds"
+
+
+def test_a_final_render_measures_in_its_own_wave_and_keeps_what_it_finds(monkeypatch):
+    from engine.tracer.job import RenderJob
+    from tests.test_tracer import simple_design
+
+    found = []
+    keep = adaptive.inner_steps
+
+    def spy(film, measured, level):
+        inner = keep(film, measured, level)
+        found.append((int(measured.sum()), int(inner.sum())))
+        return inner
+
+    monkeypatch.setattr(adaptive, "inner_steps", spy)
+    jobs = {}
+    for space, target in (("linear", 0.01), ("display", adaptive.DISPLAY_NOISE)):
+        jobs[space] = job = RenderJob(simple_design(40.0, width=24, height=32, spp=4), threads=1, noise_space=space,
+                                      noise_target=target, policy="classic").start()
+        job.wait()
+        assert job.error is None
+    assert len(found) == 1, "only the final render measures"
+    measured, kept = found[0]
+    assert measured > 0
+    waves = [w[0] for w in jobs["linear"].wave_log]
+    assert waves[:3] == [0, 1, 2] and jobs["linear"].wave_log[2][2] == adaptive.MEASURE_AA * measured
+    n = jobs["linear"].sample_counts()
+    assert (n == 1).sum() >= measured - kept, "the pixels whose measurement found nothing keep their centre"

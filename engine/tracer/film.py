@@ -80,6 +80,15 @@ class Film:
             add_samples(self.aa_sum, self.aa_sumsq, self.aa_count, self.objects, self.depth, cols, rows, count,
                         sums, sumsq, objects, depth)
 
+    def forget(self, mask) -> None:
+        """Drop the anti-aliasing samples of the pixels of ``mask`` (``(H, W)`` bool): they show
+        their centre again and leave the adaptive rounds (the samples only measured them:
+        :func:`engine.tracer.adaptive.inner_steps`). What their trees met stays known."""
+        with self.lock:
+            self.aa_sum[mask] = 0.0
+            self.aa_sumsq[mask] = 0.0
+            self.aa_count[mask] = 0
+
     def _pixels(self, cols, rows) -> tuple:
         """Flat int64 pixel coordinates, checked against the film's size (``ValueError``)."""
         cols, rows = _index(cols), _index(rows)

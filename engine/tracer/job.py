@@ -293,6 +293,16 @@ class RenderJob:
             # (2...) anti-aliasing on edges: uniform rounds, then (adaptive) where samples scatter
             edges = adaptive.edge_mask(film.luminance(), film.signature, level)
             edges |= (film.objects & ctx.stochastic_objects) != 0  # a sampled surface: noisy anywhere
+            measured = adaptive.measure_mask(film.objects, edges, self.adaptive, self.noise_space)
+            first = 2
+            if measured.any():  # (final renders) samples in each smooth pixel on the bottle ...
+                def keep_inner():  # ... kept where they show detail inside it
+                    inner = adaptive.inner_steps(film, measured, level)
+                    film.forget(measured & ~inner)
+                    edges[...] |= inner
+
+                self._wave(pool, ctx, first, measured, np.where(measured, adaptive.MEASURE_AA, 0), settle=keep_inner)
+                first += 1
             split = self.noise_space == "display" and self.policy == "split"
             plan, rr = adaptive.rounds(self.spp, self.adaptive, split, self.noise_space)
             mark = None
@@ -307,12 +317,13 @@ class RenderJob:
                 if not mask.any():
                     break
                 mark = film.mark() if split else None
-                self._wave(pool, ctx, 2 + r, mask, want, roulette=rr if varied else 0.0)
+                self._wave(pool, ctx, first + r, mask, want, roulette=rr if varied else 0.0)
                 self._set_progress(0.35 + 0.65 * (r + 1) / len(plan))
 
-    def _wave(self, pool, ctx, wave, mask, want, preview=None, roulette=0.0) -> None:
+    def _wave(self, pool, ctx, wave, mask, want, preview=None, roulette=0.0, settle=None) -> None:
         """Trace the pixels of ``mask``: their centres (``want`` None) or anti-aliasing samples
-        up to ``want``, on the scheduler's workers; all finished before this returns."""
+        up to ``want``, on the scheduler's workers; all finished before this returns. ``settle``
+        (no arguments) runs on the finished film before ``on_wave`` observers see it."""
         if self._cancel.is_set():
             return
         film = self.film
@@ -367,6 +378,8 @@ class RenderJob:
         self._scheduler.run(pool, tasks, mask, run_batch, self._cancel.is_set, self.cancel)
         if recording:
             self.records.end_wave(wave)
+        if settle is not None and not self._cancel.is_set():
+            settle()
         self.wave_log.append((wave, pixels, samples, time.perf_counter() - t_wave))
         if self.on_wave is not None and not self._cancel.is_set():
             self.on_wave(self, wave)

@@ -85,3 +85,20 @@ def test_ground_speedup_is_the_smallest_ground_ratio_at_mitsubas_largest_sample_
     assert peer.ground_speedup(speed, ["ground_public_1", "ground_x"]) == 11.0
     assert peer.ground_speedup(speed, ["ground_public_1"]) == 14.5
     assert math.isnan(peer.ground_speedup(speed, ["ground_missing"]))
+
+
+def test_a_spec_may_ask_for_exact_vertex_normals_and_the_thick_jar_does(tmp_path):
+    """Flat facets are the public references' scene; the thick jar's reference carries exact
+    vertex normals (flat ones moved its checker's edges through 7 mm of glass), so Mitsuba's
+    renders of it must too; an explicit conversion still wins."""
+    import json
+
+    from benchmarks import peer_scene, thick_jar
+
+    flat, smooth = tmp_path / "flat.json", tmp_path / "smooth.json"
+    flat.write_text(json.dumps({"render": {"tessellation": {"max_turn_deg": 0.2}}}))
+    smooth.write_text(json.dumps({"render": {"tessellation": {"max_turn_deg": 0.2, "vertex_normals": True}}}))
+    assert peer_scene.spec_conversion(str(flat)) == peer_scene.CONVERSION
+    assert peer_scene.spec_conversion(str(smooth))["vertex_normals"] is True
+    assert peer_scene.spec_conversion(str(smooth), {"vertex_normals": False})["vertex_normals"] is False
+    assert peer_scene.spec_conversion(thick_jar.spec_path())["vertex_normals"] is True

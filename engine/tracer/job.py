@@ -290,7 +290,9 @@ class RenderJob:
             # (1) every other centre
             self._wave(pool, ctx, 1, ~grid, None)
             self._set_progress(0.35)
-            # (2...) anti-aliasing on edges: uniform rounds, then (adaptive) where samples scatter
+            # (2...) anti-aliasing on edges (in final renders also on smooth pixels of the bottle
+            # whose own samples step away from their centre): uniform rounds, then (adaptive)
+            # where samples scatter
             edges = adaptive.edge_mask(film.luminance(), film.signature, level)
             edges |= (film.objects & ctx.stochastic_objects) != 0  # a sampled surface: noisy anywhere
             measured = adaptive.measure_mask(film.objects, edges, self.adaptive, self.noise_space)

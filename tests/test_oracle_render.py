@@ -34,3 +34,20 @@ def test_rel_rmse_is_the_spec_metric():
     img[0, 0, 0] = 1.5
     img[0, 1] = 9.0  # ignored: the reference is zero there
     assert abs(rel_rmse(img, ref) - np.sqrt(0.25 / 7.0)) < 1e-15
+
+
+def test_measuring_smooth_pixels_on_the_bottle_finds_the_detail_the_edge_test_misses(monkeypatch):
+    """Public_3 (a rounded-square flask with liquid): caustics inside pixels whose neighbouring
+    centres agree. Without the measurement their centres stood for them (1.09 % rel RMSE at 4
+    samples, tolerance 0.01); with it 0.92 %. Renders are deterministic: the margin is fixed."""
+    from engine.tracer import adaptive
+
+    spec = f"{SPECS}/public_3.json"
+    ref = read_radiance_image(reference_path(spec))
+    err = {}
+    for measure in (0, adaptive.MEASURE_AA):
+        monkeypatch.setattr(adaptive, "MEASURE_AA", measure)
+        img, _, job = render_spec(spec, threads=2, spp=4, noise_target=0.01, min_weight=0.01)
+        err[measure] = rel_rmse(img, ref)
+    print(err)
+    assert err[adaptive.MEASURE_AA] < err[0] - 0.001

@@ -44,7 +44,8 @@ for its error, :func:`time_to_reach`; the smallest over the scenes is printed be
 line), and stay out of glassbench's front (the engine does not use it).
 
 The scene ``thick_jar`` (7 mm wall, 12 mm base, seen from above) has Mitsuba's own reference at
-16384 spp (made once and cached, :func:`benchmarks.thick_jar.ensure_reference`); ``labelled``
+16384 spp, its facets with exact vertex normals as Mitsuba's renders of it here (made once and
+cached, :func:`benchmarks.thick_jar.ensure_reference`); ``labelled``
 (:mod:`benchmarks.labelled_scene`) is public_1 with a plain paper label: the tracer's diffuse
 lighting against a path tracer, both measured against Mitsuba at many samples. Both are
 reported but not in ``peer_speedup_min``. A SPEC_ground scene (``ground_public_1``, in

@@ -133,3 +133,21 @@ def test_small_images_probe_per_hit_and_large_ones_read_the_grid():
     large = RenderContext.from_design(design, None, 715, 953)
     assert small.finish.sky_grid[S_NRING] == 0 and large.finish.sky_grid[S_NRING] > 0
     assert stage_grids_ready(design, None, 256, 256)  # nothing to build for a small image
+
+
+def test_the_open_sky_cache_keeps_its_map_alive_so_no_other_map_takes_its_id():
+    """The cache names a map by ``id(texels)``; were the map freed while its entry lived, the
+    next map allocated at that address would be handed the freed map's irradiance."""
+    import gc
+    import weakref
+    from types import SimpleNamespace
+
+    texels = np.full((4, 8, 3), 0.25, np.float32)
+    env = SimpleNamespace(texels=texels, scale=1.0, rotation_deg=0.0,
+                          lookup=lambda d: np.full((len(d), 3), 0.25))
+    e_up = open_sky_irradiance(env)
+    assert np.allclose(e_up, 0.25)
+    alive = weakref.ref(texels)
+    del env, texels
+    gc.collect()
+    assert alive() is not None, "while its entry is cached, the map's id cannot be reused"

@@ -231,16 +231,18 @@ class ArrayCache:
         self._lock = threading.Lock()
         self._items: OrderedDict[int, tuple] = OrderedDict()
 
-    def get(self, array: np.ndarray, build):
-        """``build(array)``, made on the first call for this array."""
+    def get(self, array: np.ndarray, build, key: tuple = ()):
+        """``build(array)``, made on the first call for this array and ``key`` (hashable
+        parameters the value also depends on)."""
+        k = (id(array), *key)
         with self._lock:
-            hit = self._items.get(id(array))
+            hit = self._items.get(k)
             if hit is not None and hit[0] is array:
-                self._items.move_to_end(id(array))
+                self._items.move_to_end(k)
                 return hit[1]
         value = build(array)  # (outside the lock: different maps at once)
         with self._lock:
-            self._items[id(array)] = (array, value)
+            self._items[k] = (array, value)
             while len(self._items) > self.size:
                 self._items.popitem(last=False)
         return value

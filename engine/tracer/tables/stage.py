@@ -28,6 +28,7 @@ from ..kernels.microfacet import MF_FAVG
 from ..kernels.outlines import RRECT
 from ..kernels.records import Geometry, Scene
 from ..ggx_albedo import dielectric_average
+from ..environment import ArrayCache
 from ..render_objects import AIR, cached
 
 #: The glossy riser's clear coat (acrylic, black glass).
@@ -39,9 +40,9 @@ SKY_STEPS = (256, 1024)
 #: radius and rises with radius ``SWEEP_CURVE h`` to the wall, which reaches ``SWEEP_EXTENT h``
 #: above the floor and as far to each side (far enough to fill any frame that shows the bottle).
 SWEEP_GAP, SWEEP_CURVE, SWEEP_EXTENT = 0.75, 1.0, 40.0
-_SKY_CACHE: dict = {}
-#: Sky integrals kept (maps x turns x sweep facings a session goes through).
-_SKY_KEEP = 16
+#: Sky integrals kept (maps x turns x sweep facings a session goes through), by the map's
+#: identity (each entry keeps its map alive, so no other map can take its id).
+_SKY_INTEGRALS = ArrayCache(16)
 _SKY_LOCK = threading.Lock()
 
 
@@ -168,17 +169,9 @@ def open_sky_irradiance(environment) -> np.ndarray:
     upper hemisphere, by a midpoint rule in ``cos^2`` (so each cell carries equal weight) and
     azimuth of :data:`SKY_STEPS` cells over the environment's own lookup; cached per map, scale
     and turn (the turn does not change it, but the lookup takes it)."""
-    key = (id(environment.texels), float(environment.scale), float(environment.rotation_deg))
-    return _pinned(key, environment, lambda: environment.lookup(_cosine_directions(SKY_STEPS)).mean(axis=0))
-
-
-def _pinned(key, environment, build):
-    """``build()`` cached under ``key``, which names the map by ``id(environment.texels)``: the
-    entry keeps the texels alive, so while it is cached no other map can take that id. (By id
-    alone, a map allocated where a freed one had been would get the freed map's irradiance: the
-    likely cause of the SPEC ground scene rendering 75 % from its reference once in a run of the
-    whole suite, its background pixels still right.)"""
-    return cached(_SKY_CACHE, _SKY_LOCK, _SKY_KEEP, key, lambda *_: (environment.texels, build()))[1]
+    def build(_):
+        return environment.lookup(_cosine_directions(SKY_STEPS)).mean(axis=0)
+    return _SKY_INTEGRALS.get(environment.texels, build, key=(float(environment.scale), float(environment.rotation_deg)))
 
 
 #: Tilts of the sweep's normal (from up to level, facing the bottle) its open-sky table holds,
@@ -208,9 +201,9 @@ def sweep_sky_irradiance(environment, facing, floor=(0.0, 0.0, 0.0)) -> np.ndarr
             seen = np.where(d[:, 2:3] > 0.0, environment.lookup(d), floor)
             out[i] = seen.mean(axis=0)
         return out
-    key = ("sweep", id(environment.texels), float(environment.scale), float(environment.rotation_deg), fc, fs,
-           *floor.tolist())
-    return _pinned(key, environment, build)
+    return _SKY_INTEGRALS.get(environment.texels, lambda _: build(),
+                              key=("sweep", float(environment.scale), float(environment.rotation_deg), fc, fs,
+                                   *floor.tolist()))
 
 
 def open_floor(design, e_up) -> np.ndarray:

@@ -304,6 +304,9 @@ class MainWindow(QMainWindow):
             text = f"Refining (wave {wave}) {int(fraction * 100)} %"
         elif state == "converged":
             text = f"Converged {rc.size[0]}\u00d7{rc.size[1]}"
+            capped = getattr(rc.job, "capped", 0)
+            if capped:  # honest: the share of pixels the sample cap stopped above the tolerance
+                text += f" ({100.0 * capped / max(1, rc.size[0] * rc.size[1]):.1f} % of pixels at the sample cap)"
         self.render_state.setText(text)
         self.render_progress.setValue(int(round(fraction * 100)))
         self.preview.set_note({"stale": "stale: live pass", "refining": "refining"}.get(state, ""))

@@ -158,6 +158,30 @@ def test_one_lucky_agreement_does_not_stop_a_pixel_whose_neighbours_still_scatte
     assert list(adaptive.split_targets(alone, mark1, 64, adaptive.DISPLAY_NOISE)[0]) == [8]
 
 
+def test_a_pixel_whose_halves_still_disagree_is_unconverged_and_an_agreeing_one_is_not():
+    film, mark = _split_film([[0.1, 0.3, 0.2, 0.2], [], [], [0.1] * 4], [[0.2, 0.2, 0.3, 0.1], [], [], [0.3] * 4])
+    assert list(adaptive.split_unconverged(film, mark, adaptive.DISPLAY_NOISE)[0]) == [False, False, False, True]
+
+
+def test_the_window_counts_the_pixels_its_sample_cap_stopped_above_the_tolerance():
+    """A window render whose cap binds says how many pixels it stopped there (the status bar
+    shows the share); a tolerance as wide as the display leaves none; final renders count none."""
+    from engine.tracer.job import RenderJob
+    from tests.test_tracer import simple_design
+
+    def job_with(**kw):
+        job = RenderJob(simple_design(), width=48, height=64, spp=1, threads=1, noise_space="display", **kw).start()
+        job.wait()
+        assert job.error is None
+        return job
+
+    tight = job_with(noise_target=0.01 / 255.0)  # a hundredth of a level: the cap (24 samples) binds
+    at_cap = tight.film.aa_count == adaptive.SPLIT_FACTOR
+    assert 0 < tight.capped <= np.count_nonzero(at_cap)
+    assert job_with(noise_target=1.0).capped == 0  # the whole display range: every pixel meets it
+    assert job_with(noise_target=0.01 / 255.0, policy="classic").capped == 0
+
+
 def test_the_split_plan_doubles_from_eight_and_the_window_uses_it():
     assert adaptive.split_plan(16, True) == [(4, False), (8, False), (16, True), (32, True), (64, True),
                                              (128, True), (256, True), (384, True)]

@@ -38,6 +38,18 @@ def test_tiles_arrive_and_the_render_converges(make_window, qtbot):
     # its own native window: its tiles are not composed with the OpenGL 3D view's window, and a
     # grab of the window (README screenshots) still shows them
     assert w.preview.testAttribute(Qt.WA_NativeWindow) and w.preview.winId() != w.winId()
+
+
+def test_the_status_says_what_share_of_pixels_stopped_at_the_sample_cap(make_window, qtbot, monkeypatch):
+    """With a tolerance no pixel meets (a hundredth of a level), the window's render ends with
+    edge pixels at the sample cap: the status bar does not call that plainly converged."""
+    monkeypatch.setitem(engine_bridge.WINDOW_NOISE, "noise_target", 0.01 / 255.0)
+    w = make_window()
+    rc = w.render_controller
+    _wait_converged(qtbot, w)
+    assert rc.job.error is None and rc.job.capped > 0
+    share = 100.0 * rc.job.capped / (48 * 64)
+    assert w.render_state.text() == f"Converged 48\u00d764 ({share:.1f} % of pixels at the sample cap)"
     grabbed = w.grab().toImage()
     r = w.preview.rect()
     seen = {grabbed.pixelColor(w.preview.mapTo(w, QPoint(x, y))).getRgb()

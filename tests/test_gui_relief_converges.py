@@ -20,6 +20,8 @@ def _converged(qtbot, w, design_check):
                     and design_check(rc.job.design), timeout=600_000)
     assert rc.job.error is None and rc.job.done
     qtbot.waitUntil(lambda: w.render_state.text().startswith("Converged"), timeout=10_000)
+    # it names the share of pixels the sample cap stopped above the tolerance, when there are any
+    assert ("at the sample cap" in w.render_state.text()) == (rc.job.capped > 0)
     return rc.job
 
 

@@ -293,6 +293,20 @@ def split_targets(film, mark, cap: int, noise_target: float) -> np.ndarray:
     (:func:`engine.color.srgb_encode`) makes a highlight above white need nothing and dark glass
     need more. One pixel's estimate is a single degree of freedom: it takes at least
     :data:`SPLIT_POOL` of the mean estimate over the anti-aliased pixels of its 3 x 3 block."""
+    n, more = _split_verdict(film, mark, noise_target)
+    return np.where(more, np.minimum(2 * n, cap), np.where(n > 0, n, 0)).astype(np.int64)
+
+
+def split_unconverged(film, mark, noise_target: float) -> np.ndarray:
+    """Pixels whose last doubling round (``mark`` taken before it) left their split estimate
+    (:func:`split_targets`) above ``noise_target``: after the plan's last round, those that
+    stopped at the sample cap rather than at their tolerance (bool ``(H, W)``)."""
+    return _split_verdict(film, mark, noise_target)[1]
+
+
+def _split_verdict(film, mark, noise_target: float):
+    """``(n, more)``: the anti-aliasing sample counts and the pixels whose pooled split estimate
+    (:func:`split_targets`) is above ``noise_target``."""
     from ..color import srgb_encode
 
     prev_sum, prev_n = mark
@@ -313,5 +327,4 @@ def split_targets(film, mark, cap: int, noise_target: float) -> np.ndarray:
         count += c
     pooled = (total + err2) / np.maximum(count + have, 1.0)
     err2 = np.maximum(err2, SPLIT_POOL * pooled)
-    more = halves & (err2 > noise_target * noise_target)
-    return np.where(more, np.minimum(2 * n, cap), np.where(n > 0, n, 0)).astype(np.int64)
+    return n, halves & (err2 > noise_target * noise_target)

@@ -132,6 +132,10 @@ class RenderJob:
         self.first_tile_seconds = None
         #: ``(wave, pixels, samples, seconds)`` per wave traced (benchmarks, the status bar)
         self.wave_log = []
+        #: pixels the window's split policy stopped at its sample cap with their estimate still
+        #: above the noise target (:func:`~engine.tracer.adaptive.split_unconverged`); 0 when
+        #: every pixel met it or the render has no such rounds (the status bar says how many)
+        self.capped = 0
         self.film = Film(self.width, self.height)
         #: the compiled scene of the render (``None`` until it starts, or for a kept film)
         self.context = None
@@ -232,6 +236,7 @@ class RenderJob:
             reuse = reuse_of(prev, self.design, self.assets, self.sampling(), self._changed)
             if reuse == KEEP_FILM:  # the same film: its scene and records describe it, for the next job
                 self.film, self.stats, self.context, self.records = prev.film, prev.stats, prev.context, prev.records
+                self.capped = prev.capped
             elif isinstance(reuse, RelabelPlan):
                 self._plan = reuse
                 self.relabelled_pixels = int(np.count_nonzero(reuse.trace))
@@ -321,6 +326,9 @@ class RenderJob:
                 mark = film.mark() if split else None
                 self._wave(pool, ctx, first + r, mask, want, roulette=rr if varied else 0.0)
                 self._set_progress(0.35 + 0.65 * (r + 1) / len(plan))
+            else:  # every round ran: the last one's pixels may have stopped at the cap, not converged
+                if split and plan[-1][1]:
+                    self.capped = int(np.count_nonzero(adaptive.split_unconverged(film, mark, self.noise_target)))
 
     def _wave(self, pool, ctx, wave, mask, want, preview=None, roulette=0.0, settle=None) -> None:
         """Trace the pixels of ``mask``: their centres (``want`` None) or anti-aliasing samples

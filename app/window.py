@@ -54,6 +54,16 @@ class _PaneWatcher(QObject):
         return False
 
 
+def capped_note(capped: int, pixels: int) -> str:
+    """The status bar's note on the pixels a render's sample cap stopped above its tolerance
+    (:attr:`engine.tracer.job.RenderJob.capped`): their share of the image, or their number
+    when that share would read 0.0 %; empty when there are none."""
+    if not capped:
+        return ""
+    share = 100.0 * capped / max(1, pixels)
+    return f" ({share:.1f} % of pixels at the sample cap)" if share >= 0.05 else f" ({capped} pixels at the sample cap)"
+
+
 class MainWindow(QMainWindow):
     """The glassbench workbench for one design.
 
@@ -304,9 +314,7 @@ class MainWindow(QMainWindow):
             text = f"Refining (wave {wave}) {int(fraction * 100)} %"
         elif state == "converged":
             text = f"Converged {rc.size[0]}\u00d7{rc.size[1]}"
-            capped = getattr(rc.job, "capped", 0)
-            if capped:  # honest: the share of pixels the sample cap stopped above the tolerance
-                text += f" ({100.0 * capped / max(1, rc.size[0] * rc.size[1]):.1f} % of pixels at the sample cap)"
+            text += capped_note(getattr(rc.job, "capped", 0), rc.size[0] * rc.size[1])
         self.render_state.setText(text)
         self.render_progress.setValue(int(round(fraction * 100)))
         self.preview.set_note({"stale": "stale: live pass", "refining": "refining"}.get(state, ""))

@@ -9,6 +9,7 @@ import pytest
 from PySide6.QtCore import QPoint, Qt
 
 from app import engine_bridge
+from app.window import capped_note
 from engine.model.design import Glass
 
 pytestmark = pytest.mark.usefixtures("no_leaks")
@@ -22,8 +23,13 @@ def _wait_converged(qtbot, w, timeout=60_000):
 def _converged_text(job, width=48, height=64):
     """The status bar's text for a converged ``job``: its size, then the share of the image its
     sample cap stopped above the tolerance, if any."""
-    note = f" ({100.0 * job.capped / (width * height):.1f} % of pixels at the sample cap)" if job.capped else ""
-    return f"Converged {width}\u00d7{height}{note}"
+    return f"Converged {width}\u00d7{height}{capped_note(job.capped, width * height)}"
+
+
+def test_the_cap_note_gives_a_share_or_a_count_never_a_share_that_reads_zero():
+    assert capped_note(0, 1000) == ""
+    assert capped_note(96, 1000) == " (9.6 % of pixels at the sample cap)"
+    assert capped_note(12, 715 * 954) == " (12 pixels at the sample cap)"
 
 
 def test_tiles_arrive_and_the_render_converges(make_window, qtbot):

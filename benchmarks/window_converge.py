@@ -95,14 +95,20 @@ def reference_noise(design, assets, width, height, threads, ref) -> float:
     """The display levels RMS of the reference ``ref``'s own error: its difference from a second
     reference on other samples (:data:`REFERENCE_BASES`), over sqrt 2."""
     other = reference(design, assets, width, height, threads, base=REFERENCE_BASES[1])
-    return float(np.sqrt(np.mean((levels(ref) - levels(other)) ** 2) / 2.0))
+    return distance(ref, other, scale=1.0 / np.sqrt(2.0))[0]
 
 
 def honesty(design, assets, width, height, threads, ref, policy) -> tuple[float, float]:
     """``(RMS, 99th percentile)`` in display levels of a converged render by ``policy`` against
     the reference image ``ref`` (module doc), at ``width x height``."""
     job, _ = render(design, assets, width, height, threads, policy=policy)
-    diff = np.abs(levels(job.image()) - levels(ref))
+    return distance(job.image(), ref)
+
+
+def distance(image, other, scale: float = 1.0) -> tuple[float, float]:
+    """``(RMS, 99th percentile)`` in display levels of ``scale x`` the difference of two linear
+    images once tone-mapped."""
+    diff = np.abs(levels(image) - levels(other)) * scale
     return float(np.sqrt(np.mean(diff ** 2))), float(np.percentile(diff, 99))
 
 
@@ -115,8 +121,7 @@ def own_error(design, assets, width, height, threads, image, policy) -> tuple[fl
     are unbiased estimates of the same pixel integrals (the same tree cut), so this is their
     distance from a noiseless reference at that size."""
     other, _ = render(design, assets, width, height, threads, policy=policy, _sample_base=REFERENCE_BASES[0])
-    diff = np.abs(levels(image) - levels(other.image())) / np.sqrt(2.0)
-    return float(np.sqrt(np.mean(diff ** 2))), float(np.percentile(diff, 99))
+    return distance(image, other.image(), scale=1.0 / np.sqrt(2.0))
 
 
 def chart(rows, path) -> None:

@@ -21,7 +21,9 @@ of its difference from a second independent reference, over sqrt 2), which the d
 includes, and the render's own error (the two in quadrature's difference). At the window's own
 size (where a smooth pixel keeps its noiseless centre, so the error is the anti-aliased pixels'),
 a second render on independent samples gives the render's own error there
-(:func:`own_error`: RMS and 99th percentile, against the same targets). Writes
+(:func:`own_error`: RMS and 99th percentile, against the same targets). The split policy's
+per-pixel tolerance (levels), which it widens while its estimate of the image's error allows
+(:func:`engine.tracer.adaptive.split_tolerance`), is printed with each sample. Writes
 ``benchmarks/out/window_converge.csv`` and ``window_converge.png`` (seconds and rays per pixel
 per sample against the targets) and prints last
 ``window_converge_worst=S window_converge_median=M`` (seconds over the samples; targets: worst
@@ -181,7 +183,9 @@ def main(argv=None) -> int:
             rays = job.stats.rays_cast
             row = {"sample": name, "policy": policy, "width": a.width, "height": a.height, "seconds": secs,
                    "rays": rays, "rays_per_pixel": rays / (a.width * a.height),
-                   "samples_per_pixel": float(job.sample_counts().mean())}
+                   "samples_per_pixel": float(job.sample_counts().mean()),
+                   # the per-pixel tolerance the split policy settled at (display levels)
+                   "tolerance_levels": None if job.tolerance is None else job.tolerance * 255.0}
             if ref is not None:
                 row["check_size"] = f"{w}x{h}"
                 row["rms_levels"], row["p99_levels"] = honesty(design, assets, w, h, a.threads, ref, policy)
@@ -196,8 +200,10 @@ def main(argv=None) -> int:
                      f"the render's own {row['own_rms_levels']:.2f}); its own error at "
                      f"{a.width}x{a.height}: {row['full_rms_levels']:.2f} levels RMS, p99 {row['full_p99_levels']:.1f}"
                      if "rms_levels" in row else "")
+            settled = ("" if row["tolerance_levels"] is None
+                       else f", tolerance {row['tolerance_levels']:.0f} levels")
             print(f"{name} [{policy}]: {secs:.1f} s, {rays / 1e6:.1f} M rays, {row['rays_per_pixel']:.0f} rays/pixel, "
-                  f"{row['samples_per_pixel']:.1f} samples/pixel{check}", flush=True)
+                  f"{row['samples_per_pixel']:.1f} samples/pixel{settled}{check}", flush=True)
     with open(os.path.join(OUT, "window_converge.csv"), "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r}))
         writer.writeheader()

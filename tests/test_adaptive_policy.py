@@ -163,6 +163,47 @@ def test_a_pixel_whose_halves_still_disagree_is_unconverged_and_an_agreeing_one_
     assert list(adaptive.split_unconverged(film, mark, adaptive.DISPLAY_NOISE)[0]) == [False, False, False, True]
 
 
+def _one_noisy_pixel_among(n_pixels):
+    """A 1-row film of ``n_pixels``: pixel 0's two halves of 4 samples disagree by about 60
+    display levels (an estimate of about 30), the others have no anti-aliasing samples."""
+    return _split_film([[0.1] * 4] + [[]] * (n_pixels - 1), [[0.3] * 4] + [[]] * (n_pixels - 1))
+
+
+def test_the_window_loosens_its_tolerance_only_as_far_as_the_image_stays_within_its_bound():
+    """One pixel about 30 levels off, clipped to the step: the image's RMS is ``step /
+    sqrt(pixels)``, which must stay within half the 2-level tolerance (1 level)."""
+    tol = adaptive.DISPLAY_NOISE
+    wide = max(adaptive.SPLIT_LADDER)
+
+    def chosen(n_pixels, previous=np.inf, cap=1 << 20):
+        film, mark = _one_noisy_pixel_among(n_pixels)
+        return adaptive.split_tolerance(film, mark, tol, previous, cap) / tol
+
+    assert chosen(4) == 1.0  # 2 levels over 4 pixels: exactly the bound of 1 level
+    assert chosen(20) == 2.0  # 4 levels / sqrt(20) = 0.89; 6 levels would give 1.34
+    assert chosen(100) == wide  # 8 levels / 10 = 0.8: the ladder's widest step
+    assert chosen(100, previous=1.5 * tol) == 1.5  # rounds only tighten
+    # at the sample cap already: the pixel keeps its 30 levels, 3 RMS over 100 pixels whatever
+    # the step, so the window spends as the per-pixel tolerance would
+    assert chosen(100, cap=8) == 1.0
+
+
+def test_a_window_render_records_the_tolerance_it_settled_at(monkeypatch):
+    from engine.tracer.job import RenderJob
+    from app.engine_bridge import WINDOW_NOISE
+    from tests.test_tracer import simple_design
+
+    def settled():
+        job = RenderJob(simple_design(), width=48, height=64, spp=1, threads=1, **WINDOW_NOISE).start()
+        job.wait()
+        assert job.error is None
+        return job.tolerance / adaptive.DISPLAY_NOISE
+
+    assert settled() in adaptive.SPLIT_LADDER
+    monkeypatch.setattr(adaptive, "SPLIT_LADDER", (1.0,))  # a one-step ladder: the per-pixel policy
+    assert settled() == 1.0
+
+
 def test_the_window_counts_the_pixels_its_sample_cap_stopped_above_the_tolerance():
     """A window render whose cap binds says how many pixels it stopped there (the status bar
     shows the share); a tolerance as wide as the display leaves none; final renders count none."""

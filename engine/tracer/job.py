@@ -133,9 +133,12 @@ class RenderJob:
         #: ``(wave, pixels, samples, seconds)`` per wave traced (benchmarks, the status bar)
         self.wave_log = []
         #: pixels the window's split policy stopped at its sample cap with their estimate still
-        #: above the noise target (:func:`~engine.tracer.adaptive.split_unconverged`); 0 when
+        #: above its tolerance (:func:`~engine.tracer.adaptive.split_unconverged`); 0 when
         #: every pixel met it or the render has no such rounds (the status bar says how many)
         self.capped = 0
+        #: the per-pixel tolerance (display units) the split policy's adaptive rounds settled at
+        #: (:func:`~engine.tracer.adaptive.split_tolerance`); ``None`` without such rounds
+        self.tolerance = None
         self.film = Film(self.width, self.height)
         #: the compiled scene of the render (``None`` until it starts, or for a kept film)
         self.context = None
@@ -236,7 +239,7 @@ class RenderJob:
             reuse = reuse_of(prev, self.design, self.assets, self.sampling(), self._changed)
             if reuse == KEEP_FILM:  # the same film: its scene and records describe it, for the next job
                 self.film, self.stats, self.context, self.records = prev.film, prev.stats, prev.context, prev.records
-                self.capped = prev.capped
+                self.capped, self.tolerance = prev.capped, prev.tolerance
             elif isinstance(reuse, RelabelPlan):
                 self._plan = reuse
                 self.relabelled_pixels = int(np.count_nonzero(reuse.trace))
@@ -312,10 +315,11 @@ class RenderJob:
                 first += 1
             split = self.noise_space == "display" and self.policy == "split"
             plan, rr = adaptive.rounds(self.spp, self.adaptive, split, self.noise_space)
-            mark = None
+            mark, tol = None, np.inf
             for r, (target, varied) in enumerate(plan):
                 if varied and split:
-                    want = adaptive.split_targets(film, mark, target, self.noise_target)
+                    tol = self.tolerance = adaptive.split_tolerance(film, mark, self.noise_target, tol, plan[-1][0])
+                    want = adaptive.split_targets(film, mark, target, tol)
                 elif varied:
                     want = adaptive.noise_targets(film, target, self.noise_target, level, self.noise_space)
                 else:
@@ -328,7 +332,7 @@ class RenderJob:
                 self._set_progress(0.35 + 0.65 * (r + 1) / len(plan))
             else:  # every round ran: the last one's pixels may have stopped at the cap, not converged
                 if split and plan[-1][1]:
-                    self.capped = int(np.count_nonzero(adaptive.split_unconverged(film, mark, self.noise_target)))
+                    self.capped = int(np.count_nonzero(adaptive.split_unconverged(film, mark, tol)))
 
     def _wave(self, pool, ctx, wave, mask, want, preview=None, roulette=0.0, settle=None) -> None:
         """Trace the pixels of ``mask``: their centres (``want`` None) or anti-aliasing samples

@@ -256,6 +256,24 @@ def test_relabel_artwork_swap_recomputes_only_label_terms(relabel_case):
     np.testing.assert_array_equal(rel3.image(), first.image())
 
 
+def test_a_window_relabel_equals_a_full_window_render(relabel_case):
+    """The window's tolerance is chosen from the whole image's estimate (adaptive.split_tolerance):
+    a relabel replays the waves and so chooses it as the full render does, bit for bit."""
+    from engine.tracer.adaptive import DISPLAY_NOISE, SPLIT_LADDER
+    d, assets, _ = relabel_case
+    win = dict(noise_space="display", noise_target=DISPLAY_NOISE)
+    first = _job(d, assets, **win)
+    assert first.tolerance / DISPLAY_NOISE in SPLIT_LADDER
+    lab = d.labels[0]
+    for d2 in (dataclasses.replace(d, labels=(dataclasses.replace(lab, front=LabelSide("b.png")),)),
+               dataclasses.replace(d, labels=(dataclasses.replace(lab, diffuse=0.4),))):
+        rel, full = _job(d2, assets, previous=first, changed={"labels"}, **win), _job(d2, assets, **win)
+        assert rel.context.geometry is first.context.geometry  # a relabel, not a new scene
+        np.testing.assert_array_equal(rel.image(), full.image())
+        np.testing.assert_array_equal(rel.sample_counts(), full.sample_counts())
+        assert rel.tolerance == full.tolerance
+
+
 def test_relabel_coefficients_and_moves_trace_what_they_touch(relabel_case):
     d, assets, first = relabel_case
     lab = d.labels[0]

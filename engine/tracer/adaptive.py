@@ -335,7 +335,9 @@ def split_tolerance(film, mark, noise_target: float, previous: float, cap: int) 
     refined until below) but not below what it keeps at the sample ``cap`` (its estimate scaled
     as ``1 / sqrt(samples)``), the others counted as 0. ``noise_target`` when no step is: where
     the pixels the cap will stop hold the image above the bound, the window spends as a
-    per-pixel tolerance would.
+    per-pixel tolerance would. The first adaptive round decides: there every anti-aliased pixel
+    has an estimate (the uniform round before it split all of them); later rounds see only the
+    pixels the last one refined, whose estimates can still tighten the step.
 
     This makes the window's "converged" a statement about the image, which is what its honesty
     is judged by, instead of a per-pixel bound that most pixels beat by far. The choice is a

@@ -294,7 +294,7 @@ def rounds(spp: int, adaptive: bool, split: bool, space: str):
     return plan(spp, adaptive, LINEAR_FACTOR if space == "linear" else ADAPTIVE_FACTOR), ROULETTE
 
 
-def split_targets(film, mark, cap: int, noise_target: float) -> np.ndarray:
+def split_targets(film, mark, cap: int, noise_target: float, errors=None) -> np.ndarray:
     """Samples each anti-aliased pixel should reach (0 for the others): twice what it has, up
     to ``cap``, while its remaining error in display units is above ``noise_target``.
 
@@ -308,7 +308,7 @@ def split_targets(film, mark, cap: int, noise_target: float) -> np.ndarray:
     (:func:`engine.color.srgb_encode`) makes a highlight above white need nothing and dark glass
     need more. One pixel's estimate is a single degree of freedom: it takes at least
     :data:`SPLIT_POOL` of the mean estimate over the anti-aliased pixels of its 3 x 3 block."""
-    n, more = _split_verdict(film, mark, noise_target)
+    n, more = _split_verdict(film, mark, noise_target, errors)
     return np.where(more, np.minimum(2 * n, cap), np.where(n > 0, n, 0)).astype(np.int64)
 
 
@@ -319,14 +319,14 @@ def split_unconverged(film, mark, noise_target: float) -> np.ndarray:
     return _split_verdict(film, mark, noise_target)[1]
 
 
-def _split_verdict(film, mark, noise_target: float):
+def _split_verdict(film, mark, noise_target: float, errors=None):
     """``(n, more)``: the anti-aliasing sample counts and the pixels whose pooled split estimate
     (:func:`split_targets`) is above ``noise_target``."""
-    n, err2, halves = _split_errors(film, mark)
+    n, err2, halves = split_errors(film, mark) if errors is None else errors
     return n, halves & (err2 > noise_target * noise_target)
 
 
-def split_tolerance(film, mark, noise_target: float, previous: float, cap: int) -> float:
+def split_tolerance(film, mark, noise_target: float, previous: float, cap: int, errors=None) -> float:
     """The window's per-pixel tolerance for its next adaptive round (display units): the widest
     step ``k x noise_target`` of :data:`SPLIT_LADDER`, no wider than ``previous`` (the tolerance
     of the round before, so rounds only tighten), at which the image would be done: its RMS
@@ -344,7 +344,7 @@ def split_tolerance(film, mark, noise_target: float, previous: float, cap: int) 
     pure function of the film after a wave, so a relabel (which replays the waves) still equals
     a full render bit for bit; a label edit that moves the image across a step traces more of
     its clean pixels again."""
-    n, err2, _ = _split_errors(film, mark)
+    n, err2, _ = split_errors(film, mark) if errors is None else errors
     floor = err2 * n / max(cap, 1)  # (n <= cap)
     bound = (SPLIT_IMAGE_SHARE * noise_target) ** 2
     for k in sorted(SPLIT_LADDER, reverse=True):
@@ -354,9 +354,11 @@ def split_tolerance(film, mark, noise_target: float, previous: float, cap: int) 
     return noise_target
 
 
-def _split_errors(film, mark):
+def split_errors(film, mark):
     """``(n, err2, halves)``: the anti-aliasing sample counts, each pixel's pooled squared split
-    estimate in display units (0 where it has none) and the pixels that have one."""
+    estimate in display units (0 where it has none) and the pixels that have one. A round's
+    decisions (:func:`split_tolerance`, :func:`split_targets`) may share one: ``errors=``
+    (some 0.1 s at the window's size)."""
     from ..color import srgb_encode
 
     prev_sum, prev_n = mark
@@ -365,10 +367,11 @@ def _split_errors(film, mark):
         lum = film.aa_sum.mean(axis=2)
     new_n = n - prev_n
     halves = (prev_n > 0) & (new_n > 0)
-    first = np.where(halves, prev_sum / np.maximum(prev_n, 1), 0.0)
-    last = np.where(halves, (lum - prev_sum) / np.maximum(new_n, 1), 0.0)
-    d = np.abs(srgb_encode(first) - srgb_encode(last))
-    err2 = np.where(halves, 0.25 * d * d, 0.0)
+    first = prev_sum[halves] / prev_n[halves]
+    last = (lum[halves] - prev_sum[halves]) / new_n[halves]
+    d = np.abs(srgb_encode(first) - srgb_encode(last))  # (the tone map on those pixels alone)
+    err2 = np.zeros(n.shape)
+    err2[halves] = 0.25 * d * d
     # the mean over the 3 x 3 block's pixels that have an estimate
     have = halves.astype(float)
     total, count = np.zeros(err2.shape), np.zeros(err2.shape)

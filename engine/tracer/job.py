@@ -318,8 +318,10 @@ class RenderJob:
             mark, tol = None, np.inf
             for r, (target, varied) in enumerate(plan):
                 if varied and split:
-                    tol = self.tolerance = adaptive.split_tolerance(film, mark, self.noise_target, tol, plan[-1][0])
-                    want = adaptive.split_targets(film, mark, target, tol)
+                    errors = adaptive.split_errors(film, mark)
+                    tol = self.tolerance = adaptive.split_tolerance(film, mark, self.noise_target, tol, plan[-1][0],
+                                                                    errors)
+                    want = adaptive.split_targets(film, mark, target, tol, errors)
                 elif varied:
                     want = adaptive.noise_targets(film, target, self.noise_target, level, self.noise_space)
                 else:

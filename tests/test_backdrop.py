@@ -20,7 +20,9 @@ from engine.tracer.kernels import intersect as K
 from engine.tracer.kernels.queries import hits
 from engine.tracer.kernels.records import Geometry
 from engine.tracer.picking import camera_hits
+from engine.tracer.tables import sky as sky_tables
 from engine.tracer.tables import stage as S
+from engine.tracer.tables import sweep as sweep_tables
 from engine.tracer.tables.sky import under_sweep_to_edge
 from tests.test_stage import _caustic_flux, _lit, _on_stage, _pixels
 from tests.test_tracer import WHITE
@@ -121,8 +123,12 @@ def test_a_ray_leaving_the_sweep_does_not_meet_it_again_and_one_from_behind_meet
     # (the sheet's back: the ray and the normal agree, and the surface layer absorbs it there)
 
 
-def test_a_white_sweep_and_ground_in_a_white_furnace_stay_white():
+def test_a_white_sweep_and_ground_in_a_white_furnace_stay_white(monkeypatch):
     design = _on_stage(SWEPT, fill=40.0)
+    # the grids' probes without Russian roulette: every probe's whole tree, so exactly white
+    S.clear_stage_caches()
+    monkeypatch.setattr(sky_tables, "ROULETTE", 0.0)
+    monkeypatch.setattr(sweep_tables, "ROULETTE", 0.0)
     img, objects, ctx, st = _pixels(design, env=WHITE, grids=True)
     k, _ = _sweep(design)
     assert ((objects & (1 << k)) != 0).mean() > 0.1, "the sweep fills the top of the frame"
@@ -131,6 +137,15 @@ def test_a_white_sweep_and_ground_in_a_white_furnace_stay_white():
     # means (the sweep's open-sky table, the ground's whole-sky window) are exact in a white sky
     assert np.abs(img - 1.0).max() < 1e-9
     assert st.escaped_inside == 0 and st.mismatches == 0
+    # the engine's grids play roulette in their probes: white to their noise, and unbiased
+    S.clear_stage_caches()
+    monkeypatch.undo()
+    assert sky_tables.ROULETTE > 0.0
+    img, _, _, st = _pixels(design, env=WHITE, grids=True)
+    assert np.abs(img - 1.0).max() < 0.02
+    assert abs(img.mean() - 1.0) < 1e-3
+    assert np.abs(img - 1.0).max() > 1e-9, "(the probes did play roulette)"
+    S.clear_stage_caches()
 
 
 def test_the_sweep_stands_behind_the_bottle_as_the_camera_sees_it():

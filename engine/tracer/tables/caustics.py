@@ -22,6 +22,7 @@ per cent of the outer surface's 4 % reflection. Units mm.
 from __future__ import annotations
 
 import math
+from collections import deque
 import os
 from concurrent.futures import ThreadPoolExecutor
 
@@ -134,6 +135,21 @@ def _add_chunk(sums: np.ndarray, counts: np.ndarray, row: np.ndarray, out: np.nd
     _splat(counts, row, out[:, P_SX], out[:, P_SY], np.column_stack([out[:, P_SHADOW], np.ones(len(out))]))
 
 
+def _in_order(pool, fn, args, in_flight: int):
+    """``fn(a)`` for each of ``args`` on ``pool``, yielded in the order of ``args``, with at most
+    ``in_flight`` calls queued or running: the caller's work on one result (the splat) overlaps
+    the pool's on the next ones, and memory stays bounded. (Waiting for a whole batch before
+    splatting it left the workers idle during every splat: 0.30 s of 1.13 s on the tabled
+    Bordeaux.)"""
+    pending = deque()
+    for a in args:
+        pending.append(pool.submit(fn, a))
+        if len(pending) >= in_flight:
+            yield pending.popleft().result()
+    while pending:
+        yield pending.popleft().result()
+
+
 def caustic_grids(scene, lab, fin, env_p, tex, ground_mat: int, z0: float, threads: int | None = None):
     """``(caustics, grid rows)`` of the lights in ``fin`` for the scene with its ground (module
     rule): ``caustics`` ``(n_lights, rows, cols, CAUSTIC_COLS)`` (:mod:`engine.tracer.kernels.ground`:
@@ -164,10 +180,8 @@ def caustic_grids(scene, lab, fin, env_p, tex, ground_mat: int, z0: float, threa
             # irradiance over pi per cell: / (cell area x pi)
             scale = area / n / (row[G_CELL] ** 2 * math.pi)
             with ThreadPoolExecutor(threads) as pool:
-                for batch in range(0, n, CHUNK * threads):  # a few chunks in flight: memory bounded
-                    firsts = range(batch, min(n, batch + CHUNK * threads), CHUNK)
-                    for out in pool.map(chunk, firsts):  # in chunk order, whatever finishes first
-                        _add_chunk(sums, counts, row, out, scale)
+                for out in _in_order(pool, chunk, range(0, n, CHUNK), 2 * threads):
+                    _add_chunk(sums, counts, row, out, scale)
             sums[..., C_IN:C_IN + 3] *= light[3:6]
             sums[..., C_OUT:C_OUT + 3] *= light[3:6]
         grid = np.zeros((*shape, CAUSTIC_COLS))

@@ -23,7 +23,7 @@ from ..kernels.materials import MG_ALBEDO
 from ..kernels.records import Cutoffs
 from ..kernels.sky import Y_SQ, sweep_cells
 from ..kernels.tile import make_work
-from .sky import MAX_BATCHES, MAX_NODES, PROBES_SIDE, SE_TOL, WIDE_BATCHES, probe_cells, sweep_object
+from .sky import MAX_BATCHES, MAX_NODES, PROBES_SIDE, ROULETTE, SE_TOL, WIDE_BATCHES, probe_cells, sweep_object
 
 #: Cells across the sweep and along its profile.
 CELLS = (96, 64)
@@ -70,7 +70,7 @@ def sweep_grid(scene, lab, fin, env_p, tex, max_depth: int, min_weight: float, t
     row = grid_row(obj)
     cells = cell_centres(row)
     albedo = max(float(scene.mat_f[scene.geom.obj_i[k, K.O_MAT], MG_ALBEDO:MG_ALBEDO + 3].max()), 1e-3)
-    cut = Cutoffs(int(max_depth), float(min_weight), 0.0, MAX_NODES)
+    cut = Cutoffs(int(max_depth), float(min_weight), ROULETTE, MAX_NODES)
 
     def run(idx, n_side, batch, out):
         sweep_cells(scene, lab, fin, env_p, tex, k, cells, np.ascontiguousarray(idx, np.int64), int(n_side),

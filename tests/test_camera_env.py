@@ -248,3 +248,27 @@ def test_without_half_float_conversion_the_kernels_read_float32(monkeypatch):
     tex = studio_texels()
     got, factor = E.half_texels(tex)
     assert got.dtype == np.float32 and factor == 1.0 and np.array_equal(got, tex)
+
+
+@pytest.mark.parametrize("m", [2, 4, 6])
+def test_a_rough_surfaces_padded_net_is_a_net_in_every_aligned_block_and_apart_from_the_pixels(m):
+    """A rough surface's two lobe uniforms over a pixel's samples (:func:`padded_sobol2`): each
+    aligned block of ``2^m`` sample indices (the first ``2^m``, and the second half of a
+    doubling round) is a (0, m, 2)-net whatever the node's seed; over many seeds each point is
+    uniform; and the shuffled index pairs them with the pixel's positions without correlation."""
+    from engine.tracer.kernels.sampling import padded_sobol2
+    n = 2 ** m
+    seeds = [np.uint64(s * 0x9E3779B97F4A7C15 % 2 ** 64) for s in range(1, 201)]
+    for start in (0, n, 5 * n):
+        for seed in seeds[:40]:
+            s = np.array([padded_sobol2(i, seed) for i in range(start, start + n)])
+            for a in range(m + 1):
+                cells = np.floor(s[:, 0] * 2 ** a).astype(int) * 2 ** (m - a) + np.floor(s[:, 1] * 2 ** (m - a)).astype(int)
+                assert len(set(cells)) == n, f"{2 ** a} x {2 ** (m - a)} strata, block at {start}"
+    first = np.array([padded_sobol2(3, seed) for seed in seeds])
+    assert abs(first[:, 0].mean() - 0.5) < 0.05 and abs(first[:, 1].std() - (1 / 12) ** 0.5) < 0.03
+    # against the pixel's own positions (sample k >= 1 is index k - 1): no correlation
+    lobes = np.array([padded_sobol2(i, seeds[7]) for i in range(256)])
+    pos = pixel_offsets(np.full(256, 4242), np.arange(1, 257))
+    assert abs(np.corrcoef(lobes[:, 0], pos[:, 0])[0, 1]) < 0.2
+    assert not np.allclose(np.sort(lobes[:, 0]), np.sort(pos[:, 0]))  # (another scramble)

@@ -97,7 +97,7 @@ def trace_photons(sc, lab, fin, env_p, tex, light, beam, ground_z, first, count,
                 break
             front, back = object_media(obj_i, obj_f, k, pz)
             inc, trn = (front, back) if nx * dx + ny * dy + nz * dz < 0.0 else (back, front)
-            it = Interaction(px, py, pz, nx, ny, nz, dx, dy, dz, k, part, mat, inc, trn)
+            it = Interaction(px, py, pz, nx, ny, nz, dx, dy, dz, k, part, mat, inc, trn, -1, np.uint64(0))
             sc_ = scatter(sc, lab, fin, env_p, tex, it, wr, wg, wb, s, kids, scratch)
             total = 0.0
             for c in range(sc_.nk):

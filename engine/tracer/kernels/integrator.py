@@ -75,7 +75,7 @@ def _close(tex, scale, rot, lr, lg, lb, wr, wg, wb, dx, dy, dz):
 
 @njit(**JIT)
 def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_rec, counters, rec_rays, rec_n,
-                 lab, fin, leaving=-1):
+                 lab, fin, leaving=-1, sidx=-1, pseed=0):
     """Radiance ``(r, g, b)`` of one camera ray and its record.
 
     Parameters
@@ -100,6 +100,10 @@ def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_
     leaving : int
         The object the ray starts on, leaving it on the side its direction points to (a probe
         from the ground: :mod:`.sky`); -1 (default) for a ray starting in free air.
+    sidx, pseed : the sample's index among its pixel's anti-aliasing samples (-1, the default:
+        none) and the pixel's seed: each node's place in the tree is seeded from ``pseed`` and
+        the path to it, and rough surfaces draw their lobes from a net over the samples there
+        (:func:`~.surface.lobe_uniforms`).
 
     Returns ``(r, g, b, signature, object mask)``: radiance (finite, >= 0), a hash of the
     dominant path's objects, and a bit per object the tree met.
@@ -119,7 +123,8 @@ def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_
     stk_f[0, K_WR], stk_f[0, K_WG], stk_f[0, K_WB] = 1.0, 1.0, 1.0
     stk_i[0, KI_MEDIUM], stk_i[0, KI_DEPTH] = AIR, 0
     stk_i[0, KI_LAST], stk_i[0, KI_SIDE] = leaving, (1 if leaving >= 0 else 0)
-    stk_u[0] = seed
+    stk_u[0, 0] = seed
+    stk_u[0, 1] = np.uint64(pseed)
     top = 1
     nodes = 0
     while top > 0:
@@ -129,7 +134,7 @@ def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_
         wr, wg, wb = stk_f[top, K_WR], stk_f[top, K_WG], stk_f[top, K_WB]
         medium, depth = stk_i[top, KI_MEDIUM], stk_i[top, KI_DEPTH]
         last, side = stk_i[top, KI_LAST], stk_i[top, KI_SIDE]
-        bseed = stk_u[top]
+        bseed, path = stk_u[top, 0], stk_u[top, 1]
         if nodes >= max_nodes:
             lr, lg, lb = _close(tex, scale, rot, lr, lg, lb, wr, wg, wb, dx, dy, dz)
             counters[C_BUDGET] += 1
@@ -167,7 +172,7 @@ def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_
         inc, trn = (front, back) if nx * dx + ny * dy + nz * dz < 0.0 else (back, front)
         if inc != medium:
             counters[C_MISMATCH] += 1
-        it = Interaction(px, py, pz, nx, ny, nz, dx, dy, dz, k, part, mat, inc, trn)
+        it = Interaction(px, py, pz, nx, ny, nz, dx, dy, dz, k, part, mat, inc, trn, sidx, path)
         s = scatter(sc, lab, fin, env_p, tex, it, wr, wg, wb, bseed, kids, work.scratch)
         objmask |= s.bits
         if s.label_bits != 0:  # a sheet's terms are summed apart, so a relabel can recompute them alone
@@ -219,7 +224,8 @@ def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_
             stk_i[top, KI_DEPTH] = depth + 1
             stk_i[top, KI_LAST] = k
             stk_i[top, KI_SIDE] = 1 if cdx * nx + cdy * ny + cdz * nz >= 0.0 else -1
-            stk_u[top] = branch_seed(bseed, c)
+            stk_u[top, 0] = branch_seed(bseed, c)
+            stk_u[top, 1] = path * np.uint64(0x9E3779B97F4A7C15) + np.uint64(c + 1)  # (hashed where used)
             top += 1
     if lab.hit_f.shape[0] > 0:
         rest = lab.rest

@@ -43,8 +43,14 @@ PixelSums = namedtuple("PixelSums", ("sum", "sumsq", "sig", "mask", "depth", "co
 #: Where a sample's tree stops (:mod:`.integrator`): boundaries deep, branch weight, the Russian
 #: roulette weight (0: none), boundaries per sample.
 Cutoffs = namedtuple("Cutoffs", ("max_depth", "min_weight", "rr_weight", "max_nodes"))
+#: A ray's crossing: the point, the oriented normal, the direction, the object, part, material
+#: and the media either side; ``sidx`` the sample's index among its pixel's anti-aliasing
+#: samples (-1: none, a centre or a probe) and ``pseed`` the node's place in the tree (a seed
+#: of the pixel and the path of children to it, the same in every sample): where a surface
+#: samples a lobe, it draws from a net over the pixel's samples there
+#: (:func:`~.sampling.padded_sobol2`).
 Interaction = namedtuple("Interaction", ("px", "py", "pz", "nx", "ny", "nz", "dx", "dy", "dz",
-                                         "obj", "part", "mat", "inc", "trn"))
+                                         "obj", "part", "mat", "inc", "trn", "sidx", "pseed"))
 #: ``nk`` children written into the work's ``kids``; ``e*`` radiance sent back at once and ``a*``
 #: a label sheet's share of it (summed apart for relabels), both per unit branch weight;
 #: ``bits`` the labels consulted (object-mask bits); ``label_bits`` nonzero when a label answered

@@ -7,6 +7,12 @@ the image never depends on threads or tile order. Sample 0 of a pixel is its cen
 pixel (:func:`pixel_offset`), so every power-of-two prefix of them is a (0, m, 2)-net: the
 first four anti-aliasing samples of a pixel fall one in each quarter, the first sixteen one in
 each cell of its 4 x 4 grid, and edge pixels converge faster than with independent samples.
+A rough surface's lobe is a pixel's integral too: its two uniforms come from another such net
+over the same samples (:func:`padded_sobol2`, seeded by the node's place in the tree), so a
+frosted pixel's samples spread over the lobe as its positions spread over the pixel (measured
+on the frosted sample: 0.06-0.56 of the variance of independent lobes at 256 samples, and the
+window's image 1.47 -> 1.22 display levels RMS at its own size in the same time). Branches of
+Russian roulette and the ground's probes keep their own streams.
 Camera and environment follow ../shared/oracle/SPEC.md sections 2 and 3 exactly.
 """
 from __future__ import annotations
@@ -102,6 +108,23 @@ def pixel_offset(pixel, k):
     i = np.uint64(k - 1) & _M32
     x = _reverse32(_nested_hash(i, h & _M32))
     y = _reverse32(_nested_hash(_reverse32(_sobol2(i)), h >> np.uint64(32)))
+    return (float(x) + 0.5) * (2.0 ** -32), (float(y) + 0.5) * (2.0 ** -32)
+
+
+@njit(**INLINE)
+def padded_sobol2(i, seed):
+    """Point ``i`` (0, 1, ...) in [0, 1)^2 of a 2-D net padded to a pixel's samples: the Sobol
+    points of :func:`pixel_offset`, Owen-scrambled by seeds hashed from ``seed`` (uint64), at
+    an index shuffled by a nested scramble of its bits (Burley 2020, "Practical hash-based Owen
+    scrambling", section 4). The shuffle maps each aligned block of ``2^m`` indices onto an
+    aligned block, so the first ``2^m`` samples, and each half of a doubling round, are nets in
+    these two dimensions as in the pixel's; and each point alone is uniform and independent of
+    the pixel's position (its own seeds), so an estimate from them is unbiased."""
+    h = mix64(np.uint64(seed) ^ np.uint64(0xA0761D6478BD642F))
+    j = _reverse32(_nested_hash(_reverse32(np.uint64(i) & _M32), h & _M32))
+    g = mix64(h)
+    x = _reverse32(_nested_hash(j, g & _M32))
+    y = _reverse32(_nested_hash(_reverse32(_sobol2(j)), g >> np.uint64(32)))
     return (float(x) + 0.5) * (2.0 ** -32), (float(y) + 0.5) * (2.0 ** -32)
 
 

@@ -42,7 +42,7 @@ from .materials import (BACKDROP, CONDUCTOR, GROUND, KID_COLS, KW_B, KW_G, KW_R,
                         SMOOTH_DIELECTRIC, coat, conductor, keep_sides, smooth_dielectric)
 from .microfacet import frosted_glass, rough_mirror
 from .records import Scattered
-from .sampling import env_lookup, uniform01
+from .sampling import env_lookup, padded_sobol2, uniform01
 
 AIR = 0
 
@@ -60,6 +60,18 @@ def _facing(nx, ny, nz, sx, sy, sz, dx, dy, dz):
     return fx, fy, fz, sx, sy, sz
 
 
+@njit(**INLINE)
+def lobe_uniforms(it, bseed):
+    """The two uniforms a rough surface samples its lobe with at crossing ``it``: from a net over
+    the pixel's anti-aliasing samples at this node of the tree (:func:`~.sampling.padded_sobol2`),
+    or, for a centre sample or a probe (``it.sidx < 0``), from the branch's own stream. Why: a
+    frosted or brushed surface's pixel is an integral over its lobe as much as over the pixel's
+    area, and independent draws converge as ``1 / sqrt(n)`` where a net's do faster."""
+    if it.sidx < 0:
+        return uniform01(bseed, FROST_STREAM), uniform01(bseed, FROST_STREAM + 1)
+    return padded_sobol2(it.sidx, it.pseed)
+
+
 @njit(**JIT)
 def _bumped(fin, sc, lab, it, bseed, kids, env_p, scratch):
     """The bump adapter around the object's material: ``(children, r, g, b, bits)``, the
@@ -75,7 +87,7 @@ def _bumped(fin, sc, lab, it, bseed, kids, env_p, scratch):
     cos_i = -(dx * sx + dy * sy + dz * sz)
     er = eg = eb = 0.0
     eta = media[trn, 0] / media[inc, 0]
-    u1, u2 = uniform01(bseed, FROST_STREAM), uniform01(bseed, FROST_STREAM + 1)
+    u1, u2 = lobe_uniforms(it, bseed)
     if kind == SMOOTH_DIELECTRIC:
         if alpha > 0.0:
             nk = frosted_glass(fin.glass_albedo, alpha, dx, dy, dz, sx, sy, sz, eta, u1, u2, kids)

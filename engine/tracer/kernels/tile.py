@@ -24,7 +24,7 @@ def make_work(max_depth):
     at most ``MAX_CHILDREN - 1`` waiting siblings per level), the children of a hit and the
     solvers' space."""
     cap = (MAX_CHILDREN - 1) * max_depth + 2
-    return Work(np.zeros((cap, 9)), np.zeros((cap, 4), np.int64), np.zeros(cap, np.uint64),
+    return Work(np.zeros((cap, 9)), np.zeros((cap, 4), np.int64), np.zeros((cap, 2), np.uint64),
                 np.zeros((MAX_CHILDREN, KID_COLS)), np.zeros(MAX_CHILDREN, np.int64),
                 Scratch(np.zeros(16), np.zeros(5), np.zeros((64, 2))))
 
@@ -62,6 +62,7 @@ def _render_loop(sc, tex, env_p, cam, px, cut, rr_from, out, cancel, rec_rays, r
         if cancel[0] != 0:
             return p
         pix = rows[p] * width + cols[p]
+        pseed = mix64(np.uint64(pix) ^ np.uint64(0x2545F4914F6CDD1D))  # the pixel's, for every sample
         sr = sg = sb = ssq = 0.0
         mask = np.int64(0)
         for k in range(first[p], first[p] + count[p]):
@@ -70,7 +71,8 @@ def _render_loop(sc, tex, env_p, cam, px, cut, rr_from, out, cancel, rec_rays, r
             seed = mix64(np.uint64(pix) * np.uint64(0x9E3779B97F4A7C15) ^ np.uint64(k))
             h0 = lab.hit_n[0]
             r, g, b, sig, m = trace_sample(sc, tex, env_p, ex, ey, ez, dx, dy, dz, seed, cut if k >= rr_from else plain,
-                                           work, out.depth[p], out.counters, rec_rays, rec_n, lab, fin)
+                                           work, out.depth[p], out.counters, rec_rays, rec_n, lab, fin, -1, k - 1,
+                                           pseed)
             record_sample(lab, smp, h0)
             smp += 1
             if k == first[p]:

@@ -22,8 +22,8 @@ per cent of the outer surface's 4 % reflection. Units mm.
 from __future__ import annotations
 
 import math
-from collections import deque
 import os
+from collections import deque
 from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np

@@ -87,7 +87,9 @@ def _bumped(fin, sc, lab, it, bseed, kids, env_p, scratch):
     cos_i = -(dx * sx + dy * sy + dz * sz)
     er = eg = eb = 0.0
     eta = media[trn, 0] / media[inc, 0]
-    u1, u2 = lobe_uniforms(it, bseed)
+    u1 = u2 = 0.0
+    if alpha > 0.0:  # (relief alone samples no lobe: its hits skip the net's hashing)
+        u1, u2 = lobe_uniforms(it, bseed)
     if kind == SMOOTH_DIELECTRIC:
         if alpha > 0.0:
             nk = frosted_glass(fin.glass_albedo, alpha, dx, dy, dz, sx, sy, sz, eta, u1, u2, kids)

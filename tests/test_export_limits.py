@@ -82,8 +82,8 @@ def _child(code: str) -> tuple[subprocess.CompletedProcess, float, int]:
     """Run ``code`` in a fresh Python; its result, wall time (s) and its own peak memory (bytes).
 
     The peak is that one child's (``os.wait4``), not ``RUSAGE_CHILDREN``'s: the latter is the
-    largest of every child this test process ever waited for (a browser, a Dask worker of an
-    earlier test), which once failed this test on CI at 2.07 GiB while the export took 0.28 GiB.
+    largest of every child this test process ever waited for, an earlier test's as well, and
+    failed this test on CI at 2.07 GiB while the export alone peaks at 0.28 GiB.
     """
     with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
         t0 = time.perf_counter()

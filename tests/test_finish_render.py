@@ -456,3 +456,25 @@ def test_a_closure_shadows_a_label_under_its_skirt():
         assert counters[1] == 0 and counters[2] == 0
     assert np.all(out["bare"][0] > 0.01)
     assert np.all(out["capped"][0] < 1e-3 * out["bare"][0]), out
+
+
+def test_query_rays_draw_from_the_streams_the_caller_names():
+    """``trace_rays``'s ray ``i`` draws from stream ``seed + i``: the same seed repeats a call
+    bit for bit, another seed gives a frosted ray other lobes (independent estimates across
+    calls), and a call's tail traced alone with the seed moved on is the same tail."""
+    frost = dataclasses.replace(tall(3.0, fill=None),
+                                bumps=(BumpTile("frost", "frosted", 10.0, 290.0, repeat=1, alpha=0.3),))
+    ctx = RenderContext.from_design(frost, None, 8, 8)
+    o = np.tile([0.0, -400.0, 150.0], (64, 1))
+    d = np.tile([0.0, 1.0, 0.0], (64, 1))
+    a, counters = trace_rays(ctx, o, d)
+    assert counters.sum() > 0
+    b, _ = trace_rays(ctx, o, d, seed=0)
+    c, _ = trace_rays(ctx, o, d, seed=64)
+    assert np.array_equal(a, b)
+    assert np.unique(a[:, 0]).size > 32  # the lobes scatter the 64 copies of one ray
+    assert not np.any(np.all(a == c, axis=1))  # no ray of the second call repeats the first's
+    tail, _ = trace_rays(ctx, o[32:], d[32:], seed=32)
+    assert np.array_equal(tail, a[32:])
+    with pytest.raises(ValueError, match="seed"):
+        trace_rays(ctx, o, d, seed=-1)

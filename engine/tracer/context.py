@@ -283,8 +283,14 @@ def object_normals(geometry: RenderGeometry, objects, parts, points) -> np.ndarr
     return out
 
 
-def trace_rays(ctx: RenderContext, origins, directions):
-    """Radiance ``(N, 3)`` of arbitrary rays starting in air, and the kernel counters."""
+def trace_rays(ctx: RenderContext, origins, directions, seed: int = 0):
+    """Radiance ``(N, 3)`` of arbitrary rays starting in air (origins in mm, unit directions),
+    and the kernel counters. Ray ``i`` draws its random numbers (Russian roulette, rough
+    surfaces' lobes) from stream ``seed + i``: two calls with the same ``seed`` repeat each
+    other's streams, so estimates meant to be independent (a pixel per call, averaged) give each
+    call its own range, e.g. ``seed`` = the rays traced so far."""
+    if not 0 <= int(seed) < 2 ** 63:
+        raise ValueError(f"seed must be in [0, 2**63), got {seed!r}")
     from .kernels.queries import radiance
 
     o = np.ascontiguousarray(np.asarray(origins, float).reshape(-1, 3))
@@ -292,5 +298,5 @@ def trace_rays(ctx: RenderContext, origins, directions):
     out = np.zeros((len(o), 3))
     counters = np.zeros(N_COUNTERS, np.int64)
     radiance(ctx.scene, ctx.lookup_texels, ctx.env_params, o, d, Cutoffs(ctx.max_depth, ctx.min_weight, 0.0, MAX_NODES),
-             out, counters, with_buffers(ctx.labels), ctx.finish_tables)
+             out, counters, with_buffers(ctx.labels), ctx.finish_tables, int(seed))
     return out, counters

@@ -36,13 +36,15 @@ def normals(geom, k, part, p, out):
 
 
 @njit(**JIT_NRT)
-def radiance(sc, tex, env_p, o, d, cut, out, counters, lab, fin):
-    """Radiance of each ray starting in air (the tree of :func:`trace_sample`), into ``out``."""
+def radiance(sc, tex, env_p, o, d, cut, out, counters, lab, fin, seed):
+    """Radiance of each ray starting in air (the tree of :func:`trace_sample`), into ``out``;
+    ray ``i`` draws its random numbers (roulette, rough lobes) from stream ``seed + i``."""
     work = make_work(cut.max_depth)
     depth = np.full(sc.mat_i.shape[0], 255, np.int64)
     rec = np.zeros((0, 6), np.float32)
     rec_n = np.zeros(1, np.int64)
     for i in range(o.shape[0]):
         r, g, b, _, _ = trace_sample(sc, tex, env_p, o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2],
-                                     np.uint64(i), cut, work, depth, counters, rec, rec_n, lab, fin)
+                                     np.uint64(seed) + np.uint64(i), cut, work, depth, counters, rec, rec_n, lab,
+                                     fin)
         out[i, 0], out[i, 1], out[i, 2] = r, g, b

@@ -21,7 +21,10 @@ of its difference from a second independent reference, over sqrt 2), which the d
 includes, and the render's own error (the two in quadrature's difference). At the window's own
 size (where a smooth pixel keeps its noiseless centre, so the error is the anti-aliased pixels'),
 a second render on independent samples gives the render's own error there
-(:func:`own_error`: RMS and 99th percentile, against the same targets). The split policy's
+(:func:`own_error`: RMS and 99th percentile, against the same targets), and that render's image
+after each wave gives the error a designer sees on the way (:func:`progress_errors`): the first
+time it is within 3 and within 1.5 levels RMS is printed per sample, the curves are the chart's
+third panel and ``window_progress.csv``. The split policy's
 per-pixel tolerance (levels), which it widens while its estimate of the image's error allows
 (:func:`engine.tracer.adaptive.split_tolerance`), is printed with each sample. Writes
 ``benchmarks/out/window_converge.csv`` and ``window_converge.png`` (seconds and rays per pixel
@@ -50,6 +53,9 @@ REFERENCE_SPP_FACTOR = 4
 REFERENCE_BASES = (1 << 20, 2 << 20)
 TARGET_WORST_S, TARGET_MEDIAN_S = 15.0, 5.0
 TARGET_RMS_LEVELS, TARGET_P99_LEVELS = 1.5, 10.0
+#: Errors (display levels RMS at the window's size) whose first time the benchmark reports: what
+#: a designer sees while the preview refines (3: a coarse grain; 1.5: the honesty target).
+PROGRESS_BOUNDS = (3.0, 1.5)
 
 
 def samples(names=None) -> list[str]:
@@ -114,16 +120,61 @@ def distance(image, other, scale: float = 1.0) -> tuple[float, float]:
     return float(np.sqrt(np.mean(diff ** 2))), float(np.percentile(diff, 99))
 
 
-def own_error(design, assets, width, height, threads, image, policy) -> tuple[float, float]:
-    """``(RMS, 99th percentile)`` in display levels of the error of ``image`` (a converged render
-    by ``policy`` at ``width x height``, the window's size) estimated from a second render on
-    independent samples (``_sample_base``): their difference over sqrt 2. The check at the
-    window's own size, where smooth pixels keep their noiseless centre: the reference check runs
-    at a fraction of it, where nearly every pixel of a relief sample is an edge. Both renders
-    are unbiased estimates of the same pixel integrals (the same tree cut), so this is their
-    distance from a noiseless reference at that size."""
-    other, _ = render(design, assets, width, height, threads, policy=policy, _sample_base=REFERENCE_BASES[0])
-    return distance(image, other.image(), scale=1.0 / np.sqrt(2.0))
+def own_error(design, assets, width, height, threads, image, policy) -> tuple[float, float, list]:
+    """``(RMS, 99th percentile, progress)`` in display levels of the error of ``image`` (a
+    converged render by ``policy`` at ``width x height``, the window's size) estimated from a
+    second render on independent samples (``_sample_base``): their difference over sqrt 2. The
+    check at the window's own size, where smooth pixels keep their noiseless centre: the
+    reference check runs at a fraction of it, where nearly every pixel of a relief sample is an
+    edge. Both renders are unbiased estimates of the same pixel integrals (the same tree cut),
+    so this is their distance from a noiseless reference at that size.
+
+    ``progress``: what a designer sees while waiting, ``[(seconds, levels RMS), ...]`` after
+    each wave of the second render (:func:`progress_errors`)."""
+    target = levels(image)
+    seen = []  # (seconds from the start less the measuring so far, levels RMS from image)
+    spent = [0.0]
+    t0 = [time.perf_counter()]
+
+    def snapshot(job, wave):  # (on the job's thread between waves: the job waits for it)
+        t = time.perf_counter()
+        seen.append((t - t0[0] - spent[0], rms_levels(levels(job.image()) - target)))
+        spent[0] += time.perf_counter() - t
+
+    from engine.tracer.tables.stage import clear_stage_caches
+
+    clear_stage_caches()  # (its time, as the first render's, includes the ground's grids: the same grids)
+    t0[0] = time.perf_counter()
+    other, _ = render(design, assets, width, height, threads, policy=policy, _sample_base=REFERENCE_BASES[0],
+                      on_wave=snapshot)
+    rms, p99 = distance(image, other.image(), scale=1.0 / np.sqrt(2.0))
+    return rms, p99, progress_errors(seen, rms)
+
+
+def rms_levels(diff) -> float:
+    """RMS of a difference in display levels."""
+    return float(np.sqrt(np.mean(np.square(diff))))
+
+
+def progress_errors(seen, final_rms: float) -> list:
+    """``[(seconds, levels RMS)]``: the error of a render's image after each wave, from ``seen``,
+    its distance after each wave (seconds, levels RMS) from an independent converged image whose
+    own error is ``final_rms`` levels RMS: the two errors are independent, so the image's own is
+    the distance's square less the other's (a distance below that is noise: 0)."""
+    return [(t, float(np.sqrt(max(d * d - final_rms * final_rms, 0.0)))) for t, d in seen]
+
+
+def time_within(progress, bound: float) -> float | None:
+    """The first time (s) in ``progress`` (:func:`progress_errors`) from which the error stays
+    within ``bound`` levels RMS, or None if its last point is above it."""
+    t_in = None
+    for t, e in progress:
+        if e <= bound:
+            if t_in is None:
+                t_in = t
+        else:
+            t_in = None
+    return t_in
 
 
 def chart(rows, path) -> None:
@@ -135,7 +186,8 @@ def chart(rows, path) -> None:
     first = rows[0]["policy"]
     rows = [r for r in rows if r["policy"] == first]
     names = [r["sample"] for r in rows]
-    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    with_progress = any(r.get("progress") for r in rows)
+    fig, axes = plt.subplots(1, 3 if with_progress else 2, figsize=(16.5 if with_progress else 11, 4))
     axes[0].bar(names, [r["seconds"] for r in rows], color="#4a7ab0")
     axes[0].axhline(TARGET_WORST_S, color="#b03030", ls="--", lw=1, label=f"worst target {TARGET_WORST_S:g} s")
     axes[0].axhline(TARGET_MEDIAN_S, color="#d08020", ls=":", lw=1, label=f"median target {TARGET_MEDIAN_S:g} s")
@@ -143,8 +195,21 @@ def chart(rows, path) -> None:
     axes[0].legend(fontsize=8)
     axes[1].bar(names, [r["rays_per_pixel"] for r in rows], color="#60a060")
     axes[1].set_ylabel("rays per pixel")
-    for ax in axes:
+    for ax in axes[:2]:
         ax.tick_params(axis="x", rotation=45, labelsize=8)
+    if with_progress:  # the error a designer sees against the time waited, per sample
+        ax = axes[2]
+        for r in rows:
+            pts = [(t, e) for t, e in r.get("progress", ()) if t > 0 and e > 0]
+            if pts:
+                ax.loglog(*zip(*pts), marker=".", lw=1, label=r["sample"])
+        ax.axhline(TARGET_RMS_LEVELS, color="#b03030", ls="--", lw=1)
+        ax.axvline(TARGET_WORST_S, color="#b03030", ls="--", lw=1)
+        ax.axvline(TARGET_MEDIAN_S, color="#d08020", ls=":", lw=1)
+        ax.set_xlabel("seconds since the edit")
+        ax.set_ylabel("error, display levels RMS")
+        ax.set_title("the preview on the way (second render on other samples)", fontsize=9)
+        ax.legend(fontsize=6, ncol=2)
     fig.suptitle(f"The window's preview, {rows[0]['width']} x {rows[0]['height']}, converged by its criterion")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
@@ -192,8 +257,11 @@ def main(argv=None) -> int:
                 row["reference_noise_levels"] = ref_noise
                 # the render's own error: the difference less the reference's noise (independent)
                 row["own_rms_levels"] = float(np.sqrt(max(row["rms_levels"] ** 2 - ref_noise ** 2, 0.0)))
-                row["full_rms_levels"], row["full_p99_levels"] = own_error(design, assets, a.width, a.height,
-                                                                           a.threads, job.image(), policy)
+                row["full_rms_levels"], row["full_p99_levels"], progress = own_error(
+                    design, assets, a.width, a.height, a.threads, job.image(), policy)
+                row["progress"] = progress
+                for bound in PROGRESS_BOUNDS:
+                    row[f"within_{bound:g}_levels_s"] = time_within(progress, bound)
             rows.append(row)
             check = (f", against the reference at {row['check_size']}: {row['rms_levels']:.2f} levels RMS, "
                      f"p99 {row['p99_levels']:.1f} (the reference's own noise {ref_noise:.2f}, "
@@ -202,12 +270,23 @@ def main(argv=None) -> int:
                      if "rms_levels" in row else "")
             settled = ("" if row["tolerance_levels"] is None
                        else f", tolerance {row['tolerance_levels']:.0f} levels")
+            if "progress" in row:
+                check += "; on the way " + ", ".join(
+                    f"within {b:g} levels after " + ("(never)" if row[f"within_{b:g}_levels_s"] is None
+                                                     else f"{row[f'within_{b:g}_levels_s']:.1f} s")
+                    for b in PROGRESS_BOUNDS)
             print(f"{name} [{policy}]: {secs:.1f} s, {rays / 1e6:.1f} M rays, {row['rays_per_pixel']:.0f} rays/pixel, "
                   f"{row['samples_per_pixel']:.1f} samples/pixel{settled}{check}", flush=True)
     with open(os.path.join(OUT, "window_converge.csv"), "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r}))
+        writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r if k != "progress"}),
+                                extrasaction="ignore")
         writer.writeheader()
         writer.writerows(rows)
+    with open(os.path.join(OUT, "window_progress.csv"), "w", newline="") as fh:
+        out = csv.writer(fh)
+        out.writerow(["sample", "policy", "seconds", "levels_rms"])
+        for r in rows:
+            out.writerows([r["sample"], r["policy"], f"{t:.3f}", f"{e:.4f}"] for t, e in r.get("progress", ()))
     chart(rows, os.path.join(OUT, "window_converge.png"))
     for policy in policies[1:]:
         ratio = [r["seconds"] / q["seconds"] for r in rows if r["policy"] == policy

@@ -131,29 +131,22 @@ def own_error(design, assets, width, height, threads, image, policy) -> tuple[fl
 
     ``progress``: what a designer sees while waiting, ``[(seconds, levels RMS), ...]`` after
     each wave of the second render (:func:`progress_errors`)."""
-    target = levels(image)
+    from engine.tracer.tables.stage import clear_stage_caches
+
     seen = []  # (seconds from the start less the measuring so far, levels RMS from image)
-    spent = [0.0]
-    t0 = [time.perf_counter()]
+    clock = {"start": 0.0, "spent": 0.0}
 
     def snapshot(job, wave):  # (on the job's thread between waves: the job waits for it)
         t = time.perf_counter()
-        seen.append((t - t0[0] - spent[0], rms_levels(levels(job.image()) - target)))
-        spent[0] += time.perf_counter() - t
-
-    from engine.tracer.tables.stage import clear_stage_caches
+        seen.append((t - clock["start"] - clock["spent"], distance(job.image(), image)[0]))
+        clock["spent"] += time.perf_counter() - t
 
     clear_stage_caches()  # (its time, as the first render's, includes the ground's grids: the same grids)
-    t0[0] = time.perf_counter()
+    clock["start"] = time.perf_counter()
     other, _ = render(design, assets, width, height, threads, policy=policy, _sample_base=REFERENCE_BASES[0],
                       on_wave=snapshot)
     rms, p99 = distance(image, other.image(), scale=1.0 / np.sqrt(2.0))
     return rms, p99, progress_errors(seen, rms)
-
-
-def rms_levels(diff) -> float:
-    """RMS of a difference in display levels."""
-    return float(np.sqrt(np.mean(np.square(diff))))
 
 
 def progress_errors(seen, final_rms: float) -> list:

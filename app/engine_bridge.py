@@ -21,6 +21,11 @@ from engine.operations import trade
 from engine.model.design import Design
 from engine.errors import GlassbenchError
 from engine.model.scene import ALL_CHANGES, Scene  # noqa: F401 - for the window
+from engine.model.changes import UNSEEN_FIELDS  # noqa: F401 - for the window
+
+#: Design fields the derived numbers (trade, plant, inner walls, warnings) are computed from:
+#: labels and the closure weigh in the plant's stability.
+DERIVED_FROM = frozenset({"shape", "liquid", "glass", "cap", "labels", "plant"})
 from engine.geometry.section import Section
 from engine.geometry.shape import BottleShape
 from engine.tracer import job as tracer_job

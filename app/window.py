@@ -16,6 +16,7 @@ from PySide6.QtGui import QAction, QKeySequence, QUndoStack
 from PySide6.QtWidgets import QDockWidget, QLabel, QMainWindow, QProgressBar
 
 from app import engine_bridge, layout
+from app.engine_bridge import DERIVED_FROM, UNSEEN_FIELDS
 from app.commands import DesignEditor
 from app.document import DocumentDialogs, RecentFiles
 from app.edit_keys import UndoKeys
@@ -214,8 +215,8 @@ class MainWindow(QMainWindow):
         self.section_panel.clear_problem()  # a refusal was about the design before this change
         if self.statusBar().currentMessage().startswith("Refused"):
             self.statusBar().clearMessage()
-        if changed & {"shape", "liquid", "glass", "cap"}:
-            self.derived_controller.request(design)  # trade numbers, inner walls: off-thread
+        if changed & DERIVED_FROM:
+            self.derived_controller.request(design)  # trade and plant numbers, inner walls: off-thread
         if "name" in changed:
             self.trade_panel.show_name(design.name)
             self._offer_name(self._shown_fill_ml, only_if_shown=True)
@@ -226,7 +227,7 @@ class MainWindow(QMainWindow):
                 self.wireframe.set_camera(design.camera)  # the 3D view looks through the design's camera
         if "render" in changed:
             self.update_render_size(restart=False)
-        if changed - {"name", "notes"}:
+        if changed - UNSEEN_FIELDS:
             self.restart_render(changed)
 
     def document_replaced(self):

@@ -1,13 +1,17 @@
-"""Format 2 -> 3 -> 4: fields added since get the values old projects meant.
+"""Format 2 -> 3 -> 4 -> 5: fields added since get the values old projects meant.
 
 Design rule: self-contained steps, :func:`migrate_2_to_3` (fields of labels and bump tiles) and
-:func:`migrate_3_to_4` (the stage), registered as ``engine.files.serialize.MIGRATIONS[2]`` and
-``[3]``. Format 3 added fields whose default is exactly what a
+:func:`migrate_3_to_4` (the stage) and :func:`migrate_4_to_5` (the plant's settings), registered as
+``engine.files.serialize.MIGRATIONS[2]``, ``[3]`` and ``[4]``. Format 3 added fields whose default is exactly what a
 format-2 project drew, so the step only fills in what is missing, in new dictionaries, and checks
 nothing else (the decoder does): an old file opens unchanged, and a glassbench of format 2
 refuses a format-3 file with "made by a newer glassbench" instead of "unknown field".
 """
 from __future__ import annotations
+
+import dataclasses
+
+from ..model.design import Plant
 
 #: Per list of the design: the fields format 3 added to its items, with their values for a
 #: format-2 item (the defaults of :mod:`engine.model.design`).
@@ -44,3 +48,13 @@ def migrate_3_to_4(doc: dict) -> dict:
     stage = {"kind": "none", "color": [0.55, 0.55, 0.55], "gloss": 1.0, "backdrop": False, "z_mm": -0.05,
              "half_size_mm": 100000.0}
     return dict(doc, format_version=4, design={"stage": stage, **design})
+
+
+def migrate_4_to_5(doc: dict) -> dict:
+    """The format-5 document of format-4 ``doc``: format 5 added the plant's settings (proof
+    pressure, liquid density, closure and label masses, the warning limits); a format-4
+    project gets the defaults of :class:`engine.model.design.Plant`."""
+    design = doc.get("design")
+    if not isinstance(design, dict):
+        return dict(doc, format_version=5)  # the decoder names what is wrong
+    return dict(doc, format_version=5, design={"plant": dataclasses.asdict(Plant()), **design})

@@ -11,7 +11,9 @@ Floats are written as Python floats; ``json`` writes them with ``repr``, which r
 float64 exactly.
 
 A *document* is what ``project.json`` holds: ``{"format_version": N, "generator": str,
-"design": {...}}``. Format 4 is current: format 3 with the design's ``stage`` (what the bottle
+"design": {...}}``. Format 5 is current: format 4 with the design's ``plant`` (the proof
+pressure, liquid density, closure and label masses and warning limits of :mod:`engine.plant`;
+a format-4 project gets the defaults). Format 4: format 3 with the design's ``stage`` (what the bottle
 stands on; a format-3 bottle floated: ``none``). Format 3: format 2 with fields added to labels and bump tiles
 (a label's ``surface`` and cap-top centre ``cap_x_mm, cap_y_mm``; a tile's ``on`` and
 ``geometry``), filled in by :mod:`engine.files.migrate_fields` with what format 2 drew.
@@ -43,14 +45,15 @@ from functools import lru_cache
 from ..errors import ProjectError, shown
 from ..limits import MAX_LIST_ITEMS as LIST_LIMIT, MAX_SEGMENTS, MAX_TEXT_CHARS
 from ..model.design import Design
-from .migrate_fields import migrate_2_to_3 as _migrate_2_to_3, migrate_3_to_4 as _migrate_3_to_4
+from .migrate_fields import (migrate_2_to_3 as _migrate_2_to_3, migrate_3_to_4 as _migrate_3_to_4,
+                             migrate_4_to_5 as _migrate_4_to_5)
 from .migrate_finishes import migrate_1_to_2 as _finishes_1_to_2
 from .migrate_labels import migrate_1_to_2 as _labels_1_to_2
 from ..geometry.section import Section
 from ..geometry.shape import SECTION_NAMES, BottleShape
 
 #: The format this glassbench writes (``project.json``'s ``format_version``).
-CURRENT_FORMAT = 4
+CURRENT_FORMAT = 5
 #: Longest string accepted anywhere in a design (:data:`engine.limits.MAX_TEXT_CHARS`).
 MAX_STRING_CHARS = MAX_TEXT_CHARS
 #: Most items accepted in any list (:data:`engine.limits.MAX_LIST_ITEMS`); a section's
@@ -359,4 +362,5 @@ def _migrate_1_to_2(doc: dict) -> dict:
     return _finishes_1_to_2(_labels_1_to_2(doc))
 
 
-MIGRATIONS = {0: _migrate_0_to_1, 1: _migrate_1_to_2, 2: _migrate_2_to_3, 3: _migrate_3_to_4}
+MIGRATIONS = {0: _migrate_0_to_1, 1: _migrate_1_to_2, 2: _migrate_2_to_3, 3: _migrate_3_to_4,
+              4: _migrate_4_to_5}

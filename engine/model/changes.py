@@ -13,6 +13,11 @@ from __future__ import annotations
 from typing import Iterable
 
 
+#: Design fields that no image shows (the name, the notes, the plant's settings): an edit of
+#: these alone restarts no render.
+UNSEEN_FIELDS = frozenset({"name", "notes", "plant"})
+
+
 class Change(frozenset):
     """Changed field names, and the changed assets' names in ``assets`` (module rule)."""
 

@@ -57,6 +57,7 @@ def check_values(design) -> None:
     check_label_values(design.labels)
     check_finish_values(design)
     _check_stage(design.stage)
+    _check_plant(design.plant)
     r = design.render
     L.check_image_size(r.width, r.height, r.spp)
     L.check_range("design.render.max_depth", r.max_depth, L.MAX_DEPTH_RANGE, integer=True)
@@ -146,6 +147,22 @@ def _check_vector(path: str, vec, bound: float, nonzero: bool = False) -> None:
         L.check_range(f"{path}[{c}]", v, (-bound, bound))
     if nonzero and not any(v != 0.0 for v in vec):
         raise DesignError(f"{path} must not be the zero vector")
+
+
+#: ``(field, (lo, hi), unit)`` of each of the plant's settings (:class:`~engine.model.design.Plant`).
+PLANT_RANGES = (("proof_pressure_mpa", (0.0, 50.0), "MPa"),
+                ("liquid_density_g_ml", (0.5, 3.0), "g/ml"),
+                ("closure_mass_g", (0.0, 1000.0), "g"),
+                ("label_gsm", (0.0, 1000.0), "g/m^2"),
+                ("min_tip_deg", (0.0, 89.0), "deg"),
+                ("max_stress_mpa", (0.0, 1000.0), "MPa"),
+                ("min_glass_mass_g", (0.0, 100000.0), "g"))
+
+
+def _check_plant(plant) -> None:
+    """The plant's settings within :data:`PLANT_RANGES`."""
+    for name, bounds, unit in PLANT_RANGES:
+        L.check_range(f"design.plant.{name}", getattr(plant, name), bounds, unit)
 
 
 def _check_stage(stage) -> None:

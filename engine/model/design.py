@@ -328,6 +328,27 @@ class Stage:
 
 
 @dataclass(frozen=True)
+class Plant:
+    """What the glass plant's numbers need beyond the shape (:mod:`engine.plant`), and the
+    limits the designer wants warned about. ``proof_pressure_mpa`` is the internal pressure
+    (MPa) the membrane stresses are given at (1.2 MPa: the usual proof test of a carbonated
+    drink's bottle); ``liquid_density_g_ml`` the liquid's density (g/ml, water 1.0) for the
+    filled states' mass; ``closure_mass_g`` the closure's mass (g; 0: not known, not counted)
+    and ``label_gsm`` the label stock's grammage (g/m^2; 0: not known, labels not counted).
+    The limits warn when a figure passes them, 0 meaning no limit: ``min_tip_deg`` the least
+    tip angle (deg), ``max_stress_mpa`` the highest membrane stress (MPa), ``min_glass_mass_g``
+    the lowest glass weight (g)."""
+
+    proof_pressure_mpa: float = 1.2
+    liquid_density_g_ml: float = 1.0
+    closure_mass_g: float = 0.0
+    label_gsm: float = 0.0
+    min_tip_deg: float = 10.0
+    max_stress_mpa: float = 0.0
+    min_glass_mass_g: float = 0.0
+
+
+@dataclass(frozen=True)
 class Design:
     """Everything a design is. Compare with ``==``; hash for caches; never mutate."""
 
@@ -342,5 +363,6 @@ class Design:
     bumps: tuple[BumpTile, ...] = ()
     cap: Cap | None = None
     stage: Stage = field(default_factory=Stage)
+    plant: Plant = field(default_factory=Plant)
     name: str = "Untitled"
     notes: str = ""

@@ -32,6 +32,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..appearance.frame import Placement
+from ..model.changes import UNSEEN_FIELDS
 from ..model.design import LabelSide
 from .context import PixelResult
 from .kernels.integrator import N_COUNTERS
@@ -45,7 +46,7 @@ MAX_RECORDED_SAMPLES = 1 << 21
 _ALL_LABEL_BITS = np.int64(sum(1 << b for b in range(LABEL_BIT0, MAX_LABEL_BIT + 1)))
 _NO_SAMPLES = (np.zeros((0, 3)), np.zeros((0, 2), np.int64), np.zeros((0, H_COLS)), np.zeros((0, 2), np.int64))
 #: Fields a relabel may see changed; any other visible change means a full render.
-RELABEL_FIELDS = frozenset({"labels", "lights", "assets", "name", "notes"})
+RELABEL_FIELDS = frozenset({"labels", "lights", "assets"}) | UNSEEN_FIELDS
 
 
 @dataclass

@@ -4,8 +4,10 @@ Design rule: both are made from the files in the output folder and the job's var
 from what happened to be rendered this run, so a resumed batch reports every frame. The
 contact sheet (``contact_sheet.png``) shows each variant's views in order, a variant starting
 a new row, each thumbnail captioned with variant and view. The summary (``summary.csv`` and
-``summary.json``) has one row per variant: the project, the overrides, and its trade numbers
-(as ``glassbench info``: ml, mm, cm^3, g). All three are written atomically.
+``summary.json``) has one row per variant: the project, the overrides, its trade numbers
+(as ``glassbench info``: ml, mm, cm^3, g) and the plant's figures (tip angles, centres of
+gravity, weight to capacity, membrane stress: :data:`engine.plant.sheet.SUMMARY_FIGURES`). All
+three are written atomically.
 """
 from __future__ import annotations
 
@@ -15,6 +17,7 @@ import json
 import os
 
 from ..operations.trade import NUMBER_KEYS, trade_numbers
+from ..plant.sheet import SUMMARY_FIGURES, plant_numbers, summary_figures
 from ..files.images import display_rgb8, write_bytes
 
 CONTACT_SHEET = "contact_sheet.png"
@@ -79,8 +82,9 @@ def variant_rows(job, manifest) -> list[dict]:
         numbers = trade_numbers(var.design)
         d = var.design
         frames = by_variant.get(var.name, [])
+        plant = summary_figures(plant_numbers(d, tolerant=True))
         rows.append({"variant": var.name, "project": os.path.basename(var.project),
-                     **{k: numbers.get(k) for k in NUMBER_KEYS},
+                     **{k: numbers.get(k) for k in NUMBER_KEYS}, **plant,
                      "glass_absorption_per_mm": list(d.glass.absorption),
                      "liquid_absorption_per_mm": list(d.liquid.absorption) if d.liquid else None,
                      "overrides": var.overrides,
@@ -97,7 +101,8 @@ def write_summary(job, manifest, folder: str) -> tuple[str, str]:
     json_path = os.path.join(folder, SUMMARY_JSON)
     write_bytes(json_path, json.dumps(doc, indent=1, allow_nan=False).encode("utf-8"))
     buf = io.StringIO()
-    cols = ["variant", "project", *NUMBER_KEYS, "glass_absorption_per_mm", "liquid_absorption_per_mm",
+    cols = ["variant", "project", *NUMBER_KEYS, *SUMMARY_FIGURES, "glass_absorption_per_mm",
+            "liquid_absorption_per_mm",
             "overrides", "frames", "render_seconds"]
     writer = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
     writer.writeheader()
@@ -106,8 +111,9 @@ def write_summary(job, manifest, folder: str) -> tuple[str, str]:
         flat["frames"] = len(row["frames"])
         for k in ("glass_absorption_per_mm", "liquid_absorption_per_mm", "overrides"):
             flat[k] = "" if row[k] is None else json.dumps(row[k], separators=(",", ":"))
-        for k in NUMBER_KEYS:
-            flat[k] = "" if row[k] is None else f"{row[k]:.3f}"
+        for k in (*NUMBER_KEYS, *SUMMARY_FIGURES):
+            v = row[k]
+            flat[k] = "" if v is None else v if isinstance(v, str) else f"{v:.3f}"
         writer.writerow(flat)
     csv_path = os.path.join(folder, SUMMARY_CSV)
     write_bytes(csv_path, buf.getvalue().encode("utf-8"))

@@ -18,7 +18,7 @@ from ..operations.trade import format_table, trade_numbers
 
 def add_parsers(sub) -> None:
     """The subparsers of ``info``, ``export-mesh`` and ``new``."""
-    info = sub.add_parser("info", help="capacity, glass volume and size of a project")
+    info = sub.add_parser("info", help="capacity, glass volume, size, stability and stress of a project")
     info.add_argument("project")
     info.add_argument("--json", action="store_true", help="print one JSON object")
     mesh = sub.add_parser("export-mesh", help="write the bottle as STL/OBJ/PLY/glTF")
@@ -34,14 +34,19 @@ def add_parsers(sub) -> None:
 
 
 def cmd_info(args) -> int:
-    """``info PROJECT [--json]``: trade numbers (ml, mm, cm^3, g) as a table or JSON."""
+    """``info PROJECT [--json]``: trade numbers (ml, mm, cm^3, g) and the plant's (stability,
+    capacity band, tolerances, membrane stress: :func:`engine.plant.sheet.plant_numbers`) as a
+    table or JSON (the plant's under ``"plant"``)."""
     from ..files.project import load_project
+    from ..plant.sheet import format_plant, plant_numbers
     design, _ = load_project(args.project)
     numbers = trade_numbers(design)
+    plant = plant_numbers(design)
     if args.json:
-        print(json.dumps(numbers, indent=2, allow_nan=False))
+        print(json.dumps({**numbers, "plant": plant}, indent=2, allow_nan=False))
     else:
         print(format_table(numbers))
+        print(format_plant(plant))
     return 0
 
 

@@ -38,17 +38,26 @@ def _joints(chains, z_lo: float, z_hi: float) -> np.ndarray:
     return z
 
 
-def _area_at(prof: BodyProfile, z, which: str) -> np.ndarray:
-    """Area (mm^2) of the cavity (``which="inner"``) or outer solid at heights ``z`` (mm)."""
+def section_radii_at(prof: BodyProfile, z, which: str):
+    """``(radii, dome)`` at heights ``z`` (mm): the cavity's (``which="inner"``) or outer solid's
+    section radii per named section (mm, the kind's :mod:`~engine.geometry.crosssection` radii)
+    and, for a punt, the radius (mm) of the dome's disk under the base curve at each height (0
+    above the dome; ``None`` without a punt). Heights outside a chain take its end's radius."""
     walls = [sp.inner_wall if which == "inner" else sp.outer_wall for sp in prof.sections]
     radii = [radius_at(w, np.clip(z, w[0].p0[1], w[-1].p1[1])) for w in walls]
+    if not prof.punt:  # round only: the dome under the base curve
+        return radii, None
+    base = prof.sections[0].inner_base if which == "inner" else prof.sections[0].outer_base
+    top = base[0].p0[1]
+    rho = radius_at(base, np.clip(z, base[-1].p1[1], top))
+    return radii, np.where(np.asarray(z) < top, rho, 0.0)
+
+
+def _area_at(prof: BodyProfile, z, which: str) -> np.ndarray:
+    """Area (mm^2) of the cavity (``which="inner"``) or outer solid at heights ``z`` (mm)."""
+    radii, dome = section_radii_at(prof, z, which)
     a = crosssection.area(prof.cross_section, radii)
-    if prof.punt:  # round only: take off the dome under the base curve
-        base = prof.sections[0].inner_base if which == "inner" else prof.sections[0].outer_base
-        top = base[0].p0[1]
-        rho = radius_at(base, np.clip(z, base[-1].p1[1], top))
-        a = a - np.where(z < top, math.pi * rho ** 2, 0.0)
-    return a
+    return a if dome is None else a - math.pi * dome ** 2
 
 
 def _chains(prof: BodyProfile, which: str):
@@ -57,13 +66,26 @@ def _chains(prof: BodyProfile, which: str):
     return [c for sp in prof.sections for c in (sp.outer_wall, sp.outer_base)]
 
 
-def _integrate(prof: BodyProfile, which: str, z_lo: float, z_hi: float) -> np.ndarray:
-    """Volumes (mm^3) of each piece between joints from ``z_lo`` to ``z_hi``, and the joints."""
+def _integrate(prof: BodyProfile, which: str, z_lo: float, z_hi: float, power: int = 0) -> np.ndarray:
+    """Volumes (mm^3) of each piece between joints from ``z_lo`` to ``z_hi``, and the joints;
+    with ``power`` 1 the pieces' moments ``int z A(z) dz`` (mm^4) instead."""
     joints = _joints(_chains(prof, which), z_lo, z_hi)
     za, zb = joints[:-1, None], joints[1:, None]
     z = za + (zb - za) * _SUB_Z
-    a = _area_at(prof, z.ravel(), which).reshape(z.shape)
+    a = _area_at(prof, z.ravel(), which).reshape(z.shape) * z ** power
     return joints, (zb[:, 0] - za[:, 0]) * (a @ _SUB_W)
+
+
+def volume_and_moment_mm(shape, which: str, z_lo: float, z_hi: float) -> tuple[float, float]:
+    """``(V, M)``: the volume (mm^3) of the cavity (``which="inner"``) or the outer solid
+    (``"outer"``) between heights ``z_lo`` and ``z_hi`` (mm), and its first moment
+    ``int z A(z) dz`` (mm^4) about the standing plane, by the same exact quadrature as every
+    volume here (so ``M / V`` is the piece's centre of gravity height, mm)."""
+    prof = body_profile(shape)
+    if z_hi <= z_lo:
+        return 0.0, 0.0
+    return (float(_integrate(prof, which, z_lo, z_hi)[1].sum()),
+            float(_integrate(prof, which, z_lo, z_hi, power=1)[1].sum()))
 
 
 @lru_cache(maxsize=64)

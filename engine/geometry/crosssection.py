@@ -88,6 +88,21 @@ def circumradius(kind: str, radii) -> np.ndarray:
     return np.hypot(a - c, b - c) + c
 
 
+def support(kind: str, radii, psi):
+    """Support function (mm): how far the cross-section reaches from the axis in the plan
+    direction ``psi`` (rad, the bottle's own frame), ``max(p . (cos psi, sin psi))`` over its
+    points; broadcast over ``psi`` and the radii. Closed forms: ``r``; the ellipse's
+    ``sqrt(a^2 cos^2 + b^2 sin^2)``; the rounded rectangle's ``|cos|(a - c) + |sin|(b - c) + c``."""
+    ux, uy = np.cos(np.asarray(psi, float)), np.sin(np.asarray(psi, float))
+    if kind == "round":
+        return np.asarray(radii[0], float) + 0.0 * ux
+    if kind == "oval":
+        a, b = (np.asarray(x, float) for x in radii)
+        return np.sqrt((a * ux) ** 2 + (b * uy) ** 2)
+    a, b, c = _as_rect(kind, radii)
+    return np.abs(ux) * (a - c) + np.abs(uy) * (b - c) + c
+
+
 def boundary(kind: str, radii, theta):
     """Boundary point and outward unit normal at polar angle ``theta`` (rad).
 

@@ -18,6 +18,7 @@ from engine.files import dxf_import, mesh_export, project
 from engine.io import atomic
 from engine.model import advice, fill, orbit
 from engine.operations import trade
+from engine.plant import sheet as plant_sheet
 from engine.model.design import Design
 from engine.errors import GlassbenchError
 from engine.model.scene import ALL_CHANGES, Scene  # noqa: F401 - for the window
@@ -69,6 +70,17 @@ def trade_numbers(design: Design) -> dict:
     """The design's trade numbers (:func:`engine.operations.trade.trade_numbers`: ml, mm, cm^3, g),
     with ``None`` where one cannot be computed for the design being edited."""
     return trade.trade_numbers(design, tolerant=True)
+
+
+# ----------------------------------------------------------------------- plant numbers
+def plant_numbers(design: Design) -> dict | None:
+    """The plant's numbers of the design (:func:`engine.plant.sheet.plant_numbers`, tolerant: a
+    part that cannot be computed is ``None``), or ``None`` when none can be given for the design
+    being edited."""
+    try:
+        return plant_sheet.plant_numbers(design, tolerant=True)
+    except (GlassbenchError, ValueError, ArithmeticError):
+        return None
 
 
 # ----------------------------------------------------------------------------- camera
@@ -208,6 +220,19 @@ def export_scene(design: Design, assets: dict, path: str, tol_mm: float, progres
     """Write the design's glTF scene (.glb); its counts."""
     from engine.export.gltf_scene import export_scene as write
     return write(design, assets, path, tol_mm, progress)
+
+
+def export_drawing(design: Design, path: str, sheet: str = "A3", progress=None) -> dict:
+    """Write the design's drawing sheet (PDF, SVG or DXF from the suffix of ``path``) on paper
+    size ``sheet`` (``"A4"``, ``"A3"``); what :func:`engine.export.drawing.write_drawing`
+    reports."""
+    from engine.export.drawing import write_drawing as write
+    if progress is not None:
+        progress(0.0, "Drawing")
+    report = write(design, path, sheet=sheet)
+    if progress is not None:
+        progress(1.0, "Written")
+    return report
 
 
 def export_review_page(design: Design, assets: dict, folder: str, tol_mm: float,

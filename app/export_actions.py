@@ -1,7 +1,8 @@
-"""File > Export > CAD / glTF scene / Review page: the command line's exports, in the window.
+"""File > Export > CAD / glTF scene / Review page / Drawing: the command line's exports, in the
+window.
 
 Design rule: each action asks its options (the command line's: tolerance, liquid, poster
-height, turntable) through :class:`ExportDialogs` and its target through the window's
+height, turntable, sheet) through :class:`ExportDialogs` and its target through the window's
 ``dialogs.ask_save_path``, both methods tests replace, then runs the engine's export (the same
 function the command line calls, through :mod:`app.engine_bridge`) on a snapshot of the design
 on a worker thread. The thread reports progress through a Qt signal, so the status bar's
@@ -13,25 +14,32 @@ failed export leaves any earlier file whole. One export runs at a time.
 from __future__ import annotations
 
 import threading
+from pathlib import Path
 
 from PySide6.QtCore import QObject, Signal
 from PySide6.QtGui import QAction
-from PySide6.QtWidgets import (QCheckBox, QDialog, QDialogButtonBox, QDoubleSpinBox, QFileDialog,
-                               QFormLayout, QHBoxLayout, QLineEdit, QProgressBar, QPushButton,
-                               QSpinBox, QWidget)
+from PySide6.QtWidgets import (QCheckBox, QComboBox, QDialog, QDialogButtonBox, QDoubleSpinBox,
+                               QFileDialog, QFormLayout, QHBoxLayout, QLineEdit, QProgressBar,
+                               QPushButton, QSpinBox, QWidget)
 
 from app import engine_bridge
 from engine.errors import GlassbenchError
 
-#: What an export may raise on bad input, a shape the kernel refuses or a failing disk.
+#: What an export may raise on bad input, a shape the kernel refuses, a failing disk or a
+#: package an export needs that is not installed.
 EXPORT_ERRORS = (GlassbenchError, OSError, ValueError, KeyError, TypeError, ArithmeticError,
-                 RuntimeError)
+                 RuntimeError, ImportError)
 
 #: The options of each export and their defaults (the command line's).
 DEFAULTS = {"cad": {"tol_mm": 0.001, "liquid": True},
             "scene": {"tol_mm": 0.05},
-            "review": {"tol_mm": 0.05, "poster_height": 640, "turntable": ""}}
-TITLES = {"cad": "CAD", "scene": "glTF scene", "review": "review page"}
+            "review": {"tol_mm": 0.05, "poster_height": 640, "turntable": ""},
+            "drawing": {"sheet": "A3"}}
+TITLES = {"cad": "CAD", "scene": "glTF scene", "review": "review page", "drawing": "drawing"}
+#: The paper sizes a drawing is laid out on.
+SHEETS = ("A4", "A3")
+#: The formats a drawing is written in (from the target's suffix; none typed: PDF).
+DRAWING_SUFFIXES = (".pdf", ".svg", ".dxf")
 
 
 class ExportOptionsDialog(QDialog):
@@ -55,7 +63,7 @@ class ExportOptionsDialog(QDialog):
         if key == "tol_mm":
             return "Fit tolerance (mm)" if kind == "cad" else "Chordal tolerance (mm)"
         return {"liquid": "Liquid as its own solid", "poster_height": "Poster height (px)",
-                "turntable": "Turntable frames"}[key]
+                "turntable": "Turntable frames", "sheet": "Sheet"}[key]
 
     @staticmethod
     def _field(key, value):
@@ -68,6 +76,12 @@ class ExportOptionsDialog(QDialog):
         if key == "liquid":
             w = QCheckBox()
             w.setChecked(value)
+            return w
+        if key == "sheet":
+            w = QComboBox()
+            w.addItems(SHEETS)
+            w.setCurrentText(value)
+            w.setToolTip("The paper size the drawing is laid out on, at a scale that fits it")
             return w
         if key == "poster_height":
             w = QSpinBox()
@@ -93,7 +107,8 @@ class ExportOptionsDialog(QDialog):
         out = {}
         for key, w in self.fields.items():
             out[key] = (w.value() if isinstance(w, (QDoubleSpinBox, QSpinBox)) else
-                        w.isChecked() if isinstance(w, QCheckBox) else w.text().strip())
+                        w.isChecked() if isinstance(w, QCheckBox) else
+                        w.currentText() if isinstance(w, QComboBox) else w.text().strip())
         return out
 
 
@@ -104,7 +119,7 @@ class ExportDialogs:
         self.parent = parent
 
     def ask_options(self, kind: str) -> dict | None:
-        """The options of export ``kind`` (``cad``, ``scene``, ``review``), or ``None``."""
+        """The options of export ``kind`` (``cad``, ``scene``, ``review``, ``drawing``), or ``None``."""
         dialog = ExportOptionsDialog(kind, self.parent)
         try:
             return dialog.values() if dialog.exec() == QDialog.Accepted else None
@@ -138,7 +153,8 @@ class ExportActions(QObject):
         sub = menu.addMenu("E&xport")
         for key, text in (("cad", "&CAD solid (STEP, IGES, BREP)\u2026"),
                           ("scene", "glTF &scene (.glb)\u2026"),
-                          ("review", "&Review page\u2026")):
+                          ("review", "&Review page\u2026"),
+                          ("drawing", "&Drawing (PDF, SVG, DXF)\u2026")):
             act = QAction(text, self.window)
             act.triggered.connect(lambda _=False, k=key: self.export_dialog(k))
             sub.addAction(act)
@@ -152,8 +168,12 @@ class ExportActions(QObject):
             return False
         filters = {"cad": ("Export CAD", "CAD solids (*.step *.stp *.iges *.igs *.brep)", "bottle.step"),
                    "scene": ("Export glTF scene", "glTF binary (*.glb)", "bottle.glb"),
-                   "review": ("Review page folder", "Folders (*)", "review")}[kind]
+                   "review": ("Review page folder", "Folders (*)", "review"),
+                   "drawing": ("Export drawing", "Drawings (*.pdf *.svg *.dxf);;PDF (*.pdf);;"
+                               "SVG (*.svg);;DXF (*.dxf)", "bottle.pdf")}[kind]
         path = self.window.dialogs.ask_save_path(*filters)
+        if path and kind == "drawing" and not Path(path).suffix:
+            path += DRAWING_SUFFIXES[0]
         return bool(path) and self.start(kind, path, options)
 
     # -------------------------------------------------------------------- running
@@ -170,7 +190,8 @@ class ExportActions(QObject):
                 "scene": lambda p: engine_bridge.export_scene(design, assets, path, options["tol_mm"], p),
                 "review": lambda p: engine_bridge.export_review_page(
                     design, assets, path, options["tol_mm"], options["poster_height"],
-                    options["turntable"] or None, p)}[kind]
+                    options["turntable"] or None, p),
+                "drawing": lambda p: engine_bridge.export_drawing(design, path, options["sheet"], p)}[kind]
         self.bar.setValue(0)
         self.bar.show()
         self.window.statusBar().showMessage(f"Exporting {TITLES[kind]} to {path}\u2026")

@@ -94,6 +94,7 @@ class MainWindow(QMainWindow):
         self.dialogs = DocumentDialogs(self)
         self.recent = RecentFiles(self.settings)
         self.trade_numbers: dict = {}
+        self.plant_numbers: dict | None = None  # engine.plant.sheet's dict of the design shown
         self.warnings: list[str] = []
         self._shown_fill_ml = None  # the fill of the last numbers shown: a change may offer a rename
 
@@ -253,15 +254,20 @@ class MainWindow(QMainWindow):
         self.bumps_panel.refresh(design, self.scene.assets)
         self.cap_panel.refresh(design)
         self.trade_panel.show_name(design.name)
+        self.trade_panel.show_settings(design)
 
     def _on_derived(self, result):
-        design, numbers, inner, warnings = result
+        """Show a :class:`~app.wireframe_controller.Derived`: trade and plant numbers, inner
+        walls, warnings."""
+        numbers = result.numbers
         self.trade_numbers = numbers
-        self.warnings = list(warnings)
+        self.plant_numbers = result.plant
+        self.warnings = list(result.warnings)
         self.materials_panel.trade_numbers = numbers
         self.trade_panel.refresh(numbers)
-        fill_z = numbers.get("fill_height_mm") if design.liquid is not None else None
-        self.section_panel.set_derived(inner, fill_z)
+        self.trade_panel.show_plant(result.plant)
+        fill_z = numbers.get("fill_height_mm") if result.design.liquid is not None else None
+        self.section_panel.set_derived(result.inner, fill_z)
         self.section_panel.set_warnings(self.warnings)
         fill_ml = numbers.get("fill_ml")
         if self._shown_fill_ml is not None and fill_ml is not None and abs(fill_ml - self._shown_fill_ml) > 0.05:
@@ -279,7 +285,8 @@ class MainWindow(QMainWindow):
         self.trade_panel.offer_name(name, proposed, why)
 
     def derived_idle(self) -> bool:
-        """Whether the trade numbers and inner walls shown are those of the current design."""
+        """Whether the trade and plant numbers and inner walls shown are those of the current
+        design."""
         return self.derived_controller.is_idle()
 
     # --------------------------------------------------------------------- preview

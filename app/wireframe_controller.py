@@ -5,16 +5,18 @@ one pending request and wakes the worker. The worker takes the newest pending va
 are simply overwritten, so a fast drag never queues stale work), computes, and emits the result
 through a queued signal. A result older than one already shown is dropped. ``shutdown`` stops
 and joins the worker thread. :class:`WireframeController` builds the 3D wireframe this way;
-:class:`DerivedController` the trade numbers and inner walls.
+:class:`DerivedController` the trade and plant numbers and inner walls (a :class:`Derived`).
 """
 from __future__ import annotations
 
 import threading
 import time
+from dataclasses import dataclass
 
 from PySide6.QtCore import QObject, Signal
 
 from app import engine_bridge
+from engine.model.design import Design
 
 
 class LatestOnlyWorker(QObject):
@@ -130,14 +132,41 @@ class WireframeController(LatestOnlyWorker):
         return engine_bridge.design_wireframe(design, self.tol_mm)
 
 
+@dataclass(frozen=True)
+class Derived:
+    """What :class:`DerivedController` computes for one design.
+
+    Attributes
+    ----------
+    design
+        The design the rest was computed for.
+    numbers
+        Its trade numbers (:func:`app.engine_bridge.trade_numbers`; ml, mm, cm^3, g).
+    inner
+        Inner wall per section name (:func:`app.engine_bridge.inner_sections`).
+    warnings
+        What the design cannot be made or filled with, in words.
+    plant
+        The plant's numbers (:func:`app.engine_bridge.plant_numbers`), ``None`` when none
+        could be computed.
+    """
+
+    design: Design
+    numbers: dict
+    inner: dict
+    warnings: tuple[str, ...]
+    plant: dict | None
+
+
 class DerivedController(LatestOnlyWorker):
-    """Trade numbers, inner walls and warnings of a Design:
-    ``resultReady((design, numbers, inner, warnings))``."""
+    """Trade numbers, plant numbers, inner walls and warnings of a Design:
+    ``resultReady(Derived)``."""
 
     thread_name = "derived-numbers"
     what = "Trade numbers"
 
-    def compute(self, design):
+    def compute(self, design) -> Derived:
         numbers = engine_bridge.trade_numbers(design)
         warnings = engine_bridge.design_warnings(design, numbers.get("fill_height_mm"))
-        return design, numbers, engine_bridge.inner_sections(design.shape), warnings
+        return Derived(design, numbers, engine_bridge.inner_sections(design.shape), tuple(warnings),
+                       engine_bridge.plant_numbers(design))

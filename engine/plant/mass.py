@@ -37,7 +37,7 @@ from ..geometry.validate import body_profile
 #: Gauss panels per piece between joints for the tilted liquid (each 24 nodes, cosine-spaced).
 SUB_PANELS = 2
 #: Polygon points per corner arc (an oval: per quarter) when the tilted liquid clips a plan.
-ARC_VERTICES = 32
+ARC_VERTICES = 64
 #: g/mm^3 per g/cm^3 (and per g/ml).
 G_PER_MM3 = 1e-3
 

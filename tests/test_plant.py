@@ -1,0 +1,262 @@
+"""The plant's numbers (engine.plant) against closed forms, where the methods are weakest.
+
+Each closed form is computed here independently of the engine (polynomial integrals, the
+cylinder's tilted-liquid centroid, the shell equations' textbook cases) and must agree to 1e-6
+relative (issue 43's bar); the rules are checked at their table's joints.
+"""
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+from pathlib import Path
+
+import numpy as np
+import pytest
+from numpy.polynomial import Polynomial as P
+from scipy.optimize import brentq
+
+from engine.files.project import load_project
+from engine.geometry.section import Section
+from engine.geometry.segments import Arc, Line
+from engine.geometry.shape import BottleShape
+from engine.model.design import Design, Glass, Liquid, Plant
+from engine.plant import mass, membrane, rules, stability
+from engine.plant.sheet import plant_numbers, summary_figures
+
+REL = 1e-6
+RESOURCES = Path(__file__).resolve().parents[1] / "resources"
+SAMPLES = sorted(RESOURCES.glob("*.glassbench"))
+
+
+def cylinder_section(r=30.0, h=150.0) -> Section:
+    return Section((Line((0, 0), (r, 0)), Line((r, 0), (r, h))), (False,))
+
+
+def cylinder(r=30.0, h=150.0, wall=3.0, base=6.0, liquid=None, **plant) -> Design:
+    shape = BottleShape("round", {"profile": cylinder_section(r, h)}, wall, base)
+    return Design(shape=shape, liquid=liquid, plant=Plant(**plant))
+
+
+def frustum_moments(a: float, s: float, z0: float, z1: float) -> tuple[float, float]:
+    """Volume and z-moment (mm^3, mm^4) of the solid of radius ``a + s z`` on ``[z0, z1]``:
+    polynomial integrals, exact."""
+    area = math.pi * P([a, s]) ** 2
+    v, m = area.integ(), (area * P([0, 1])).integ()
+    return v(z1) - v(z0), m(z1) - m(z0)
+
+
+# ------------------------------------------------------------------------------ stability
+def test_cylinder_tip_angle_is_atan_ring_over_cg():
+    d = cylinder()
+    r, h, w, b = 30.0, 150.0, 3.0, 6.0
+    vo, mo = frustum_moments(r, 0.0, 0.0, h)
+    vi, mi = frustum_moments(r - w, 0.0, b, h)
+    z_cg = (mo - mi) / (vo - vi)
+    empty = plant_numbers(d)["states"][0]
+    assert empty["state"] == "empty"
+    assert empty["cg_z_mm"] == pytest.approx(z_cg, rel=REL)
+    assert empty["tip_deg"] == pytest.approx(math.degrees(math.atan(r / z_cg)), rel=REL)
+    assert empty["mass_g"] == pytest.approx((vo - vi) * 2.52e-3, rel=REL)
+
+
+def test_cone_standing_on_its_narrow_end():
+    r0, r1, h, f, w, b = 20.0, 45.0, 160.0, 12.0, 3.0, 8.0
+    sec = Section((Line((0, 0), (r0, 0)), Line((r0, 0), (r1, h)), Line((r1, h), (r1, h + f))), (False, False))
+    d = Design(shape=BottleShape("round", {"profile": sec}, w, b))
+    s = (r1 - r0) / h
+    a_in = r0 - w * math.sqrt(1 + s * s)  # the wall offset along its normal
+    z_join = (r1 - w - a_in) / s  # where the inner cone meets the finish's inner wall
+    parts_out = [frustum_moments(r0, s, 0.0, h), frustum_moments(r1, 0.0, h, h + f)]
+    parts_in = [frustum_moments(a_in, s, b, z_join), frustum_moments(r1 - w, 0.0, z_join, h + f)]
+    vo, mo = map(sum, zip(*parts_out))
+    vi, mi = map(sum, zip(*parts_in))
+    z_cg = (mo - mi) / (vo - vi)
+    assert stability.ring_radii(d.shape) == (r0,)
+    empty = plant_numbers(d)["states"][0]
+    assert empty["cg_z_mm"] == pytest.approx(z_cg, rel=REL)
+    assert empty["tip_deg"] == pytest.approx(math.degrees(math.atan(r0 / z_cg)), rel=REL)
+
+
+def test_deep_punt_stands_on_its_ring_not_the_base_edge():
+    rp = (25.0 ** 2 + 18.0 ** 2) / 36.0  # a dome through (0, 18), level at the axis, and the ring (25, 0)
+    sec = Section((Arc((0, 18 - rp), rp, (0, 18), (25, 0), "cw"), Arc((25, 6), 6.0, (25, 0), (31, 6), "ccw"),
+                   Line((31, 6), (31, 180))), (False, True))
+    d = Design(shape=BottleShape("round", {"profile": sec}, 3.0, 6.0))
+    numbers = plant_numbers(d)
+    assert numbers["ring"]["radius_mm"] == pytest.approx(25.0, abs=1e-12)
+    empty = numbers["states"][0]
+    assert empty["tip_deg"] == pytest.approx(math.degrees(math.atan(25.0 / empty["cg_z_mm"])), rel=1e-12)
+    assert empty["tip_deg"] < math.degrees(math.atan(31.0 / empty["cg_z_mm"]))  # not the body's edge
+
+
+def cylinder_moving_tip(r, h, w, b, h0, rho_l, rho_g=2.52):
+    """The tip angle (rad) of a capped cylinder holding liquid ``h0`` mm deep, its surface level:
+    the liquid under the plane z = b + h0 + tan(phi) x has its centroid at
+    x = tan(phi) rho^2 / (4 h0), z = b + h0/2 + tan(phi)^2 rho^2 / (8 h0) (independent closed form)."""
+    rho = r - w
+    vo, mo = frustum_moments(r, 0.0, 0.0, h)
+    vi, mi = frustum_moments(rho, 0.0, b, h)
+    mg, zg = (vo - vi) * rho_g * 1e-3, (mo - mi) / (vo - vi)
+    ml = math.pi * rho * rho * h0 * rho_l * 1e-3
+
+    def margin(phi):
+        t = math.tan(phi)
+        xc, zc = t * rho * rho / (4 * h0), b + h0 / 2 + t * t * rho * rho / (8 * h0)
+        cu, cz = ml * xc / (mg + ml), (mg * zg + ml * zc) / (mg + ml)
+        return (cu - r) * math.cos(phi) + cz * math.sin(phi)
+
+    phi = brentq(margin, 1e-6, 1.5, xtol=1e-14)
+    assert h0 - rho * math.tan(phi) > 0 and h0 + rho * math.tan(phi) < h - b  # the closed form's regime
+    return phi
+
+
+@pytest.mark.parametrize("h0", [40.0, 70.0, 100.0])
+def test_cylinder_tip_with_the_liquid_level_matches_its_closed_form(h0):
+    r, h, w, b = 30.0, 150.0, 3.0, 6.0
+    d = cylinder(r, h, w, b, liquid=Liquid(fill_mode="height", fill_value=b + h0))
+    filled = plant_numbers(d)["states"][1]
+    assert filled["state"] == "filled"
+    want = math.degrees(cylinder_moving_tip(r, h, w, b, h0, 1.0))
+    assert filled["tip_deg"] == pytest.approx(want, rel=REL)
+    assert filled["tip_deg"] < filled["tip_frozen_deg"]  # the liquid runs toward the edge
+
+
+def test_tilted_liquid_in_a_cylinder_and_a_round_cornered_square_agree():
+    """A rounded square whose corners are its half-width is a circle: the polygon clipping of
+    non-round plans must give the circle's exact centroid (1e-6)."""
+    sec = cylinder_section()
+    round_shape = BottleShape("round", {"profile": sec}, 3.0, 6.0)
+    square = BottleShape("rounded_rect", {"half_width": sec, "half_depth": sec, "corner": sec}, 3.0, 6.0)
+    volume = math.pi * 27.0 ** 2 * 50.0
+    for phi in (0.01, 0.2, 0.7):
+        exact = mass.tilted_liquid(round_shape, volume, phi)
+        for psi in (0.0, 0.4):
+            got = mass.tilted_liquid(square, volume, phi, psi)
+            assert got[0] == pytest.approx(exact[0], rel=1e-12)
+            assert got[1] == pytest.approx(exact[1], rel=REL)
+            assert got[2] == pytest.approx(exact[2], rel=REL)
+
+
+def test_fill_can_make_a_bottle_more_or_less_stable():
+    low = plant_numbers(cylinder(liquid=Liquid(fill_mode="height", fill_value=40.0)))["states"]
+    assert low[1]["tip_deg"] > low[0]["tip_deg"]  # light glass, liquid low: the centre falls
+    heavy = cylinder(wall=3.0, base=45.0, liquid=Liquid(fill_mode="height", fill_value=140.0))
+    high = plant_numbers(heavy)["states"]
+    assert high[1]["tip_deg"] < high[0]["tip_deg"]  # a heavy base, liquid high: the centre rises
+
+
+def test_non_round_plan_tips_toward_its_narrow_side():
+    d, _ = load_project(RESOURCES / "square.glassbench")
+    ring = plant_numbers(d)["ring"]
+    u = stability.ring_radii(d.shape)[0]  # the half-width across the flats
+    assert ring["kind"] == "plan" and ring["least_mm"] == pytest.approx(u, rel=1e-12)
+    turn = d.shape.rotation_deg
+    assert (ring["least_direction_deg"] - turn) % 90.0 == pytest.approx(0.0, abs=1e-9)
+    turned = dataclasses.replace(d, shape=dataclasses.replace(d.shape, rotation_deg=turn + 20.0))
+    assert (plant_numbers(turned)["ring"]["least_direction_deg"] - turn) % 90.0 == pytest.approx(20.0, abs=1e-9)
+
+
+# ------------------------------------------------------------------------------ membrane
+def valid_points(stress):
+    return [p for p in stress["points"] if p["hoop_mpa"] is not None]
+
+
+def test_cylinder_membrane_stresses():
+    p, r, t = 1.2, 40.0, 3.0
+    stress = membrane.membrane_stresses(cylinder(r=r, wall=t).shape, p)
+    pts = valid_points(stress)
+    assert len(pts) > 10
+    r_mid = r - t / 2
+    for q in pts:
+        assert q["hoop_mpa"] == pytest.approx(p * r_mid / t, rel=REL)
+        assert q["meridional_mpa"] == pytest.approx(p * r_mid / (2 * t), rel=REL)
+    assert stress["max_kind"] == "hoop" and stress["max_mpa"] == pytest.approx(p * r_mid / t, rel=REL)
+    reasons = {q["reason"] for q in stress["points"]} - {None}
+    assert {membrane.REASONS["base"], membrane.REASONS["heel"], membrane.REASONS["finish"]} <= reasons
+
+
+def test_sphere_like_flask_membrane_stress():
+    radius, zc, t, p = 60.0, 55.0, 3.0, 2.0
+    foot = math.sqrt(radius ** 2 - zc ** 2)
+    neck = 15.0
+    z_neck = zc + math.sqrt(radius ** 2 - neck ** 2)
+    sec = Section((Line((0, 0), (foot, 0)), Arc((0, zc), radius, (foot, 0), (neck, z_neck), "ccw"),
+                   Line((neck, z_neck), (neck, z_neck + 30))), (False, False))
+    stress = membrane.membrane_stresses(BottleShape("round", {"profile": sec}, t, 6.0), p)
+    pts = valid_points(stress)
+    assert len(pts) >= 5
+    for q in pts:
+        assert q["hoop_mpa"] == pytest.approx(p * (radius - t / 2) / (2 * t), rel=REL)
+        assert q["meridional_mpa"] == pytest.approx(p * (radius - t / 2) / (2 * t), rel=REL)
+    assert any(q["reason"] == membrane.REASONS["corner"] for q in stress["points"])  # the neck joint
+
+
+def test_very_thin_wall_has_numbers_and_a_thick_one_is_marked():
+    thin = membrane.membrane_stresses(cylinder(r=30.0, wall=0.3).shape, 1.2)
+    assert valid_points(thin)[0]["hoop_mpa"] == pytest.approx(1.2 * 29.85 / 0.3, rel=REL)
+    thick = membrane.membrane_stresses(cylinder(r=20.0, wall=4.0).shape, 1.2)
+    assert not valid_points(thick) and thick["max_mpa"] is None
+    assert any(q["reason"] == membrane.REASONS["thick"] for q in thick["points"])
+
+
+def test_non_round_plan_gets_no_membrane_number():
+    d, _ = load_project(RESOURCES / "square.glassbench")
+    stress = plant_numbers(d)["stress"]
+    assert stress["max_mpa"] is None
+    assert all(q["reason"] == membrane.REASONS["plan"] for q in stress["points"] if q["z_mm"] > 1.0)
+
+
+# ------------------------------------------------------------------------------ rules
+@pytest.mark.parametrize("ml, tol", [(50, 3), (75, 3), (100, 3), (150, 4.5), (200, 6), (250, 6), (300, 6),
+                                     (400, 8), (500, 10), (750, 10), (1000, 10), (1500, 15), (5000, 50)])
+def test_capacity_tolerance_table(ml, tol):
+    assert rules.capacity_tolerance_ml(ml) == pytest.approx(tol, rel=1e-12)
+
+
+def test_capacity_outside_the_directive_has_no_band():
+    assert rules.capacity_tolerance_ml(40.0) is None and rules.capacity_tolerance_ml(6000.0) is None
+
+
+def test_capacity_band_fill_heights_hold_the_band_edges():
+    from engine.geometry import capacity
+    d, _ = load_project(RESOURCES / "bordeaux.glassbench")
+    band = plant_numbers(d)["capacity_band"]
+    assert band["tolerance_ml"] == 10.0
+    assert capacity.capacity_ml(d.shape, band["fill_height_min_mm"]) == pytest.approx(band["nominal_ml"] - 10, rel=1e-9)
+    assert capacity.capacity_ml(d.shape, band["fill_height_max_mm"]) == pytest.approx(band["nominal_ml"] + 10, rel=1e-9)
+    assert band["fill_point_min_mm"] == pytest.approx(d.shape.z_top - band["fill_height_max_mm"])
+
+
+# ------------------------------------------------------------------------------ the sheet
+@pytest.mark.parametrize("path", SAMPLES, ids=[p.stem for p in SAMPLES])
+def test_every_sample_has_its_plant_numbers(path):
+    d, _ = load_project(path)
+    numbers = plant_numbers(d)
+    json.dumps(numbers, allow_nan=False)
+    states = [s["state"] for s in numbers["states"]]
+    assert states == (["empty", "filled", "brimful"] if d.liquid else ["empty", "brimful"])
+    assert 0 < numbers["least_tip"]["deg"] < 90
+    figures = summary_figures(numbers)
+    assert figures["least_tip_deg"] == min(s["tip_deg"] for s in numbers["states"])
+
+
+def test_limits_warn_and_tolerant_numbers_survive_a_broken_shape():
+    d = cylinder(r=40.0, min_tip_deg=60.0, max_stress_mpa=5.0, min_glass_mass_g=5000.0)
+    warnings = plant_numbers(d)["warnings"]
+    assert len(warnings) == 3 and "60" in warnings[0] and "MPa" in warnings[1] and "5000" in warnings[2]
+    assert plant_numbers(cylinder())["warnings"] == []
+    broken = dataclasses.replace(d, shape=dataclasses.replace(d.shape, wall_thickness=40.0))
+    numbers = plant_numbers(broken, tolerant=True)
+    assert numbers["states"] in ([], None) and numbers["stress"] is None
+
+
+def test_closure_and_labels_mass_count_when_known():
+    from engine.model.design import Cap, Label
+    d, _ = load_project(RESOURCES / "labelled.glassbench")
+    base = plant_numbers(d)["states"][0]
+    heavy = dataclasses.replace(d, cap=d.cap or Cap(), plant=Plant(closure_mass_g=20.0, label_gsm=80.0))
+    more = plant_numbers(heavy)["states"][0]
+    label_g = sum(80e-6 * lab.width_mm * lab.height_mm for lab in d.labels)
+    assert more["mass_g"] == pytest.approx(base["mass_g"] + 20.0 + label_g, rel=1e-12)
+    assert more["cg_z_mm"] > base["cg_z_mm"]  # a closure on top raises the centre

@@ -11,71 +11,38 @@ import json
 import math
 from pathlib import Path
 
-import numpy as np
 import pytest
-from numpy.polynomial import Polynomial as P
-from scipy.optimize import brentq
 
 from engine.files.project import load_project
 from engine.geometry.section import Section
 from engine.geometry.segments import Arc, Line
 from engine.geometry.shape import BottleShape
-from engine.model.design import Design, Glass, Liquid, Plant
+from engine.model.design import Design, Liquid, Plant
 from engine.plant import mass, membrane, rules, stability
 from engine.plant.sheet import plant_numbers, summary_figures
+from benchmarks.plant_cases import closed_form_cases, cone_design, cylinder, cylinder_section, sphere_flask
 
 REL = 1e-6
 RESOURCES = Path(__file__).resolve().parents[1] / "resources"
 SAMPLES = sorted(RESOURCES.glob("*.glassbench"))
 
 
-def cylinder_section(r=30.0, h=150.0) -> Section:
-    return Section((Line((0, 0), (r, 0)), Line((r, 0), (r, h))), (False,))
-
-
-def cylinder(r=30.0, h=150.0, wall=3.0, base=6.0, liquid=None, **plant) -> Design:
-    shape = BottleShape("round", {"profile": cylinder_section(r, h)}, wall, base)
-    return Design(shape=shape, liquid=liquid, plant=Plant(**plant))
-
-
-def frustum_moments(a: float, s: float, z0: float, z1: float) -> tuple[float, float]:
-    """Volume and z-moment (mm^3, mm^4) of the solid of radius ``a + s z`` on ``[z0, z1]``:
-    polynomial integrals, exact."""
-    area = math.pi * P([a, s]) ** 2
-    v, m = area.integ(), (area * P([0, 1])).integ()
-    return v(z1) - v(z0), m(z1) - m(z0)
-
-
 # ------------------------------------------------------------------------------ stability
-def test_cylinder_tip_angle_is_atan_ring_over_cg():
-    d = cylinder()
-    r, h, w, b = 30.0, 150.0, 3.0, 6.0
-    vo, mo = frustum_moments(r, 0.0, 0.0, h)
-    vi, mi = frustum_moments(r - w, 0.0, b, h)
-    z_cg = (mo - mi) / (vo - vi)
-    empty = plant_numbers(d)["states"][0]
-    assert empty["state"] == "empty"
-    assert empty["cg_z_mm"] == pytest.approx(z_cg, rel=REL)
-    assert empty["tip_deg"] == pytest.approx(math.degrees(math.atan(r / z_cg)), rel=REL)
-    assert empty["mass_g"] == pytest.approx((vo - vi) * 2.52e-3, rel=REL)
+@pytest.mark.parametrize("case", closed_form_cases(), ids=lambda c: c.name)
+def test_closed_forms(case):
+    """Issue 43's closed forms (benchmarks.plant_cases): cylinder and cone tip angles and
+    centres, the cylinder's level liquid, cylinder and sphere membrane stresses, to 1e-6."""
+    assert case.value() == pytest.approx(case.exact, rel=REL)
 
 
-def test_cone_standing_on_its_narrow_end():
-    r0, r1, h, f, w, b = 20.0, 45.0, 160.0, 12.0, 3.0, 8.0
-    sec = Section((Line((0, 0), (r0, 0)), Line((r0, 0), (r1, h)), Line((r1, h), (r1, h + f))), (False, False))
-    d = Design(shape=BottleShape("round", {"profile": sec}, w, b))
-    s = (r1 - r0) / h
-    a_in = r0 - w * math.sqrt(1 + s * s)  # the wall offset along its normal
-    z_join = (r1 - w - a_in) / s  # where the inner cone meets the finish's inner wall
-    parts_out = [frustum_moments(r0, s, 0.0, h), frustum_moments(r1, 0.0, h, h + f)]
-    parts_in = [frustum_moments(a_in, s, b, z_join), frustum_moments(r1 - w, 0.0, z_join, h + f)]
-    vo, mo = map(sum, zip(*parts_out))
-    vi, mi = map(sum, zip(*parts_in))
-    z_cg = (mo - mi) / (vo - vi)
-    assert stability.ring_radii(d.shape) == (r0,)
-    empty = plant_numbers(d)["states"][0]
-    assert empty["cg_z_mm"] == pytest.approx(z_cg, rel=REL)
-    assert empty["tip_deg"] == pytest.approx(math.degrees(math.atan(r0 / z_cg)), rel=REL)
+def test_cone_stands_on_its_narrow_ring():
+    design, _, _ = cone_design()
+    assert stability.ring_radii(design.shape) == (20.0,)
+
+
+def test_level_liquid_runs_toward_the_edge():
+    filled = plant_numbers(cylinder(liquid=Liquid(fill_mode="height", fill_value=76.0)))["states"][1]
+    assert filled["tip_deg"] < filled["tip_frozen_deg"]
 
 
 def test_deep_punt_stands_on_its_ring_not_the_base_edge():
@@ -88,38 +55,6 @@ def test_deep_punt_stands_on_its_ring_not_the_base_edge():
     empty = numbers["states"][0]
     assert empty["tip_deg"] == pytest.approx(math.degrees(math.atan(25.0 / empty["cg_z_mm"])), rel=1e-12)
     assert empty["tip_deg"] < math.degrees(math.atan(31.0 / empty["cg_z_mm"]))  # not the body's edge
-
-
-def cylinder_moving_tip(r, h, w, b, h0, rho_l, rho_g=2.52):
-    """The tip angle (rad) of a capped cylinder holding liquid ``h0`` mm deep, its surface level:
-    the liquid under the plane z = b + h0 + tan(phi) x has its centroid at
-    x = tan(phi) rho^2 / (4 h0), z = b + h0/2 + tan(phi)^2 rho^2 / (8 h0) (independent closed form)."""
-    rho = r - w
-    vo, mo = frustum_moments(r, 0.0, 0.0, h)
-    vi, mi = frustum_moments(rho, 0.0, b, h)
-    mg, zg = (vo - vi) * rho_g * 1e-3, (mo - mi) / (vo - vi)
-    ml = math.pi * rho * rho * h0 * rho_l * 1e-3
-
-    def margin(phi):
-        t = math.tan(phi)
-        xc, zc = t * rho * rho / (4 * h0), b + h0 / 2 + t * t * rho * rho / (8 * h0)
-        cu, cz = ml * xc / (mg + ml), (mg * zg + ml * zc) / (mg + ml)
-        return (cu - r) * math.cos(phi) + cz * math.sin(phi)
-
-    phi = brentq(margin, 1e-6, 1.5, xtol=1e-14)
-    assert h0 - rho * math.tan(phi) > 0 and h0 + rho * math.tan(phi) < h - b  # the closed form's regime
-    return phi
-
-
-@pytest.mark.parametrize("h0", [40.0, 70.0, 100.0])
-def test_cylinder_tip_with_the_liquid_level_matches_its_closed_form(h0):
-    r, h, w, b = 30.0, 150.0, 3.0, 6.0
-    d = cylinder(r, h, w, b, liquid=Liquid(fill_mode="height", fill_value=b + h0))
-    filled = plant_numbers(d)["states"][1]
-    assert filled["state"] == "filled"
-    want = math.degrees(cylinder_moving_tip(r, h, w, b, h0, 1.0))
-    assert filled["tip_deg"] == pytest.approx(want, rel=REL)
-    assert filled["tip_deg"] < filled["tip_frozen_deg"]  # the liquid runs toward the edge
 
 
 def test_tilted_liquid_in_a_cylinder_and_a_round_cornered_square_agree():
@@ -176,25 +111,13 @@ def test_cylinder_membrane_stresses():
     assert {membrane.REASONS["base"], membrane.REASONS["heel"], membrane.REASONS["finish"]} <= reasons
 
 
-def test_sphere_like_flask_membrane_stress():
-    radius, zc, t, p = 60.0, 55.0, 3.0, 2.0
-    foot = math.sqrt(radius ** 2 - zc ** 2)
-    neck = 15.0
-    z_neck = zc + math.sqrt(radius ** 2 - neck ** 2)
-    sec = Section((Line((0, 0), (foot, 0)), Arc((0, zc), radius, (foot, 0), (neck, z_neck), "ccw"),
-                   Line((neck, z_neck), (neck, z_neck + 30))), (False, False))
-    stress = membrane.membrane_stresses(BottleShape("round", {"profile": sec}, t, 6.0), p)
-    pts = valid_points(stress)
-    assert len(pts) >= 5
-    for q in pts:
-        assert q["hoop_mpa"] == pytest.approx(p * (radius - t / 2) / (2 * t), rel=REL)
-        assert q["meridional_mpa"] == pytest.approx(p * (radius - t / 2) / (2 * t), rel=REL)
+def test_sphere_like_flask_is_a_membrane_away_from_its_joints():
+    stress = membrane.membrane_stresses(sphere_flask(), 2.0)
+    assert len(valid_points(stress)) >= 5
     assert any(q["reason"] == membrane.REASONS["corner"] for q in stress["points"])  # the neck joint
 
 
-def test_very_thin_wall_has_numbers_and_a_thick_one_is_marked():
-    thin = membrane.membrane_stresses(cylinder(r=30.0, wall=0.3).shape, 1.2)
-    assert valid_points(thin)[0]["hoop_mpa"] == pytest.approx(1.2 * 29.85 / 0.3, rel=REL)
+def test_a_thick_wall_is_marked():
     thick = membrane.membrane_stresses(cylinder(r=20.0, wall=4.0).shape, 1.2)
     assert not valid_points(thick) and thick["max_mpa"] is None
     assert any(q["reason"] == membrane.REASONS["thick"] for q in thick["points"])
@@ -252,7 +175,7 @@ def test_limits_warn_and_tolerant_numbers_survive_a_broken_shape():
 
 
 def test_closure_and_labels_mass_count_when_known():
-    from engine.model.design import Cap, Label
+    from engine.model.design import Cap
     d, _ = load_project(RESOURCES / "labelled.glassbench")
     base = plant_numbers(d)["states"][0]
     heavy = dataclasses.replace(d, cap=d.cap or Cap(), plant=Plant(closure_mass_g=20.0, label_gsm=80.0))

@@ -130,7 +130,7 @@ def membrane_stresses(shape, pressure_mpa: float) -> dict:
     r_body = max(float(np.max(x.point(np.linspace(0, 1, 65))[:, 0])) for x in segs)
     non_round = shape.cross_section != "round"
     for s_w, p, tan, k, t, _ in _sample(segs, walls):
-        n_r, n_z = float(tan[1]), -float(tan[0])  # outward normal: the tangent turned clockwise
+        n_r = float(tan[1])  # the outward normal (the tangent turned clockwise) leans out by this
         r_mid = float(p[0]) - 0.5 * t * n_r
         k_mid = k / (1.0 - 0.5 * t * k)
         row = {"s_mm": base_len + s_w, "z_mm": float(p[1]), "r_mm": float(p[0]), "t_mm": t,

@@ -1,7 +1,7 @@
 """The ``glassbench`` subcommands that need no window, one module of this package per group
 (:data:`DELEGATED`): ``project`` (info, export-mesh, new), ``render``, ``batch`` (batch,
 turntable), ``labels`` (labels, dieline, label), ``finishes`` (cap, bump), ``stage``, ``export``
-(export-cad, export-scene, share).
+(export-cad, export-scene, share, drawing).
 
 Design rule: each subcommand is a small function over the engine's public API; ``main``
 turns every expected failure (a bad project, a bad DXF, a missing file, a tracer that
@@ -25,7 +25,7 @@ DELEGATED = {".project": ("info", "export-mesh", "new"),
              ".labels": ("labels", "dieline", "label"),
              ".finishes": ("cap", "bump"),
              ".stage": ("stage",),
-             ".export": ("export-cad", "export-scene", "share")}
+             ".export": ("export-cad", "export-scene", "share", "drawing")}
 SUBCOMMANDS = sum(DELEGATED.values(), ())
 EXIT_ERROR = 2
 

@@ -1,9 +1,10 @@
-"""``glassbench export-cad / export-scene / share``: handing the design on, from the command line.
+"""``glassbench export-cad / export-scene / share / drawing``: handing the design on, from the
+command line.
 
 Design rule: each subcommand loads the project, checks its own options against
 :mod:`engine.limits` (tolerances, poster height), calls the one engine function the window
 calls too (:func:`engine.export.cad.export_cad`, :func:`engine.export.gltf_scene.export_scene`,
-:func:`engine.export.share.write_share`) and prints what it wrote and what was checked: the
+:func:`engine.export.share.write_share`, :func:`engine.export.drawing.write_drawing`) and prints what it wrote and what was checked: the
 solids read back with their volumes against ``glassbench info``'s, the scene's counts, the
 page's folder. Errors are the engine's one-line errors (``engine.cli.main`` prints them, exit
 status 2); OpenCascade is imported only by ``export-cad``.
@@ -20,7 +21,8 @@ SCENE_TOL_MM = 0.05
 
 
 def add_parsers(sub) -> None:
-    """Add ``export-cad``, ``export-scene`` and ``share`` to an argparse subparsers object."""
+    """Add ``export-cad``, ``export-scene``, ``share`` and ``drawing`` to an argparse subparsers
+    object."""
     cad = sub.add_parser("export-cad", help="write glass, liquid and closure as CAD solids (STEP/IGES/BREP)")
     cad.add_argument("project")
     cad.add_argument("out", metavar="OUT.step|.iges|.brep")
@@ -39,6 +41,12 @@ def add_parsers(sub) -> None:
                        help="poster height in pixels (default: the design's, at most 640)")
     share.add_argument("--turntable", default=None, metavar="DIR",
                        help="a rendered turntable (glassbench turntable -o DIR) to include")
+    drawing = sub.add_parser("drawing", help="write the glass plant's drawing (PDF, SVG or DXF)")
+    drawing.add_argument("project")
+    drawing.add_argument("out", metavar="OUT.pdf|.svg|.dxf")
+    drawing.add_argument("--sheet", choices=("A3", "A4"), default="A3", help="paper, landscape (default A3)")
+    drawing.add_argument("--scale", default=None, metavar="1:N",
+                         help="the drawing's scale (default: the largest of 2:1, 1:1, 1:2, 1:5, 1:10, 1:20 that fits)")
 
 
 def _load(path):
@@ -95,4 +103,15 @@ def cmd_share(args) -> int:
     if sys.stderr.isatty():
         print(file=sys.stderr)
     print(f"wrote {out / 'index.html'}")
+    return 0
+
+
+def cmd_drawing(args) -> int:
+    """``drawing PROJECT OUT.pdf|.svg|.dxf [--sheet A3|A4] [--scale 1:N]``."""
+    from ..export.drawing import write_drawing
+    design, _ = _load(args.project)
+    report = write_drawing(design, args.out, sheet=args.sheet, scale=args.scale)
+    print(f"  {report['sheet']} landscape at {report['scale']}: {', '.join(report['views'])}; "
+          f"{len(report['dimensions'])} dimensions")
+    print(f"wrote {args.out}")
     return 0

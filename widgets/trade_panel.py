@@ -97,7 +97,7 @@ def plant_texts(plant: dict | None) -> dict[str, tuple[str, str]]:
     for state in plant.get("states") or ():
         moving = _num("{:.1f}\u00b0", state.get("tip_deg"))
         frozen = _num("{:.1f}\u00b0", state.get("tip_frozen_deg"))
-        tip = moving if frozen in (moving, DASH) else f"{moving} [{frozen}]"
+        tip = moving if DASH in (moving, frozen) else f"{moving} [{frozen}]"
         out[f"tip_{state['state']}"] = (tip, _num("Falls towards {:.0f}\u00b0 in the plan",
                                                   state.get("tip_direction_deg")))
         out[f"cg_{state['state']}"] = (_num("{:.1f} mm", state.get("cg_z_mm")),

@@ -9,8 +9,10 @@ the design's environment as the viewer's sky (a ``data:`` PNG, :func:`skybox_png
 transmits needs something behind it to show) seen from the design's camera;
 ``poster.png`` rendered by glassbench's tracer to its noise target (converged,
 :class:`engine.tracer.job.RenderJob`); the trade numbers of :func:`engine.operations.trade.
-trade_numbers`, in a table whose cells carry each exact value (``data-value``) and, whole, as
-the JSON ``glassbench info --json`` prints (in the page and as ``numbers.json``); each label's
+trade_numbers`, in a table whose cells carry each exact value (``data-value``), the plant's
+headline figures (:func:`engine.plant.sheet.plant_numbers`: least tip angle, capacity band, membrane
+stress), and, whole, the JSON ``glassbench info --json`` prints (in the page and as
+``numbers.json``, the plant's under ``"plant"``); each label's
 die-line as SVG (:func:`engine.appearance.dieline_files.write_dieline`; labels of one flat
 shape share one); and the frames of a
 turntable, when one was rendered, as a flip-book. The folder is built beside the target and
@@ -29,6 +31,7 @@ from pathlib import Path
 
 from ..errors import GlassbenchError
 from ..operations.trade import INFO_ROWS, trade_numbers
+from ..plant.sheet import plant_numbers
 from .gltf_scene import scene_glb
 from .web import model_viewer_js
 
@@ -173,6 +176,28 @@ def numbers_table(numbers: dict) -> str:
     return "<table class=\"numbers\">" + "".join(rows) + "</table>"
 
 
+def plant_table(plant: dict | None) -> str:
+    """The plant's headline figures as an HTML table (the whole set is in ``numbers.json``)."""
+    if not plant:
+        return ""
+    rows = []
+    least = plant.get("least_tip")
+    if least:
+        rows.append(("Least tip angle", f"{least['deg']:.1f}\u00b0 ({least['state']})"))
+    band = plant.get("capacity_band")
+    if band:
+        rows.append(("Nominal capacity", f"{band['nominal_ml']:.1f} \u00b1 {band['tolerance_ml']:.1f} ml"))
+        if band.get("fill_height_min_mm") is not None and band.get("fill_height_max_mm") is not None:
+            rows.append(("Fill height within tolerance",
+                         f"{band['fill_height_min_mm']:.1f} \u2013 {band['fill_height_max_mm']:.1f} mm"))
+    stress = plant.get("stress") or {}
+    if stress.get("max_mpa") is not None:
+        rows.append((f"Membrane stress at {stress['pressure_mpa']:.2f} MPa", f"{stress['max_mpa']:.2f} MPa"))
+    rows += [("Warning", w) for w in plant.get("warnings") or ()]
+    body = "".join(f"<tr><th>{html.escape(a)}</th><td>{html.escape(b)}</td></tr>" for a, b in rows)
+    return f"<h2>The plant's figures</h2><table class=\"numbers\">{body}</table>"
+
+
 def page_html(design, numbers: dict, dielines: list, frames: list[str]) -> str:
     """``index.html`` (see the module rule)."""
     name = html.escape(design.name)
@@ -213,6 +238,7 @@ img {{ max-width: 100%; border-radius: 6px; }} input[type=range] {{ width: 100%;
 <aside>
 <h2>Rendered by glassbench</h2><img src="poster.png" alt="{name}, rendered">
 <h2>Trade numbers</h2>{numbers_table(numbers)}
+{plant_table(numbers.get("plant"))}
 <h2>Label die-lines</h2><ul>{dl}</ul>
 </aside>
 </main>
@@ -257,7 +283,7 @@ def write_share(design, assets, out_dir, tol_mm: float = 0.05, poster_height: in
     tmp.mkdir()
     try:
         step(0.02, "trade numbers")
-        numbers = trade_numbers(design)
+        numbers = {**trade_numbers(design), "plant": plant_numbers(design)}
         step(0.05, "scene")
         glb, _ = scene_glb(design, assets, tol_mm, lambda f, m: step(0.05 + 0.2 * f, m))
         (tmp / "scene.glb").write_bytes(glb)

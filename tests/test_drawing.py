@@ -165,10 +165,12 @@ def test_bad_requests_are_clear_errors(tmp_path, kwargs, match):
 def test_the_command_line_writes_a_drawing_and_refuses_in_one_line(tmp_path, capsys):
     project = SAMPLES[0]
     out = tmp_path / "d.pdf"
-    assert cli.main(["drawing", str(project), str(out), "--sheet", "A4"]) == 0
+    assert cli.main(["drawing", str(project), "-o", str(out), "--sheet", "A4"]) == 0
     printed = capsys.readouterr().out
     assert f"wrote {out}" in printed and "A4 landscape at 1:" in printed
     assert out.read_bytes()[:5] == b"%PDF-"
     assert cli.main(["drawing", str(project), str(tmp_path / "d.pdf"), "--scale", "2:1"]) == 2
     err = capsys.readouterr().err.strip()
     assert err.startswith("glassbench drawing: error: at 2:1 the views need") and "\n" not in err
+    assert cli.main(["drawing", str(project)]) == 2
+    assert "-o OUT.pdf" in capsys.readouterr().err

@@ -43,7 +43,9 @@ def add_parsers(sub) -> None:
                        help="a rendered turntable (glassbench turntable -o DIR) to include")
     drawing = sub.add_parser("drawing", help="write the glass plant's drawing (PDF, SVG or DXF)")
     drawing.add_argument("project")
-    drawing.add_argument("out", metavar="OUT.pdf|.svg|.dxf")
+    drawing.add_argument("out", nargs="?", default=None, metavar="OUT.pdf|.svg|.dxf")
+    drawing.add_argument("-o", "--output", default=None, metavar="OUT.pdf|.svg|.dxf",
+                         help="the file to write (or give it after PROJECT)")
     drawing.add_argument("--sheet", choices=("A3", "A4"), default="A3", help="paper, landscape (default A3)")
     drawing.add_argument("--scale", default=None, metavar="1:N",
                          help="the drawing's scale (default: the largest of 2:1, 1:1, 1:2, 1:5, 1:10, 1:20 that fits)")
@@ -107,11 +109,15 @@ def cmd_share(args) -> int:
 
 
 def cmd_drawing(args) -> int:
-    """``drawing PROJECT OUT.pdf|.svg|.dxf [--sheet A3|A4] [--scale 1:N]``."""
+    """``drawing PROJECT -o OUT.pdf|.svg|.dxf [--sheet A3|A4] [--scale 1:N]`` (or ``OUT`` after
+    ``PROJECT``)."""
     from ..export.drawing import write_drawing
+    if (args.out is None) == (args.output is None):
+        raise CliError("give the file to write once: drawing PROJECT -o OUT.pdf (or .svg, .dxf)")
+    out = args.output or args.out
     design, _ = _load(args.project)
-    report = write_drawing(design, args.out, sheet=args.sheet, scale=args.scale)
+    report = write_drawing(design, out, sheet=args.sheet, scale=args.scale)
     print(f"  {report['sheet']} landscape at {report['scale']}: {', '.join(report['views'])}; "
           f"{len(report['dimensions'])} dimensions")
-    print(f"wrote {args.out}")
+    print(f"wrote {out}")
     return 0

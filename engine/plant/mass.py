@@ -13,9 +13,9 @@ frame, tilted by ``phi`` toward the plan direction ``u``, the liquid fills the c
 plane ``z cos(phi) - (p . u) sin(phi) = L``; at each height that is the part of the cavity's
 cross-section with ``p . u >= d(z) = (z cos(phi) - L) / sin(phi)``. Its area and first moment
 have closed forms on a circle (a circular segment: ``A = rho^2 acos(d/rho) - d sqrt(rho^2 - d^2)``,
-``M_u = 2/3 (rho^2 - d^2)^(3/2)``); other plans are clipped as polygons of
-:data:`ARC_VERTICES` and half as many points a corner arc, extrapolated (Richardson: an
-inscribed polygon's error falls as the square of its edges), to about 1e-7 relative. Only the band of heights the
+``M_u = 2/3 (rho^2 - d^2)^(3/2)``); so has an oval (the unit disc's segment mapped by
+``diag(a, b)``) and a rounded rectangle (Green's theorem along its four sides and four quarter
+arcs, each arc's integrals in closed form over the angles it keeps). Only the band of heights the
 surface plane crosses is clipped, on Gauss nodes of its own (the integrands are C^1 there:
 their kinks, where the surface meets the wall, go as a 3/2 power); below it the upright
 integrals apply. The level ``L`` that holds a volume is found by Newton's method (the volume's
@@ -36,8 +36,6 @@ from ..geometry.validate import body_profile
 
 #: Gauss panels per piece between joints for the tilted liquid (each 24 nodes, cosine-spaced).
 SUB_PANELS = 2
-#: Polygon points per corner arc (an oval: per quarter) when the tilted liquid clips a plan.
-ARC_VERTICES = 64
 #: g/mm^3 per g/cm^3 (and per g/ml).
 G_PER_MM3 = 1e-3
 
@@ -155,13 +153,13 @@ def _segment(rho, d):
     return area, (2.0 / 3.0) * h2 * h, 2.0 * h
 
 
-def _clip_polygon(xi, eta, d):
-    """Area, first moment along xi and the cut's length of the polygons (counter-clockwise) where ``xi >= d``
-    (``d`` one value per polygon): Green's theorem with ``(xi - d) d eta`` and
-    ``(xi - d)^2 / 2 d eta``, which vanish on the cut, so only the kept parts of the edges count."""
-    f = xi - d[:, None]
-    f1, e1 = np.roll(f, -1, axis=1), np.roll(eta, -1, axis=1)
-    de = e1 - eta
+def _clip_edges(xa, ea, xb, eb, d):
+    """Per row, the sums over straight edges ``(xa, ea) -> (xb, eb)`` (counter-clockwise along
+    the outline, mm) of the kept parts' Green integrals where ``xi >= d``: ``(xi - d) d eta``
+    (area), ``(xi - d)^2 / 2 d eta`` (first moment about the cut) and the signed ``eta`` of the
+    points where an edge crosses the cut (leaving: +, entering: -)."""
+    f, f1 = xa - d[:, None], xb - d[:, None]
+    de = eb - ea
     with np.errstate(divide="ignore", invalid="ignore"):  # the kept part: f0 + t (f1 - f0) >= 0
         tc = np.clip(f / (f - f1), 0.0, 1.0)
     ta = np.where(f >= 0, 0.0, np.where(f1 >= 0, tc, 1.0))
@@ -170,9 +168,77 @@ def _clip_polygon(xi, eta, d):
     dt = np.maximum(tb - ta, 0.0)  # an edge wholly cut away keeps nothing
     area = np.sum(de * dt * 0.5 * (fa + fb), axis=1)
     m2 = np.sum(de * dt * (fa * fa + fa * fb + fb * fb) / 6.0, axis=1)  # int f^2/2, f linear
-    crossing = (f >= 0) != (f1 >= 0)  # the cut's ends: where edges cross it (leaving: +, entering: -)
-    chord = np.abs(np.sum(np.where(crossing, (eta + tc * de) * np.where(f >= 0, 1.0, -1.0), 0.0), axis=1))
-    return area, m2 + d * area, chord
+    crossing = (f >= 0) != (f1 >= 0)
+    chord = np.sum(np.where(crossing, (ea + tc * de) * np.where(f >= 0, 1.0, -1.0), 0.0), axis=1)
+    return area, m2, chord
+
+
+def _clip_polygon(xi, eta, d):
+    """Area, first moment along xi and the cut's length of the polygons (counter-clockwise) where
+    ``xi >= d`` (``d`` one value per polygon): Green's theorem (:func:`_clip_edges`); the cut
+    itself adds nothing, as ``xi - d`` vanishes on it."""
+    area, m2, chord = _clip_edges(xi, eta, np.roll(xi, -1, axis=1), np.roll(eta, -1, axis=1), d)
+    return area, m2 + d * area, np.abs(chord)
+
+
+def _clip_arcs(cxi, ceta, r, t0, d):
+    """The sums of :func:`_clip_edges` over quarter arcs of radius ``r`` (mm) about ``(cxi,
+    ceta)``, running counter-clockwise from the angle ``t0`` (rad) through ``t0 + pi/2``; every
+    array ``(rows, arcs)``, ``d`` per row. On the arc ``xi = cxi + r cos t``, ``d eta = r cos t
+    dt``: the integrals are closed forms over the angles where ``cos t >= k = (d - cxi) / r``,
+    the interval ``[-beta, beta]`` (mod 2 pi), ``beta = acos k``."""
+    K = cxi - d[:, None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k = np.where(r > 0, -K / np.where(r > 0, r, 1.0), np.where(K >= 0, -2.0, 2.0))
+    beta = np.arccos(np.clip(k, -1.0, 1.0))
+    t0 = np.mod(t0 + math.pi, 2 * math.pi) - math.pi       # in [-pi, pi): one turn is enough
+    t1 = t0 + 0.5 * math.pi
+    area = m2 = chord = 0.0
+    for shift in (0.0, 2 * math.pi):
+        lo = np.maximum(t0, shift - beta)
+        hi = np.minimum(t1, shift + beta)
+        hi = np.maximum(hi, lo)
+
+        def F(t):
+            s, c = np.sin(t), np.cos(t)
+            a = K * r * s + r * r * (0.5 * t + 0.5 * s * c)
+            m = 0.5 * r * (K * K * s + K * r * (t + s * c) + r * r * (s - s ** 3 / 3.0))
+            return a, m
+        (a1, m1), (a0, m0) = F(hi), F(lo)
+        area, m2 = area + a1 - a0, m2 + m1 - m0
+        # the cut's ends on the arc: leaving at +beta, entering at -beta (inside the arc's span)
+        full = (k <= -1.0) | (k >= 1.0)
+        for at, sign in ((shift + beta, 1.0), (shift - beta, -1.0)):
+            inside = (at >= t0) & (at < t1) & ~full
+            chord = chord + np.where(inside, sign * (ceta + r * np.sin(at)), 0.0)
+    return np.sum(area, axis=1), np.sum(m2, axis=1), np.sum(chord, axis=1)
+
+
+def _clip_rounded_rect(a, b, r, psi: float, d):
+    """Area (mm^2), first moment along ``u`` (mm^3) and the cut's length (mm) where ``p . u >= d``
+    of the rounded rectangles of half-width ``a``, half-depth ``b`` and corner radius ``r``
+    (arrays per row, mm), ``u`` at the angle ``psi``: four sides and four quarter arcs, exact."""
+    c, s = math.cos(psi), math.sin(psi)
+    A, B = a - r, b - r
+    # the sides, counter-clockwise: right, top, left, bottom
+    x0 = np.column_stack([a, A, -a, -A]); y0 = np.column_stack([-B, b, B, -b])
+    x1 = np.column_stack([a, -A, -a, A]); y1 = np.column_stack([B, b, -B, -b])
+    la, lm, lc = _clip_edges(x0 * c + y0 * s, -x0 * s + y0 * c, x1 * c + y1 * s, -x1 * s + y1 * c, d)
+    cx = np.column_stack([A, -A, -A, A]); cy = np.column_stack([B, B, -B, -B])
+    t0 = np.array([0.0, 0.5, 1.0, 1.5]) * math.pi - psi
+    aa, am, ac = _clip_arcs(cx * c + cy * s, -cx * s + cy * c, r[:, None] + 0 * cx,
+                            np.broadcast_to(t0, cx.shape), d)
+    area = la + aa
+    return area, lm + am + d * area, np.abs(lc + ac)
+
+
+def _clip_oval(a, b, psi: float, d):
+    """Area, first moment along ``u`` and the cut's length of the ellipses of half axes ``a``,
+    ``b`` (mm) where ``p . u >= d``: the ellipse is the unit disc mapped by ``diag(a, b)``, so it
+    is the unit disc's segment at ``d / w``, ``w = |(a cos psi, b sin psi)|``, scaled (exact)."""
+    w = np.hypot(a * math.cos(psi), b * math.sin(psi))
+    area, m, chord = _segment(np.ones_like(w), d / w)
+    return a * b * area, a * b * w * m, chord * a * b / w
 
 
 def _clipped(cav: _Cavity, z, d, psi: float):
@@ -185,33 +251,10 @@ def _clipped(cav: _Cavity, z, d, psi: float):
             a2, m2, c2 = _segment(dome, d)
             a, m, c = a - a2, m - m2, c - c2
         return a, m, c
-    c, s = math.cos(psi), math.sin(psi)
-    out = []
-    for n in (ARC_VERTICES, ARC_VERTICES // 2):
-        x, y = _plan_polygon(cav.kind, radii, n)
-        out.append(_clip_polygon(x * c + y * s, -x * s + y * c, d))
-    # why Richardson: an inscribed polygon's error falls as n^-2; two of them cancel its leading term
-    (a1, m1, c1), (a2, m2, c2) = out
-    return (4.0 * a1 - a2) / 3.0, (4.0 * m1 - m2) / 3.0, (4.0 * c1 - c2) / 3.0
-
-
-def _plan_polygon(kind: str, radii, n: int):
-    """Counter-clockwise polygons ``(x, y)`` (mm, shape ``(len(z), vertices)``) inscribed in the
-    cross-sections of ``radii``: an oval's ``4 n`` points even in its parameter; a rounded
-    rectangle's corner arcs ``n`` edges each (its sides are the edges between them, exact).
-    Both are linear in the radii, so no angle is solved for."""
-    if kind == "oval":
-        t = np.linspace(0.0, 2 * math.pi, 4 * n, endpoint=False)
-        a, b = (np.asarray(r, float)[:, None] for r in radii)
-        return a * np.cos(t), b * np.sin(t)
-    a, b, c = (np.asarray(r, float)[:, None] for r in crosssection._as_rect(kind, radii))
-    alpha = np.linspace(0.0, 0.5 * math.pi, n + 1)  # one quarter arc of n edges, ends included
-    xs, ys = [], []
-    for q, (sx, sy) in enumerate(((1, 1), (-1, 1), (-1, -1), (1, -1))):
-        ang = alpha + q * 0.5 * math.pi
-        xs.append(sx * (a - c) + c * np.cos(ang))
-        ys.append(sy * (b - c) + c * np.sin(ang))
-    return np.concatenate(xs, axis=1), np.concatenate(ys, axis=1)
+    if cav.kind == "oval":
+        return _clip_oval(np.asarray(radii[0], float), np.asarray(radii[1], float), psi, d)
+    a, b, c = (np.asarray(v, float) for v in crosssection._as_rect(cav.kind, radii))
+    return _clip_rounded_rect(a, b, c, psi, d)
 
 
 def tilted_liquid(shape, volume_mm3: float, phi: float, psi: float = 0.0) -> tuple[float, float, float]:

@@ -26,6 +26,7 @@ from .. import limits as L
 from ..color import linear_to_srgb, srgb_to_linear
 from ..errors import GlassbenchError, InputFileError, bounded, shown
 from ..io.bytes_file import bytes_as_file
+from ..io.quiet import captured_stderr
 from ..io.read import read_bounded
 
 #: Leading bytes of the formats artwork may have, and the extension OpenImageIO is told.
@@ -148,10 +149,13 @@ class _Decoded:
 
 
 def _with_file(data, ext: str, fn):
-    # OpenImageIO's Python binding reads files only: one private temporary file per decode.
+    # OpenImageIO's Python binding reads files only: one private temporary file per decode;
+    # libpng and libtiff print on stderr by themselves, so their words are caught (kept only
+    # when the decode fails, inside the one-line error).
     with bytes_as_file(data, ext, "image") as path:
         try:
-            return fn(path)
+            with captured_stderr():
+                return fn(path)
         except ArtworkError as exc:  # the temporary's path means nothing to the user
             raise ArtworkError(str(exc).replace(f' ("{path}")', "").replace(path, "the file")) from None
 

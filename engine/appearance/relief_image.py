@@ -18,6 +18,7 @@ from collections import OrderedDict
 import numpy as np
 
 from ..errors import ProjectError, shown
+from ..io.quiet import captured_stderr
 from ..limits import MAX_RELIEF_TEXELS, RELIEF_SIDE_RANGE
 
 HEIGHT_KINDS = ("height_map", "emboss")
@@ -48,7 +49,8 @@ def read_relief_pixels(name: str, data: bytes) -> np.ndarray:
         raise ReliefImageError(f"{label} is {w} x {h} texels; relief images have {lo} to {hi} "
                                f"a side and at most {MAX_RELIEF_TEXELS} texels (2048 x 2048)")
     try:
-        img.load()
+        with captured_stderr():  # why: Pillow's libtiff prints its read errors on stderr itself
+            img.load()
         mode = img.mode
         if mode == "F":
             grey = np.asarray(img, dtype=np.float32)

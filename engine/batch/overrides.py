@@ -157,9 +157,9 @@ def _read_artwork(path, fail):
             break
     else:
         raise fail(f"{path} is not a PNG, JPEG, TIFF or EXR image")
-    from ..appearance.images import ArtworkError, probe_image
-    try:  # the header: size, and a file OpenImageIO can open (nothing decoded yet)
-        probe_image(data, os.path.basename(path))
+    from ..appearance.images import ArtworkError, decode_image
+    try:  # decoded in full (the size from the header first): a damaged body or NaN stops here
+        decode_image(data, os.path.basename(path))
     except ArtworkError as exc:
         raise fail(str(exc)) from None
     return data, ext

@@ -1,4 +1,5 @@
-"""Strict, bounded reading of ``project.json`` text: UTF-8, finite numbers, bounded nesting.
+"""Strict, bounded reading of ``project.json`` text: UTF-8, finite numbers, bounded nesting,
+each key once per object.
 
 Design rule: every scan of untrusted text is linear in its length whatever the bytes, so no
 file can hang the loader. The nesting depth is measured before the parser runs, without any
@@ -62,8 +63,18 @@ def parse_json(raw: bytes, max_depth: int) -> object:
 
     def no_constants(name):
         raise ProjectError(f"{MEMBER} contains {name}; only finite numbers are allowed")
+
+    def unique_keys(pairs):
+        # why: JSON leaves duplicate names undefined; Python keeps the last, another reader the
+        # first, so a file saying format_version 1 then 7 would mean two things. Refuse it.
+        out = dict(pairs)
+        if len(out) != len(pairs):
+            seen = set()
+            dup = next(k for k, _ in pairs if k in seen or seen.add(k))
+            raise ProjectError(f"{MEMBER} names {dup!r} twice in one object; a key may appear once")
+        return out
     try:
-        return json.loads(text, parse_constant=no_constants)
+        return json.loads(text, parse_constant=no_constants, object_pairs_hook=unique_keys)
     except ProjectError:
         raise
     except (ValueError, RecursionError) as exc:

@@ -126,19 +126,20 @@ def new_label(design, name: str, front: LabelSide, *, aspect=None, at=None, heig
 
 
 def add_label(design, assets, front: bytes, *, name=None, filename="label", back=None, **placement) -> Edit:
-    """Add a label printed with the image bytes ``front`` (its header checked:
+    """Add a label printed with the image bytes ``front`` (decoded in full and checked:
     ``ArtworkError``), named ``name`` or after ``filename`` (made unique), on top of the others,
     sized from the artwork's aspect unless told. ``back`` is a colour (linear RGB), image bytes or
     ``None`` (white). A print on the cap without ``at`` sits half-way up the skirt, or at its
     ``cap_xy`` on the top. ``placement``: the keywords of :func:`new_label`."""
     base = name or os.path.splitext(os.path.basename(str(filename)))[0] or "label"
     name = name or unique_name(design, base)
+    images.decode_image(front, name)  # why: decoded in full where it enters (a damaged body, NaN)
     info = images.probe_image(front, name)
     front_asset = asset_name(name, "front", front, assets)
     added = {front_asset: front}
     back_side = LabelSide()
     if isinstance(back, (bytes, bytearray)):
-        images.probe_image(back, f"{name} back")
+        images.decode_image(back, f"{name} back")
         back_asset = asset_name(name, "back", back, {**assets, **added})
         added[back_asset] = bytes(back)
         back_side = LabelSide(back_asset)
@@ -178,7 +179,7 @@ def replace_label(design, i: int, label: Label, text: str, assets: Mapping | Non
 def set_face_image(design, assets, i: int, side: str, data: bytes) -> Edit:
     """Print face ``side`` (``"front"``/``"back"``) of label ``i`` with image bytes ``data``."""
     lab = design.labels[i]
-    images.probe_image(data, f"{lab.name} {side}")
+    images.decode_image(data, f"{lab.name} {side}")
     asset = asset_name(lab.name, side, data, assets)
     new = dataclasses.replace(lab, **{side: LabelSide(asset, getattr(lab, side).color)})
     return replace_label(design, i, new, f"Label {side} image", {asset: data})

@@ -3,9 +3,13 @@ its swatch, a relief image is embedded (a bad one refused), a cap is set and uns
 numbers show the closure and the overall height, and save / reopen keeps tiles, cap and images."""
 from __future__ import annotations
 
+import shutil
+import zipfile
+
 import numpy as np
 import pytest
 
+from tests.export_helpers import RESOURCES
 from tests.label_helpers import write_image
 from widgets import words
 
@@ -171,3 +175,34 @@ def test_a_thread_shows_how_it_is_drawn_and_the_choice_is_undoable(make_window):
     words.select_key(panel.add_kind, "knurl")
     panel.add_button.click()
     assert not panel.drawn_as.isEnabled() and panel.drawing.text() == ""
+
+
+def _members(path) -> dict:
+    with zipfile.ZipFile(path) as z:
+        return {n: z.read(n) for n in z.namelist()}
+
+
+@pytest.mark.parametrize("what", ["image tile", "plain tile"])
+def test_removing_a_tile_through_either_door_saves_the_same_project(make_window, tmp_path, what):
+    """``glassbench bump P remove I`` and the panel's Remove are one operation
+    (:func:`engine.operations.tiles.remove_tile`): the saved projects agree member by member, and
+    an image no tile uses any more is gone from both."""
+    from engine import cli
+    from engine.files.project import load_project
+    source = RESOURCES / "frosted_logo.glassbench"   # a frosting and an embossed logo
+    design, assets = load_project(source)
+    i = next(k for k, t in enumerate(design.bumps) if (t.asset is not None) == (what == "image tile"))
+    by_cli = tmp_path / "cli.glassbench"
+    shutil.copyfile(source, by_cli)
+    assert cli.main(["bump", str(by_cli), "remove", str(i)]) == 0
+    w = make_window(design, assets=assets)
+    w.bumps_panel.list.setCurrentRow(i)
+    w.bumps_panel.remove_button.click()
+    by_panel = tmp_path / "panel.glassbench"
+    assert w.files.save_to(by_panel)
+    cli_members, panel_members = _members(by_cli), _members(by_panel)
+    assert cli_members == panel_members
+    gone = design.bumps[i].asset
+    if gone is not None:
+        assert not any(name.endswith(gone) for name in cli_members), "the removed tile's image stays"
+    assert load_project(by_cli)[0].bumps == design.bumps[:i] + design.bumps[i + 1:]

@@ -1,18 +1,15 @@
 """Bump-tiles panel: relief bands on the glass (knurl, flutes, facets, threads, frosting, relief
 images), each with its parameters and a small live picture of its pattern.
 
-Design rule: edits become ``editor.apply(text, merge_key, bumps=...)`` (with ``assets=`` for a
-relief image), one undoable step each, checked by the engine (a relief image that cannot be
-used is refused with its message). New tiles and kind changes start from
-:func:`engine.operations.tiles.new_tile`, the numbers ``glassbench bump add`` uses;
-images go through :func:`~engine.operations.tiles.add_image_tile`, which checks them
-first. The picture is :func:`engine.tracer.swatch.swatch_rgb` of the selected tile, drawn
+Design rule: every edit is an operation of :mod:`engine.operations.tiles` (the ones
+``glassbench bump`` calls: the same numbers for a new tile, the same refusals in the same words,
+an image no tile uses leaving the project), applied as one undoable step
+(``editor.apply(text, merge_key, bumps=..., assets=...)``); a refusal shows its message. The picture is :func:`engine.tracer.swatch.swatch_rgb` of the selected tile, drawn
 again after each change of the design's tiles. A thread says how it is drawn (relief or true
 geometry, :func:`engine.appearance.bands.thread_drawings`) and why, under its choice.
 """
 from __future__ import annotations
 
-import dataclasses
 
 import numpy as np
 from PySide6.QtCore import QSignalBlocker, Qt, Signal
@@ -29,43 +26,13 @@ from engine.io.read import read_bounded
 from engine.limits import MAX_ARTWORK_BYTES
 from engine.model.design import BUMP_KINDS, BUMP_SURFACES, IMAGE_BUMPS
 from widgets import edit_fields as ef
-from engine.operations.labels import assets_in_use
 
-BUMP_WORDS = {"knurl": "Knurl", "stipple": "Stipple (dots)", "flutes": "Flutes", "facets": "Facets",
-              "diamond": "Diamond cut", "thread": "Screw thread", "frosted": "Frosted / satin",
-              "height_map": "Image: height map", "colour_code": "Image: colour code",
-              "normal_gl": "Image: normal map (OpenGL)", "normal_dx": "Image: normal map (DirectX)",
-              "emboss": "Image: embossed logo"}
+BUMP_WORDS = tiles.KIND_WORDS
 ON_WORDS = {"bottle": "Bottle", "cap": "Cap"}
 #: A thread's ``geometry`` choices as the panel names them.
 GEOMETRY_WORDS = {"auto": "Auto (by the wall)", "relief": "Relief (normal only)", "true": "True geometry"}
 #: Swatch size (px).
 SWATCH_PX = 128
-
-
-def default_band(design, kind: str) -> tuple[float, float]:
-    """Where a new tile of ``kind`` goes (mm): a thread on the finish, frosting over the body,
-    a logo at mid-height, other patterns on the heel."""
-    top = float(design.shape.z_top)
-    if kind == "thread":
-        return round(top - 14.0, 1), round(top - 3.0, 1)
-    if kind == "frosted":
-        return round(0.05 * top, 1), round(0.6 * top, 1)
-    if kind in IMAGE_BUMPS:
-        return round(0.3 * top, 1), round(0.45 * top, 1)
-    return 2.0, round(min(12.0, 0.2 * top), 1)
-
-
-def default_cap_band(design) -> tuple[float, float] | None:
-    """Where a tile moved onto the cap goes (mm above the lower edge of its straight skirt):
-    the skirt less a sixth at each end (clear of the rounded edges); ``None`` without a cap
-    or a straight skirt."""
-    from engine.appearance.bands import cap_band
-    band = cap_band(design, 0.0, 1e9) if design.cap is not None else None
-    if band is None:
-        return None
-    height = band[2] - band[1]
-    return round(height / 6.0, 1), round(5.0 * height / 6.0, 1)
 
 
 class BumpsPanel(QWidget):
@@ -205,119 +172,87 @@ class BumpsPanel(QWidget):
         self.problem.setText(text)
         self.message.emit(f"Refused: {text}")
 
-    def _apply(self, text, key, bumps, assets=None, select=None) -> bool:
+    def _apply(self, make, key=None) -> bool:
+        """Apply the :class:`~engine.operations.edit.Edit` that ``make()`` returns (``None``:
+        nothing to do) as one undoable step; an operation's refusal is shown, not raised."""
         self.problem.setText("")
-        self._select = select  # the refresh that follows shows this row
-        current = self.editor.design
-        used = assets_in_use(dataclasses.replace(current, bumps=bumps)) | set(assets or {})
-        gone = {t.asset: None for t in current.bumps if t.asset is not None and t.asset not in used}
-        ok = self.editor.apply(text, key, assets={**gone, **(assets or {})}, bumps=bumps)
+        try:
+            edit = make()
+        except (GlassbenchError, OSError, ValueError) as exc:
+            self._refuse(str(exc))
+            self.refresh(self.editor.design)
+            return False
+        if edit is None:
+            return False
+        self._select = edit.select  # the refresh that follows shows this row
+        ok = self.editor.apply(edit.text, key, assets=dict(edit.assets), bumps=edit.design.bumps)
         self._select = None
         if not ok:
             self.refresh(self.editor.design)
         return ok
 
     def _edit(self, text, key, **fields) -> bool:
-        tile = self.tile
-        if tile is None or all(getattr(tile, k) == v for k, v in fields.items()):
+        if self.tile is None:
             return False
-        new = dataclasses.replace(tile, **fields)
-        return self._apply(text, None if key is None else f"bump-{self.index}-{key}",
-                           ef.replaced(self.editor.design.bumps, self.index, new))
+        i = self.index
+        return self._apply(lambda: tiles.edit_tile(self.editor.design, i, text, **fields),
+                           None if key is None else f"bump-{i}-{key}")
 
-    def _image_tile(self, kind, z0, z1, **given):
-        """``(tile, {asset: bytes})`` of an image kind, asking for the image; ``None`` if none."""
+    def _image(self) -> tuple[str, bytes] | None:
+        """``(path, bytes)`` of a relief image the designer picks; ``None`` if none."""
         path = self.choose_image_file("Relief image")
         if not path:
             return None
         try:
-            data = read_bounded(path, MAX_ARTWORK_BYTES, "relief image")
-            tile, name = tiles.add_image_tile(self.editor.design, self.editor.scene.assets, kind,
-                                                      path, data, z0, z1, **given)
-        except (GlassbenchError, OSError, ValueError) as exc:
+            return path, read_bounded(path, MAX_ARTWORK_BYTES, "relief image")
+        except (GlassbenchError, OSError) as exc:
             self._refuse(str(exc))
             return None
-        return tile, {name: data}
 
     def add_tile(self, kind: str) -> bool:
         """Add a tile of ``kind`` on its default band (an image kind asks for its image)."""
-        design = self.editor.design
-        z0, z1 = default_band(design, kind)
-        assets = None
-        if kind in IMAGE_BUMPS:
-            made = self._image_tile(kind, z0, z1)
-            if made is None:
-                return False
-            tile, assets = made
-        else:
-            tile = tiles.new_tile(design, kind, z0, z1)
-        bumps = design.bumps + (tile,)
-        return self._apply(f"Add {BUMP_WORDS[kind].lower()}", None, bumps, assets, select=len(bumps) - 1)
+        picked = self._image() if kind in IMAGE_BUMPS else ("", None)
+        if picked is None:
+            return False
+        path, data = picked
+        return self._apply(lambda: tiles.add_tile(self.editor.design, self.editor.scene.assets, kind,
+                                                  image=data, filename=path or "relief.png"))
 
     def remove_tile(self) -> bool:
         i = self.index
-        if i < 0:
-            return False
-        bumps = ef.removed(self.editor.design.bumps, i)
-        return self._apply("Remove tile", None, bumps, select=min(i, len(bumps) - 1))
+        return i >= 0 and self._apply(lambda: tiles.remove_tile(self.editor.design, i))
 
     def set_kind(self, kind: str) -> bool:
         """Make the selected tile ``kind``, on the same band, with that kind's usual numbers."""
-        tile = self.tile
+        tile, i = self.tile, self.index
         if tile is None or kind == tile.kind:
             return False
-        given = {"angle_deg": tile.angle_deg, "inverted": tile.inverted}
-        assets = None
-        if kind in IMAGE_BUMPS and tile.asset is not None:
-            new = tiles.new_tile(self.editor.design, kind, tile.z0, tile.z1, asset=tile.asset,
-                                         name=tile.name, **given)
-        elif kind in IMAGE_BUMPS:
-            made = self._image_tile(kind, tile.z0, tile.z1, **given)
-            if made is None:
+        picked = ("", None)
+        if kind in IMAGE_BUMPS and tile.asset is None:
+            picked = self._image()
+            if picked is None:
                 self.refresh(self.editor.design)
                 return False
-            new, assets = made
-        else:
-            new = tiles.new_tile(self.editor.design, kind, tile.z0, tile.z1, **given)
-        return self._apply(f"Tile kind {BUMP_WORDS[kind].lower()}", None,
-                           ef.replaced(self.editor.design.bumps, self.index, new), assets)
+        path, data = picked
+        return self._apply(lambda: tiles.set_tile_kind(self.editor.design, self.editor.scene.assets, i, kind,
+                                                       image=data, filename=path or "relief.png"))
 
     def set_surface(self, on: str) -> bool:
         """Move the selected tile onto the glass or the cap's skirt (its default band there,
         its repeat sized for that girth); refused without a cap, or for a thread."""
-        tile = self.tile
-        if tile is None or on == tile.on:
-            return False
-        design = self.editor.design
-        if on == "cap":
-            band = default_cap_band(design)
-            if tile.kind == "thread":
-                why = "a thread belongs to the glass finish, not to the cap"
-            elif band is None:
-                why = "the design has no cap with a straight skirt: put one on in the Cap tab first"
-            else:
-                why = None
-            if why is not None:
-                self._refuse(why)
-                self.refresh(design)
-                return False
-        else:
-            band = default_band(design, tile.kind)
-        keep = {f: getattr(tile, f) for f in ("name", "asset", "angle_deg", "inverted", "depth", "width",
-                                              "sharpness", "alpha", "pitch", "width_deg")}
-        new = tiles.new_tile(design, tile.kind, *band, on=on, **keep)
-        return self._apply(f"Tile on the {on}", None, ef.replaced(design.bumps, self.index, new))
+        i = self.index
+        return i >= 0 and self._apply(lambda: tiles.set_tile_surface(self.editor.design, i, on))
 
     def choose_tile_image(self) -> bool:
-        tile = self.tile
+        tile, i = self.tile, self.index
         if tile is None or tile.kind not in IMAGE_BUMPS:
             return False
-        made = self._image_tile(tile.kind, tile.z0, tile.z1)
-        if made is None:
+        picked = self._image()
+        if picked is None:
             return False
-        new, assets = made
-        new = dataclasses.replace(tile, asset=new.asset)
-        return self._apply("Tile image", None, ef.replaced(self.editor.design.bumps, self.index, new), assets)
+        path, data = picked
+        return self._apply(lambda: tiles.set_tile_image(self.editor.design, self.editor.scene.assets, i,
+                                                        path, data))
 
     # ------------------------------------------------------------------ model → view
     def refresh(self, design, assets=None):

@@ -1,7 +1,8 @@
 """``glassbench cap`` and ``glassbench bump``: closures and bump tiles from the command line.
 
 Design rule: :mod:`engine.cli` owns the program; this module adds two subparsers and their
-handlers. Each handler loads the project, makes the one change, runs the project's own check
+handlers. Each handler loads the project, makes the one change (a tile through
+:mod:`engine.operations.tiles`, the operations the bump-tiles panel calls too), runs the project's own check
 (:func:`engine.operations.check.check_design`) and saves atomically (the previous file kept as
 ``.bak``), so a refused change leaves the file untouched. Errors reach ``engine.cli.main``,
 which prints one line and exits with status 2.
@@ -118,6 +119,7 @@ def cmd_bump(args) -> int:
             print(f"{i}: {t.name} ({t.kind}) z {t.z0:g}..{t.z1:g} mm{where}, x{t.repeat}, "
                   f"depth {t.depth:g} mm{how}")
         return 0
+    from ..operations import tiles
     if args.action == "remove":
         try:
             index = int(args.what)
@@ -125,32 +127,21 @@ def cmd_bump(args) -> int:
             raise CliError(f"bump remove needs a tile index, got {shown(args.what)}") from None
         if not 0 <= index < len(design.bumps):
             raise CliError(f"the project has no bump tile {index} (it has {len(design.bumps)})")
-        bumps = design.bumps[:index] + design.bumps[index + 1:]
-        _save(args.project, dataclasses.replace(design, bumps=bumps), assets)
-        print(f"wrote {args.project}: {len(bumps)} bump tile(s)")
+        edit = tiles.remove_tile(design, index)
+        _save(args.project, edit.design, edit.assets_after(assets))
+        print(f"wrote {args.project}: {len(edit.design.bumps)} bump tile(s)")
         return 0
-    tile, assets = _new_tile(args, design, dict(assets), CliError)
-    _save(args.project, dataclasses.replace(design, bumps=design.bumps + (tile,)), assets)
+    edit = _add_tile(args, design, assets, CliError)
+    _save(args.project, edit.design, edit.assets_after(assets))
+    tile = edit.design.bumps[-1]
     where = " above the lower edge of the cap's skirt" if tile.on == "cap" else ""
     print(f"wrote {args.project}: added {tile.name} ({tile.kind}) on z {tile.z0:g}..{tile.z1:g} mm{where}")
     return 0
 
 
-def _check_cap_band(design, kind: str, z0: float, z1: float, CliError) -> None:
-    """Refuse a tile on the cap that could not be drawn: no cap, a thread, a band off the skirt."""
-    from ..appearance.cap_surfaces import cap_surface
-    if kind == "thread":
-        raise CliError("a thread belongs to the glass finish, not to the cap (drop --on cap)")
-    if design.cap is None:
-        raise CliError("the design has no cap: put one on first (glassbench cap PROJECT set KIND)")
-    skirt = cap_surface(design, "cap-skirt", "the tile")
-    if not (z1 > 0.0 and z0 < skirt.height_mm):
-        raise CliError(f"heights {z0:g}..{z1:g} mm above the lower edge of the cap's skirt miss it "
-                       f"(its straight skirt is {skirt.height_mm:.1f} mm tall)")
-
-
-def _new_tile(args, design, assets, CliError):
-    from ..operations.tiles import add_image_tile, new_tile
+def _add_tile(args, design, assets, CliError):
+    """The :func:`engine.operations.tiles.add_tile` edit the arguments ask for."""
+    from ..operations.tiles import add_tile
     what = args.what or ""
     if args.z0 is None or args.z1 is None:
         raise CliError("bump add needs the band's heights: --z0 MM --z1 MM")
@@ -166,15 +157,12 @@ def _new_tile(args, design, assets, CliError):
     given = dict(repeat=args.repeat, depth=args.depth, alpha=args.alpha, angle_deg=args.angle,
                  width_deg=args.width_deg, pitch=args.pitch, name=args.name,
                  inverted=True if args.inverted else None, on=args.on)
-    if args.on == "cap":
-        _check_cap_band(design, what, args.z0, args.z1, CliError)
+    given = {k: v for k, v in given.items() if v is not None}
     if what.startswith("image:"):
         path = what[len("image:"):]
         data = read_bounded(path, MAX_ARTWORK_BYTES, "relief image")
-        tile, name = add_image_tile(design, assets, MAP_MODES[args.map], path, data, args.z0,
-                                    args.z1, **given)
-        assets[name] = data
-        return tile, assets
+        return add_tile(design, assets, MAP_MODES[args.map], args.z0, args.z1, image=data,
+                        filename=path, **given)
     procedural = tuple(k for k in BUMP_KINDS if k not in MAP_MODES.values())
     if what not in procedural:
         raise CliError(f"bump add KIND: {shown(what)} is not one of {', '.join(procedural)} "
@@ -185,4 +173,4 @@ def _new_tile(args, design, assets, CliError):
         if what != "thread":
             raise CliError(f"--geometry is for threads only, not {shown(what)}")
         given["geometry"] = args.geometry
-    return new_tile(design, what, args.z0, args.z1, **given), assets
+    return add_tile(design, assets, what, args.z0, args.z1, **given)

@@ -1,7 +1,7 @@
 """The named operations on a design's labels: one door for the command line, the panel and batches.
 
 Design rule: each operation takes the current ``Design`` (and the project's assets where images
-are named) and returns an :class:`Edit`: the new design, the assets it adds or replaces (bytes)
+are named) and returns an :class:`~engine.operations.edit.Edit`: the new design, the assets it adds or replaces (bytes)
 or lets go (``None``: no longer used by anything), the words an undo stack shows, and the label
 to select. Nothing is saved or applied here and nothing is checked beyond what the operation
 itself needs: the caller applies the edit (the window's undoable
@@ -14,38 +14,14 @@ import dataclasses
 import math
 import os
 import re
-from dataclasses import dataclass, field
 from typing import Mapping
 
 from ..appearance import images, presets
 from ..appearance.cap_surfaces import cap_surface
 from ..appearance.frame import Placement, label_frame
 from ..errors import DesignError, GlassbenchError, shown
-from ..model.design import Design, Label, LabelSide
-
-
-@dataclass(frozen=True)
-class Edit:
-    """What an operation did (module rule). ``assets`` maps names to new bytes, or to ``None``
-    for an asset the design no longer uses; ``select`` is the label (or region) to show."""
-
-    design: Design
-    text: str
-    assets: Mapping[str, bytes | None] = field(default_factory=dict)
-    select: int | None = None
-
-    def assets_after(self, assets: Mapping[str, bytes]) -> dict:
-        """The project's assets once the edit is applied to ``assets``."""
-        out = {k: v for k, v in assets.items() if self.assets.get(k, v) is not None}
-        out.update({k: v for k, v in self.assets.items() if v is not None})
-        return out
-
-
-def assets_in_use(design) -> set:
-    """Every asset name ``design`` refers to (environment, labels, bump tiles)."""
-    names = {design.environment.asset} | {t.asset for t in design.bumps}
-    names |= {n for lab in design.labels for n in lab.asset_names()}
-    return {n for n in names if n is not None}
+from ..model.design import Label, LabelSide
+from .edit import Edit, assets_in_use  # noqa: F401  (Edit is this module's result type)
 
 
 def asset_name(name: str, role: str, data, taken) -> str:

@@ -206,3 +206,22 @@ def test_removing_a_tile_through_either_door_saves_the_same_project(make_window,
     if gone is not None:
         assert not any(name.endswith(gone) for name in cli_members), "the removed tile's image stays"
     assert load_project(by_cli)[0].bumps == design.bumps[:i] + design.bumps[i + 1:]
+
+
+def test_a_closure_set_through_either_door_saves_the_same_project(make_window, tmp_path):
+    """``glassbench cap P set crown --count 21`` and the Cap panel (kind, then count) are the
+    operations of :mod:`engine.operations.closure`: the same project, member by member."""
+    from engine import cli
+    from engine.files.project import load_project
+    source = RESOURCES / "bordeaux.glassbench"
+    by_cli = tmp_path / "cli.glassbench"
+    shutil.copyfile(source, by_cli)
+    assert cli.main(["cap", str(by_cli), "set", "crown", "--count", "21"]) == 0
+    design, assets = load_project(source)
+    w = make_window(design, assets=assets)
+    words.select_key(w.cap_panel.kind, "crown")
+    w.cap_panel.count.setValue(21)
+    by_panel = tmp_path / "panel.glassbench"
+    assert w.files.save_to(by_panel)
+    assert _members(by_cli) == _members(by_panel)
+    assert load_project(by_cli)[0].cap.count == 21

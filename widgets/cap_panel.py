@@ -1,28 +1,25 @@
 """Cap panel: the closure on the finish (none, screw, crown, cork, roll-on, lug), its material,
 colour, height, count of ridges/flutes/lugs and a cork's capsule.
 
-Design rule: edits become ``editor.apply(text, merge_key, cap=...)``, one undoable step each,
-checked by the engine (a closure that cannot fit the finish is refused with its message). A
-kind chosen afresh starts from :func:`engine.appearance.closure_shapes.default_cap` (the
-material and colour of its trade, standard sizes), as ``glassbench cap set`` does. The cap's
+Design rule: every edit is an operation of :mod:`engine.operations.closure` (the ones
+``glassbench cap set`` calls: a kind chosen afresh starts from its trade's material, colour and
+standard sizes), applied as one undoable step (``editor.apply(text, merge_key, cap=...)``) and
+checked by the engine (a closure that cannot fit the finish is refused with its message). The cap's
 sizes follow the neck (:func:`engine.appearance.closures.closure_geometry`); the panel shows
 the closure's size and the overall height, and the Design panel's trade numbers show them too.
 """
 from __future__ import annotations
 
-import dataclasses
-
 from PySide6.QtCore import QSignalBlocker
 from PySide6.QtWidgets import QCheckBox, QComboBox, QLabel, QWidget
 
-from engine.appearance.closure_shapes import default_cap
+from engine.operations import closure
 from engine.appearance.closures import closure_trade
 from engine.errors import GlassbenchError
 from engine.model.design import CAP_KINDS, CAP_MATERIALS
 from widgets import edit_fields as ef
 
-CAP_WORDS = {"none": "None", "screw": "Screw cap (knurled skirt)", "crown": "Crown cap",
-             "cork": "Cork", "ropp": "Roll-on screwcap (ROPP)", "lug": "Lug (twist-off) cap"}
+CAP_WORDS = closure.CAP_WORDS
 MATERIAL_WORDS = {"metal": "Metal (lacquered aluminium)", "plastic": "Plastic"}
 
 
@@ -70,22 +67,21 @@ class CapPanel(QWidget):
         return ef.ask_linear_color(self, initial_linear, title)
 
     def set_kind(self, kind: str) -> bool:
-        cap = self.editor.design.cap
-        if kind == (cap.kind if cap is not None else "none"):
-            return False
-        if kind == "none":
-            ok = self.editor.apply("Remove the closure", None, cap=None)
-        else:
-            ok = self.editor.apply(f"Closure {CAP_WORDS[kind].lower()}", None, cap=default_cap(kind))
-        if not ok:
-            self.refresh(self.editor.design)
-        return ok
+        return self._apply(lambda: closure.set_cap(self.editor.design, kind))
 
     def _edit(self, text, key, **fields) -> bool:
-        cap = self.editor.design.cap
-        if cap is None:
-            return False
-        ok = self.editor.apply(text, key, cap=dataclasses.replace(cap, **fields))
+        return self._apply(lambda: closure.edit_cap(self.editor.design, text, **fields), key)
+
+    def _apply(self, make, key=None) -> bool:
+        """Apply the operation's :class:`~engine.operations.edit.Edit` as one undoable step
+        (``None``: nothing to do); a refusal shows the model again, not what was asked for."""
+        try:
+            edit = make()
+        except (GlassbenchError, ValueError) as exc:
+            self.editor.refused.emit(str(exc))  # the same path as the editor's own refusals
+            edit, ok = None, False
+        else:
+            ok = edit is not None and self.editor.apply(edit.text, key, cap=edit.design.cap)
         if not ok:
             self.refresh(self.editor.design)
         return ok

@@ -9,8 +9,6 @@ which prints one line and exits with status 2.
 """
 from __future__ import annotations
 
-import dataclasses
-
 from ..color import hex_to_linear
 from ..errors import shown
 from ..io.read import read_bounded
@@ -75,28 +73,19 @@ def _save(path, design, assets) -> None:
 
 def cmd_cap(args) -> int:
     """``cap PROJECT set KIND [--colour HEX] [--material M] [--height MM] [--count N]``."""
-    from ..files.project import load_project
-    from ..appearance.closure_shapes import default_cap
     from ..appearance.closures import closure_trade
+    from ..files.project import load_project
+    from ..operations.closure import set_cap
     design, assets = load_project(args.project)
-    if args.kind == "none":
-        _save(args.project, dataclasses.replace(design, cap=None), assets)
+    changes = {"material": args.material, "height": args.height, "count": args.count,
+               "capsule": False if args.no_capsule else None,
+               "color": None if args.colour is None else srgb_hex_to_linear(args.colour)}
+    edit = set_cap(design, args.kind, **changes)
+    new = design if edit is None else edit.design
+    _save(args.project, new, assets)
+    if new.cap is None:
         print(f"wrote {args.project}: no closure")
         return 0
-    cap = default_cap(args.kind)
-    changes = {}
-    if args.colour is not None:
-        changes["color"] = srgb_hex_to_linear(args.colour)
-    if args.material is not None:
-        changes["material"] = args.material
-    if args.height is not None:
-        changes["height"] = args.height
-    if args.count is not None:
-        changes["count"] = args.count
-    if args.no_capsule:
-        changes["capsule"] = False
-    new = dataclasses.replace(design, cap=dataclasses.replace(cap, **changes))
-    _save(args.project, new, assets)
     info, overall = closure_trade(new)
     print(f"wrote {args.project}: {info['kind']} closure {info['diameter_mm']:.1f} mm across, "
           f"{info['height_mm']:.1f} mm high; overall height {overall:.1f} mm")

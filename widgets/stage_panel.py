@@ -1,8 +1,9 @@
 """Stage panel: what the bottle stands on (none, shadow catcher, table, glossy riser, mirror), its
 colour, a glossy riser's gloss and the backdrop sweep of a table or riser.
 
-Design rule: as the other panels, each edit becomes ``editor.apply(text, merge_key, stage=...)``,
-one undoable step checked by the engine, and the panel follows the scene for ``design.stage``
+Design rule: as the other panels, each edit is the engine's operation
+(:func:`engine.operations.stage.set_stage`, which ``glassbench stage`` and batches call too)
+applied as ``editor.apply(text, merge_key, stage=...)``, one undoable step checked by the engine, and the panel follows the scene for ``design.stage``
 itself (:func:`widgets.edit_fields.follow`), so an undo or an edit from elsewhere shows here.
 Which controls a kind uses is the engine's (:data:`engine.operations.stage.STAGE_USES`, as
 ``glassbench stage`` and the batch override refuse the rest): the others are greyed out and
@@ -11,13 +12,12 @@ keep their values. The model's colour is linear RGB; the button shows and the di
 """
 from __future__ import annotations
 
-import dataclasses
-
 from PySide6.QtCore import QSignalBlocker
 from PySide6.QtWidgets import QCheckBox, QComboBox, QWidget
 
 from engine.model.design import STAGE_KINDS
-from engine.operations.stage import STAGE_USES
+from engine.errors import GlassbenchError
+from engine.operations.stage import STAGE_USES, set_stage
 from widgets import edit_fields as ef, words
 
 
@@ -79,8 +79,16 @@ class StagePanel(QWidget):
             self.set_color(rgb)
 
     def _edit(self, text, key, **fields) -> bool:
-        ok = self.editor.apply(text, key, stage=dataclasses.replace(self.editor.design.stage, **fields))
-        if not ok:  # a refused edit: show the model again, not what was asked for
+        """One undoable step of :func:`engine.operations.stage.set_stage` (the operation the
+        command line and batches use); a refused edit shows the model again."""
+        try:
+            edit = set_stage(self.editor.design, text, **fields)
+        except (GlassbenchError, ValueError) as exc:
+            self.editor.refused.emit(str(exc))
+            edit, ok = None, False
+        else:
+            ok = edit is None or self.editor.apply(edit.text, key, stage=edit.design.stage)
+        if not ok:
             self.refresh(self.editor.design)
         return ok
 

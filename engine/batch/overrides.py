@@ -29,11 +29,11 @@ import math
 import os
 
 from ..color import hex_to_linear
-from ..errors import GlassbenchError, InputFileError
+from ..errors import DesignError, GlassbenchError, InputFileError
 from ..io.read import read_bounded
 from ..model.design import Camera, Liquid, Stage
 from ..operations.labels import set_front_artwork
-from ..operations.stage import KIND_NAMES, stage_kind, unused
+from ..operations.stage import KIND_NAMES, stage_kind, staged
 
 OVERRIDE_KEYS = ("glass_tint", "liquid_color", "fill_height_mm", "fill_ml", "empty", "labels",
                  "camera", "stage")
@@ -221,11 +221,10 @@ def stage_from_table(value, base: Stage, fail) -> Stage:
             fields["backdrop"] = v
         else:
             raise fail(f"unknown stage field {key!r}{_did_you_mean(key, STAGE_KEYS)}")
-    stage = dataclasses.replace(base, **fields)
-    for name in unused(stage.kind, fields):
-        typed = "colour" if name == "color" and "colour" in value else name
-        raise fail(f"{typed} does nothing for the stage {stage.kind!r}; leave it out or give another kind")
-    return stage
+    try:  # the stage operation every door uses: the same refusal, in the words typed here
+        return staged(base, fields, {"color": "colour"} if "colour" in value else None)
+    except DesignError as exc:
+        raise fail(str(exc)) from None
 
 
 def camera_problem(cam: Camera) -> str | None:

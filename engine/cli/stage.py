@@ -10,12 +10,11 @@ are typed and shown in sRGB hex; the model keeps them linear (:mod:`engine.color
 from __future__ import annotations
 
 import argparse
-import dataclasses
 
 from ..color import linear_to_hex
 from ..errors import CliError, shown
 from ..limits import check_range
-from ..operations.stage import KIND_NAMES, STAGE_USES, stage_kind, unused
+from ..operations.stage import KIND_NAMES, STAGE_USES, set_stage, stage_kind
 from .finishes import _save, srgb_hex_to_linear
 
 #: The option that sets each ``Stage`` field (for the messages).
@@ -69,16 +68,14 @@ def cmd_stage(args) -> int:
         return 0
     if args.kind is None:
         raise CliError(f"stage set needs a KIND: {KIND_NAMES}")
-    kind = stage_kind(args.kind)
-    if kind is None:
+    if stage_kind(args.kind) is None:
         raise CliError(f"stage set KIND: {shown(args.kind)} is not one of {KIND_NAMES}")
     if "color" in given:
         given["color"] = srgb_hex_to_linear(given["color"])
     if "gloss" in given:
         check_range("--gloss", given["gloss"], (0.0, 1.0))
-    for name in unused(kind, given):
-        raise CliError(f"{OPTIONS[name]} does nothing for the stage {shown(kind)}; leave it out")
-    stage = dataclasses.replace(design.stage, kind=kind, **given)
-    _save(args.project, dataclasses.replace(design, stage=stage), assets)
-    print(f"wrote {args.project}: stage {describe(stage)}")
+    edit = set_stage(design, typed=OPTIONS, kind=args.kind, **given)
+    new = design if edit is None else edit.design
+    _save(args.project, new, assets)
+    print(f"wrote {args.project}: stage {describe(new.stage)}")
     return 0

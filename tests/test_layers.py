@@ -83,7 +83,7 @@ LAYERS = (
     ("engine.geometry",),
     ("engine.intersect", "engine.model"),
     ("engine.appearance",),
-    ("engine.operations",),
+    ("engine.operations", "engine.plant"),
     ("engine.files", "engine.tracer"),
     ("engine.batch", "engine.export"),
     ("engine.cli",),

@@ -1,9 +1,11 @@
-"""One door from the window to the engine: every engine call the GUI makes goes through here.
+"""The window's calls into the engine that need a translation or a worker thread.
 
-Design rule: the window and its controllers call the engine only through these few functions,
-which turn engine results into what the GUI shows (a dict of trade numbers with ``None`` where a
+Design rule: the window and its controllers reach the engine's numbers, meshes, files and
+exports through these functions, which turn engine results into what the GUI shows (a dict of trade numbers with ``None`` where a
 number cannot be computed, wireframe edges, a design from a DXF file). Nothing here imports Qt,
-so controllers call it from worker threads.
+so controllers call it from worker threads. It is not the only door: panels import the
+engine's model values and named operations directly (``engine.operations``), which is the rule
+there, since an edit is an engine operation the panel applies.
 """
 from __future__ import annotations
 

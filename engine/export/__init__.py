@@ -1,4 +1,5 @@
-"""Handing a design on to people who do not run glassbench: CAD solids, a glTF scene, a review page.
+"""Handing a design on to people who do not run glassbench: CAD solids, a glTF scene, a review
+page, the glass plant's drawing.
 
 Design rule: every export here is a pure function of a :class:`~engine.model.design.Design`
 (and its assets) that writes through :func:`engine.io.atomic.replacing`, reads what it wrote
@@ -22,6 +23,12 @@ module              holds
 ``gltf_labels``     label and print sheets: meshes over the surface, textures with alpha
 ``share``           the self-contained review page folder
 ``web``             where the Node packages are and how to run the glTF validator
-``commands``        ``glassbench export-cad / export-scene / share``
+``drawing``         the glass plant's drawing: layout of views, dimensions, table, notes
+``drawing_views``   the views' curves at true size and the figures they are dimensioned by
+``drawing_table``   the table, the notes and the title block, in words
+``drawing_page``    one page as data: model and paper coordinates, dimensions, texts
+``drawing_write``   the page written as PDF, SVG (matplotlib) or DXF (ezdxf)
 ==================  ===================================================================
+
+The command line's side of these is :mod:`engine.cli.export`.
 """

@@ -1,4 +1,6 @@
-"""The progressive glass tracer: render geometry, Whitted wavefront integrator, tiled jobs.
+"""The progressive glass tracer: render geometry, the whole reflection/refraction tree of each
+camera sample (Whitted-style: every Fresnel branch followed, depth first with a bounded stack),
+tiled jobs.
 
 Public entry points: :class:`engine.tracer.job.RenderJob`, :func:`engine.tracer.job.render_image`,
 :func:`engine.tracer.job.tonemap_srgb8` and :func:`engine.cli.render.render_command`.

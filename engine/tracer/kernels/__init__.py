@@ -4,11 +4,13 @@ Design rule: everything a ray does between leaving the camera and reaching the f
 here, in compiled code that releases the GIL, so worker threads scale with cores. Kernels see
 the scene only as the flat arrays of :mod:`engine.tracer.render_objects` and keep no state:
 scratch space comes from the caller, so memory per worker is fixed by the tree depth, never by
-the scene. Layers, as in pbrt: ``roots`` / ``revolved`` / ``swept`` / ``planes`` (exact
-intersectors per surface kind) -> ``intersect`` (nearest hit over the render objects, the
-surface-interaction record) -> ``materials`` (what a hit does to a branch) -> ``integrator``
-(the reflection/refraction tree of one camera sample) -> ``tile`` (samples of many pixels into
-film buffers).
+the scene. Layers, as in pbrt: ``roots`` / ``revolved`` / ``swept`` / ``helix`` (exact
+intersectors per surface kind; the ground plane and the backdrop sweep are in ``intersect``)
+-> ``intersect`` (nearest hit over the render objects, the surface-interaction record of
+``records``) -> ``surface`` (what a hit does to a branch: the ``materials``, with ``labels``,
+``finish`` and ``bumps`` over them; ``ground``, ``backdrop``, ``sky`` and ``caustics`` for the
+stage) -> ``integrator`` (the reflection/refraction tree of one camera sample) -> ``tile``
+(samples of many pixels into ``film`` buffers).
 """
 import hashlib as _hashlib
 import os as _os

@@ -17,7 +17,7 @@ BACKDROP           the stage's backdrop sweep behind the bottle: the ground's ba
                    a curved surface; black from behind (:mod:`engine.tracer.kernels.backdrop`)
 =================  =========================================================================
 
-Paper labels are a decal over another material (:mod:`~engine.tracer.kernels.appearance`).
+Paper labels are a decal over another material (:mod:`~engine.tracer.kernels.labels`).
 Branches that need random numbers draw them from the branch's own seed
 (:func:`~engine.tracer.kernels.sampling.uniform01`), so the image stays deterministic.
 """
@@ -33,7 +33,7 @@ SMOOTH_DIELECTRIC, CONDUCTOR, PLASTIC, GROUND, BACKDROP = 0, 1, 2, 3, 4
 MAX_CHILDREN = 4
 # kids columns: direction, RGB weight factor, medium side (0: incident side, 1: transmitted)
 KD_X, KD_Y, KD_Z, KW_R, KW_G, KW_B, K_SIDE = range(7)
-KID_COLS = 8
+KID_COLS = K_SIDE + 1
 # mat_i columns
 M_KIND = 0
 # mat_f columns: CONDUCTOR n (rgb), k (rgb), tint (rgb); PLASTIC albedo (rgb), coat ior

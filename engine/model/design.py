@@ -321,6 +321,13 @@ class Stage:
     z_mm: float = -0.05
 
     @property
+    def is_diffuse_ground(self) -> bool:
+        """Whether the stage is a diffuse ground (a shadow catcher, a table, a glossy riser's
+        base) that the sky and the lights light, so its grids and caustics are worked out; the
+        mirror and no stage have none."""
+        return self.kind not in ("none", "mirror")
+
+    @property
     def draws_backdrop(self) -> bool:
         """Whether this stage draws its backdrop sweep (on, and a kind of :data:`BACKDROP_KINDS`)."""
         return bool(self.backdrop) and self.kind in BACKDROP_KINDS

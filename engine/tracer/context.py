@@ -112,9 +112,9 @@ class RenderContext:
         params = environment_params(design, env, factor)
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
         labels = label_arrays(design, assets, tex, geom.obj_i.shape[0])
-        if grids is not False and finish.lights.shape[0] and design.stage.kind not in ("none", "mirror"):
+        if grids is not False and finish.lights.shape[0] and design.stage.is_diffuse_ground:
             finish = finish._replace(**stage_caustics(design, assets, scene, labels, finish, params, half))
-        if (sky_grid_pays(w, h) if grids is None else grids) and design.stage.kind not in ("none", "mirror"):
+        if (sky_grid_pays(w, h) if grids is None else grids) and design.stage.is_diffuse_ground:
             if design.stage.draws_backdrop:  # first: the sky grid's probes that meet the sweep read it
                 finish = finish._replace(**stage_sweep(design, assets, scene, labels, finish, params, half, cancelled))
             finish = finish._replace(**stage_sky(design, assets, scene, labels, finish, params, half, cancelled))

@@ -37,7 +37,7 @@ def diffuse_ground(design) -> bool:
     """Whether ``design`` stands on a diffuse ground: the sky's light on it through the bottle
     (the sky grid, :mod:`engine.tracer.tables.sky`) depends on the labels, and no relabel
     record holds it."""
-    return design.stage.kind not in ("none", "mirror")
+    return design.stage.is_diffuse_ground
 
 
 def _keeps_film(previous, design, change: Change) -> bool:

@@ -183,7 +183,7 @@ def finish_arrays(design, assets, geom, cap: CapTables | None, scene: Scene, tex
     """The finish tables of ``design`` for the kernels (module doc); ``scene`` is the combined
     scene (bottle and cap objects), ``texels`` the environment's."""
     n_obj = scene.geom.obj_i.shape[0]
-    ground = design.stage.kind not in ("none", "mirror")  # a diffuse ground: the lights reach it
+    ground = design.stage.is_diffuse_ground  # the lights reach it
     if not design.bumps and cap is None:
         empty = empty_finish(n_obj)
         return empty._replace(lights=light_table(design.lights)) if ground else empty

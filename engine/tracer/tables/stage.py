@@ -331,7 +331,7 @@ def stage_grids_ready(design, assets, width: int, height: int) -> bool:
     it, :func:`engine.tracer.tables.sky.sky_grid_pays`): else its first image may come from a
     draft (:class:`engine.tracer.job.RenderJob`)."""
     from .sky import sky_grid_pays
-    if design.stage.kind in ("none", "mirror"):
+    if not design.stage.is_diffuse_ground:
         return True
     with _SKY_LOCK:
         key = _sky_key(design, assets)

@@ -27,7 +27,9 @@ def add_parsers(sub) -> None:
     turn.add_argument("-o", "--output", required=True, metavar="DIR", help="writes DIR/frame_0000.EXT ...")
     turn.add_argument("--width", type=int, default=None)
     turn.add_argument("--height", type=int, default=None)
-    turn.add_argument("--spp", type=int, default=None)
+    turn.add_argument("--spp", type=int, default=None, metavar="N",
+                      help="samples per edge pixel before the adaptive rounds, not per pixel: smooth pixels take one, "
+                             "pixels whose samples still scatter up to 64 x N in all (default: the project's)")
     turn.add_argument("--format", choices=FORMATS, default="png")
     turn.add_argument("--alpha", action="store_true", help="add the bottle's coverage as alpha")
     _add_cluster_options(turn)

@@ -26,7 +26,9 @@ def add_parsers(sub) -> None:
     render.add_argument("-o", "--output", required=True, metavar="OUT.png|exr|tif")
     render.add_argument("--width", type=int, default=None)
     render.add_argument("--height", type=int, default=None)
-    render.add_argument("--spp", type=int, default=None)
+    render.add_argument("--spp", type=int, default=None, metavar="N",
+                        help="samples per edge pixel before the adaptive rounds, not per pixel: smooth pixels take one, "
+                             "pixels whose samples still scatter up to 64 x N in all (default: the project's)")
     render.add_argument("--alpha", action="store_true",
                         help="add the bottle's coverage (glass and closure) as an alpha channel")
 

@@ -10,6 +10,8 @@ equals a full render. Every threshold is local to a pixel or fixed per design (t
 environment's mean radiance, never the image's), with one exception: the window's adaptive
 rounds choose their per-pixel tolerance from a short ladder by the whole image's estimated
 error (:func:`split_tolerance`), so an edit elsewhere can move a pixel's samples by a step.
+A render asks these through its :class:`SamplingPolicy` (:func:`sampling_policy`): the final
+renders' :class:`ScatterPolicy` or the window's :class:`SplitPolicy`.
 """
 from __future__ import annotations
 
@@ -284,14 +286,87 @@ def split_plan(spp: int, adaptive: bool):
     return rounds
 
 
-def rounds(spp: int, adaptive: bool, split: bool, space: str):
-    """``(plan, roulette)`` of a render: the anti-aliasing rounds (:func:`split_plan` for the
-    window's split policy, else :func:`plan` up to :data:`LINEAR_FACTOR` x spp in linear space
-    and :data:`ADAPTIVE_FACTOR` x spp in display space) and the Russian roulette weight their
-    adaptive rounds play (:data:`SPLIT_ROULETTE` or :data:`ROULETTE`)."""
-    if split:
-        return split_plan(spp, adaptive), SPLIT_ROULETTE
-    return plan(spp, adaptive, LINEAR_FACTOR if space == "linear" else ADAPTIVE_FACTOR), ROULETTE
+class SamplingPolicy:
+    """How a render's anti-aliasing rounds choose each pixel's samples: the rounds
+    ``[(samples, varied)]`` (:meth:`rounds`), each round's per-pixel targets (:meth:`targets`;
+    a uniform round gives the edge pixels ``samples``), the Russian roulette weight its varied
+    rounds play (``roulette``), and after the last round how many pixels stopped at the cap with
+    their error still above the tolerance (:meth:`capped`). A policy holds the state of one
+    render (its tolerance): make one per render (:func:`sampling_policy`)."""
+
+    roulette = ROULETTE
+    #: the per-pixel tolerance (display units) the rounds settled at; ``None`` if not tracked
+    tolerance = None
+
+    def rounds(self, spp: int, adaptive: bool) -> list:
+        raise NotImplementedError
+
+    def mark(self, film):
+        """What to remember of ``film`` before a round (the split policy: its sums)."""
+        return None
+
+    def targets(self, film, samples: int, varied: bool, edges, mark, level: float) -> np.ndarray:
+        """Samples each pixel should reach after a round of ``samples`` (``varied``: adaptive)."""
+        return np.where(edges, samples, 0)
+
+    def capped(self, film, mark) -> int:
+        return 0
+
+
+class ScatterPolicy(SamplingPolicy):
+    """Final renders and references (``"classic"``): uniform rounds, then adaptive ones giving
+    each pixel samples in proportion to its one-sample scatter (:func:`noise_targets`), up to
+    :data:`LINEAR_FACTOR` x spp in linear space or :data:`ADAPTIVE_FACTOR` x spp in display space."""
+
+    def __init__(self, noise_target: float, space: str):
+        self.noise_target, self.space = noise_target, space
+
+    def rounds(self, spp: int, adaptive: bool) -> list:
+        return plan(spp, adaptive, LINEAR_FACTOR if self.space == "linear" else ADAPTIVE_FACTOR)
+
+    def targets(self, film, samples, varied, edges, mark, level):
+        if not varied:
+            return super().targets(film, samples, varied, edges, mark, level)
+        return noise_targets(film, samples, self.noise_target, level, self.space)
+
+
+class SplitPolicy(SamplingPolicy):
+    """The window's (display space, ``"split"``): :func:`split_plan`'s rounds; a varied round
+    doubles the pixels whose split estimate (:func:`split_targets`) is above the tolerance
+    :func:`split_tolerance` chose, which only tightens from round to round."""
+
+    roulette = SPLIT_ROULETTE
+
+    def __init__(self, noise_target: float):
+        self.noise_target = noise_target
+        self._tol = np.inf
+        self._cap = 1
+
+    def rounds(self, spp: int, adaptive: bool) -> list:
+        out = split_plan(spp, adaptive)
+        self._cap = out[-1][0]
+        return out
+
+    def mark(self, film):
+        return film.mark()
+
+    def targets(self, film, samples, varied, edges, mark, level):
+        if not varied:
+            return super().targets(film, samples, varied, edges, mark, level)
+        errors = split_errors(film, mark)
+        self._tol = self.tolerance = split_tolerance(film, mark, self.noise_target, self._tol, self._cap, errors)
+        return split_targets(film, mark, samples, self._tol, errors)
+
+    def capped(self, film, mark) -> int:
+        return int(np.count_nonzero(split_unconverged(film, mark, self._tol)))
+
+
+def sampling_policy(space: str, policy: str, noise_target: float) -> SamplingPolicy:
+    """The :class:`SamplingPolicy` of a render in noise ``space`` (``"linear"``/``"display"``)
+    with ``policy`` (``"split"``: the window's, in display space; ``"classic"``)."""
+    if space == "display" and policy == "split":
+        return SplitPolicy(noise_target)
+    return ScatterPolicy(noise_target, space)
 
 
 def split_targets(film, mark, cap: int, noise_target: float, errors=None) -> np.ndarray:

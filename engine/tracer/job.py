@@ -313,28 +313,22 @@ class RenderJob:
 
                 self._wave(pool, ctx, first, measured, np.where(measured, adaptive.MEASURE_AA, 0), settle=keep_inner)
                 first += 1
-            split = self.noise_space == "display" and self.policy == "split"
-            plan, rr = adaptive.rounds(self.spp, self.adaptive, split, self.noise_space)
-            mark, tol = None, np.inf
+            policy = adaptive.sampling_policy(self.noise_space, self.policy, self.noise_target)
+            plan = policy.rounds(self.spp, self.adaptive)
+            mark = None
             for r, (target, varied) in enumerate(plan):
-                if varied and split:
-                    errors = adaptive.split_errors(film, mark)
-                    tol = self.tolerance = adaptive.split_tolerance(film, mark, self.noise_target, tol, plan[-1][0],
-                                                                    errors)
-                    want = adaptive.split_targets(film, mark, target, tol, errors)
-                elif varied:
-                    want = adaptive.noise_targets(film, target, self.noise_target, level, self.noise_space)
-                else:
-                    want = np.where(edges, target, 0)
+                want = policy.targets(film, target, varied, edges, mark, level)
+                if policy.tolerance is not None:
+                    self.tolerance = policy.tolerance
                 mask = want > film.aa_count
                 if not mask.any():
                     break
-                mark = film.mark() if split else None
-                self._wave(pool, ctx, first + r, mask, want, roulette=rr if varied else 0.0)
+                mark = policy.mark(film)
+                self._wave(pool, ctx, first + r, mask, want, roulette=policy.roulette if varied else 0.0)
                 self._set_progress(0.35 + 0.65 * (r + 1) / len(plan))
             else:  # every round ran: the last one's pixels may have stopped at the cap, not converged
-                if split and plan[-1][1]:
-                    self.capped = int(np.count_nonzero(adaptive.split_unconverged(film, mark, tol)))
+                if plan[-1][1]:
+                    self.capped = policy.capped(film, mark)
 
     def _wave(self, pool, ctx, wave, mask, want, preview=None, roulette=0.0, settle=None) -> None:
         """Trace the pixels of ``mask``: their centres (``want`` None) or anti-aliasing samples

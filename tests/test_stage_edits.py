@@ -12,7 +12,7 @@ from engine.model.changes import Change
 from engine.model.design import BACKDROP_KINDS, STAGE_KINDS, Stage
 from engine.model.scene import Scene
 from engine.operations.stage import KIND_NAMES, STAGE_USES, stage_kind, unused
-from engine.tracer.reuse import KEEP_FILM, reuse_of
+from engine.tracer.reuse import FULL_RENDER, KEEP_FILM, reuse_of
 from tests.test_tracer import simple_design
 
 
@@ -64,14 +64,14 @@ def test_reuse_keeps_the_film_for_the_notes_and_not_for_the_glass():
     previous = _finished_job(design)
     assert reuse_of(previous, dataclasses.replace(design, notes="n"), {}, "sampling", Change({"notes"})) == KEEP_FILM
     glass = dataclasses.replace(design, glass=dataclasses.replace(design.glass, ior=1.6))
-    assert reuse_of(previous, glass, {}, "sampling", Change({"glass"})) is None
+    assert reuse_of(previous, glass, {}, "sampling", Change({"glass"})) is FULL_RENDER
 
 
 def test_a_stage_edit_needs_a_full_render():
     design = simple_design()
     previous = _finished_job(design)
     staged = dataclasses.replace(design, stage=Stage(kind="table"))
-    assert reuse_of(previous, staged, {}, "sampling", Change({"stage"})) is None
+    assert reuse_of(previous, staged, {}, "sampling", Change({"stage"})) is FULL_RENDER
 
 
 def test_with_a_lit_ground_a_label_or_light_edit_renders_again_instead_of_relabelling():
@@ -81,4 +81,4 @@ def test_with_a_lit_ground_a_label_or_light_edit_renders_again_instead_of_relabe
     design = dataclasses.replace(simple_design(), stage=Stage(kind="table"), lights=(Light(),))
     previous = _finished_job(design)
     brighter = dataclasses.replace(design, lights=(Light(intensity=2.0),))
-    assert reuse_of(previous, brighter, {}, "sampling", Change({"lights"})) is None
+    assert reuse_of(previous, brighter, {}, "sampling", Change({"lights"})) is FULL_RENDER

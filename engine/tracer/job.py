@@ -36,7 +36,7 @@ from ..color import tonemap_srgb8  # noqa: F401 - the encoding the callers of a 
 from .context import RenderContext, TraceStats, trace_pixels
 from .film import Film
 from .relabel import LabelRecorder, RelabelPlan, replay
-from .reuse import KEEP_FILM, VISUAL_FIELDS, reuse_of  # noqa: F401 - VISUAL_FIELDS for callers
+from .reuse import VISUAL_FIELDS, reuse_of  # noqa: F401 - VISUAL_FIELDS for callers
 from .scheduler import TileScheduler
 from .tables.sky import GridCancelled
 from .tables.stage import stage_grids_ready
@@ -236,17 +236,7 @@ class RenderJob:
     def _run(self) -> None:
         try:
             prev, self._previous = self._previous, None  # (a chain of jobs must not keep every film alive)
-            reuse = reuse_of(prev, self.design, self.assets, self.sampling(), self._changed)
-            if reuse == KEEP_FILM:  # the same film: its scene and records describe it, for the next job
-                self.film, self.stats, self.context, self.records = prev.film, prev.stats, prev.context, prev.records
-                self.capped, self.tolerance = prev.capped, prev.tolerance
-            elif isinstance(reuse, RelabelPlan):
-                self._plan = reuse
-                self.relabelled_pixels = int(np.count_nonzero(reuse.trace))
-                self.recoloured_pixels = int(np.count_nonzero(reuse.recolour))
-                self._render(reuse.context)
-            else:
-                self._render()
+            reuse_of(prev, self.design, self.assets, self.sampling(), self._changed).run(self, prev)
         except GridCancelled:  # the ground's grids stopped building because the job was cancelled
             self.cancel()
         except BaseException as exc:  # reported, never swallowed
@@ -329,6 +319,19 @@ class RenderJob:
             else:  # every round ran: the last one's pixels may have stopped at the cap, not converged
                 if plan[-1][1]:
                     self.capped = policy.capped(film, mark)
+
+    def adopt(self, previous) -> None:
+        """Take ``previous``'s film as this job's (:data:`~engine.tracer.reuse.KEEP_FILM`): its
+        scene and records describe it, for the next job."""
+        self.film, self.stats, self.context, self.records = previous.film, previous.stats, previous.context, previous.records
+        self.capped, self.tolerance = previous.capped, previous.tolerance
+
+    def relabel(self, plan: RelabelPlan) -> None:
+        """Render by replaying the previous film and tracing ``plan``'s pixels again."""
+        self._plan = plan
+        self.relabelled_pixels = int(np.count_nonzero(plan.trace))
+        self.recoloured_pixels = int(np.count_nonzero(plan.recolour))
+        self._render(plan.context)
 
     def _wave(self, pool, ctx, wave, mask, want, preview=None, roulette=0.0, settle=None) -> None:
         """Trace the pixels of ``mask``: their centres (``want`` None) or anti-aliasing samples

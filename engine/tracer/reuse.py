@@ -2,9 +2,9 @@
 
 Design rule: a job is handed the job it replaces and the :class:`~engine.model.changes.Change`
 the scene announced since (unioned over the edits in between); :func:`reuse_of` reads it once
-and names the strategy: keep the whole film (nothing the image shows changed: a name, the
-notes), relabel (:mod:`engine.tracer.relabel`: only labels, lights or their images), or none (a
-full render). Either strategy needs the previous job finished, without error, at the same size
+and returns the strategy, a small object whose ``run(job, previous)`` does it: :data:`KEEP_FILM`
+(nothing the image shows changed: a name, the notes), a :class:`Relabel` (:mod:`engine.tracer.relabel`:
+only labels, lights or their images), or :data:`FULL_RENDER`. Either strategy needs the previous job finished, without error, at the same size
 and sampling: two jobs with equal :meth:`~engine.tracer.job.RenderJob.sampling` of the same
 design trace the same samples.
 """
@@ -16,8 +16,41 @@ from .relabel import RelabelPlan, plan_relabel
 #: Design fields the image depends on (an edit of any other field keeps the film).
 VISUAL_FIELDS = frozenset({"shape", "glass", "liquid", "camera", "environment", "render", "assets",
                            "labels", "lights", "bumps", "cap", "stage"})
-#: The strategy of a job whose film is the previous job's.
-KEEP_FILM = "keep film"
+
+
+class FullRender:
+    """Render everything (the job's own waves)."""
+
+    def run(self, job, previous) -> None:
+        job._render()
+
+    def __repr__(self) -> str:
+        return "FULL_RENDER"
+
+
+class KeepFilm:
+    """The previous job's film is this job's: its scene, records and figures describe it."""
+
+    def run(self, job, previous) -> None:
+        job.adopt(previous)
+
+    def __repr__(self) -> str:
+        return "KEEP_FILM"
+
+
+class Relabel:
+    """Trace again only the pixels a label's change reaches (``plan``: a
+    :class:`~engine.tracer.relabel.RelabelPlan`), the rest replayed from the previous film."""
+
+    def __init__(self, plan: RelabelPlan):
+        self.plan = plan
+
+    def run(self, job, previous) -> None:
+        job.relabel(self.plan)
+
+
+#: The strategies without state.
+FULL_RENDER, KEEP_FILM = FullRender(), KeepFilm()
 
 
 def lights_shade(design) -> bool:
@@ -49,19 +82,20 @@ def _keeps_film(previous, design, change: Change) -> bool:
     return not visual
 
 
-def reuse_of(previous, design, assets, sampling, changed) -> str | RelabelPlan | None:
-    """:data:`KEEP_FILM`, a :class:`~engine.tracer.relabel.RelabelPlan`, or ``None`` (a full
-    render) for a job rendering ``design`` with ``assets`` at ``sampling`` after job
-    ``previous``, ``changed`` the fields (a :class:`Change`, or names) changed since."""
+def reuse_of(previous, design, assets, sampling, changed):
+    """The strategy (:data:`KEEP_FILM`, a :class:`Relabel` or :data:`FULL_RENDER`) of a job
+    rendering ``design`` with ``assets`` at ``sampling`` after job ``previous``, ``changed`` the
+    fields (a :class:`Change`, or names) changed since."""
     if previous is None or changed is None:
-        return None
+        return FULL_RENDER
     if not (previous.done and previous.error is None and not previous.cancelled and previous.sampling() == sampling):
-        return None
+        return FULL_RENDER
     change = Change.of(changed)
     if _keeps_film(previous, design, change):
         return KEEP_FILM
     if diffuse_ground(design) or diffuse_ground(previous.design):
-        return None  # labels or lights changed the light on the ground (its grids): a full render
+        return FULL_RENDER  # labels or lights changed the light on the ground (its grids)
     if change.assets is None:  # the caller named fields only: which assets changed is read here, once
         change = Change(change, changed_assets(previous.assets, assets))
-    return plan_relabel(previous, design, assets, change)
+    plan = plan_relabel(previous, design, assets, change)
+    return FULL_RENDER if plan is None else Relabel(plan)

@@ -11,8 +11,19 @@ screen it opens on).
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 from PySide6.QtCore import QByteArray, QRect, QSignalBlocker, QSize, Qt
 from PySide6.QtWidgets import QDockWidget, QFrame, QScrollArea
+
+from widgets.bumps_panel import BumpsPanel
+from widgets.camera_panel import CameraPanel
+from widgets.cap_panel import CapPanel
+from widgets.labels import LabelsPanel
+from widgets.materials_panel import MaterialsPanel
+from widgets.section_panel import SectionPanel
+from widgets.stage_panel import StagePanel
+from widgets.trade_panel import TradeNumbersPanel
 
 #: Widths (px) of the side docks on a fresh layout; the preview gets the rest.
 SECTION_WIDTH = 440
@@ -25,6 +36,43 @@ KEYS = {"geometry": "window/geometry", "rect": "window/rect", "state": "window/s
         "split": "window/section_split",
         "glass_mm": "tint/glass_mm", "liquid_mm": "tint/liquid_mm"}
 STATE_VERSION = 2
+
+
+@dataclass(frozen=True)
+class Panel:
+    """One panel of the window: the window's attribute, its class (made with the editor), its
+    dock's key, title (its tab's text), side, the name a saved layout knows it by (default: the
+    title) and tooltip."""
+
+    attr: str
+    cls: type
+    key: str
+    title: str
+    area: Qt.DockWidgetArea = Qt.RightDockWidgetArea
+    name: str | None = None
+    tip: str | None = None
+
+
+#: Every panel, once: the window makes them in this order and docks them so. Each follows the
+#: scene (and refusals) itself (:func:`widgets.edit_fields.follow`); nobody routes to it.
+PANELS = (Panel("section_panel", SectionPanel, "section", "Section", Qt.LeftDockWidgetArea),
+          Panel("trade_panel", TradeNumbersPanel, "design", "Design"),
+          Panel("materials_panel", MaterialsPanel, "materials", "Materials"),
+          # why the short title: six tabs share the side's width; the name keeps saved layouts
+          Panel("camera_panel", CameraPanel, "camera", "Camera", name="Camera and environment",
+                tip="Camera, environment and image size"),
+          Panel("stage_panel", StagePanel, "stage", "Stage", tip="What the bottle stands on"),
+          Panel("labels_panel", LabelsPanel, "labels", "Labels"),
+          Panel("bumps_panel", BumpsPanel, "bumps", "Bump tiles"),
+          Panel("cap_panel", CapPanel, "cap", "Cap"))
+#: The docks that share one tab row below the Design numbers (the first one raised).
+TABBED = ("materials", "camera", "stage", "labels", "bumps", "cap")
+
+
+def make_panels(window) -> None:
+    """Make every panel of :data:`PANELS` on ``window.editor`` as the window's attribute."""
+    for panel in PANELS:
+        setattr(window, panel.attr, panel.cls(window.editor))
 
 
 def scrolled(widget) -> QScrollArea:
@@ -50,24 +98,20 @@ def add_dock(window, title: str, widget, area, scroll: bool = True, name: str | 
 def build_docks(window) -> dict:
     """Put ``window``'s panels in docks around the preview; returns them by name."""
     window.setCentralWidget(window.preview)
-    docks = {"section": add_dock(window, "Section", window.section_panel, Qt.LeftDockWidgetArea)}
-    if window.wireframe is not None:
-        docks["wireframe"] = add_dock(window, "3D view", window.wireframe, Qt.RightDockWidgetArea,
-                                      scroll=False)
-    docks["design"] = add_dock(window, "Design", window.trade_panel, Qt.RightDockWidgetArea)
-    docks["materials"] = add_dock(window, "Materials", window.materials_panel, Qt.RightDockWidgetArea)
-    # why the short title: six tabs share the side's width; the name keeps saved layouts
-    docks["camera"] = add_dock(window, "Camera", window.camera_panel, Qt.RightDockWidgetArea,
-                               name="Camera and environment")
-    docks["camera"].setToolTip("Camera, environment and image size")
-    docks["stage"] = add_dock(window, "Stage", window.stage_panel, Qt.RightDockWidgetArea)
-    docks["stage"].setToolTip("What the bottle stands on")
-    docks["labels"] = add_dock(window, "Labels", window.labels_panel, Qt.RightDockWidgetArea)
-    docks["bumps"] = add_dock(window, "Bump tiles", window.bumps_panel, Qt.RightDockWidgetArea)
-    docks["cap"] = add_dock(window, "Cap", window.cap_panel, Qt.RightDockWidgetArea)
-    for name in ("camera", "stage", "labels", "bumps", "cap"):  # one tab row: the side stays uncrowded
-        window.tabifyDockWidget(docks["materials"], docks[name])
-    docks["materials"].raise_()
+    docks = {}
+    for panel in PANELS:
+        if panel.area == Qt.RightDockWidgetArea and "wireframe" not in docks and window.wireframe is not None:
+            # the 3D view tops the right side
+            docks["wireframe"] = add_dock(window, "3D view", window.wireframe, Qt.RightDockWidgetArea,
+                                          scroll=False)
+        docks[panel.key] = add_dock(window, panel.title, getattr(window, panel.attr), panel.area,
+                                    name=panel.name)
+        if panel.tip:
+            docks[panel.key].setToolTip(panel.tip)
+    first, *rest = TABBED
+    for name in rest:  # one tab row: the side stays uncrowded
+        window.tabifyDockWidget(docks[first], docks[name])
+    docks[first].raise_()
     return docks
 
 

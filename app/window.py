@@ -3,8 +3,10 @@
 Design rule: data flows one way. Panels hand edits to the :class:`DesignEditor` (validated,
 undoable commands); commands change the scene; the scene's notification (``changed`` = the
 top-level Design fields that really changed) reaches :meth:`MainWindow.on_scene_changed`,
-which refreshes only the views that depend on those fields. Where the panes sit is
-:mod:`app.layout`'s; undo and redo from any field are :mod:`app.edit_keys`'; the preview's
+which refreshes only the views that depend on those fields. The panels are one table
+(:data:`app.layout.PANELS`) and each follows the scene and the editor's refusals itself
+(:func:`widgets.edit_fields.follow`): the window routes nothing to them but the derived
+numbers. Where the panes sit is :mod:`app.layout`'s; undo and redo from any field are :mod:`app.edit_keys`'; the preview's
 renders are :mod:`app.render_controller`'s, at the preview pane's size in device pixels.
 """
 from __future__ import annotations
@@ -23,15 +25,7 @@ from app.edit_keys import UndoKeys
 from app.file_actions import FileActions
 from app.render_controller import RenderController
 from app.wireframe_controller import DerivedController
-from widgets.bumps_panel import BumpsPanel
-from widgets.camera_panel import CameraPanel
-from widgets.cap_panel import CapPanel
-from widgets.labels import LabelsPanel
-from widgets.materials_panel import MaterialsPanel
 from widgets.preview_view import PreviewView
-from widgets.section_panel import SectionPanel
-from widgets.stage_panel import StagePanel
-from widgets.trade_panel import TradeNumbersPanel
 
 #: Most pixels a preview render may have (a 4K pane would otherwise ask for 8 million).
 MAX_PREVIEW_PIXELS = 3_000_000
@@ -98,14 +92,7 @@ class MainWindow(QMainWindow):
         self.warnings: list[str] = []
         self._shown_fill_ml = None  # the fill of the last numbers shown: a change may offer a rename
 
-        self.section_panel = SectionPanel(self.editor)
-        self.materials_panel = MaterialsPanel(self.editor)
-        self.trade_panel = TradeNumbersPanel(self.editor)
-        self.camera_panel = CameraPanel(self.editor)
-        self.stage_panel = StagePanel(self.editor)
-        self.labels_panel = LabelsPanel(self.editor)
-        self.bumps_panel = BumpsPanel(self.editor)
-        self.cap_panel = CapPanel(self.editor)
+        layout.make_panels(self)  # section_panel, trade_panel, ... (app.layout.PANELS)
         self.preview = PreviewView()
         # why: the 3D view is a QOpenGLWidget, which makes Qt compose the whole window with
         # OpenGL, so each tile the preview painted recomposed 1600 x 1000 pixels (in software GL
@@ -218,8 +205,7 @@ class MainWindow(QMainWindow):
             self.statusBar().clearMessage()
         if changed & DERIVED_FROM:
             self.derived_controller.request(design)  # trade and plant numbers, inner walls: off-thread
-        if "name" in changed:
-            self.trade_panel.show_name(design.name)
+        if "name" in changed:  # (the Design panel shows the name itself)
             self._offer_name(self._shown_fill_ml, only_if_shown=True)
         if self.wireframe is not None:
             if changed & {"shape", "cap", "bumps"}:  # a closure follows the finish and its thread
@@ -246,15 +232,6 @@ class MainWindow(QMainWindow):
     def _on_refused(self, message: str):
         """A refused edit: say why, and put the widget that asked for it back to the model."""
         self.statusBar().showMessage(f"Refused: {message}", 8000)
-        design = self.scene.design
-        self.materials_panel.refresh(design)
-        self.camera_panel.refresh(design)
-        self.stage_panel.refresh(design)
-        self.labels_panel.refresh(design, self.scene.assets)
-        self.bumps_panel.refresh(design, self.scene.assets)
-        self.cap_panel.refresh(design)
-        self.trade_panel.show_name(design.name)
-        self.trade_panel.show_settings(design)
 
     def _on_derived(self, result):
         """Show a :class:`~app.wireframe_controller.Derived`: trade and plant numbers, inner

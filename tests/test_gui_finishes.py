@@ -225,3 +225,25 @@ def test_a_closure_set_through_either_door_saves_the_same_project(make_window, t
     assert w.files.save_to(by_panel)
     assert _members(by_cli) == _members(by_panel)
     assert load_project(by_cli)[0].cap.count == 21
+
+
+def test_a_refusal_puts_every_panel_back_to_the_model_without_the_window_routing_it(make_window):
+    """Panels follow the editor's refusals themselves (widgets.edit_fields.follow): a widget
+    left showing what was asked for shows the model again; the window only says why."""
+    from PySide6.QtCore import QSignalBlocker
+
+    from app.layout import PANELS
+    w = make_window()
+    assert all(isinstance(getattr(w, p.attr), p.cls) for p in PANELS)
+    design = w.scene.design
+    asked = ((w.stage_panel.gloss, 0.123), (w.materials_panel.glass_ior, 1.9))
+    for spin, value in asked:
+        with QSignalBlocker(spin):
+            spin.setValue(value)
+    with QSignalBlocker(w.trade_panel.name):
+        w.trade_panel.name.setText("not the name")
+    w.editor.refused.emit("refused for the test")
+    assert w.stage_panel.gloss.value() == design.stage.gloss
+    assert w.materials_panel.glass_ior.value() == pytest.approx(design.glass.ior)
+    assert w.trade_panel.name.text() == design.name
+    assert w.statusBar().currentMessage() == "Refused: refused for the test"

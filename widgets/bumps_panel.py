@@ -151,7 +151,7 @@ class BumpsPanel(QWidget):
         self.drawn_as.currentIndexChanged.connect(
             lambda _: self._edit("Thread drawing", None, geometry=self.drawn_as.currentData()))
         self.image_button.clicked.connect(self.choose_tile_image)
-        ef.follow(self, editor.scene, self.FIELDS, self.refresh)
+        ef.follow(self, editor, self.FIELDS, self.refresh)
 
     def choose_image_file(self, title: str) -> str | None:
         """Ask for a relief image; tests replace this method."""

@@ -111,7 +111,7 @@ class CameraPanel(QWidget):
         self.sync_button.clicked.connect(self.syncFromWireframe)
         self.env_kind.currentIndexChanged.connect(lambda _: self._env_kind_chosen(self.env_kind.currentData()))
         self.env_load.clicked.connect(self.load_environment)
-        edit_fields.follow(self, editor.scene, self.FIELDS, lambda d, a: self.refresh(d))
+        edit_fields.follow(self, editor, self.FIELDS, lambda d, a: self.refresh(d))
 
     def choose_environment_file(self) -> str | None:
         """Ask for an equirectangular image (EXR/HDR/PNG); tests replace this method."""

@@ -60,7 +60,7 @@ class CapPanel(QWidget):
         self.cap_height.valueChanged.connect(lambda v: self._edit("Cap height", "cap-height", height=v))
         self.count.valueChanged.connect(lambda v: self._edit("Cap count", "cap-count", count=v))
         self.capsule.toggled.connect(lambda on: self._edit("Cork capsule", None, capsule=on))
-        ef.follow(self, editor.scene, self.FIELDS, lambda d, a: self.refresh(d))
+        ef.follow(self, editor, self.FIELDS, lambda d, a: self.refresh(d))
 
     def choose_color(self, initial_linear, title: str):
         """Ask for a colour (linear RGB) or ``None``; tests replace this method."""

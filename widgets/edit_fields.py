@@ -9,6 +9,8 @@ picked and stored is the same colour everywhere.
 """
 from __future__ import annotations
 
+import contextlib
+
 import numpy as np
 from PySide6.QtGui import QColor, QImage
 from PySide6.QtWidgets import (QColorDialog, QComboBox, QDoubleSpinBox, QFormLayout, QPushButton, QSpinBox,
@@ -123,11 +125,13 @@ def removed(items: tuple, index: int) -> tuple:
     return items[:index] + items[index + 1:]
 
 
-def follow(widget, scene, fields, refresh) -> None:
-    """Show ``scene``'s design now with ``refresh(design, assets)`` and again after every change
-    that touches ``fields`` (the panel shows what the model holds without anyone routing it);
-    unsubscribe when ``widget`` is destroyed. Notifications arrive on the thread that edits: the
-    GUI thread."""
+def follow(widget, editor, fields, refresh) -> None:
+    """Show the editor's design now with ``refresh(design, assets)``, again after every change
+    that touches ``fields``, and after every refused edit (the widget that asked shows the model
+    again, not what was asked for): the panel shows what the model holds without anyone routing
+    it. Unsubscribe when ``widget`` is destroyed. Notifications arrive on the thread that edits:
+    the GUI thread."""
+    scene = editor.scene
     fields = frozenset(fields)
     refresh(scene.design, scene.assets)
 
@@ -135,8 +139,17 @@ def follow(widget, scene, fields, refresh) -> None:
         if changed & fields:
             refresh(scene.design, scene.assets)
 
+    def on_refused(_message):
+        refresh(scene.design, scene.assets)
+
     unsubscribe = scene.subscribe(on_change)
-    widget.destroyed.connect(lambda *_: unsubscribe())
+    editor.refused.connect(on_refused)
+
+    def forget(*_):
+        unsubscribe()
+        with contextlib.suppress(RuntimeError, TypeError):  # the editor may be gone first
+            editor.refused.disconnect(on_refused)
+    widget.destroyed.connect(forget)
 
 
 #: The file dialog's filter for the images labels and reliefs may use.

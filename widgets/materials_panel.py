@@ -104,7 +104,7 @@ class MaterialsPanel(QWidget):
         self.liquid_thickness.valueChanged.connect(lambda _: self._rethicken_liquid())
         self.fill_mode.currentIndexChanged.connect(lambda _: self._set_fill_mode(self.fill_mode.currentData()))
         self.fill_value.valueChanged.connect(lambda v: self._liquid("Fill level", "fill-value", fill_value=v))
-        ef.follow(self, editor.scene, self.FIELDS, lambda d, a: self.refresh(d))
+        ef.follow(self, editor, self.FIELDS, lambda d, a: self.refresh(d))
 
     def choose_color(self, initial_rgb01, title: str):
         """Ask for a colour (0..1 RGB) or ``None``; tests replace this method."""

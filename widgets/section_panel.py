@@ -122,7 +122,7 @@ class SectionPanel(QWidget):
         self.base_spin.valueChanged.connect(lambda v: self._set_shape_number("base_thickness", v))
         self.rotation_spin.valueChanged.connect(lambda v: self._set_shape_number("rotation_deg", v))
         editor.refused.connect(self.show_problem)
-        ef.follow(self, editor.scene, self.FIELDS, lambda d, a: self.refresh(d))
+        ef.follow(self, editor, self.FIELDS, lambda d, a: self.refresh(d))
 
     @staticmethod
     def _spin(lo, hi, suffix, tip) -> QDoubleSpinBox:

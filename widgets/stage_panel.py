@@ -49,7 +49,7 @@ class StagePanel(QWidget):
         self.color.clicked.connect(self._pick_color)
         self.gloss.valueChanged.connect(lambda v: self._edit("Stage gloss", "stage-gloss", gloss=v))
         self.backdrop.toggled.connect(self.set_backdrop)
-        ef.follow(self, editor.scene, self.FIELDS, lambda d, a: self.refresh(d))
+        ef.follow(self, editor, self.FIELDS, lambda d, a: self.refresh(d))
 
     def choose_color(self, initial_linear, title: str):
         """Ask for a colour (linear RGB) or ``None``; tests replace this method."""

@@ -135,7 +135,7 @@ class TradeNumbersPanel(QWidget):
     settings through ``editor`` when given one."""
 
     #: The design fields the panel shows (it follows the scene for them itself).
-    FIELDS = frozenset({"plant"})
+    FIELDS = frozenset({"plant", "name"})
 
     def __init__(self, editor=None, parent=None):
         super().__init__(parent)
@@ -178,7 +178,7 @@ class TradeNumbersPanel(QWidget):
         self.keep_name.clicked.connect(self.withdraw_offer)
         self.dismissed: set[tuple[str, str]] = set()
         if editor is not None:
-            ef.follow(self, editor.scene, self.FIELDS, lambda d, a: self.show_settings(d))
+            ef.follow(self, editor, self.FIELDS, lambda d, a: (self.show_name(d.name), self.show_settings(d)))
 
     def _figure(self, key: str, tip: str) -> QLabel:
         label = QLabel(DASH)

@@ -102,7 +102,7 @@ class LabelsPanel(QWidget):
         self.up_button.clicked.connect(lambda: self.move_label(-1))
         self.down_button.clicked.connect(lambda: self.move_label(1))
         self.preview.artwork.picked.connect(self.finishes.pick_key)
-        ef.follow(self, editor.scene, self.FIELDS, self.refresh)
+        ef.follow(self, editor, self.FIELDS, self.refresh)
 
     # ---------------------------------------------------------------- replaceable asks
     def choose_image_file(self, title: str) -> str | None:

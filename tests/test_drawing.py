@@ -174,3 +174,22 @@ def test_the_command_line_writes_a_drawing_and_refuses_in_one_line(tmp_path, cap
     assert err.startswith("glassbench drawing: error: at 2:1 the views need") and "\n" not in err
     assert cli.main(["drawing", str(project)]) == 2
     assert "-o OUT.pdf" in capsys.readouterr().err
+
+
+def test_a_squat_jar_is_drawn_at_full_size_with_its_plan_above_it(tmp_path):
+    """A cream jar 100 mm across and 60 mm tall: beside the section its plan would force 1:2;
+    stacked above the front view, the sheet holds both at 1:1."""
+    import dataclasses
+
+    from benchmarks.plant_cases import cylinder
+    from engine.export.drawing import _needs
+    from engine.export.drawing_views import figures
+    design = dataclasses.replace(cylinder(r=50.0, h=60.0), name="Cream jar")
+    report = write_drawing(design, tmp_path / "jar.pdf", sheet="A3")
+    assert report["scale"] == "1:1"
+    assert _needs(figures(design.shape), False, 0, 1.0)[0] > 260.0, "beside it, 1:1 does not fit"
+    section, plan = report["views"]["section"], report["views"]["plan"]
+    assert plan[1] > section[3] and abs((plan[0] + plan[2]) - (section[0] + section[2])) < 1e-6
+    with pdfplumber.open(tmp_path / "jar.pdf") as pdf:
+        text = pdf.pages[0].extract_text()
+    assert "Plan, from above" in text and "the band shown" not in text  # no straight body part

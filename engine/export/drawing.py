@@ -17,7 +17,8 @@ numbers and the plant numbers (:func:`engine.plant.sheet.plant_numbers`), the th
     +----------------------------------------------------------+-----------------+
 
 The scale is the largest of :data:`SCALES` at which the views and their dimension lanes fit the
-drawing area (or the one asked for, refused with the sizes when it does not fit). Paper sizes,
+drawing area, the plan beside the elevations or, for a squat bottle, above the front view (or
+the scale asked for, refused with the sizes when it does not fit). Paper sizes,
 margins and lanes are millimetres on paper; geometry is millimetres of the bottle
 (``paper = origin + scale * model``). The side view appears only for a non-round plan. A file is
 written whole or not at all (:func:`engine.io.atomic.replacing`).
@@ -53,6 +54,8 @@ GAP_MM, VIEW_TITLE_MM = 14.0, 9.0
 TITLE_BELOW_MM = 7.5
 #: Space (mm on paper) kept above the elevations for the finish's dimensions.
 ABOVE_MM = 2 * LANE_MM + FIRST_LANE_MM - 4.0
+#: Space (mm on paper) below a plan stacked above the front view: its dimension and its title.
+PLAN_GAP_MM = FIRST_LANE_MM + LANE_MM + VIEW_TITLE_MM
 
 
 class DrawingError(GlassbenchError, ValueError):
@@ -110,9 +113,9 @@ def layout(design, sheet: str = "A3", scale=None, date: str | None = None) -> tu
     w, h = SHEETS[sheet]
     col_x0 = w - FRAME_MM - COLUMN_MM[sheet]
     rows = table.table_rows(trade, plant)
-    labelled = bool(zones) and not zones[0].panel
+    panel = bool(zones) and zones[0].panel   # no label: the clear label panel is shown
     # why: the notes' wording depends on the scale only through "1:N"; size them with the widest
-    note_lines = table.notes(trade, plant, "1:20", labelled)
+    note_lines = table.notes(trade, plant, "1:20", panel)
     in_column = _column_fits(rows, note_lines, col_x0, w, h)
     area_y0 = FRAME_MM + 4.0
     if not in_column:  # the notes go under the views, across the drawing area
@@ -126,7 +129,7 @@ def layout(design, sheet: str = "A3", scale=None, date: str | None = None) -> tu
     _frame(page, col_x0)
     boxes = _views(page, design, fig, placed, zones, fill_h, plant)
     label = scale_text(page.scale)
-    note_lines = table.notes(trade, plant, label, labelled)
+    note_lines = table.notes(trade, plant, label, panel)
     title = {"name": design.name or "Untitled bottle", "date": date or _dt.date.today().isoformat(),
              "scale": label, "sheet": sheet, "bottom": FRAME_MM}
     col = table.column(rows, note_lines if in_column else [], col_x0 + 4.0, w - FRAME_MM,
@@ -161,31 +164,53 @@ def _scale(scale) -> float | None:
     return s
 
 
-def _needs(fig, side: bool, lanes_right: int, s: float) -> tuple[float, float]:
-    """Paper mm ``(width, height)`` the views take at scale ``s``, dimension lanes included."""
+def _needs(fig, side: bool, lanes_right: int, s: float, stacked: bool = False) -> tuple[float, float, float]:
+    """Paper mm ``(width, height, left)`` the views take at scale ``s``, dimension lanes included,
+    ``left`` from the area's left edge to the front view's axis: the plan beside the elevations,
+    or ``stacked`` above the front view (a squat bottle's larger scale)."""
     reach = fig.half_corner or max(fig.half_x, fig.half_y)
-    width = (FIRST_LANE_MM + 6.0 + 2 * fig.half_x * s + FIRST_LANE_MM + lanes_right * LANE_MM
-             + GAP_MM + (2 * fig.half_y * s + GAP_MM if side else 0.0)
-             + (FIRST_LANE_MM + LANE_MM if side else 0.0)
-             + 2 * (reach + 4.0) * s + FIRST_LANE_MM + LANE_MM)
+    plan_left = FIRST_LANE_MM + LANE_MM if side else 0.0   # the plan's depth dimension
+    plan_w = plan_left + 2 * (reach + 4.0) * s + FIRST_LANE_MM + LANE_MM
+    left = FIRST_LANE_MM + 6.0 + fig.half_x * s
+    elevations = (left + fig.half_x * s + FIRST_LANE_MM + lanes_right * LANE_MM
+                  + (GAP_MM + 2 * fig.half_y * s if side else 0.0))
     height = ABOVE_MM + fig.height * s + FIRST_LANE_MM + LANE_MM + VIEW_TITLE_MM
-    return width, height
+    if not stacked:
+        return elevations + GAP_MM + plan_w, height, left
+    left = max(left, plan_left + (reach + 4.0) * s + 4.0)
+    width = max(elevations - (FIRST_LANE_MM + 6.0 + fig.half_x * s) + left,
+                left + (reach + 4.0) * s + FIRST_LANE_MM + LANE_MM)
+    return width, height + PLAN_GAP_MM + 2 * (reach + 4.0) * s, left
+
+
+def _fits(fig, side, lanes_right, s, area) -> bool | None:
+    """Whether the views fit ``area`` at scale ``s``: ``False`` (beside), ``True`` (stacked) or
+    ``None`` (neither)."""
+    aw, ah = area[2] - area[0], area[3] - area[1]
+    for stacked in (False, True):
+        w, h, _ = _needs(fig, side, lanes_right, s, stacked)
+        if w <= aw + 1e-9 and h <= ah + 1e-9:
+            return stacked
+    return None
 
 
 def _place(fig, side: bool, lanes_right: int, area, scale: float | None) -> Plan:
-    """The scale and the views' places in ``area`` (paper ``x0, y0, x1, y1`` mm)."""
+    """The scale and the views' places in ``area`` (paper ``x0, y0, x1, y1`` mm): the largest
+    of :data:`SCALES` (or ``scale``) at which the plan fits beside the elevations, else above
+    the front view."""
     aw, ah = area[2] - area[0], area[3] - area[1]
     if scale is None:
-        fits = [s for s in SCALES if all(n <= a for n, a in zip(_needs(fig, side, lanes_right, s), (aw, ah)))]
-        if not fits:
+        scale = next((s for s in SCALES if _fits(fig, side, lanes_right, s, area) is not None), None)
+        if scale is None:
             raise DrawingError("the bottle is too large for the smallest scale (1:20) of this sheet")
-        scale = fits[0]
-    nw, nh = _needs(fig, side, lanes_right, scale)
-    if nw > aw + 1e-9 or nh > ah + 1e-9:
+    stacked = _fits(fig, side, lanes_right, scale, area)
+    if stacked is None:
+        nw, nh, _ = _needs(fig, side, lanes_right, scale)
         raise DrawingError(f"at {scale_text(scale)} the views need {nw:.0f} x {nh:.0f} mm and the "
                            f"sheet gives {aw:.0f} x {ah:.0f} mm; choose a smaller scale or a larger sheet")
+    nw, nh, left = _needs(fig, side, lanes_right, scale, stacked)
     s = scale
-    x = area[0] + (aw - nw) / 2.0 + FIRST_LANE_MM + 6.0 + fig.half_x * s  # the front axis, paper
+    x = area[0] + (aw - nw) / 2.0 + left  # the front axis, paper
     y = area[1] + (ah - nh) / 2.0 + VIEW_TITLE_MM + FIRST_LANE_MM + LANE_MM  # the standing plane
     right = fig.half_x * s + FIRST_LANE_MM + lanes_right * LANE_MM + GAP_MM   # axis to next view
     side_dx = None
@@ -194,7 +219,10 @@ def _place(fig, side: bool, lanes_right: int, area, scale: float | None) -> Plan
         right += 2 * fig.half_y * s + GAP_MM
     reach = fig.half_corner or max(fig.half_x, fig.half_y)
     plan_left = FIRST_LANE_MM + LANE_MM if side else 0.0   # the plan's depth dimension
-    plan_center = ((right + plan_left + (reach + 4.0) * s) / s, fig.height - reach - 4.0)
+    if stacked:  # above the front view, clear of its finish's dimensions
+        plan_center = (0.0, fig.height + (ABOVE_MM + PLAN_GAP_MM) / s + reach + 4.0)
+    else:
+        plan_center = ((right + plan_left + (reach + 4.0) * s) / s, fig.height - reach - 4.0)
     return Plan(s, (x, y), side_dx, plan_center, lanes_right)
 
 

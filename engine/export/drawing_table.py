@@ -92,9 +92,10 @@ def table_rows(trade: dict, plant: dict | None) -> list:
     return rows
 
 
-def notes(trade: dict, plant: dict | None, scale_label: str, has_labels: bool) -> list[str]:
+def notes(trade: dict, plant: dict | None, scale_label: str, panel: bool) -> list[str]:
     """The drawing's notes, in order: units and views, each tolerance with its rule, the
-    stress figures' note, the plant numbers' warnings."""
+    stress figures' note, what the band shown is (``panel``: the clear label panel of a design
+    without labels), the plant numbers' warnings."""
     p = plant or {}
     tols = p.get("tolerances") or {}
     rules = tols.get("rules") or {}
@@ -111,7 +112,7 @@ def notes(trade: dict, plant: dict | None, scale_label: str, has_labels: bool) -
         out.append(f"Marking: {marking['rule']}.")
     if _get(p, "stress", "note"):
         out.append(f"Stress: {p['stress']['note'].rstrip('.')}.")
-    if not has_labels:
+    if panel:
         out.append("No label in the design: the band shown is the body's longest straight part.")
     out.append("Dimensions without a tolerance are for reference.")
     out += [f"Warning: {w}" for w in p.get("warnings") or ()]

@@ -74,6 +74,13 @@ def test_tilted_liquid_in_a_cylinder_a_round_cornered_square_and_a_round_oval_ag
             assert got == pytest.approx(exact, rel=1e-11)
 
 
+def clip_polygon(xi, eta, d):
+    """Area, first moment along xi and the cut's length of polygons (counter-clockwise) where
+    ``xi >= d``: the engine's edge integrals closed around each polygon (the oracle's clip)."""
+    area, m2, chord = mass._clip_edges(xi, eta, np.roll(xi, -1, axis=1), np.roll(eta, -1, axis=1), d)
+    return area, m2 + d * area, np.abs(chord)
+
+
 def fine_polygon_clip(a, b, r, psi, d, n):
     """The reference of the exact clip: polygons of ``n`` edges a corner arc, clipped."""
     alpha = np.linspace(0.0, 0.5 * math.pi, n + 1)
@@ -82,7 +89,7 @@ def fine_polygon_clip(a, b, r, psi, d, n):
         xs.append(sx * (a - r)[:, None] + r[:, None] * np.cos(alpha + q * 0.5 * math.pi))
         ys.append(sy * (b - r)[:, None] + r[:, None] * np.sin(alpha + q * 0.5 * math.pi))
     x, y = np.concatenate(xs, axis=1), np.concatenate(ys, axis=1)
-    return mass._clip_polygon(x * math.cos(psi) + y * math.sin(psi),
+    return clip_polygon(x * math.cos(psi) + y * math.sin(psi),
                               -x * math.sin(psi) + y * math.cos(psi), d)
 
 

@@ -187,9 +187,7 @@ class BumpsPanel(QWidget):
         self._select = edit.select  # the refresh that follows shows this row
         ok = self.editor.apply(edit.text, key, assets=dict(edit.assets), bumps=edit.design.bumps)
         self._select = None
-        if not ok:
-            self.refresh(self.editor.design)
-        return ok
+        return ok  # (a refused edit: the panel shows the model again, following the refusal)
 
     def _edit(self, text, key, **fields) -> bool:
         if self.tile is None:

@@ -74,7 +74,8 @@ class CapPanel(QWidget):
 
     def _apply(self, make, key=None) -> bool:
         """Apply the operation's :class:`~engine.operations.edit.Edit` as one undoable step
-        (``None``: nothing to do); a refusal shows the model again, not what was asked for."""
+        (``None``: nothing to do); an operation's refusal goes the editor's way, so the panel
+        (which follows refusals) shows the model again, not what was asked for."""
         try:
             edit = make()
         except (GlassbenchError, ValueError) as exc:
@@ -82,9 +83,7 @@ class CapPanel(QWidget):
             edit, ok = None, False
         else:
             ok = edit is not None and self.editor.apply(edit.text, key, cap=edit.design.cap)
-        if not ok:
-            self.refresh(self.editor.design)
-        return ok
+        return ok  # (a refusal re-shows the model: the panel follows the editor's refusals)
 
     def _pick_color(self):
         cap = self.editor.design.cap

@@ -88,9 +88,7 @@ class StagePanel(QWidget):
             edit, ok = None, False
         else:
             ok = edit is None or self.editor.apply(edit.text, key, stage=edit.design.stage)
-        if not ok:
-            self.refresh(self.editor.design)
-        return ok
+        return ok  # (a refusal re-shows the model: the panel follows the editor's refusals)
 
     def refresh(self, design):
         """Show ``design.stage``: its values, and only the controls its kind uses enabled."""

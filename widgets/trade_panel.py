@@ -267,10 +267,7 @@ class TradeNumbersPanel(QWidget):
         if self.editor is None:
             return False
         plant = dataclasses.replace(self.editor.design.plant, **{field: float(value)})
-        ok = self.editor.apply(label, f"plant-{field}", plant=plant)
-        if not ok:
-            self.show_settings(self.editor.design)
-        return ok
+        return self.editor.apply(label, f"plant-{field}", plant=plant)  # (a refusal: follow re-shows)
 
     def refresh(self, numbers: dict):
         for key, _, fmt, _ in ROWS:

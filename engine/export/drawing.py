@@ -36,7 +36,7 @@ from ..errors import GlassbenchError
 from ..io.atomic import replacing
 from . import drawing_table as table
 from . import drawing_views as views
-from .drawing_page import (EXT_GAP_MM, SHEETS, TEXT_MM, THICK_MM, TITLE_MM, Dim, Page, Polyline, Rule, Text,
+from .drawing_page import (EXT_GAP_MM, SHEETS, THICK_MM, TITLE_MM, Dim, Page, Polyline, Rule, Text,
                            parse_scale, scale_text)
 from .drawing_write import WRITERS
 
@@ -71,7 +71,6 @@ class Plan:
     origin: tuple
     side_dx: float | None
     plan_center: tuple
-    lanes_right: int
 
 
 def write_drawing(design, path, sheet: str = "A3", scale=None, date: str | None = None) -> dict:
@@ -223,7 +222,7 @@ def _place(fig, side: bool, lanes_right: int, area, scale: float | None) -> Plan
         plan_center = (0.0, fig.height + (ABOVE_MM + PLAN_GAP_MM) / s + reach + 4.0)
     else:
         plan_center = ((right + plan_left + (reach + 4.0) * s) / s, fig.height - reach - 4.0)
-    return Plan(s, (x, y), side_dx, plan_center, lanes_right)
+    return Plan(s, (x, y), side_dx, plan_center)
 
 
 def _frame(page: Page, col_x0: float) -> None:

@@ -40,6 +40,17 @@ def assets_in_use(design) -> set:
     return {n for n in names if n is not None}
 
 
+def swapped(items: tuple, i: int, step: int) -> tuple | None:
+    """``items`` with item ``i`` moved ``step`` places (swapped with its neighbour there), or
+    ``None`` when either place is outside the tuple."""
+    j = i + step
+    if not (0 <= i < len(items) and 0 <= j < len(items)):
+        return None
+    out = list(items)
+    out[i], out[j] = out[j], out[i]
+    return tuple(out)
+
+
 def released(before, after, added: Mapping | None = None) -> dict:
     """``{name: None}`` for each asset ``before`` used that ``after`` does not (nor ``added``
     brings), then ``added``: the ``assets`` of an :class:`Edit` from ``before`` to ``after``."""

@@ -21,7 +21,7 @@ from ..appearance.cap_surfaces import cap_surface
 from ..appearance.frame import Placement, label_frame
 from ..errors import DesignError, GlassbenchError, shown
 from ..model.design import Label, LabelSide
-from .edit import Edit, assets_in_use  # noqa: F401  (Edit is this module's result type)
+from .edit import Edit, assets_in_use, swapped  # noqa: F401  (Edit is this module's result type)
 
 
 def asset_name(name: str, role: str, data, taken) -> str:
@@ -139,12 +139,10 @@ def remove_label(design, i: int) -> Edit:
 
 def move_label(design, i: int, step: int) -> Edit | None:
     """Label ``i`` moved ``step`` places in the overlap order (``None`` if it cannot move)."""
-    j = i + step
-    if not (0 <= i < len(design.labels) and 0 <= j < len(design.labels)):
+    labels = swapped(design.labels, i, step)
+    if labels is None:
         return None
-    labels = list(design.labels)
-    labels[i], labels[j] = labels[j], labels[i]
-    return _with_labels(design, tuple(labels), f"Reorder label {labels[j].name}", select=j)
+    return _with_labels(design, labels, f"Reorder label {labels[i + step].name}", select=i + step)
 
 
 def replace_label(design, i: int, label: Label, text: str, assets: Mapping | None = None) -> Edit:

@@ -24,7 +24,7 @@ from ..errors import DesignError, shown
 from ..model.design import IMAGE_BUMPS, BumpTile
 from ..model.finish_values import check_bump_values
 from ..model.thread_finishes import nearest_finish, parse_finish
-from .edit import Edit, released
+from .edit import Edit, released, swapped
 
 #: Typical spacing (mm around the girth) of one repeat, and the depth (mm), per kind.
 SPACING_MM = {"knurl": 2.0, "stipple": 3.0, "diamond": 8.0}
@@ -188,12 +188,8 @@ def remove_tile(design, i: int) -> Edit:
 
 def move_tile(design, i: int, step: int) -> Edit | None:
     """Tile ``i`` moved ``step`` places in the list (``None`` if it cannot move)."""
-    j = i + step
-    if not (0 <= i < len(design.bumps) and 0 <= j < len(design.bumps)):
-        return None
-    bumps = list(design.bumps)
-    bumps[i], bumps[j] = bumps[j], bumps[i]
-    return _with_bumps(design, tuple(bumps), "Reorder tile", select=j)
+    bumps = swapped(design.bumps, i, step)
+    return None if bumps is None else _with_bumps(design, bumps, "Reorder tile", select=i + step)
 
 
 def edit_tile(design, i: int, text: str, **fields) -> Edit | None:

@@ -173,14 +173,6 @@ def _clip_edges(xa, ea, xb, eb, d):
     return area, m2, chord
 
 
-def _clip_polygon(xi, eta, d):
-    """Area, first moment along xi and the cut's length of the polygons (counter-clockwise) where
-    ``xi >= d`` (``d`` one value per polygon): Green's theorem (:func:`_clip_edges`); the cut
-    itself adds nothing, as ``xi - d`` vanishes on it."""
-    area, m2, chord = _clip_edges(xi, eta, np.roll(xi, -1, axis=1), np.roll(eta, -1, axis=1), d)
-    return area, m2 + d * area, np.abs(chord)
-
-
 def _clip_arcs(cxi, ceta, r, t0, d):
     """The sums of :func:`_clip_edges` over quarter arcs of radius ``r`` (mm) about ``(cxi,
     ceta)``, running counter-clockwise from the angle ``t0`` (rad) through ``t0 + pi/2``; every

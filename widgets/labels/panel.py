@@ -153,9 +153,7 @@ class LabelsPanel(QWidget):
         self._select = edit.select if key is None else None
         ok = self.editor.apply(edit.text, key, assets=dict(edit.assets), labels=edit.design.labels)
         self._select = None
-        if not ok:
-            self.refresh(self.editor.design, self.editor.scene.assets)
-        return ok
+        return ok  # (a refused edit: the panel shows the model again, following the refusal)
 
     def put(self, text: str, key, label) -> bool:
         """The selected label becomes ``label``."""

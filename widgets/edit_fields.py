@@ -18,6 +18,7 @@ from PySide6.QtWidgets import (QColorDialog, QComboBox, QDoubleSpinBox, QFormLay
 
 from engine.appearance.images import EXTENSIONS
 from engine.color import linear_to_srgb, srgb_to_linear
+from engine.operations.edit import removed, replaced  # noqa: F401  (the panels edit tuples so)
 
 
 def spin(lo, hi, decimals=1, step=1.0, suffix="", tip="") -> QDoubleSpinBox:
@@ -105,24 +106,6 @@ def show_rows(view, texts: list, row: int) -> None:
         view.addItems(texts)
     if texts:
         view.setCurrentRow(min(max(row, 0), len(texts) - 1))
-
-
-def moved(items: tuple, index: int, step: int) -> tuple | None:
-    """``items`` with ``items[index]`` moved ``step`` places (``None`` if it cannot move)."""
-    j = index + step
-    if not (0 <= index < len(items) and 0 <= j < len(items)):
-        return None
-    out = list(items)
-    out[index], out[j] = out[j], out[index]
-    return tuple(out)
-
-
-def replaced(items: tuple, index: int, value) -> tuple:
-    return items[:index] + (value,) + items[index + 1:]
-
-
-def removed(items: tuple, index: int) -> tuple:
-    return items[:index] + items[index + 1:]
 
 
 def follow(widget, editor, fields, refresh) -> None:

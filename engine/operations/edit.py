@@ -40,6 +40,16 @@ def assets_in_use(design) -> set:
     return {n for n in names if n is not None}
 
 
+def replaced(items: tuple, i: int, value) -> tuple:
+    """``items`` with item ``i`` replaced by ``value``."""
+    return items[:i] + (value,) + items[i + 1:]
+
+
+def removed(items: tuple, i: int) -> tuple:
+    """``items`` without item ``i``."""
+    return items[:i] + items[i + 1:]
+
+
 def swapped(items: tuple, i: int, step: int) -> tuple | None:
     """``items`` with item ``i`` moved ``step`` places (swapped with its neighbour there), or
     ``None`` when either place is outside the tuple."""

@@ -24,7 +24,7 @@ from ..errors import DesignError, shown
 from ..model.design import IMAGE_BUMPS, BumpTile
 from ..model.finish_values import check_bump_values
 from ..model.thread_finishes import nearest_finish, parse_finish
-from .edit import Edit, released, swapped
+from .edit import Edit, released, replaced, swapped
 
 #: Typical spacing (mm around the girth) of one repeat, and the depth (mm), per kind.
 SPACING_MM = {"knurl": 2.0, "stipple": 3.0, "diamond": 8.0}
@@ -197,7 +197,7 @@ def edit_tile(design, i: int, text: str, **fields) -> Edit | None:
     tile = design.bumps[_index(design, i)]
     if all(getattr(tile, k) == v for k, v in fields.items()):
         return None
-    return _with_bumps(design, _replaced(design.bumps, i, dataclasses.replace(tile, **fields)), text, select=i)
+    return _with_bumps(design, replaced(design.bumps, i, dataclasses.replace(tile, **fields)), text, select=i)
 
 
 def set_tile_kind(design, assets, i: int, kind: str, image: bytes | None = None,
@@ -218,7 +218,7 @@ def set_tile_kind(design, assets, i: int, kind: str, image: bytes | None = None,
         added = {name: bytes(image)}
     else:
         new = new_tile(design, kind, tile.z0, tile.z1, **given)
-    return _with_bumps(design, _replaced(design.bumps, i, new),
+    return _with_bumps(design, replaced(design.bumps, i, new),
                        f"Tile kind {KIND_WORDS.get(kind, kind).lower()}", added, i)
 
 
@@ -237,7 +237,7 @@ def set_tile_surface(design, i: int, on: str) -> Edit | None:
         band = default_band(design, tile.kind)
     keep = {f: getattr(tile, f) for f in KEPT_ON_MOVE}
     new = new_tile(design, tile.kind, *band, on=on, **keep)
-    return _with_bumps(design, _replaced(design.bumps, i, new), f"Tile on the {on}", select=i)
+    return _with_bumps(design, replaced(design.bumps, i, new), f"Tile on the {on}", select=i)
 
 
 def set_tile_image(design, assets, i: int, filename: str, data: bytes) -> Edit:
@@ -248,14 +248,10 @@ def set_tile_image(design, assets, i: int, filename: str, data: bytes) -> Edit:
         raise DesignError(f"tile {tile.name!r} is a {tile.kind}, which takes no image")
     made, name = add_image_tile(design, assets, tile.kind, filename, data, tile.z0, tile.z1)
     new = dataclasses.replace(tile, asset=made.asset)
-    return _with_bumps(design, _replaced(design.bumps, i, new), "Tile image", {name: bytes(data)}, i)
+    return _with_bumps(design, replaced(design.bumps, i, new), "Tile image", {name: bytes(data)}, i)
 
 
 def _index(design, i: int) -> int:
     if not 0 <= i < len(design.bumps):
         raise DesignError(f"the design has no bump tile {i} (it has {len(design.bumps)})")
     return i
-
-
-def _replaced(items: tuple, i: int, value) -> tuple:
-    return items[:i] + (value,) + items[i + 1:]

@@ -11,6 +11,7 @@ import sys
 import time
 
 from engine.geometry.shape import BottleShape
+from tests.peak_memory import peak_rss_bytes
 from tests.test_offset import stepped_section, torus_foot_section
 
 #: ``(u, ratio, neck, wall)`` of rounded squares from the hypothesis test's strategy whose inner
@@ -35,13 +36,8 @@ def huge_torus_bottle() -> BottleShape:
 
 
 def peak_rss_mb() -> float:
-    """This process's peak resident memory (MiB). Not ``getrusage``: its ``ru_maxrss`` keeps the
-    high-water mark of the parent it was forked from (a pytest process of a gigabyte or more)."""
-    with open("/proc/self/status") as fh:
-        for line in fh:
-            if line.startswith("VmHWM:"):
-                return int(line.split()[1]) / 1024.0
-    return float("nan")
+    """This process's peak resident memory (MiB), see :mod:`tests.peak_memory`."""
+    return peak_rss_bytes() / 2**20
 
 
 def main() -> int:

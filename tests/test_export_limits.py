@@ -9,7 +9,6 @@ import os
 import subprocess
 import sys
 import tempfile
-import threading
 import time
 
 import pytest
@@ -23,6 +22,7 @@ from engine.files.project import save_project
 from engine.operations.check import check_design
 from engine.operations.trade import trade_numbers
 from tests.export_helpers import EDGE_CASES, many_labels, no_liquid
+from tests.peak_memory import REPORT_AT_EXIT
 
 #: Bounds for the 4,096-label exports, each in a process of its own (s, bytes of peak memory).
 MANY_SECONDS, MANY_BYTES = 240.0, 2 << 30
@@ -81,23 +81,20 @@ def test_a_page_without_liquid_shows_no_fill(tmp_path):
 def _child(code: str) -> tuple[subprocess.CompletedProcess, float, int]:
     """Run ``code`` in a fresh Python; its result, wall time (s) and its own peak memory (bytes).
 
-    The peak is that one child's (``os.wait4``), not ``RUSAGE_CHILDREN``'s: the latter is the
-    largest of every child this test process ever waited for, an earlier test's as well, and
-    failed this test on CI at 2.07 GiB while the export alone peaks at 0.28 GiB.
+    The peak is the child's ``VmHWM`` written as it exits (:mod:`tests.peak_memory`), not any
+    ``ru_maxrss``: those keep the pytest process's high-water mark, which failed this test on CI
+    at 2.07 and 2.23 GiB while the export alone peaks at 0.22 GiB.
     """
-    with tempfile.TemporaryFile("w+") as out, tempfile.TemporaryFile("w+") as err:
+    with tempfile.TemporaryDirectory() as scratch:
+        peak_file = os.path.join(scratch, "peak")
+        env = dict(os.environ, GLASSBENCH_PEAK_FILE=peak_file)
         t0 = time.perf_counter()
-        child = subprocess.Popen([sys.executable, "-c", code], stdout=out, stderr=err, text=True)
-        guard = threading.Timer(600, child.kill)  # a hung export fails instead of hanging CI
-        guard.start()
-        _, status, usage = os.wait4(child.pid, 0)
-        guard.cancel()
+        done = subprocess.run([sys.executable, "-c", REPORT_AT_EXIT + code], capture_output=True,
+                              text=True, env=env, timeout=600)  # a hung export fails, not hangs CI
         seconds = time.perf_counter() - t0
-        child.returncode = os.waitstatus_to_exitcode(status)
-        out.seek(0)
-        err.seek(0)
-        done = subprocess.CompletedProcess(child.args, child.returncode, out.read(), err.read())
-    return done, seconds, usage.ru_maxrss * 1024  # Linux reports kilobytes
+        peak = int(open(peak_file).read()) if os.path.exists(peak_file) else -1
+    assert peak > 0, f"the child did not report its peak memory: {done.stderr}"
+    return done, seconds, peak
 
 
 def test_4096_labels_export_in_bounded_time_and_memory(tmp_path):

@@ -27,7 +27,7 @@ from numba import njit, types
 from numba.core import cgutils
 from numba.extending import intrinsic
 
-from engine.tracer.kernels.records import Geometry, Scratch
+from engine.tracer.kernels.records import Geometry, Ray, Scratch
 from engine.tracer.kernels.intersect import (F_COS, F_EDGE, F_LEAF, F_PNZ, F_SIN, F_ZMAX, F_ZMIN, O_BACK_HI,
                                              O_BACK_LO, O_COUNT, O_FIRST, O_FRONT_HI, O_FRONT_LO, O_KIND,
                                              O_NSEC, O_XS, PLANE, REVOLVED, SL_RULED, START_FRACTION,
@@ -35,7 +35,7 @@ from engine.tracer.kernels.intersect import (F_COS, F_EDGE, F_LEAF, F_PNZ, F_SIN
                                              swept_roots, _accept, _plane_hit)
 from engine.tracer.kernels.profile import S_RMAX, S_RMIN, S_ZMAX, S_ZMIN
 from engine.tracer.kernels.revolved import ray_axis, ray_box_from
-from engine.tracer.kernels.swept import SL_RMAX, SL_Z0, SL_Z1
+from engine.tracer.kernels.swept import SL_RMAX, SL_Z0, SL_Z1, swept_wall
 
 #: Embree 4 enums (rtcore_geometry.h, rtcore_buffer.h, rtcore_common.h)
 _GEOMETRY_TRIANGLE = 0
@@ -310,19 +310,20 @@ def _part_roots(seg, tab, slab_f, slab_i, obj_i, obj_f, k, j, ox, oy, oz, dx, dy
     """Crossings of part ``j`` of object ``k`` in ``[a, b]`` (the tracer's solvers), within the
     part's own box as :func:`~engine.tracer.kernels.intersect.nearest_hit` asks them."""
     axis = ray_axis(ox, oy, dx, dy, dz)
+    ray = Ray(ox, oy, oz, dx, dy, dz)
     if obj_i[k, O_KIND] == REVOLVED:
-        lo, hi = ray_box_from(axis, ox, oy, oz, dx, dy, dz, seg[j, S_RMIN], seg[j, S_RMAX], seg[j, S_ZMIN],
+        lo, hi = ray_box_from(axis, ray, seg[j, S_RMIN], seg[j, S_RMAX], seg[j, S_ZMIN],
                               seg[j, S_ZMAX], a, b)
         if lo > hi:
             return 0
-        return segment_hits(seg, tab, j, ox, oy, oz, dx, dy, dz, a, b, lo, hi, roots, crit, stack)
-    a, b = ray_box_from(axis, ox, oy, oz, dx, dy, dz, 0.0, slab_f[j, SL_RMAX], slab_f[j, SL_Z0], slab_f[j, SL_Z1], a, b)
+        return segment_hits(seg, tab, j, ray, a, b, lo, hi, roots, crit, stack)
+    a, b = ray_box_from(axis, ray, 0.0, slab_f[j, SL_RMAX], slab_f[j, SL_Z0], slab_f[j, SL_Z1], a, b)
     if a > b:
         return 0
     if slab_f[j, SL_RULED] > 0.5:
-        return ruled_roots(slab_f[j], obj_f[k, F_COS], obj_f[k, F_SIN], ox, oy, oz, dx, dy, dz, a, b, roots)
-    return swept_roots(seg, tab, slab_i[j], obj_i[k, O_XS], obj_i[k, O_NSEC], obj_f[k, F_COS], obj_f[k, F_SIN],
-                       ox, oy, oz, dx, dy, dz, a, b, obj_f[k, F_LEAF], roots, stack)
+        return ruled_roots(slab_f[j], obj_f[k, F_COS], obj_f[k, F_SIN], ray, a, b, roots)
+    return swept_roots(swept_wall(seg, tab, slab_i[j], obj_i[k, O_XS], obj_i[k, O_NSEC], obj_f[k, F_COS],
+                                  obj_f[k, F_SIN]), ray, a, b, obj_f[k, F_LEAF], roots, stack)
 
 
 @njit(nogil=True, error_model="numpy")
@@ -338,9 +339,9 @@ def refine_hit(k, j, te, seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx,
         t0 = START_FRACTION * obj_f[k, F_EDGE] if k == last else 0.0
         a, b = max(te - bracket, t0), min(te + bracket, best)
         if obj_i[k, O_KIND] == PLANE:
-            t = _plane_hit(obj_i, obj_f, k, ox, oy, oz, dx, dy, dz, a, b)
+            t = _plane_hit(obj_i, obj_f, k, Ray(ox, oy, oz, dx, dy, dz), a, b)
             nz = obj_f[k, F_PNZ]
-            if t < b and _accept(obj_i, obj_f, k, t, 0.0, 0.0, nz, dx, dy, dz, oz + t * dz, medium, last, side):
+            if t < b and _accept(obj_i, obj_f, k, t, 0.0 * dx + 0.0 * dy + nz * dz, oz + t * dz, medium, last, side):
                 rt, rk, rnz = t, k, nz
         else:
             first, count = obj_i[k, O_FIRST], obj_i[k, O_COUNT]
@@ -357,7 +358,7 @@ def refine_hit(k, j, te, seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx,
                         continue
                     nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, jj, ox + t * dx, oy + t * dy, pz,
                                                root_param(seg, obj_i, k, jj, roots, q))
-                    if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last, side):
+                    if _accept(obj_i, obj_f, k, t, nx * dx + ny * dy + nz * dz, pz, medium, last, side):
                         rt, rk, rj, rnx, rny, rnz = t, k, jj, nx, ny, nz
                         break
     return rt, rk, rj, rnx, rny, rnz
@@ -371,7 +372,7 @@ def _search(scene, tri_obj, tri_part, seg, seg_rest, tab, slab_f, slab_rest, sla
         best, best_k, best_j = np.inf, -1, -1
         if rest:  # the surfaces kept analytic first
             best, best_k, best_j, _, _, _ = nearest_hit(Geometry(seg_rest, tab, slab_rest, slab_i, obj_rest, obj_f),
-                                                        ox, oy, oz, dx, dy, dz, medium[i], last[i], side[i],
+                                                        Ray(ox, oy, oz, dx, dy, dz), medium[i], last[i], side[i],
                                                         Scratch(roots, crit, stack))
         decided = True
         if scene != 0:
@@ -384,9 +385,9 @@ def _search(scene, tri_obj, tri_part, seg, seg_rest, tab, slab_f, slab_rest, sla
                     t0 = START_FRACTION * obj_f[k, F_EDGE] if k == last[i] else 0.0
                     a, b = max(te - bracket, t0), min(te + bracket, best)
                     if obj_i[k, O_KIND] == PLANE:
-                        t = _plane_hit(obj_i, obj_f, k, ox, oy, oz, dx, dy, dz, a, b)
-                        if t < best and _accept(obj_i, obj_f, k, t, 0.0, 0.0, obj_f[k, F_PNZ], dx, dy, dz, oz + t * dz,
-                                                medium[i], last[i], side[i]):
+                        t = _plane_hit(obj_i, obj_f, k, Ray(ox, oy, oz, dx, dy, dz), a, b)
+                        if t < best and _accept(obj_i, obj_f, k, t, 0.0 * dx + 0.0 * dy + obj_f[k, F_PNZ] * dz,
+                                                oz + t * dz, medium[i], last[i], side[i]):
                             best, best_k, best_j, found = t, k, -1, True
                     else:
                         first, count = obj_i[k, O_FIRST], obj_i[k, O_COUNT]
@@ -403,7 +404,7 @@ def _search(scene, tri_obj, tri_part, seg, seg_rest, tab, slab_f, slab_rest, sla
                                     continue
                                 nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, jj, ox + t * dx,
                                                            oy + t * dy, pz, root_param(seg, obj_i, k, jj, roots, q))
-                                if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium[i], last[i], side[i]):
+                                if _accept(obj_i, obj_f, k, t, nx * dx + ny * dy + nz * dz, pz, medium[i], last[i], side[i]):
                                     best, best_k, best_j, found = t, k, jj, True
                                     break
                 if not found and te < best - bracket:
@@ -412,7 +413,7 @@ def _search(scene, tri_obj, tri_part, seg, seg_rest, tab, slab_f, slab_rest, sla
             decided = False  # the ray cannot leave its medium without a crossing
         if not decided:
             fell[i] = True
-            best, best_k, best_j, _, _, _ = nearest_hit(Geometry(seg, tab, slab_f, slab_i, obj_i, obj_f), ox, oy, oz,
-                                                        dx, dy, dz, medium[i], last[i], side[i],
+            best, best_k, best_j, _, _, _ = nearest_hit(Geometry(seg, tab, slab_f, slab_i, obj_i, obj_f),
+                                                        Ray(ox, oy, oz, dx, dy, dz), medium[i], last[i], side[i],
                                                         Scratch(roots, crit, stack))
         out_t[i], out_k[i], out_j[i] = best, best_k, best_j

@@ -75,14 +75,15 @@ def _int64s_at(typingctx, address):
 
 
 @njit(**JIT)
-def embree_nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last, side, scratch):
+def embree_nearest_hit(geom, ray, medium, last, side, scratch):
     """:func:`~engine.tracer.kernels.intersect.nearest_hit`'s contract by Embree + refinement
     (module doc); the analytic search itself where ``tab`` carries no Embree scene."""
     seg, tab, slab_f, slab_i, obj_i, obj_f = geom
+    ox, oy, oz, dx, dy, dz = ray
     roots, crit, stack = scratch
     n_tab = tab.shape[0]
     if n_tab < 3 or tab[n_tab - 1, 2] != MARKER:
-        return nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last, side, scratch)
+        return nearest_hit(geom, ray, medium, last, side, scratch)
     # pointers, not arrays: these kernels run without numba's reference counting
     tri_obj = _int64s_at(np.uintp(tab[n_tab - 2, 1]))
     tri_part = _int64s_at(np.uintp(tab[n_tab - 2, 2]))
@@ -96,7 +97,7 @@ def embree_nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last, side, scratch
                                          oz, dx, dy, dz, medium, last, side, bracket, np.inf, roots, crit, stack)
         if k >= 0:
             return Hit(t, k, j, nx, ny, nz)
-    return nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last, side, scratch)
+    return nearest_hit(geom, ray, medium, last, side, scratch)
 
 
 class _MeshedContexts:

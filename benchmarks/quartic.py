@@ -141,13 +141,14 @@ def torus_hits_kernel(o, d, R, a, b, tau):
     if _BATCH is None:
         import numba
 
+        from engine.tracer.kernels.records import Ray
         from engine.tracer.kernels.roots import torus_roots
 
         @numba.njit(nogil=True)
         def batch(o, d, R, a, b, tau, out):
             buf, crit = np.zeros(4), np.zeros(5)
             for i in range(o.shape[0]):
-                n = torus_roots(o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2], R[i], a[i], b[i],
+                n = torus_roots(Ray(o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2]), R[i], a[i], b[i],
                                 False, tau[i], buf, crit)
                 for j in range(n):
                     out[i, j] = buf[j]

@@ -255,7 +255,7 @@ def test_ggx_is_finite_at_grazing_and_extreme_numbers():
         for m in [(0.0, 0.0, 1.0), (0.7071, 0.0, 0.7071), (1.0, 0.0, 0.0)]:
             m = np.array(m) / np.linalg.norm(m)
             wo = 2 * np.dot(wi, m) * m - wi
-            d, g, w = K.ggx_eval(0.3, *n, *wi, *wo, *m)
+            d, g, w = K.ggx_eval(0.3, *(tuple(map(float, v)) for v in (n, wi, wo, m)))
             assert np.isfinite(d) and np.isfinite(g) and np.isfinite(w) and w >= 0.0
     assert K.ggx_g1(0.3, 0.0, 0.5) == 0.0 and K.ggx_d(0.3, -0.1) == 0.0
 
@@ -266,5 +266,5 @@ def test_ggx_weight_of_a_smooth_surface_is_one():
     m = K.ggx_sample(0.02, *n, 0.3, 0.7)
     wi = np.array([0.5, 0.0, 0.8660254037844386])
     wo = 2 * np.dot(wi, m) * np.array(m) - wi
-    _, g, w = K.ggx_eval(0.02, *n, *wi, *wo, *m)
+    _, g, w = K.ggx_eval(0.02, *(tuple(map(float, v)) for v in (n, wi, wo, m)))
     assert g == pytest.approx(1.0, abs=2e-3) and w == pytest.approx(1.0, abs=5e-3)

@@ -404,22 +404,19 @@ def _rim_hit(d):
     """The surface layer's answer ``(children, r, g, b, bits)`` for a ray straight up onto the
     flat rim of the -x side of ``d``'s plastic skirt (:func:`_stepped_design`), 15 mm from
     the axis, with the kernels' own scratch (as the integrator calls it)."""
-    from engine.tracer.kernels.intersect import O_MAT
     from engine.tracer.kernels.queries import hits
-    from engine.tracer.kernels.records import Interaction, Scratch
-    from engine.tracer.kernels.surface import scatter
-    from engine.tracer.tables.labels import with_buffers
+    from engine.tracer.kernels.records import Hit, Ray, Scratch
+    from engine.tracer.kernels.surface import interaction, scatter
     ctx = RenderContext.from_design(d, None, 8, 8)
-    obj_i = ctx.scene.geom.obj_i
     o, dr = np.array([[-15.0, 0.0, ctx.cap.z_min - 1.0]]), np.array([[0.0, 0.0, 1.0]])
     t, k, part, n = np.zeros(1), np.zeros(1, np.int64), np.zeros(1, np.int64), np.zeros((1, 3))
     hits(ctx.scene.geom, o, dr, np.zeros(1, np.int64), np.full(1, -1, np.int64), np.zeros(1, np.int64), t, k, part, n)
     assert k[0] == ctx.geometry.obj_i.shape[0]          # the cap's part
-    p = o[0] + t[0] * dr[0]
-    it = Interaction(*p, *n[0], *dr[0], int(k[0]), int(part[0]), int(obj_i[k[0], O_MAT]), 0, 0, -1, np.uint64(0))
-    s = scatter(ctx.scene, with_buffers(ctx.labels), ctx.finish_tables, ctx.env_params, ctx.lookup_texels, it,
-                1.0, 1.0, 1.0,
-                np.uint64(1), np.zeros((4, 8)), Scratch(np.zeros(16), np.zeros(5), np.zeros((64, 2))))
+    tables = ctx.tables()
+    it = interaction(tables, Ray(*o[0], *dr[0]), Hit(t[0], int(k[0]), int(part[0]), *n[0]), -1, np.uint64(0))
+    assert it.inc == 0  # the ray comes up through the air
+    s = scatter(tables, it, 1.0, 1.0, 1.0, np.uint64(1), np.zeros((4, 8)),
+                Scratch(np.zeros(16), np.zeros(5), np.zeros((64, 2))))
     return s.nk, s.er, s.eg, s.eb, s.bits
 
 

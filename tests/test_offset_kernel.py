@@ -15,6 +15,7 @@ from engine.intersect import offset_arc_parameter, revolved_hits
 from engine.tracer.kernels.profile import S_RMAX, S_RMIN, S_ZMAX, S_ZMIN
 from engine.tracer.kernels.revolved import PARAM_SLOT, ray_box, segment_hits, segment_normal
 from engine.tracer.render_objects import _segment_row
+from engine.tracer.kernels.records import Ray
 from tests.test_revolved import SEGMENTS, _random_rays
 
 OFFSETS = ["offset_dome", "offset_shoulder", "offset_concave"]
@@ -30,11 +31,12 @@ def _row(name, wall=True):
 @njit(cache=False)
 def _ray_roots(seg, tab, ox, oy, oz, dx, dy, dz, roots, crit, stack):
     """Roots of row 0 along the ray as the tracer asks for them (inside the row's box)."""
-    a, b = ray_box(ox, oy, oz, dx, dy, dz, seg[0, S_RMIN], seg[0, S_RMAX], seg[0, S_ZMIN], seg[0, S_ZMAX],
+    ray = Ray(ox, oy, oz, dx, dy, dz)
+    a, b = ray_box(ray, seg[0, S_RMIN], seg[0, S_RMAX], seg[0, S_ZMIN], seg[0, S_ZMAX],
                    0.0, np.inf)
     if a > b:
         return 0
-    return segment_hits(seg, tab, 0, ox, oy, oz, dx, dy, dz, 0.0, np.inf, a, b, roots, crit, stack)
+    return segment_hits(seg, tab, 0, ray, 0.0, np.inf, a, b, roots, crit, stack)
 
 
 @njit(cache=False)

@@ -54,8 +54,8 @@ def test_the_sky_grid_is_the_same_for_any_number_of_threads():
     ctx = RenderContext.from_design(_on_stage(GREY, fill=40.0), None, 8, 8, grids=True)
     fin = ctx.finish._replace(sky_grid=np.zeros(SKY_COLS))
     ground = ctx.scene.geom.obj_i.shape[0] - 1
-    args = (ctx.scene, with_buffers(ctx.labels), fin, ctx.env_params, ctx.lookup_texels, ground, -0.0, 60.0,
-            ctx.max_depth, ctx.min_weight)
+    args = (ctx.tables(with_buffers(ctx.labels))._replace(finishes=fin), ground, -0.0, 60.0, ctx.max_depth,
+            ctx.min_weight)
     one, row = sky_grid(*args, threads=1)
     two, row2 = sky_grid(*args, threads=2)
     assert np.array_equal(row, row2) and one.shape == (ring_cells(row, int(row[S_NRING]))[0], 3)

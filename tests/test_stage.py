@@ -208,8 +208,7 @@ def test_the_caustic_grid_is_the_same_for_any_number_of_threads():
     from engine.tracer.tables.caustics import caustic_grids
     from engine.tracer.tables.labels import with_buffers
     ctx = RenderContext.from_design(_lit(fill=40.0), None, 8, 8)
-    args = (ctx.scene, with_buffers(ctx.labels), ctx.finish, ctx.env_params, ctx.lookup_texels,
-            ctx.scene.mat_i.shape[0] - 1, -0.05)
+    args = (ctx.tables(with_buffers(ctx.labels)), ctx.scene.mat_i.shape[0] - 1, -0.05)
     one, two = caustic_grids(*args, threads=1), caustic_grids(*args, threads=3)
     assert np.array_equal(one[0], two[0]) and np.array_equal(one[1], two[1])
     assert one[0][..., :6].max() > 0.0

@@ -17,8 +17,9 @@ from engine.tracer.kernels import intersect as K
 from engine.tracer.kernels.bands import monotone_sign
 from engine.tracer.kernels.profile import wall_range
 from engine.tracer.kernels.revolved import ray_box
-from engine.tracer.kernels.swept import swept_roots
+from engine.tracer.kernels.swept import swept_roots, swept_wall
 from engine.tracer.render_objects import INNER_WALL, OUTER_WALL, render_geometry_for
+from engine.tracer.kernels.records import Ray, Wall
 
 
 def _square_sample():
@@ -70,7 +71,7 @@ def _slab_rays(geom, seed, m, ruled=False):
             d = np.stack([rad * np.cos(ang), rad * np.sin(ang), rng.uniform(z0, z1, m)], 1) - o
             d /= np.linalg.norm(d, axis=1, keepdims=True)
             for i in range(m):
-                lo, hi = ray_box(*o[i], *d[i], 0.0, rmax, z0 + pad, z1 - pad, 0.0, np.inf)
+                lo, hi = ray_box(Ray(*o[i], *d[i]), 0.0, rmax, z0 + pad, z1 - pad, 0.0, np.inf)
                 if lo < hi:
                     yield k, part, j, o[i], d[i], lo, hi
 
@@ -98,8 +99,8 @@ def test_certified_windows_are_monotone(name):
         ranges = [wall_range(geom.seg, geom.tab, r, z_lo, z_hi) for r in rows]
         px, py = c * o[0] + s * o[1], -s * o[0] + c * o[1]
         qx, qy = c * d[0] + s * d[1], -s * d[0] + c * d[1]
-        sign = monotone_sign(geom.seg, rows[0], rows[1], rows[2], nsec, kind, px, py, qx, qy, d[2], a, b,
-                             z_lo, z_hi, *ranges[0], *ranges[1], *ranges[2])
+        wall = Wall(geom.seg, geom.tab, rows[0], rows[1], rows[2], nsec, kind, c, s)
+        sign = monotone_sign(wall, (px, py, qx, qy, d[2]), (a, b, z_lo, z_hi), (*ranges[0], *ranges[1], *ranges[2]))
         tried += 1
         if sign == 0:
             continue
@@ -119,7 +120,8 @@ def test_swept_roots_find_every_crossing_a_dense_sampling_finds(name):
     found = 0
     for k, part, j, o, d, lo, hi in _slab_rays(geom, 11, 150):
         kind, nsec, c, s, leaf = _wall(geom, k)
-        n = swept_roots(geom.seg, geom.tab, geom.slab_i[j], kind, nsec, c, s, *o, *d, lo, hi, leaf, out, stack)
+        n = swept_roots(swept_wall(geom.seg, geom.tab, geom.slab_i[j], kind, nsec, c, s), Ray(*o, *d), lo, hi, leaf, out,
+                        stack)
         roots = out[:n].copy()
         assert np.all(np.diff(roots) > 0.0) and np.all((roots >= lo) & (roots <= hi))
         t = np.linspace(lo, hi, 20001)
@@ -146,7 +148,7 @@ def test_ruled_slabs_normals_are_the_walls_gradients(name):
     slanted = checked = 0
     for k, part, j, o, d, lo, hi in _slab_rays(geom, 13, 150, ruled=True):
         _, _, c, s, _ = _wall(geom, k)
-        for t in out[:ruled_roots(geom.slab_f[j], c, s, *o, *d, lo, hi, out)]:
+        for t in out[:ruled_roots(geom.slab_f[j], c, s, Ray(*o, *d), lo, hi, out)]:
             p = o + t * d
             n = np.array(ruled_normal(geom.slab_f[j], c, s, *p))
             _, grad = body.wall_implicit(part, p)
@@ -176,18 +178,18 @@ def test_ruled_slabs_cross_where_the_certified_bands_do(name):
     for k, part, j, o, d, lo, hi in _slab_rays(geom, 17, 200, ruled=True):
         kind, nsec, c, s, leaf = _wall(geom, k)
         rays = [("around", o, d, lo, hi)]
-        n = ruled_roots(geom.slab_f[j], c, s, *o, *d, lo, hi, out)
+        n = ruled_roots(geom.slab_f[j], c, s, Ray(*o, *d), lo, hi, out)
         if n:  # from the first crossing, any direction that stays in the slab's box for a while
             p, e = o + out[0] * d, rng.normal(size=3)
             e /= np.linalg.norm(e)
-            a, b = ray_box(*p, *e, 0.0, geom.slab_f[j, SL_RMAX], geom.slab_f[j, SL_Z0], geom.slab_f[j, SL_Z1], 0.0,
+            a, b = ray_box(Ray(*p, *e), 0.0, geom.slab_f[j, SL_RMAX], geom.slab_f[j, SL_Z0], geom.slab_f[j, SL_Z1], 0.0,
                            np.inf)
             if a < b:
                 rays.append(("from the wall", p, e, max(a, tol), b))
         for kind_of_ray, o_, d_, lo_, hi_ in rays:
-            n = ruled_roots(geom.slab_f[j], c, s, *o_, *d_, lo_, hi_, out)
-            m = swept_roots(geom.seg, geom.tab, geom.slab_i[j], kind, nsec, c, s, *o_, *d_, lo_, hi_, leaf, ref,
-                            stack)
+            n = ruled_roots(geom.slab_f[j], c, s, Ray(*o_, *d_), lo_, hi_, out)
+            m = swept_roots(swept_wall(geom.seg, geom.tab, geom.slab_i[j], kind, nsec, c, s), Ray(*o_, *d_), lo_, hi_,
+                            leaf, ref, stack)
             assert n == m and np.allclose(out[:n], ref[:m], rtol=0.0, atol=tol), \
                 (name, j, kind_of_ray, out[:n], ref[:m])
             counts[kind_of_ray] += n

@@ -26,6 +26,7 @@ from engine.tracer.kernels.bumps import THREAD, bump_height
 from engine.tracer.kernels.helix import MAX_ROOTS, helix_field, helix_normal, helix_roots
 from engine.tracer.render_objects import OUTER_WALL
 from engine.model.design import Camera
+from engine.tracer.kernels.records import Ray
 from tests.test_tracer import WHITE
 from tests.test_tracer_properties import tall
 from tests.reference_images import assert_within_half_rounding
@@ -119,7 +120,7 @@ def _ref_roots(row, o, d, samples=400_001):
 
 def _kernel_roots(seg, j, o, d):
     out = np.zeros(16)
-    n = helix_roots(seg, j, *o, *d, 0.0, np.inf, out, MAX_ROOTS)
+    n = helix_roots(seg, j, Ray(*o, *d), 0.0, np.inf, out, MAX_ROOTS)
     return out[:n]
 
 

@@ -25,10 +25,11 @@ def _first_hit(case):
 
 def _first_hit_kernel(case):
     """The tracer's compiled solver, the one every arc of a render goes through."""
+    from engine.tracer.kernels.records import Ray
     from engine.tracer.kernels.roots import torus_roots
 
     out, crit = np.zeros(4), np.zeros(5)
-    n = torus_roots(*case["origin"], *case["direction"], case["R"], case["a"], case["b"], False,
+    n = torus_roots(Ray(*case["origin"], *case["direction"]), case["R"], case["a"], case["b"], False,
                     case["tau"], out, crit)
     return float(out[0]) if n else None
 
@@ -179,13 +180,14 @@ def test_convex_sheet_solver_matches_50_digit_references_on_its_side(kind):
     """The solver of arcs on the outer side of their tube (and on the mirror sheet) finds every
     root there and reports nothing else: roots at ``hypot(x, y) < R`` belong to the other side
     (a hair of slack either way at ``hypot = R``, where both sides meet)."""
+    from engine.tracer.kernels.records import Ray
     from engine.tracer.kernels.roots import SHEET_SLACK, convex_sheet_roots
 
     rng = np.random.default_rng(KINDS.index(kind) + 70)
     out = np.zeros(2)
     for _ in range(12):
         o, d, R, a, b, tau, inner = _seeded_case(kind, rng)
-        hits = out[:convex_sheet_roots(*o, *d, R, a, b, inner, tau, np.inf, out)]
+        hits = out[:convex_sheet_roots(Ray(*o, *d), R, a, b, inner, tau, np.inf, out)]
         required, allowed = _reference(o, d, R, a, b, tau, inner)
         side = lambda t: inner or (math.hypot(*(o + t * d)[:2]) - R) / a
         for t in required:
@@ -201,14 +203,15 @@ def test_convex_sheet_solver_agrees_with_the_quartic_on_the_shared_cases():
     """On the shared hard cases, every root the convex solver reports is one of the quartic's
     (to 1e-6 tube radii), and it reports every root of the outer side the quartic finds,
     except a touch: a pair closer than 1e-6 tube radii."""
+    from engine.tracer.kernels.records import Ray
     from engine.tracer.kernels.roots import SHEET_SLACK, convex_sheet_roots, torus_roots
 
     out, crit, mine = np.zeros(4), np.zeros(5), np.zeros(2)
     for case in json.loads(CASES.read_text())["cases"]:
         o, d = np.array(case["origin"]), np.array(case["direction"])
         R, a, b, tau = case["R"], case["a"], case["b"], case["tau"]
-        quartic = list(out[:torus_roots(*o, *d, R, a, b, False, tau, out, crit)])
-        got = list(mine[:convex_sheet_roots(*o, *d, R, a, b, False, tau, np.inf, mine)])
+        quartic = list(out[:torus_roots(Ray(*o, *d), R, a, b, False, tau, out, crit)])
+        got = list(mine[:convex_sheet_roots(Ray(*o, *d), R, a, b, False, tau, np.inf, mine)])
         near = lambda t, ts: min((abs(t - x) for x in ts), default=np.inf) <= TOL_TUBE * a
         for t in got:
             assert near(t, quartic), (case["category"], got, quartic)
@@ -232,13 +235,14 @@ def _on_hole_side(o, d, t, R, b):
 def test_hole_sheet_solver_matches_50_digit_references_on_its_side(kind):
     """The solver of arcs on the side of their tube facing the axis (waists, shoulders into a
     neck) finds every root there and reports nothing else."""
+    from engine.tracer.kernels.records import Ray
     from engine.tracer.kernels.roots import hole_sheet_roots
 
     rng = np.random.default_rng(KINDS.index(kind) + 700)
     out = np.zeros(4)
     for _ in range(16):
         o, d, R, a, b, tau, _ = _seeded_case(kind, rng)
-        hits = out[:hole_sheet_roots(*o, *d, R, a, b, tau, np.inf, out)]
+        hits = out[:hole_sheet_roots(Ray(*o, *d), R, a, b, tau, np.inf, out)]
         required, allowed = _reference(o, d, R, a, b, tau)
         for t in required:
             if _on_hole_side(o, d, t, R, b):
@@ -254,14 +258,15 @@ def test_hole_sheet_solver_agrees_with_the_quartic_on_the_shared_cases():
     """On the shared hard cases (near-double roots, rays along and across the axis, far and
     thin tori) every root the hole-side solver reports is one of the quartic's, and it reports
     every root of its side the quartic finds, except a touch."""
+    from engine.tracer.kernels.records import Ray
     from engine.tracer.kernels.roots import hole_sheet_roots, torus_roots
 
     out, crit, mine = np.zeros(4), np.zeros(5), np.zeros(4)
     for case in json.loads(CASES.read_text())["cases"]:
         o, d = np.array(case["origin"]), np.array(case["direction"])
         R, a, b, tau = case["R"], case["a"], case["b"], case["tau"]
-        quartic = list(out[:torus_roots(*o, *d, R, a, b, False, tau, out, crit)])
-        got = list(mine[:hole_sheet_roots(*o, *d, R, a, b, tau, np.inf, mine)])
+        quartic = list(out[:torus_roots(Ray(*o, *d), R, a, b, False, tau, out, crit)])
+        got = list(mine[:hole_sheet_roots(Ray(*o, *d), R, a, b, tau, np.inf, mine)])
         near = lambda t, ts: min((abs(t - x) for x in ts), default=np.inf) <= TOL_TUBE * a
         for t in got:
             assert near(t, quartic), (case["category"], got, quartic)
@@ -275,6 +280,7 @@ def test_hole_sheet_solver_where_its_pieces_degenerate(R, a, b):
     """Rays exactly through the axis (a kink of the distance from it), level rays (no split of
     convexity), vertical rays and rays nearly along the axis, against the quartic: the roots of
     the side facing the axis, to 1e-9 tube radii."""
+    from engine.tracer.kernels.records import Ray
     from engine.tracer.kernels.roots import hole_sheet_roots, torus_roots
 
     rng = np.random.default_rng(11)
@@ -289,8 +295,8 @@ def test_hole_sheet_solver_where_its_pieces_degenerate(R, a, b):
                      _unit(np.array([rng.choice([0.0, 1e-7]), 0.0, -1.0]))))  # along the axis
     found = 0
     for o, d in rays:
-        quartic = list(out[:torus_roots(*o, *d, R, a, b, False, 0.0, out, crit)])
-        got = list(mine[:hole_sheet_roots(*o, *d, R, a, b, 0.0, np.inf, mine)])
+        quartic = list(out[:torus_roots(Ray(*o, *d), R, a, b, False, 0.0, out, crit)])
+        got = list(mine[:hole_sheet_roots(Ray(*o, *d), R, a, b, 0.0, np.inf, mine)])
         near = lambda t, ts: min((abs(t - x) for x in ts), default=np.inf) <= 1e-9 * a
         for t in quartic:
             assert near(t, got) or not _on_hole_side(o, d, t, R, b), (o, d, got, quartic)

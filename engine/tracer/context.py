@@ -20,7 +20,7 @@ from .kernels.integrator import (C_BUDGET, C_CUT_DEPTH, C_CUT_WEIGHT, C_LEAKS, C
 from .kernels.sampling import C_COLS
 from .kernels.tile import render_pixels
 from .kernels.ground import NOISY_BIT
-from .kernels.records import Cutoffs, FinishTables, Geometry, LabelTables, Pixels, PixelSums, Scene
+from .kernels.records import Cutoffs, FinishTables, Geometry, LabelTables, Pixels, PixelSums, Scene, Tables
 from .tables.labels import empty_label_arrays, label_arrays, with_buffers
 from .tables.finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
 from .render_objects import RenderGeometry, render_geometry_for, scene_arrays, search_tables
@@ -112,12 +112,15 @@ class RenderContext:
         params = environment_params(design, env, factor)
         level = float(np.mean(tex, dtype=np.float64)) * float(env.scale)
         labels = label_arrays(design, assets, tex, geom.obj_i.shape[0])
+        def tables():  # what the stage's photons and probes meet, with the finishes built so far
+            return Tables(scene, labels, finish, params, half)
+
         if grids is not False and finish.lights.shape[0] and design.stage.is_diffuse_ground:
-            finish = finish._replace(**stage_caustics(design, assets, scene, labels, finish, params, half))
+            finish = finish._replace(**stage_caustics(design, assets, tables()))
         if (sky_grid_pays(w, h) if grids is None else grids) and design.stage.is_diffuse_ground:
             if design.stage.draws_backdrop:  # first: the sky grid's probes that meet the sweep read it
-                finish = finish._replace(**stage_sweep(design, assets, scene, labels, finish, params, half, cancelled))
-            finish = finish._replace(**stage_sky(design, assets, scene, labels, finish, params, half, cancelled))
+                finish = finish._replace(**stage_sweep(design, assets, tables(), cancelled))
+            finish = finish._replace(**stage_sky(design, assets, tables(), cancelled))
         return cls(geom, scene, tex, params, cam, camera_array(cam), int(design.render.max_depth),
                    float(design.render.min_weight), int(scene.mat_i.shape[0]), level, env,
                    labels, finish, cap, half)
@@ -141,6 +144,13 @@ class RenderContext:
         coat, a light's penumbra): such a pixel is noisy even where it differs from no
         neighbour. Zero without a ground."""
         return NOISY_BIT if self.ground_objects else np.int64(0)
+
+    def tables(self, labels: LabelTables | None = None) -> Tables:
+        """What the kernels' trees read (:class:`~engine.tracer.kernels.records.Tables`): the
+        scene, ``labels`` (default: the context's, with empty record buffers), the finishes,
+        the environment's row and its lookup texels."""
+        return Tables(self.scene, with_buffers(self.labels) if labels is None else labels, self.finish_tables,
+                      self.env_params, self.lookup_texels)
 
     @property
     def finish_tables(self) -> FinishTables:
@@ -224,13 +234,12 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
     rec_rays, rec_n = record if record is not None else (np.zeros((0, 6), np.float32), np.zeros(1, np.int64))
     samples = int(count.sum()) if record_labels and ctx.labels.rows.shape[0] > 0 else 0
     hits = None
-    finish = ctx.finish_tables
     cut = Cutoffs(ctx.max_depth, ctx.min_weight, float(roulette), MAX_NODES)
     out = PixelSums(sums, sumsq, sig, mask, depth, counters)
     while True:
         labels = with_buffers(ctx.labels, samples, hits)
-        done = render_pixels(ctx.scene, ctx.lookup_texels, ctx.env_params, ctx.cam, Pixels(cols, rows, first, count),
-                             cut, 0, out, cancel, rec_rays, rec_n, labels, finish)
+        done = render_pixels(ctx.tables(labels), ctx.cam, Pixels(cols, rows, first, count), cut, 0, out, cancel,
+                             (rec_rays, rec_n))
         if not samples or not labels.hit_n[1] or done < p:
             break
         # more hits than room: trace the call again with room for all (same seeds, same result)
@@ -297,6 +306,5 @@ def trace_rays(ctx: RenderContext, origins, directions, seed: int = 0):
     d = np.ascontiguousarray(np.asarray(directions, float).reshape(-1, 3))
     out = np.zeros((len(o), 3))
     counters = np.zeros(N_COUNTERS, np.int64)
-    radiance(ctx.scene, ctx.lookup_texels, ctx.env_params, o, d, Cutoffs(ctx.max_depth, ctx.min_weight, 0.0, MAX_NODES),
-             out, counters, with_buffers(ctx.labels), ctx.finish_tables, int(seed))
+    radiance(ctx.tables(), o, d, Cutoffs(ctx.max_depth, ctx.min_weight, 0.0, MAX_NODES), out, counters, int(seed))
     return out, counters

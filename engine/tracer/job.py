@@ -105,6 +105,10 @@ class RenderJob:
                  tile=32, on_tile=None, on_done=None, on_wave=None, adaptive=True, noise_target=NOISE_TARGET,
                  noise_space="linear", previous=None, changed=None, worker_nice=0, policy="split",
                  _tile_shuffle_seed=None, _sample_base=0):
+        """A job for ``design`` (class docstring). Why so many parameters: every option but the
+        design is keyword-only with a default, so a call names just what it changes (the
+        window, final renders, batches and benchmarks each set a different few); a record of
+        options would repeat these defaults in a second place."""
         self.design = design
         self.assets = assets
         self.width = int(width or design.render.width)

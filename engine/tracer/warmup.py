@@ -59,29 +59,22 @@ def warm_up() -> None:
         staged = dataclasses.replace(_tiny_design(), stage=Stage(kind="table", half_size_mm=40.0), lights=(Light(),))
         sc = RenderContext.from_design(staged, None, 8, 8, grids=False)  # (the passes themselves, one probe each:)
         from .kernels.caustics import P_COLS, trace_photons
-        from .kernels.integrator import N_COUNTERS
         from .kernels.records import Cutoffs
         from .kernels.sky import Y_COLS, sky_cells, sweep_cells
         from .kernels.tile import make_work
-        from .tables.sky import sweep_object
+        from .tables.sky import quiet_recorder, sweep_object
         from .tables.stage import ground_object
 
-        lab, fin, ground = with_buffers(sc.labels), sc.finish_tables, ground_object(sc.scene)
-        sky_cells(sc.scene, lab, fin, sc.env_params, sc.lookup_texels, ground, 0.0, np.array([[20.0, 0.0]]),
-                  np.zeros(1, np.int64), 1, 0, 1, Cutoffs(8, 0.01, 0.0, 64), make_work(8), np.full(8, 255, np.int64),
-                  np.zeros(N_COUNTERS, np.int64), np.zeros((0, 6), np.float32), np.zeros(1, np.int64),
-                  np.zeros((1, Y_COLS)))
+        tables, ground = sc.tables(), ground_object(sc.scene)
+        sky_cells(tables, ground, 0.0, np.array([[20.0, 0.0]]), np.zeros(1, np.int64), 1, 0, 1,
+                  Cutoffs(8, 0.01, 0.0, 64), make_work(8), quiet_recorder(sc.scene), np.zeros((1, Y_COLS)))
         swept = RenderContext.from_design(dataclasses.replace(staged, stage=Stage(kind="table", half_size_mm=40.0,
                                                                                   backdrop=True)), None, 8, 8,
                                           grids=False)
-        sweep_cells(swept.scene, with_buffers(swept.labels), swept.finish_tables, swept.env_params,
-                    swept.lookup_texels, sweep_object(swept.scene), np.array([[0.0, 1.0]]), np.zeros(1, np.int64), 1,
-                    0, 1, Cutoffs(8, 0.01, 0.0, 64), make_work(8), np.full(swept.scene.mat_i.shape[0], 255, np.int64),
-                    np.zeros(N_COUNTERS, np.int64), np.zeros((0, 6), np.float32), np.zeros(1, np.int64),
-                    np.zeros((1, Y_COLS)))
-        trace_photons(sc.scene, lab, fin, sc.env_params, sc.lookup_texels, fin.lights[0],
-                      np.array([0.0, 0.0, 100.0, 20.0, 20.0]), 0.0, 0, 1, np.uint64(1), 8, make_work(8),
-                      np.zeros((1, P_COLS)))
+        sweep_cells(swept.tables(), sweep_object(swept.scene), np.array([[0.0, 1.0]]), np.zeros(1, np.int64), 1,
+                    0, 1, Cutoffs(8, 0.01, 0.0, 64), make_work(8), quiet_recorder(swept.scene), np.zeros((1, Y_COLS)))
+        trace_photons(tables, tables.finishes.lights[0], np.array([0.0, 0.0, 100.0, 20.0, 20.0]), 0.0, 0, 1,
+                      np.uint64(1), 8, make_work(8), np.zeros((1, P_COLS)))
         _DONE.set()
 
 

@@ -149,11 +149,13 @@ def cosine_about(nx, ny, nz, u1, u2):
 
 
 @njit(**JIT)
-def backdrop(sc, lab, fin, env_p, tex, it, bseed, kids, scratch):
-    """The backdrop sweep at interaction ``it`` (module rule): ``(children, r, g, b, bits)``,
+def backdrop(tables, it, bseed, kids, scratch):
+    """The backdrop sweep at interaction ``it`` (module rule), reading ``tables`` (a
+    :class:`~.records.Tables`): ``(children, r, g, b, bits)``,
     the radiance factors sent back at once (times the branch's weight; negative where the control
     variate takes back what the child will bring) and the object-mask bits consulted
     (:data:`~.ground.NOISY_BIT`, the labels a shadow ray met)."""
+    sc, fin, env_p, tex = tables.scene, tables.finishes, tables.env, tables.texels
     mat_f, mat = sc.mat_f, it.mat
     nx, ny, nz = it.nx, it.ny, it.nz
     cos_i = -(nx * it.dx + ny * it.dy + nz * it.dz)
@@ -167,7 +169,7 @@ def backdrop(sc, lab, fin, env_p, tex, it, bseed, kids, scratch):
         base = coat(ior, it.dx, it.dy, it.dz, nx, ny, nz, cos_i, 1.0, kids, 0)
         if mat_f[mat, MG_ALPHA] > 0.0:
             bits |= NOISY_BIT
-            rough_mirror(fin.mirror_albedo, fin.mirror_avg, mat_f[mat, MG_ALPHA], it.dx, it.dy, it.dz, nx, ny, nz,
+            rough_mirror(fin.mirror_albedo, fin.mirror_avg, mat_f[mat, MG_ALPHA], (it.dx, it.dy, it.dz), (nx, ny, nz),
                          uniform01(bseed, FROST_STREAM), uniform01(bseed, FROST_STREAM + 1), kids, mat_f, mat, ior)
         nk = 1
     ar, ag, ab = base * ar, base * ag, base * ab
@@ -185,8 +187,7 @@ def backdrop(sc, lab, fin, env_p, tex, it, bseed, kids, scratch):
             lr, lg, lb = open_model(env_p, tex, wx, wy, wz)
             er, eg, eb = er - lr, eg - lg, eb - lb
     if fin.lights.shape[0] > 0:
-        dr, dg, db, lbits = lit_by_lights(sc, lab, fin.lights, it.obj, AIR, it.px, it.py, it.pz, nx, ny, nz,
-                                          nx, ny, nz, nx, ny, nz, scratch)
+        dr, dg, db, lbits = lit_by_lights(tables, fin.lights, it, AIR, (nx, ny, nz, nx, ny, nz), scratch)
         er, eg, eb = er + dr, eg + dg, eb + db
         bits |= lbits
     return nk, ar * er, ag * eg, ab * eb, bits

@@ -8,8 +8,7 @@ outside the *inner* one (smallest): a closed-form 2-D problem (a ray against cir
 and rounded rectangles) giving at most two *bands*. Restricting to a band narrows the height
 range, hence the radii, hence the bands: the iteration contracts onto the crossings; where it
 stalls the interval is halved. A band narrower than the leaf length is solved on the exact
-surface: a sign change at its ends gives one crossing (safeguarded Newton on a wall, Illinois
-on a punt's base). This is a proof, not a sampling: no crossing outside the bands is possible.
+surface: a sign change at its ends gives one crossing (safeguarded Newton). This is a proof, not a sampling: no crossing outside the bands is possible.
 
 Rounded squares and rectangles stop contracting earlier, as soon as the residual is *certified
 monotone* on a band: then the band holds at most one crossing, found by the same Newton. Along
@@ -34,9 +33,8 @@ from numba import njit
 
 from .outlines import (CIRCLE, OVAL, RRECT, RSQUARE, SQRT2, disc_interval, gradient_span, outline_interval,
                        rrect_directions, square_corner, xs_eval)
-from .profile import base_range, base_z, wall_r, wall_range, wall_slopes, wall_state
+from .profile import wall_r, wall_range, wall_slopes, wall_state
 from .jit import INLINE, JIT
-from .roots import illinois_done, illinois_point, illinois_update
 
 
 @njit(**INLINE)
@@ -70,32 +68,13 @@ BUDGET = 256
 
 
 @njit(**JIT)
-def _illinois(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
-    """The crossing inside ``[a, b]`` (``fa``, ``fb`` of opposite signs): Illinois false position."""
-    x = a
-    last = 0
-    for _ in range(100):
-        x = illinois_point(a, b, fa, fb)
-        fx = residual(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, x)
-        if illinois_done(a, b, fx):
-            break
-        a, b, fa, fb, last = illinois_update(a, b, fa, fb, x, fx, last)
-    return x
-
-
-# residual kinds
-F_WALL, F_BASE = 0, 1
-
-
-@njit(**JIT)
-def residual(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, t):
-    """Signed residual of the wall at ray distance ``t``: positive outside the outline.
-
-    ``F_WALL``: cross-section ``kind`` at radii ``r(z)`` of segment rows ``r0..r2`` (a CIRCLE
-    wall is ``rho - r(z)``); ``F_BASE``: ``z - Z(rho)`` of the r-rising curve row ``r0``."""
+def residual(wall, ray, t):
+    """Signed residual of the wall (a :class:`~.records.Wall`) at ray distance ``t``: positive
+    outside the outline (cross-section ``kind`` at radii ``r(z)`` of segment rows ``r0..r2``; a
+    CIRCLE wall is ``rho - r(z)``)."""
+    seg, _, r0, r1, r2, nsec, kind, c, s = wall
+    ox, oy, oz, dx, dy, dz = ray
     x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
-    if f_kind == F_BASE:
-        return z - base_z(seg, r0, math.sqrt(x * x + y * y))
     ra = wall_r(seg, r0, z)
     if kind == CIRCLE:
         return math.sqrt(x * x + y * y) - ra
@@ -106,10 +85,12 @@ def residual(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy,
 
 
 @njit(**JIT)
-def wall_value_slope(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, t):
-    """The ``F_WALL`` residual at ray distance ``t`` (mm) and its derivative in ``t``: the
+def wall_value_slope(wall, ray, t):
+    """The residual of ``wall`` at ray distance ``t`` (mm) and its derivative in ``t``: the
     outline's gradient along the ray's footprint plus, through the radii, ``dr/dz dz/dt``
     from the sections' tangents (finite where the certificate below lets Newton run)."""
+    seg, _, r0, r1, r2, nsec, kind, c, s = wall
+    ox, oy, oz, dx, dy, dz = ray
     x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
     ra, tra, tza = wall_state(seg, r0, z)
     rb, trb, tzb, rc, trc, tzc = 0.0, 0.0, 1.0, 0.0, 0.0, 1.0
@@ -123,7 +104,7 @@ def wall_value_slope(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, 
 
 
 @njit(**JIT)
-def _newton(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
+def _newton(wall, ray, a, b, fa, fb):
     """A crossing of the wall inside ``[a, b]`` (``fa``, ``fb`` of opposite signs; the only one
     where the residual is certified monotone): Newton from the secant point, each step kept
     inside the shrinking bracket (else bisection), to a step of 2 ulps or to the residual's
@@ -133,7 +114,7 @@ def _newton(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa,
         x = 0.5 * (a + b)
     step = np.inf
     for _ in range(100):
-        fx, df = wall_value_slope(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, x)
+        fx, df = wall_value_slope(wall, ray, x)
         if fx == 0.0:
             return x
         if (fx > 0.0) == (fa > 0.0):
@@ -179,14 +160,18 @@ def _abs_range(x0, x1):
 
 
 @njit(**JIT)
-def monotone_sign(seg, r0, r1, r2, nsec, kind, px, py, qx, qy, dz, a, b, z_lo, z_hi, a_lo, a_hi,
-                  b_lo, b_hi, c_lo, c_hi):
-    """-1 if the rounded wall's residual provably decreases over ``[a, b]``, +1 if it provably
+def monotone_sign(wall, foot, window, radii):
+    """-1 if the rounded wall's residual provably decreases over the window, +1 if it provably
     increases, else 0 (module doc): then the window holds at most one crossing.
 
-    ``kind`` RSQUARE or RRECT; ``(px, py) + t (qx, qy)`` the ray's footprint in the bottle frame,
-    ``dz`` its rise per mm; ``z_lo..z_hi`` the window's heights and ``a_lo..c_hi`` the sections'
-    radius ranges there (mm)."""
+    ``wall`` a :class:`~.records.Wall` of kind RSQUARE or RRECT; ``foot`` = ``(px, py, qx, qy,
+    dz)``: ``(px, py) + t (qx, qy)`` the ray's footprint in the bottle frame, ``dz`` its rise per
+    mm; ``window`` = ``(a, b, z_lo, z_hi)``, the ray distances and heights (mm) of the window;
+    ``radii`` = ``(a_lo, a_hi, b_lo, b_hi, c_lo, c_hi)``, the sections' radius ranges there (mm)."""
+    seg, _, r0, r1, r2, _, kind, _, _ = wall
+    px, py, qx, qy, dz = foot
+    a, b, z_lo, z_hi = window
+    a_lo, a_hi, b_lo, b_hi, c_lo, c_hi = radii
     if kind == RSQUARE:  # inner box half size u - q = (sqrt2 + 1)(v - u), both axes
         hx_lo = (SQRT2 + 1.0) * (b_lo - a_hi)
         hx_hi = (SQRT2 + 1.0) * (b_hi - a_lo)
@@ -243,21 +228,22 @@ def monotone_sign(seg, r0, r1, r2, nsec, kind, px, py, qx, qy, dz, a, b, z_lo, z
 
 
 @njit(**JIT)
-def band_roots(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, lo, hi, leaf,
-               out, n, stack):
+def band_roots(wall, ray, lo, hi, leaf, out, n, stack):
     """Crossings (ascending, appended to ``out`` from index ``n``) of the ray with a wall in
     ``[lo, hi]``: bands contracted (module doc) until certified monotone or down to ``leaf``
-    (mm), then solved by Newton (a wall) or Illinois (a punt's base).
+    (mm), then solved by Newton.
 
-    ``f_kind`` F_WALL: a z-rising wall whose sections are segment rows ``r0..r2`` (``nsec`` of
-    them) of cross-section ``kind``, turned by ``(c, s) = (cos, sin)`` of the bottle's rotation;
-    F_BASE: the revolved r-rising curve row ``r0`` (a punt's offset). Only a pair of crossings
-    closer than ``leaf`` can be missed (a graze). ``stack`` is ``(64, 2)`` scratch.
+    ``wall`` (a :class:`~.records.Wall`): a z-rising wall whose sections are segment rows
+    ``r0..r2`` (``nsec`` of them) of cross-section ``kind``, turned by ``(c, s) = (cos, sin)`` of
+    the bottle's rotation. Only a pair of crossings closer than ``leaf`` can be missed (a
+    graze). ``stack`` is ``(64, 2)`` scratch.
     """
+    seg, tab, r0, r1, r2, nsec, kind, c, s = wall
+    ox, oy, oz, dx, dy, dz = ray
     # the ray's footprint in the bottle frame (outlines are not turned)
     px, py = c * ox + s * oy, -s * ox + c * oy
     qx, qy = c * dx + s * dy, -s * dx + c * dy
-    certify = f_kind == F_WALL and (kind == RSQUARE or kind == RRECT)
+    certify = kind == RSQUARE or kind == RRECT
     stack[0, 0], stack[0, 1] = lo, hi
     top = 1
     budget = BUDGET
@@ -278,58 +264,39 @@ def band_roots(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, d
             wa, wb = max(lo, a - eps), min(hi, b + eps)
             za, zb = oz + wa * dz, oz + wb * dz
             z_lo, z_hi = min(za, zb), max(za, zb)
-            if f_kind == F_BASE:
-                # z(t) must lie within the curve's height range over the ray's radius range
-                E = dx * dx + dy * dy
-                sa = -(ox * dx + oy * dy) / E if E > 0.0 else a
-                sn = min(max(sa, a), b)
-                rho_lo = math.sqrt((ox + sn * dx) ** 2 + (oy + sn * dy) ** 2)
-                rho_hi = max(math.sqrt((ox + a * dx) ** 2 + (oy + a * dy) ** 2),
-                             math.sqrt((ox + b * dx) ** 2 + (oy + b * dy) ** 2))
-                h_lo, h_hi = base_range(seg, tab, r0, rho_lo, rho_hi)
-                if dz == 0.0:
-                    if oz < h_lo or oz > h_hi:
-                        empty = True
-                        break
-                    l0, h0, l1, h1 = a, b, 1.0, -1.0
-                else:
-                    t0, t1 = (h_lo - oz) / dz, (h_hi - oz) / dz
-                    l0, h0 = max(a, min(t0, t1)), min(b, max(t0, t1))
-                    l1, h1 = 1.0, -1.0
+            a_lo, a_hi = wall_range(seg, tab, r0, z_lo, z_hi)
+            b_lo, b_hi, c_lo, c_hi = 0.0, 0.0, 0.0, 0.0
+            if nsec > 1:
+                b_lo, b_hi = wall_range(seg, tab, r1, z_lo, z_hi)
+            if nsec > 2:
+                c_lo, c_hi = wall_range(seg, tab, r2, z_lo, z_hi)
+            if certify and not fresh:
+                monotone = monotone_sign(wall, (px, py, qx, qy, dz), (wa, wb, z_lo, z_hi),
+                                         (a_lo, a_hi, b_lo, b_hi, c_lo, c_hi))
+                if monotone != 0:  # at most one crossing in [wa, wb]: no more contraction
+                    a, b = wa, wb
+                    break
+            fresh = False
+            if kind == CIRCLE:
+                l0, h0, l1, h1 = annulus_bands(ox, oy, dx, dy, a_lo, a_hi, a, b)
             else:
-                a_lo, a_hi = wall_range(seg, tab, r0, z_lo, z_hi)
-                b_lo, b_hi, c_lo, c_hi = 0.0, 0.0, 0.0, 0.0
-                if nsec > 1:
-                    b_lo, b_hi = wall_range(seg, tab, r1, z_lo, z_hi)
-                if nsec > 2:
-                    c_lo, c_hi = wall_range(seg, tab, r2, z_lo, z_hi)
-                if certify and not fresh:
-                    monotone = monotone_sign(seg, r0, r1, r2, nsec, kind, px, py, qx, qy, dz, wa, wb,
-                                             z_lo, z_hi, a_lo, a_hi, b_lo, b_hi, c_lo, c_hi)
-                    if monotone != 0:  # at most one crossing in [wa, wb]: no more contraction
-                        a, b = wa, wb
-                        break
-                fresh = False
-                if kind == CIRCLE:
-                    l0, h0, l1, h1 = annulus_bands(ox, oy, dx, dy, a_lo, a_hi, a, b)
+                ok_in = True
+                if kind == RSQUARE:  # q <= u holds exactly (v >= u); clamp the rounding
+                    ko, o0, o1, o2 = RRECT, a_hi, a_hi, min(a_hi, max(0.0, square_corner(a_hi, b_hi)))
+                    ki, i0, i1, i2 = RRECT, a_lo, a_lo, min(a_lo, max(0.0, square_corner(a_lo, b_lo)))
+                elif kind == RRECT:
+                    ko, o0, o1, o2 = RRECT, a_hi, b_hi, c_lo
+                    ki, i0, i1, i2 = RRECT, a_lo, b_lo, c_hi
+                    ok_in = c_hi <= min(a_lo, b_lo)
                 else:
-                    ok_in = True
-                    if kind == RSQUARE:  # q <= u holds exactly (v >= u); clamp the rounding
-                        ko, o0, o1, o2 = RRECT, a_hi, a_hi, min(a_hi, max(0.0, square_corner(a_hi, b_hi)))
-                        ki, i0, i1, i2 = RRECT, a_lo, a_lo, min(a_lo, max(0.0, square_corner(a_lo, b_lo)))
-                    elif kind == RRECT:
-                        ko, o0, o1, o2 = RRECT, a_hi, b_hi, c_lo
-                        ki, i0, i1, i2 = RRECT, a_lo, b_lo, c_hi
-                        ok_in = c_hi <= min(a_lo, b_lo)
-                    else:
-                        ko, o0, o1, o2 = OVAL, a_hi, b_hi, 0.0
-                        ki, i0, i1, i2 = OVAL, a_lo, b_lo, 0.0
-                    e0, e1 = outline_interval(ko, o0, o1, o2, px, py, qx, qy)
-                    if max(e0, a) > min(e1, b):  # never inside the outer outline: no band
-                        empty = True
-                        break
-                    g0, g1 = (outline_interval(ki, i0, i1, i2, px, py, qx, qy) if ok_in else (1.0, -1.0))
-                    l0, h0, l1, h1 = subtract(e0, e1, g0, g1, a, b)
+                    ko, o0, o1, o2 = OVAL, a_hi, b_hi, 0.0
+                    ki, i0, i1, i2 = OVAL, a_lo, b_lo, 0.0
+                e0, e1 = outline_interval(ko, o0, o1, o2, px, py, qx, qy)
+                if max(e0, a) > min(e1, b):  # never inside the outer outline: no band
+                    empty = True
+                    break
+                g0, g1 = (outline_interval(ki, i0, i1, i2, px, py, qx, qy) if ok_in else (1.0, -1.0))
+                l0, h0, l1, h1 = subtract(e0, e1, g0, g1, a, b)
             if l0 > h0 and l1 > h1:
                 empty = True
                 break
@@ -349,16 +316,14 @@ def band_roots(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, d
         if monotone == 0:  # a leaf (or the budget spent): widened as above
             eps = 1e-13 * (abs(a) + abs(b)) + 1e-3 * leaf
             a, b = max(lo, a - eps), min(hi, b + eps)
-        fa = residual(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a)
-        fb = residual(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, b)
+        fa = residual(wall, ray, a)
+        fb = residual(wall, ray, b)
         if fa == 0.0:
             root = a
         elif (fa > 0.0) == (fb > 0.0):
             continue
-        elif f_kind == F_WALL:  # (in a leaf not certified: some crossing of the bracket)
-            root = _newton(seg, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa, fb)
-        else:
-            root = _illinois(f_kind, seg, tab, r0, r1, r2, nsec, kind, c, s, ox, oy, oz, dx, dy, dz, a, b, fa, fb)
+        else:  # (in a leaf not certified: some crossing of the bracket)
+            root = _newton(wall, ray, a, b, fa, fb)
         if n == first or root > out[n - 1] + 2.0 * eps:  # neighbouring bands may share a crossing
             out[n] = root
             n += 1

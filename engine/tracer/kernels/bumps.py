@@ -398,11 +398,16 @@ def ggx_g1(alpha, cos_vn, cos_vm):
 
 
 @njit(**JIT)
-def ggx_eval(alpha, nx, ny, nz, ix, iy, iz, ox, oy, oz, mx, my, mz):
-    """``(D, G, weight)`` for a branch through microfacet ``m`` from ``w_i`` to ``w_o`` (unit,
-    both pointing away from the surface; ``w_o`` reflected or refracted about ``m``). ``weight``
+def ggx_eval(alpha, n, wi, wo, m):
+    """``(D, G, weight)`` for a branch through microfacet ``m`` from ``w_i`` to ``w_o`` about the
+    normal ``n`` (unit 3-tuples, ``w_i`` and ``w_o`` pointing away from the surface; ``w_o``
+    reflected or refracted about ``m``). ``weight``
     is ``|w_i . m| G / (|w_i . n| |m . n|)``: times the Fresnel factor of the branch it is the
     branch's throughput when ``m`` came from :func:`ggx_sample` (Walter et al. eq. 41)."""
+    nx, ny, nz = n
+    ix, iy, iz = wi
+    ox, oy, oz = wo
+    mx, my, mz = m
     cn = mx * nx + my * ny + mz * nz
     in_ = ix * nx + iy * ny + iz * nz
     im = ix * mx + iy * my + iz * mz

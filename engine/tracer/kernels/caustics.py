@@ -22,13 +22,13 @@ import math
 import numpy as np
 from numba import njit
 
-from .intersect import O_KIND, O_MAT, SWEEP, nearest_hit, object_media
+from .intersect import O_KIND, O_MAT, SWEEP, nearest_hit
 from .ground import in_disc, light_frame
 from .jit import JIT
 from .materials import BACKDROP, GROUND, K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND
-from .records import Interaction
+from .records import Ray
 from .sampling import branch_seed, mix64, uniform01
-from .surface import scatter
+from .surface import interaction, scatter
 
 AIR = 0
 #: Columns of a photon's record: where it landed after meeting the bottle (mm) and its power
@@ -43,16 +43,17 @@ _START, _DISC, _CHOICE = 0, 2, 4
 
 
 @njit(**JIT)
-def trace_photons(sc, lab, fin, env_p, tex, light, beam, ground_z, first, count, seed, max_depth, work, out):
+def trace_photons(tables, light, beam, ground_z, first, count, seed, max_depth, work, out):
     """Trace photons ``first .. first + count - 1`` of ``light`` (module rule) onto the ground at
     height ``ground_z`` (mm) into rows ``0 .. count - 1`` of ``out`` (``P_*`` columns; power per
     unit of the light's irradiance times the beam's area per photon, which the caller applies).
 
     ``beam`` = ``(cx, cy, cz, u_half, v_half)``: the centre (mm) of the emitting rectangle,
     outside everything, and its half sides (mm) along the light's frame
-    (:func:`~.ground.light_frame`).
+    (:func:`~.ground.light_frame`); ``tables`` what the photons meet (a :class:`~.records.Tables`).
     """
-    obj_i, obj_f, media, mat_i = sc.geom.obj_i, sc.geom.obj_f, sc.media, sc.mat_i
+    sc = tables.scene
+    obj_i, media, mat_i = sc.geom.obj_i, sc.media, sc.mat_i
     kids, scratch = work.kids, work.scratch
     ux, uy, uz, vx, vy, vz = light_frame(light[0], light[1], light[2])
     swept = False  # a backdrop sweep may stand between the light and the beam (nothing else can)
@@ -71,11 +72,13 @@ def trace_photons(sc, lab, fin, env_p, tex, light, beam, ground_z, first, count,
         medium, last, side = AIR, -1, 0
         t_straight = (ground_z - oz) / dz
         out[j, P_SX], out[j, P_SY] = ox + t_straight * dx, oy + t_straight * dy
-        if swept and nearest_hit(sc.geom, ox, oy, oz, lx, ly, lz, AIR, -1, 0, scratch)[1] >= 0:
+        if swept and nearest_hit(sc.geom, Ray(ox, oy, oz, lx, ly, lz), AIR, -1, 0, scratch)[1] >= 0:
             out[j, P_SHADOW] = 1.0  # the beam itself is in a shadow (a backdrop sweep's): no light
             continue
         for depth in range(max_depth):
-            t, k, part, nx, ny, nz = nearest_hit(sc.geom, ox, oy, oz, dx, dy, dz, medium, last, side, scratch)
+            ray = Ray(ox, oy, oz, dx, dy, dz)
+            hit = nearest_hit(sc.geom, ray, medium, last, side, scratch)
+            t, k, part, nx, ny, nz = hit
             if k < 0:
                 break
             if depth == 0 and mat_i[obj_i[k, O_MAT], M_KIND] != GROUND:
@@ -90,15 +93,14 @@ def trace_photons(sc, lab, fin, env_p, tex, light, beam, ground_z, first, count,
                 if depth > 0 and dz < 0.0:  # light that met the bottle (straight light is the shadow ray's)
                     out[j, P_X], out[j, P_Y] = px, py
                     out[j, P_R], out[j, P_G], out[j, P_B] = wr, wg, wb
-                    if nearest_hit(sc.geom, px, py, pz, lx, ly, lz, AIR, k, 1, scratch)[1] >= 0:
+                    if nearest_hit(sc.geom, Ray(px, py, pz, lx, ly, lz), AIR, k, 1, scratch)[1] >= 0:
                         out[j, P_IN] = 1.0
                 break
             if mat_i[mat, M_KIND] == BACKDROP:  # the sweep is lit straight only (:mod:`.backdrop`)
                 break
-            front, back = object_media(obj_i, obj_f, k, pz)
-            inc, trn = (front, back) if nx * dx + ny * dy + nz * dz < 0.0 else (back, front)
-            it = Interaction(px, py, pz, nx, ny, nz, dx, dy, dz, k, part, mat, inc, trn, -1, np.uint64(0))
-            sc_ = scatter(sc, lab, fin, env_p, tex, it, wr, wg, wb, s, kids, scratch)
+            it = interaction(tables, ray, hit, -1, np.uint64(0))
+            inc, trn = it.inc, it.trn
+            sc_ = scatter(tables, it, wr, wg, wb, s, kids, scratch)
             total = 0.0
             for c in range(sc_.nk):
                 total += kids[c, KW_R] + kids[c, KW_G] + kids[c, KW_B]

@@ -86,12 +86,15 @@ def shading_frame(fin, seg, obj_i, k, part, px, py, pz, nx, ny, nz):
 
 
 @njit(**JIT)
-def lit_by_lights(sc, lab, lights, k, medium, px, py, pz, nx, ny, nz, sx, sy, sz, fx, fy, fz, scratch):
-    """Irradiance over pi ``(r, g, b, bits)`` of the distant ``lights`` on a diffuse point ``p``
-    of object ``k`` seen from ``medium``: oriented normal ``n``, shading normal ``s`` and
-    geometric normal ``f`` both facing the seen side. Each light in front of both normals casts
+def lit_by_lights(tables, lights, it, medium, frame, scratch):
+    """Irradiance over pi ``(r, g, b, bits)`` of the distant ``lights`` on the diffuse point of
+    interaction ``it`` (its object, point and oriented normal ``n``) seen from ``medium``;
+    ``frame`` is ``(f, s)``: the geometric and the shading normal, both facing the seen side. Each light in front of both normals casts
     one shadow ray (:func:`~engine.tracer.kernels.labels.shadow`; ``bits`` the labels it
     consulted, for the sample's object mask)."""
+    sc, lab = tables.scene, tables.labels
+    px, py, pz, nx, ny, nz, k = it.px, it.py, it.pz, it.nx, it.ny, it.nz, it.obj
+    fx, fy, fz, sx, sy, sz = frame
     er = eg = eb = 0.0
     bits = np.int64(0)
     for q in range(lights.shape[0]):

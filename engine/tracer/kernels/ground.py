@@ -44,6 +44,7 @@ from numba import njit
 
 from .finish import FROST_STREAM
 from .intersect import nearest_hit
+from .records import Ray
 from .jit import INLINE, JIT
 from .materials import (K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, MG_ALBEDO, MG_ALPHA, MG_BOUND_R, MG_BOUND_Z,
                         MG_COAT_IOR, MG_MIRROR, MG_SHADOW, MG_WIDE, coat)
@@ -272,7 +273,7 @@ def open_light(lights):
 @njit(**INLINE)
 def _blocked(sc, k, px, py, pz, lx, ly, lz, scratch):
     """Whether the light along unit ``l`` is hidden from ground object ``k`` at ``p`` (mm)."""
-    return lz <= 0.0 or nearest_hit(sc.geom, px, py, pz, lx, ly, lz, AIR, k, 1, scratch)[1] >= 0
+    return lz <= 0.0 or nearest_hit(sc.geom, Ray(px, py, pz, lx, ly, lz), AIR, k, 1, scratch)[1] >= 0
 
 
 @njit(**INLINE)
@@ -329,11 +330,13 @@ def light_on_ground(sc, fin, k, px, py, pz, bseed, scratch):
 
 
 @njit(**JIT)
-def ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch):
-    """The stage's ground at interaction ``it`` (module rule): ``(children, r, g, b, bits)``,
+def ground(tables, it, bseed, kids, scratch):
+    """The stage's ground at interaction ``it`` (module rule), reading ``tables`` (a
+    :class:`~.records.Tables`): ``(children, r, g, b, bits)``,
     the radiance factors sent back at once (times the branch's weight; negative where the
     control variate takes back what the child will bring) and the object-mask bits consulted
     (:data:`NOISY_BIT` where its light was sampled). Black from below."""
+    sc, fin, env_p, tex = tables.scene, tables.finishes, tables.env, tables.texels
     mat_f, mat = sc.mat_f, it.mat
     bits = np.int64(0)
     if it.dz >= 0.0:  # its lower side absorbs (a ray from below the stage ends there)
@@ -359,9 +362,9 @@ def ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch):
         base = coat(ior, it.dx, it.dy, it.dz, 0.0, 0.0, 1.0, cos_i, 1.0, kids, 0)
         if mat_f[mat, MG_ALPHA] > 0.0:
             bits |= NOISY_BIT
-            rough_mirror(fin.mirror_albedo, fin.mirror_avg, mat_f[mat, MG_ALPHA], it.dx, it.dy, it.dz, 0.0, 0.0,
-                         1.0, uniform01(bseed, FROST_STREAM), uniform01(bseed, FROST_STREAM + 1), kids, mat_f, mat,
-                         ior)
+            rough_mirror(fin.mirror_albedo, fin.mirror_avg, mat_f[mat, MG_ALPHA], (it.dx, it.dy, it.dz),
+                         (0.0, 0.0, 1.0), uniform01(bseed, FROST_STREAM), uniform01(bseed, FROST_STREAM + 1), kids,
+                         mat_f, mat, ior)
         nk = 1
     ar, ag, ab = base * ar, base * ag, base * ab
     er, eg, eb, gridded = sky_irradiance(fin, it.px, it.py)

@@ -138,14 +138,15 @@ def helix_lipschitz(seg, i, r_in):
 
 
 @njit(**INLINE)
-def _along(seg, i, ox, oy, oz, dx, dy, dz, t):
+def _along(seg, i, ray, t):
     """``(F, dF/dt)`` on the ray ``o + t d`` (unit ``d``)."""
+    ox, oy, oz, dx, dy, dz = ray
     f, gx, gy, gz = helix_field(seg, i, ox + t * dx, oy + t * dy, oz + t * dz)
     return f, gx * dx + gy * dy + gz * dz
 
 
 @njit(**JIT)
-def _refine(seg, i, ox, oy, oz, dx, dy, dz, a, b, fa):
+def _refine(seg, i, ray, a, b, fa):
     """The crossing of ``F`` in the bracket ``[a, b]`` (``F(a) = fa`` and ``F(b)`` of opposite
     signs): Newton steps while they land inside the bracket and shrink it fast, else
     bisection; at most :data:`REFINE_ITERATIONS`."""
@@ -153,7 +154,7 @@ def _refine(seg, i, ox, oy, oz, dx, dy, dz, a, b, fa):
     x = 0.5 * (a + b)
     last = b - a
     for _ in range(REFINE_ITERATIONS):
-        f, g = _along(seg, i, ox, oy, oz, dx, dy, dz, x)
+        f, g = _along(seg, i, ray, x)
         if f == 0.0:
             return x
         if (f < 0.0) == neg_a:
@@ -173,7 +174,7 @@ def _refine(seg, i, ox, oy, oz, dx, dy, dz, a, b, fa):
 
 
 @njit(**JIT)
-def _dip(seg, i, ox, oy, oz, dx, dy, dz, a, b, fa, fb, lip):
+def _dip(seg, i, ray, a, b, fa, fb, lip):
     """Where ``F`` changes sign inside ``[a, b]`` though ``F(a) = fa`` and ``F(b) = fb`` share
     one (``F`` moves towards zero at ``a`` and away from it at ``b``): bisects the slope
     for its zero, stopping as soon as ``lip`` proves ``|F| > 0`` around it. Returns the point
@@ -183,7 +184,7 @@ def _dip(seg, i, ox, oy, oz, dx, dy, dz, a, b, fa, fb, lip):
         if abs(fa) + abs(fb) > lip * (b - a):
             return math.nan
         c = 0.5 * (a + b)
-        fc, gc = _along(seg, i, ox, oy, oz, dx, dy, dz, c)
+        fc, gc = _along(seg, i, ray, c)
         if fc * sa <= 0.0:
             return c
         if gc * sa < 0.0:    # still moving towards zero: the turn lies beyond c
@@ -194,41 +195,42 @@ def _dip(seg, i, ox, oy, oz, dx, dy, dz, a, b, fa, fb, lip):
 
 
 @njit(**JIT)
-def _march(seg, i, ox, oy, oz, dx, dy, dz, a, b, lip, out, n, stop):
+def _march(seg, i, ray, a, b, lip, out, n, stop):
     """Crossings of ``F`` on ``[a, b]``, ascending, appended to ``out`` from ``n`` until there
     are ``stop`` (module doc); ``lip`` bounds ``|dF/dt|``. Returns the new count."""
     hmin = (b - a) / MAX_STEPS
     t = a
-    f, g = _along(seg, i, ox, oy, oz, dx, dy, dz, t)
+    f, g = _along(seg, i, ray, t)
     for _ in range(MAX_STEPS + 1):
         if not t < b or n >= stop:
             break
         t1 = min(t + max(abs(f) / lip, hmin), b)
-        f1, g1 = _along(seg, i, ox, oy, oz, dx, dy, dz, t1)
+        f1, g1 = _along(seg, i, ray, t1)
         if (f < 0.0) != (f1 < 0.0):
-            out[n] = _refine(seg, i, ox, oy, oz, dx, dy, dz, t, t1, f)
+            out[n] = _refine(seg, i, ray, t, t1, f)
             n += 1
         elif abs(f) + abs(f1) < lip * (t1 - t) and g * f < 0.0 and g1 * f1 > 0.0:
-            c = _dip(seg, i, ox, oy, oz, dx, dy, dz, t, t1, f, f1, lip)
+            c = _dip(seg, i, ray, t, t1, f, f1, lip)
             if not math.isnan(c):
-                out[n] = _refine(seg, i, ox, oy, oz, dx, dy, dz, t, c, f)
+                out[n] = _refine(seg, i, ray, t, c, f)
                 n += 1
                 if n < stop:
-                    out[n] = _refine(seg, i, ox, oy, oz, dx, dy, dz, c, t1, -f)
+                    out[n] = _refine(seg, i, ray, c, t1, -f)
                     n += 1
         t, f, g = t1, f1, g1
     return n
 
 
 @njit(**JIT)
-def helix_roots(seg, i, ox, oy, oz, dx, dy, dz, tlo, thi, out, need):
+def helix_roots(seg, i, ray, tlo, thi, out, need):
     """Crossings (mm, ascending, in ``(tlo, thi)``) of the ray ``o + t d`` (unit ``d``) with
     HELIX row ``i``: its cone off the band, and the first ``need`` (at most ``MAX_ROOTS``) on
     the band, where they cost most (the nearest-hit search takes the first it accepts and asks
     for no more); returns their number (written to ``out``, which holds at least
     ``MAX_ROOTS + 2``)."""
+    ox, oy, oz, dx, dy, dz = ray
     hz0, hz1 = seg[i, H_Z0], seg[i, H_Z1]
-    m = cone_roots(ox, oy, oz, dx, dy, dz, seg[i, S_R0], seg[i, S_Z0], seg[i, S_R1], seg[i, S_Z1], tlo, out)
+    m = cone_roots(ray, seg[i, S_R0], seg[i, S_Z0], seg[i, S_R1], seg[i, S_Z1], tlo, out)
     n = 0
     for j in range(m):  # the plain cone's crossings off the band
         z = oz + out[j] * dz
@@ -252,7 +254,7 @@ def helix_roots(seg, i, ox, oy, oz, dx, dy, dz, tlo, thi, out, need):
     if E == 0.0:                  # along the axis: rho is constant
         rho = hypot2(ox, oy)
         if rho >= rin and rho <= rout:
-            n = _march(seg, i, ox, oy, oz, dx, dy, dz, lo, hi, lip, out, n, stop)
+            n = _march(seg, i, ray, lo, hi, lip, out, n, stop)
     else:
         s = -(ox * dx + oy * dy) / E  # closest approach to the axis
         mx, my = ox + s * dx, oy + s * dy
@@ -264,13 +266,13 @@ def helix_roots(seg, i, ox, oy, oz, dx, dy, dz, tlo, thi, out, need):
             g2 = rin * rin - m2
             if g2 <= 0.0:           # the ray never dips inside r_in: one interval
                 if a < b:
-                    n = _march(seg, i, ox, oy, oz, dx, dy, dz, a, b, lip, out, n, stop)
+                    n = _march(seg, i, ray, a, b, lip, out, n, stop)
             else:                   # in through the shell, across the bore side, out again
                 g = math.sqrt(g2 / E)
                 if a < min(b, s - g):
-                    n = _march(seg, i, ox, oy, oz, dx, dy, dz, a, min(b, s - g), lip, out, n, stop)
+                    n = _march(seg, i, ray, a, min(b, s - g), lip, out, n, stop)
                 if max(a, s + g) < b and n < stop:
-                    n = _march(seg, i, ox, oy, oz, dx, dy, dz, max(a, s + g), b, lip, out, n, stop)
+                    n = _march(seg, i, ray, max(a, s + g), b, lip, out, n, stop)
     if n > first and first > 0:
         sort_small(out, n)
     return n

@@ -35,13 +35,13 @@ import math
 import numpy as np
 from numba import njit
 
-from .intersect import O_MAT, nearest_hit, object_media
+from .intersect import O_MAT, nearest_hit
 from .jit import INLINE, JIT
 from .labels import finish_radiance
 from .materials import K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R
-from .records import Interaction
+from .records import Ray
 from .sampling import branch_seed, env_lookup, mix64, uniform01
-from .surface import scatter
+from .surface import interaction, scatter
 
 C_QUERIES, C_LEAKS, C_MISMATCH, C_CUT_DEPTH, C_CUT_WEIGHT, C_BUDGET, C_NODES, C_ROULETTE = range(8)
 N_COUNTERS = 8
@@ -52,10 +52,11 @@ KI_MEDIUM, KI_DEPTH, KI_LAST, KI_SIDE = range(4)
 
 
 @njit(**JIT)
-def _record(rec_rays, rec_n, ox, oy, oz, dx, dy, dz, medium, last, side):
-    """Keep a copy of one intersection query (benchmarks time Embree on the same rays): origin
-    and direction, and with 9 columns the query's medium, the object it leaves and its side
-    (what the analytic search is asked with)."""
+def _record(rec, ox, oy, oz, dx, dy, dz, medium, last, side):
+    """Keep a copy of one intersection query in the recorder ``rec`` (benchmarks time Embree on
+    the same rays): origin and direction, and with 9 columns the query's medium, the object it
+    leaves and its side (what the analytic search is asked with)."""
+    rec_rays, rec_n = rec.rays, rec.n_rays
     i = rec_n[0]
     if i < rec_rays.shape[0]:
         rec_rays[i, 0], rec_rays[i, 1], rec_rays[i, 2] = ox, oy, oz
@@ -74,29 +75,30 @@ def _close(tex, scale, rot, lr, lg, lb, wr, wg, wb, dx, dy, dz):
 
 
 @njit(**JIT)
-def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_rec, counters, rec_rays, rec_n,
-                 lab, fin, leaving=-1, sidx=-1, pseed=0):
+def trace_sample(tables, ray, seed, cut, work, rec, leaving=-1, sidx=-1, pseed=0):
     """Radiance ``(r, g, b)`` of one camera ray and its record.
 
     Parameters
     ----------
-    sc : records.Scene
-        The render objects, media (``media[m] = (ior, sigma_r, sigma_g, sigma_b)``, absorption in
-        1/mm) and materials (:mod:`engine.tracer.render_objects`).
-    tex, env_p : environment texels ``(H, W, 3)`` (half-float bit patterns, or float32) and
-        ``(scale, rotation rad, factor)``: radiance is ``scale * factor * texel``.
-    o, d : the ray (mm, unit direction), starting in air.
+    tables : records.Tables
+        What the tree reads: the render objects, media (``media[m] = (ior, sigma_r, sigma_g,
+        sigma_b)``, absorption in 1/mm) and materials (:mod:`engine.tracer.tables.render_objects`);
+        the labels (empty tables without labels) and the finishes (reliefs, frosting, closures),
+        which the surface layer reads (:func:`engine.tracer.kernels.surface.scatter`; the labels
+        consulted set their bits, from ``labels.LABEL_BIT0``, in the object mask); the
+        environment's ``(scale, rotation rad, factor, ...)`` and texels ``(H, W, 3)`` (half-float
+        bit patterns, or float32): radiance is ``scale * factor * texel``.
+    ray : records.Ray
+        Origin (mm) and unit direction, starting in air.
     seed : uint64 seed of the sample (branches derive theirs from it).
     cut : records.Cutoffs
         Depth, weight, Russian roulette and node budget of the tree (module rule).
     work : records.Work
         The worker's scratch: the stack, the children of a hit, the solvers' space.
-    depth_rec : int64 array ``(n_materials,)``: the shallowest depth at which the tree met each
-        material is min-ed into it.
-    lab, fin : records.LabelTables, records.FinishTables
-        What lies on the surfaces: labels (empty tables without labels) and reliefs, frosting
-        and closures; the surface layer reads them (:func:`engine.tracer.kernels.surface.scatter`)
-        and the labels consulted set their bits (from ``labels.LABEL_BIT0``) in the object mask.
+    rec : records.Recorder
+        What the tree writes besides its radiance: the shallowest depth at which it met each
+        material is min-ed into ``rec.depth``, the counters add up in ``rec.counters``, and each
+        intersection query is copied into ``rec.rays`` while room lasts.
     leaving : int
         The object the ray starts on, leaving it on the side its direction points to (a probe
         from the ground: :mod:`.sky`); -1 (default) for a ray starting in free air.
@@ -108,7 +110,10 @@ def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_
     Returns ``(r, g, b, signature, object mask)``: radiance (finite, >= 0), a hash of the
     dominant path's objects, and a bit per object the tree met.
     """
-    media, obj_i, obj_f = sc.media, sc.geom.obj_i, sc.geom.obj_f
+    sc, lab, tex, env_p = tables.scene, tables.labels, tables.texels, tables.env
+    ox, oy, oz, dx, dy, dz = ray
+    depth_rec, counters = rec.depth, rec.counters
+    media, obj_i = sc.media, sc.geom.obj_i
     stk_f, stk_i, stk_u, kids, order = work.stk_f, work.stk_i, work.stk_u, work.kids, work.order
     max_depth, min_weight, rr_weight, max_nodes = cut
     scale, rot = env_p[0] * env_p[2], env_p[1]  # the map's scale times its texels' factor
@@ -142,9 +147,11 @@ def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_
             continue
         nodes += 1
         counters[C_QUERIES] += 1
-        if rec_rays.shape[0] > 0:
-            _record(rec_rays, rec_n, ox, oy, oz, dx, dy, dz, medium, last, side)
-        t, k, part, nx, ny, nz = nearest_hit(sc.geom, ox, oy, oz, dx, dy, dz, medium, last, side, work.scratch)
+        if rec.rays.shape[0] > 0:
+            _record(rec, ox, oy, oz, dx, dy, dz, medium, last, side)
+        seg_ray = Ray(ox, oy, oz, dx, dy, dz)
+        hit = nearest_hit(sc.geom, seg_ray, medium, last, side, work.scratch)
+        t, k, part, nx, ny, nz = hit
         if k < 0:
             if medium != AIR:
                 counters[C_LEAKS] += 1
@@ -167,13 +174,11 @@ def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_
             counters[C_CUT_DEPTH] += 1
             dominant = False
             continue
-        px, py, pz = ox + t * dx, oy + t * dy, oz + t * dz
-        front, back = object_media(obj_i, obj_f, k, pz)
-        inc, trn = (front, back) if nx * dx + ny * dy + nz * dz < 0.0 else (back, front)
+        it = interaction(tables, seg_ray, hit, sidx, path)
+        px, py, pz, inc, trn = it.px, it.py, it.pz, it.inc, it.trn
         if inc != medium:
             counters[C_MISMATCH] += 1
-        it = Interaction(px, py, pz, nx, ny, nz, dx, dy, dz, k, part, mat, inc, trn, sidx, path)
-        s = scatter(sc, lab, fin, env_p, tex, it, wr, wg, wb, bseed, kids, work.scratch)
+        s = scatter(tables, it, wr, wg, wb, bseed, kids, work.scratch)
         objmask |= s.bits
         if s.label_bits != 0:  # a sheet's terms are summed apart, so a relabel can recompute them alone
             ar += wr * s.ar

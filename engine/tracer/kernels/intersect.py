@@ -30,7 +30,8 @@ from .revolved import PARAM_SLOT, ray_axis, ray_box_from, segment_hits, segment_
 from .jit import INLINE, JIT
 from .records import Hit
 from .roots import cone_roots
-from .swept import SL_RMAX, SL_RULED, SL_Z0, SL_Z1, ruled_normal, ruled_roots, swept_normal, swept_roots
+from .swept import (SL_RMAX, SL_RULED, SL_Z0, SL_Z1, ruled_normal, ruled_roots, swept_normal, swept_roots,
+                    swept_wall)
 
 # object kinds
 REVOLVED, SWEPT, PLANE, SWEEP = 0, 1, 2, 3
@@ -93,9 +94,9 @@ def root_param(seg, obj_i, k, part, roots, q):
 
 
 @njit(**JIT)
-def _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last_obj, last_side):
-    """Whether a crossing at ``t`` with oriented normal ``n`` is a true next hit (module doc)."""
-    dn = nx * dx + ny * dy + nz * dz
+def _accept(obj_i, obj_f, k, t, dn, pz, medium, last_obj, last_side):
+    """Whether a crossing of object ``k`` at ``t`` and height ``pz`` (mm), where the ray meets
+    the oriented normal with ``dn = n . d``, is a true next hit (module doc)."""
     side = 1 if dn >= 0.0 else -1
     if k == last_obj and side == last_side:
         return False
@@ -108,8 +109,9 @@ def _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last_obj, la
 
 
 @njit(**JIT)
-def _plane_hit(obj_i, obj_f, k, ox, oy, oz, dx, dy, dz, tlo, thi):
+def _plane_hit(obj_i, obj_f, k, ray, tlo, thi):
     """Distance to plane object ``k`` inside its outline region, or ``inf``."""
+    ox, oy, oz, dx, dy, dz = ray
     if dz == 0.0:
         return np.inf
     t = (obj_f[k, F_PZ] - oz) / dz
@@ -141,7 +143,7 @@ def _sweep_normal(obj_f, k, part, px, py, pz):
 
 
 @njit(**JIT)
-def _sweep_hit(obj_f, k, ox, oy, oz, dx, dy, dz, tlo, thi, roots):
+def _sweep_hit(obj_f, k, ray, tlo, thi, roots):
     """Crossings of the ray with sweep object ``k`` in ``(tlo, thi)``, nearest first, written
     into ``roots`` as ``t`` and into ``roots[4:]`` as their parts; returns how many (at most 3).
 
@@ -149,6 +151,7 @@ def _sweep_hit(obj_f, k, ox, oy, oz, dx, dy, dz, tlo, thi, roots):
     ``z`` the surface is a quarter circle of radius ``R`` about ``(v0, z0 + R)`` from the floor
     point ``(v0, z0)`` to ``(v0 + R, z0 + R)``, then the line ``v = v0 + R`` up to the top,
     extruded across ``|u| <= half width``: a circle and a line in 2D, solved in closed form."""
+    ox, oy, oz, dx, dy, dz = ray
     c, s = obj_f[k, F_COS], obj_f[k, F_SIN]
     v0, r, half, top, z0 = obj_f[k, F_SW_START], obj_f[k, F_SW_RADIUS], obj_f[k, F_SW_HALF], obj_f[k, F_SW_TOP], \
         obj_f[k, F_PZ]
@@ -198,7 +201,7 @@ def _first_reaching(seg, slab_f, revolved, j0, j1, z):
 
 
 @njit(**JIT)
-def nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last_obj, last_side, scratch):
+def nearest_hit(geom, ray, medium, last_obj, last_side, scratch):
     """First true crossing of the ray ``o + t d`` (mm, unit ``d``, ``t > 0``) with any object of
     ``geom`` (a :class:`~.records.Geometry`), for a ray in ``medium`` that left ``last_obj`` with
     ``d . n`` of sign ``last_side`` (``-1`` / ``0`` for a fresh ray).
@@ -207,6 +210,7 @@ def nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last_obj, last_side, scrat
     segment or slab row; ``n`` the object's oriented unit normal there. ``scratch`` is the
     worker's :class:`~.records.Scratch`.
     """
+    ox, oy, oz, dx, dy, dz = ray
     seg, tab, slab_f, slab_i, obj_i, obj_f = geom
     roots, crit, stack = scratch
     best = np.inf
@@ -230,28 +234,28 @@ def nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last_obj, last_side, scrat
         # on the object the ray leaves, search from a hair past its start: the start itself is a
         # root, whose computed sign is rounding noise and would fool every sign test there
         t0 = START_FRACTION * obj_f[k, F_EDGE] if k == last_obj else 0.0
-        lo, hi = ray_box_from(axis, ox, oy, oz, dx, dy, dz, 0.0, obj_f[k, F_RMAX], obj_f[k, F_ZMIN],
+        lo, hi = ray_box_from(axis, ray, 0.0, obj_f[k, F_RMAX], obj_f[k, F_ZMIN],
                               obj_f[k, F_ZMAX], t0, best)
         if lo > hi:
             continue
         kind = obj_i[k, O_KIND]
         if kind == PLANE:
-            t = _plane_hit(obj_i, obj_f, k, ox, oy, oz, dx, dy, dz, t0, best)
+            t = _plane_hit(obj_i, obj_f, k, ray, t0, best)
             if t < best:
                 pz = oz + t * dz
                 nz = obj_f[k, F_PNZ]
-                if _accept(obj_i, obj_f, k, t, 0.0, 0.0, nz, dx, dy, dz, pz, medium, last_obj, last_side):
+                if _accept(obj_i, obj_f, k, t, 0.0 * dx + 0.0 * dy + nz * dz, pz, medium, last_obj, last_side):
                     best, best_k, best_part, pending = t, k, -1, False
                     bnx, bny, bnz = 0.0, 0.0, nz
                     best_param = np.nan
             continue
         if kind == SWEEP:
-            n = _sweep_hit(obj_f, k, ox, oy, oz, dx, dy, dz, t0, best, roots)
+            n = _sweep_hit(obj_f, k, ray, t0, best, roots)
             for q in range(n):
                 t, part = roots[q], int(roots[4 + q])
                 px, py, pz = ox + t * dx, oy + t * dy, oz + t * dz
                 nx, ny, nz = _sweep_normal(obj_f, k, part, px, py, pz)
-                if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last_obj, last_side):
+                if _accept(obj_i, obj_f, k, t, nx * dx + ny * dy + nz * dz, pz, medium, last_obj, last_side):
                     best, best_k, best_part, pending = t, k, part, False
                     bnx, bny, bnz = nx, ny, nz
                     best_param = np.nan
@@ -267,34 +271,34 @@ def nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last_obj, last_side, scrat
             if kind == REVOLVED:
                 if obj_i[k, O_ZSORT] != 0 and seg[j, S_ZMIN] > z_hi:
                     break
-                a, b = ray_box_from(axis, ox, oy, oz, dx, dy, dz, seg[j, S_RMIN], seg[j, S_RMAX],
+                a, b = ray_box_from(axis, ray, seg[j, S_RMIN], seg[j, S_RMAX],
                                     seg[j, S_ZMIN], seg[j, S_ZMAX], t0, best)
                 if a > b:
                     continue
                 if seg[j, S_KIND] == LINE:  # the common case, without a call
-                    n = cone_roots(ox, oy, oz, dx, dy, dz, seg[j, S_R0], seg[j, S_Z0], seg[j, S_R1],
+                    n = cone_roots(ray, seg[j, S_R0], seg[j, S_Z0], seg[j, S_R1],
                                    seg[j, S_Z1], t0, roots)
                 elif seg[j, S_KIND] == HELIX:
                     # a true thread: its first crossing only, the one the loop below takes, unless
                     # it lies within the edge distance, where _accept may refuse it (the start
                     # found again, an edge's rounding): then the second too
-                    n = helix_roots(seg, j, ox, oy, oz, dx, dy, dz, max(a, t0), min(b, best), roots, 1)
+                    n = helix_roots(seg, j, ray, max(a, t0), min(b, best), roots, 1)
                     if n > 0 and roots[0] < obj_f[k, F_EDGE]:
-                        n = helix_roots(seg, j, ox, oy, oz, dx, dy, dz, max(a, t0), min(b, best), roots, 2)
+                        n = helix_roots(seg, j, ray, max(a, t0), min(b, best), roots, 2)
                 else:
-                    n = segment_hits(seg, tab, j, ox, oy, oz, dx, dy, dz, t0, best, a, b, roots, crit, stack)
+                    n = segment_hits(seg, tab, j, ray, t0, best, a, b, roots, crit, stack)
             else:
                 if slab_f[j, SL_Z0] > z_hi:
                     break
-                a, b = ray_box_from(axis, ox, oy, oz, dx, dy, dz, 0.0, slab_f[j, SL_RMAX], slab_f[j, SL_Z0],
+                a, b = ray_box_from(axis, ray, 0.0, slab_f[j, SL_RMAX], slab_f[j, SL_Z0],
                                     slab_f[j, SL_Z1], t0, best)
                 if a > b:
                     continue
                 if slab_f[j, SL_RULED] > 0.5:  # straight sections: planes and slanted cones, closed form
-                    n = ruled_roots(slab_f[j], obj_f[k, F_COS], obj_f[k, F_SIN], ox, oy, oz, dx, dy, dz, a, b, roots)
+                    n = ruled_roots(slab_f[j], obj_f[k, F_COS], obj_f[k, F_SIN], ray, a, b, roots)
                 else:
-                    n = swept_roots(seg, tab, slab_i[j], obj_i[k, O_XS], obj_i[k, O_NSEC], obj_f[k, F_COS],
-                                    obj_f[k, F_SIN], ox, oy, oz, dx, dy, dz, a, b, obj_f[k, F_LEAF], roots, stack)
+                    n = swept_roots(swept_wall(seg, tab, slab_i[j], obj_i[k, O_XS], obj_i[k, O_NSEC], obj_f[k, F_COS],
+                                                    obj_f[k, F_SIN]), ray, a, b, obj_f[k, F_LEAF], roots, stack)
             for q in range(n):
                 t = roots[q]
                 if not (t > t0 and t < best):
@@ -310,7 +314,7 @@ def nearest_hit(geom, ox, oy, oz, dx, dy, dz, medium, last_obj, last_side, scrat
                     break
                 px, py = ox + t * dx, oy + t * dy
                 nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, j, px, py, pz, param)
-                if _accept(obj_i, obj_f, k, t, nx, ny, nz, dx, dy, dz, pz, medium, last_obj, last_side):
+                if _accept(obj_i, obj_f, k, t, nx * dx + ny * dy + nz * dz, pz, medium, last_obj, last_side):
                     best, best_k, best_part, pending = t, k, j, False
                     bnx, bny, bnz = nx, ny, nz
                     break

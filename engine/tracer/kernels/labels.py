@@ -85,6 +85,7 @@ from .intersect import F_COS, F_SIN, O_KIND, O_MAT, REVOLVED, nearest_hit, objec
 from .materials import (K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND, SMOOTH_DIELECTRIC,
                         fresnel_conductor, fresnel_dielectric)
 from .revolved import segment_v
+from .records import Ray
 from .jit import INLINE, JIT
 from .sampling import env_lookup
 
@@ -296,7 +297,7 @@ def shadow(sc, lab, ox, oy, oz, lx, ly, lz, medium, last, side, scratch):
     tr = tg = tb = 1.0
     bits = np.int64(0)
     for _ in range(SHADOW_CROSSINGS):
-        t, k, part, nx, ny, nz = nearest_hit(sc.geom, ox, oy, oz, lx, ly, lz, medium, last, side, scratch)
+        t, k, part, nx, ny, nz = nearest_hit(sc.geom, Ray(ox, oy, oz, lx, ly, lz), medium, last, side, scratch)
         if k < 0:
             return tr, tg, tb, bits
         if medium != AIR:
@@ -357,10 +358,15 @@ def _lights(sc, lab, obj, px, py, pz, nx, ny, nz, out_in, scratch):
 
 
 @njit(**INLINE)
-def _mirror_kid(kids, c, dx, dy, dz, nx, ny, nz, gx, gy, gz, wr, wg, wb):
-    """A mirror child about the unit shading normal ``n`` (facing the ray) of weights ``w``
-    into ``kids[c]``; about the geometric normal ``g`` instead where a bent normal would send it
-    into the wall (the branch must leave on the side it came from)."""
+def _mirror_kid(kids, c, d, n, g, w):
+    """A mirror child of the ray along ``d`` about the unit shading normal ``n`` (facing the
+    ray) of weights ``w`` into ``kids[c]``; about the geometric normal ``g`` instead where a bent
+    normal would send it into the wall (the branch must leave on the side it came from). All
+    four are 3-tuples."""
+    dx, dy, dz = d
+    nx, ny, nz = n
+    gx, gy, gz = g
+    wr, wg, wb = w
     d = -(dx * nx + dy * ny + dz * nz)
     rx, ry, rz = dx + 2.0 * d * nx, dy + 2.0 * d * ny, dz + 2.0 * d * nz
     if rx * gx + ry * gy + rz * gz <= 0.0:
@@ -425,7 +431,13 @@ def face_colour(lab, k, face, s_face, t):
 
 
 @njit(**JIT)
-def _record_hit(lab, wr, wg, wb, alpha, pr, pg, pb, qr, qg, qb, s_face, t, k, face):
+def _record_hit(lab, w, alpha, p, q, s_face, t, k, face):
+    """Keep a label hit for a relabel (``lab``'s record buffers): the branch's weight ``w``, the
+    texel's ``alpha``, its emission factors ``p`` and ``q`` (RGB 3-tuples; module rule), its
+    coordinates ``(s_face, t)`` on label ``k``'s ``face``; an overflow flags the call."""
+    wr, wg, wb = w
+    pr, pg, pb = p
+    qr, qg, qb = q
     hf, hn = lab.hit_f, lab.hit_n
     i = hn[0]
     if i >= hf.shape[0]:
@@ -491,20 +503,21 @@ def replay_samples(lab, s0, count, smp_f, smp_i, hit_f, hit_i, out_sum, out_sums
 
 
 @njit(**JIT)
-def label_hit(lab, sc, env_p, it, bx, by, bz, wr, wg, wb, kids, scratch):
+def label_hit(tables, it, wr, wg, wb, kids, scratch):
     """What a label does at the surface interaction ``it`` (a :class:`~.records.Interaction`)
     on the object it lies on (module rule): a mask over what lies beneath.
 
-    ``it``'s normal is the object's oriented unit normal (pointing into the air), ``b`` the
-    shading normal the surface's relief bends it to (:func:`engine.tracer.kernels.finish.
-    shading_frame`; ``b = n`` without relief), ``w`` the branch's weight (recorded for a
-    relabel). Returns ``(nk, r, g, b, bits, rest)``: ``nk = -1`` when no label covers the point
+    ``it``'s normal is the object's oriented unit normal (pointing into the air), its shading
+    normal ``s`` the one the surface's relief bends it to (``s = n`` without relief), ``w`` the
+    branch's weight (recorded for a relabel); ``tables`` a :class:`~.records.Tables`. Returns ``(nk, r, g, b, bits, rest)``: ``nk = -1`` when no label covers the point
     (the object's material follows), else the number of children in ``kids`` and the radiance
     (per unit branch weight) the sheet sends back now; ``bits`` the labels consulted
     (object-mask bits, module rule); ``rest`` the uncovered fraction ``1 - alpha`` of the texel,
     which the caller gives what lies beneath (:func:`engine.tracer.kernels.surface.scatter`:
     the glass of the wall, a closure's own material).
     """
+    lab, sc, env_p = tables.labels, tables.scene, tables.env
+    bx, by, bz = it.sx, it.sy, it.sz
     seg, tab, slab_f, slab_i, obj_i, obj_f = sc.geom
     px, py, pz, nx, ny, nz, dx, dy, dz = it.px, it.py, it.pz, it.nx, it.ny, it.nz, it.dx, it.dy, it.dz
     obj, part, inc, trn = it.obj, it.part, it.inc, it.trn
@@ -549,7 +562,8 @@ def label_hit(lab, sc, env_p, it, bx, by, bz, wr, wg, wb, kids, scratch):
             rr = fresnel_conductor(cos_i, f[LF_N], f[LF_K])
             rg = fresnel_conductor(cos_i, f[LF_N + 1], f[LF_K + 1])
             rb = fresnel_conductor(cos_i, f[LF_N + 2], f[LF_K + 2])
-            _mirror_kid(kids, 0, dx, dy, dz, sx, sy, sz, nx, ny, nz, alpha * g * rr, alpha * g * rg, alpha * g * rb)
+            _mirror_kid(kids, 0, (dx, dy, dz), (sx, sy, sz), (nx, ny, nz),
+                        (alpha * g * rr, alpha * g * rg, alpha * g * rb))
             nk = 1
             # the rough part of the foil: a lobe as wide as the hemisphere
             qr, qg, qb = rr * (1.0 - g) * or_, rg * (1.0 - g) * og, rb * (1.0 - g) * ob
@@ -560,7 +574,7 @@ def label_hit(lab, sc, env_p, it, bx, by, bz, wr, wg, wb, kids, scratch):
             if kind == VARNISH:
                 rc += lab.finish[frow, LF_GLOSS] * rf * (1.0 - rc)
             if rc > 0.0:
-                _mirror_kid(kids, 0, dx, dy, dz, sx, sy, sz, nx, ny, nz, alpha * rc, alpha * rc, alpha * rc)
+                _mirror_kid(kids, 0, (dx, dy, dz), (sx, sy, sz), (nx, ny, nz), (alpha * rc, alpha * rc, alpha * rc))
                 nk = 1
             base = 1.0 - rc
             pr = base * (diff * or_ + trans * ir)
@@ -573,5 +587,5 @@ def label_hit(lab, sc, env_p, it, bx, by, bz, wr, wg, wb, kids, scratch):
         pr, pg, pb = diff * ir + trans * or_, diff * ig + trans * og, diff * ib + trans * ob
     er, eg, eb = _emit(alpha, pr, cr, qr), _emit(alpha, pg, cg, qg), _emit(alpha, pb, cb, qb)
     if lab.hit_f.shape[0] > 0:
-        _record_hit(lab, wr, wg, wb, alpha, pr, pg, pb, qr, qg, qb, s_face, t, k, face)
+        _record_hit(lab, (wr, wg, wb), alpha, (pr, pg, pb), (qr, qg, qb), s_face, t, k, face)
     return nk, er, eg, eb, bits, (1.0 - alpha if alpha < 1.0 else 0.0)

@@ -182,11 +182,14 @@ def frosted_glass(glass, alpha, dx, dy, dz, sx, sy, sz, eta, u1, u2, kids):
 
 
 @njit(**JIT)
-def rough_mirror(mirror, mirror_avg, alpha, dx, dy, dz, sx, sy, sz, u1, u2, kids, mat_f, mat, coat_ior):
+def rough_mirror(mirror, mirror_avg, alpha, d, s, u1, u2, kids, mat_f, mat, coat_ior):
     """Replace the mirror child ``kids[0]`` of a conductor (``coat_ior < 0``) or of a plastic
-    coat of index ``coat_ior`` by its GGX counterpart: reflection about one visible microfacet
+    coat of index ``coat_ior``, met along unit direction ``d`` about the shading normal ``s``
+    (facing ``d``; both 3-tuples), by its GGX counterpart: reflection about one visible microfacet
     ``m``, weight ``F(m) G1(o)`` (per RGB channel for the metal, times its tint), times the
     multiple-scattering factor of each channel (module rule, ``F_avg`` from ``mat_f``)."""
+    dx, dy, dz = d
+    sx, sy, sz = s
     rx, ry, rz, cos_im, g = visible_reflection(alpha, dx, dy, dz, sx, sy, sz, u1, u2)
     ia, wa = _cell(alpha, ALPHA_MAX, N_ALPHA)
     im, wm = _cell(-(dx * sx + dy * sy + dz * sz), 1.0, N_MU)

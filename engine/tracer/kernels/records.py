@@ -10,6 +10,12 @@ scalars are made per hit inside the kernels. Units mm; directions are unit vecto
                    exact intersectors search
 ``Scene``          a geometry with its media (``(ior, sigma_r, sigma_g, sigma_b)``, 1/mm) and
                    materials (``mat_i`` kinds, ``mat_f`` parameters, :mod:`.materials`)
+``Tables``         what a tree reads, in one order everywhere: the scene, the labels, the
+                   finishes, the environment's parameters and texels
+``Ray``            a ray's origin (mm) and unit direction
+``Recorder``       what a tree writes besides its radiance: the shallowest depth per material,
+                   the counters, a copy of its intersection queries (benchmarks)
+``Wall``           a swept wall in one slab, as the certified bands search it
 ``Scratch``        a worker's solver space: roots (16,), critical points (5,), band stack (64, 2)
 ``Work``           a worker's whole scratch: the tree's stack, the children of a hit, ``Scratch``
 ``Cutoffs``        where a sample's tree stops
@@ -18,7 +24,7 @@ scalars are made per hit inside the kernels. Units mm; directions are unit vecto
                    row), the object's oriented unit normal there (object ``-1``: a miss)
 ``Interaction``    a branch at a surface: the point, the oriented geometric normal, the incoming
                    direction, the object, its part and material, the media on the ray's
-                   (``inc``) and the far (``trn``) side
+                   (``inc``) and the far (``trn``) side, the shading normal and roughness
 ``Scattered``      what a surface did to a branch (:func:`.surface.scatter`)
 ``LabelTables``    the labels of a render (:mod:`engine.tracer.tables.labels`) and the record
                    buffers of a relabel
@@ -32,6 +38,27 @@ from collections import namedtuple
 
 Geometry = namedtuple("Geometry", ("seg", "tab", "slab_f", "slab_i", "obj_i", "obj_f"))
 Scene = namedtuple("Scene", ("geom", "media", "mat_i", "mat_f"))
+#: What the tree of a sample reads (all built once per render, :mod:`engine.tracer.context`): the
+#: :class:`Scene`, the :class:`LabelTables`, the :class:`FinishTables`, the environment's row
+#: ``(scale, rotation rad, factor, ...)`` (:func:`engine.tracer.tables.stage.environment_params`)
+#: and its texels ``(H, W, 3)`` (half-float bit patterns or float32).
+Tables = namedtuple("Tables", ("scene", "labels", "finishes", "env", "texels"))
+#: A ray: origin (mm) and unit direction.
+Ray = namedtuple("Ray", ("ox", "oy", "oz", "dx", "dy", "dz"))
+#: What a tree writes besides its radiance: ``depth`` (int64 per material, the shallowest depth
+#: it met each is min-ed in), the kernel ``counters`` (:mod:`.integrator`'s ``C_*``), and a copy
+#: of its intersection queries, ``rays`` float32 ``(N, 6 or 9)`` filled up to ``n_rays[0]``
+#: (zero rows: none kept).
+Recorder = namedtuple("Recorder", ("depth", "counters", "rays", "n_rays"))
+#: A non-round wall in one slab (:mod:`.bands`, :mod:`.swept`): the segment table and its
+#: offset tables, the segment rows ``r0, r1, r2`` of its ``nsec`` sections, the cross-section
+#: ``kind`` (:mod:`.outlines`) and ``(c, s)``, the cosine and sine of the bottle's rotation.
+#: One piece of an offset arc's table (:mod:`.revolved`): the segment table and its offset
+#: tables, the table row ``k`` (rows ``k, k + 1`` bound the piece), the segment row ``i``, the
+#: key coordinate ``axis`` (1: z, a wall; 0: r, a base) and the piece's parameter range
+#: ``x0 <= x1`` (fractions of the arc's sweep).
+OffsetPiece = namedtuple("OffsetPiece", ("seg", "tab", "k", "i", "axis", "x0", "x1"))
+Wall = namedtuple("Wall", ("seg", "tab", "r0", "r1", "r2", "nsec", "kind", "c", "s"))
 Scratch = namedtuple("Scratch", ("roots", "crit", "ivals"))
 Work = namedtuple("Work", ("stk_f", "stk_i", "stk_u", "kids", "order", "scratch"))
 Hit = namedtuple("Hit", ("t", "obj", "part", "nx", "ny", "nz"))
@@ -48,9 +75,13 @@ Cutoffs = namedtuple("Cutoffs", ("max_depth", "min_weight", "rr_weight", "max_no
 #: samples (-1: none, a centre or a probe) and ``pseed`` the node's place in the tree (a seed
 #: of the pixel and the path of children to it, the same in every sample): where a surface
 #: samples a lobe, it draws from a net over the pixel's samples there
-#: (:func:`~.sampling.padded_sobol2`).
+#: (:func:`~.sampling.padded_sobol2`). ``s`` is the shading normal, set once where the
+#: interaction is made (pbrt's ``SetShadingGeometry``): the relief-bent normal, oriented as ``n``
+#: (``s = n`` on a smooth surface), and ``rough`` the frosted roughness there (0: smooth)
+#: (:func:`engine.tracer.kernels.surface.interaction`).
 Interaction = namedtuple("Interaction", ("px", "py", "pz", "nx", "ny", "nz", "dx", "dy", "dz",
-                                         "obj", "part", "mat", "inc", "trn", "sidx", "pseed"))
+                                         "obj", "part", "mat", "inc", "trn", "sidx", "pseed",
+                                         "sx", "sy", "sz", "rough"))
 #: ``nk`` children written into the work's ``kids``; ``e*`` radiance sent back at once and ``a*``
 #: a label sheet's share of it (summed apart for relabels), both per unit branch weight;
 #: ``bits`` the labels consulted (object-mask bits); ``label_bits`` nonzero when a label answered

@@ -30,6 +30,7 @@ from .helix import MAX_ROOTS, helix_normal, helix_roots, helix_v
 from .profile import (HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR, S_KIND, S_LEN, S_R0,
                       S_R1, S_RMAX, S_RMIN, S_SIDE, S_SWEEP, S_ZMAX, S_ZMIN, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1,
                       TWO_PI, _offset_at, in_sweep, offset_at_between, offset_point, offset_rz)
+from .records import OffsetPiece, Ray
 from .jit import INLINE, JIT
 from .roots import (HOLE_POLE, SHEET_SLACK, cone_roots, convex_sheet_roots, hole_sheet_roots, hypot2,
                     illinois_done, illinois_point, illinois_update, sort_small, torus_roots)
@@ -59,8 +60,9 @@ def ray_axis(ox, oy, dx, dy, dz):
 
 
 @njit(**INLINE)
-def ray_box_from(axis, ox, oy, oz, dx, dy, dz, rmin, rmax, zmin, zmax, tlo, thi):
+def ray_box_from(axis, ray, rmin, rmax, zmin, zmax, tlo, thi):
     """:func:`ray_box` from the ray's constants ``axis`` (:func:`ray_axis`)."""
+    ox, oy, oz, dx, dy, dz = ray
     inv_dz, s_axis, m2, inv_E = axis
     if dz != 0.0:
         ta = (zmin - oz) * inv_dz
@@ -92,22 +94,25 @@ def ray_box_from(axis, ox, oy, oz, dx, dy, dz, rmin, rmax, zmin, zmax, tlo, thi)
 
 
 @njit(**INLINE)
-def ray_box(ox, oy, oz, dx, dy, dz, rmin, rmax, zmin, zmax, tlo, thi):
+def ray_box(ray, rmin, rmax, zmin, zmax, tlo, thi):
     """Part ``[lo, hi]`` of ``tlo < t < thi`` where the ray may be inside the revolved box
     ``rmin <= rho <= rmax, zmin <= z <= zmax`` (mm); ``lo > hi`` when it cannot.
 
     Exact for the slab in z and the cylinder ``rho <= rmax``; the inner cylinder only rejects
     (``rho(t)^2`` is convex: the interval is not split where it dips inside ``rmin``).
     """
-    return ray_box_from(ray_axis(ox, oy, dx, dy, dz), ox, oy, oz, dx, dy, dz, rmin, rmax, zmin, zmax,
+    ox, oy, oz, dx, dy, dz = ray
+    return ray_box_from(ray_axis(ox, oy, dx, dy, dz), ray, rmin, rmax, zmin, zmax,
                         tlo, thi)
 
 
 @njit(**JIT)
-def _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, t):
+def _piece_f(piece, ray, t):
     """Residual of offset arc row ``i`` at ray distance ``t``, its curve solved on table piece
-    ``k`` (rows ``k, k + 1``, whose key coordinates bracket the solve without evaluating the
+    ``k`` (a :class:`~.records.OffsetPiece`: rows ``k, k + 1``, whose key coordinates bracket the solve without evaluating the
     curve there): wall ``rho - r(z)``, base ``z - z(rho)``."""
+    ox, oy, oz, dx, dy, dz = ray
+    seg, tab, k, i, axis, _, _ = piece
     x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
     rho = math.sqrt(x * x + y * y)
     ka, kb = (k, k + 1) if tab[k, 2] <= tab[k + 1, 2] else (k + 1, k)  # rising in the parameter
@@ -119,11 +124,13 @@ def _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, t):
 
 
 @njit(**JIT)
-def _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, t, s):
+def _piece_newton(piece, ray, a, b, t, s):
     """The crossing ``(t, s)`` in ``[a, b]`` by Newton on the 2-D system
     ``(rho(t), z(t)) = (R(s), Z(s))`` in the ray distance ``t`` and the curve's base angle ``s``
     (one curve evaluation per step), from the guess ``(t, s)``; ``t`` is ``nan`` when an iterate
     leaves the bracket or the piece."""
+    ox, oy, oz, dx, dy, dz = ray
+    seg, _, _, i, _, x0, x1 = piece
     a0, sw = seg[i, S_A0], seg[i, S_SWEEP]
     s_lo, s_hi = a0 + min(x0, x1) * sw, a0 + max(x0, x1) * sw
     if s_lo > s_hi:
@@ -150,9 +157,10 @@ def _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, t, s):
 
 
 @njit(**INLINE)
-def _chord_v(nr, nz, r0, z0, ox, oy, oz, dx, dy, dz, t):
+def _chord_v(nr, nz, r0, z0, ray, t):
     """Signed distance ``n . (p - P0)`` (mm) of the ray's point at ``t``, in its meridian
     plane, from the chord through ``P0 = (r0, z0)`` with unit normal ``n = (nr, nz)``."""
+    ox, oy, oz, dx, dy, dz = ray
     x, y = ox + t * dx, oy + t * dy
     return nr * (math.sqrt(x * x + y * y) - r0) + nz * (oz + t * dz - z0)
 
@@ -196,13 +204,16 @@ def _chord_extreme(nr, nz, ox, oy, dx, dy, dz, a, b):
 
 
 @njit(**JIT)
-def _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx, dy, dz, a, b, va, vb):
-    """The crossing in ``[a, b]`` of table piece ``k`` (chord of unit normal ``n``, ``length``
-    mm), whose residual changes sign there: Newton from where the ray crosses the middle of
+def _piece_solve(piece, chord, ray, a, b, va, vb):
+    """The crossing in ``[a, b]`` of table piece ``k`` (``chord`` = ``(nr, nz, length, band)``:
+    its chord's unit normal ``n``, ``length`` mm, the band's width), whose residual changes sign there: Newton from where the ray crosses the middle of
     the piece's band (linear in the distances ``va, vb`` of the ends from the chord), the
     curve's parameter from the chord's fraction there; Illinois false position on the curve
     if Newton leaves the bracket (slower, sure). Returns ``(t, s)``, the root and its base
     angle (``nan`` after false position)."""
+    ox, oy, oz, dx, dy, dz = ray
+    seg, tab, k, i, _, _, _ = piece
+    nr, nz, length, band = chord
     pr, pz = tab[k, 0], tab[k, 1]
     er, ez = -nz, nr
     root, s = np.nan, np.nan
@@ -212,24 +223,28 @@ def _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz,
         x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
         u = min(1.0, max(0.0, ((math.sqrt(x * x + y * y) - pr) * er + (z - pz) * ez) / length))
         s = seg[i, S_A0] + (tab[k, 2] + u * (tab[k + 1, 2] - tab[k, 2])) * seg[i, S_SWEEP]
-        root, s = _piece_newton(seg, i, axis, x0, x1, ox, oy, oz, dx, dy, dz, a, b, t, s)
+        root, s = _piece_newton(piece, ray, a, b, t, s)
     if not math.isfinite(root):
-        fa = _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, a)
-        fb = _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, b)
-        root, s = _illinois_piece(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, a, b, fa, fb), np.nan
+        fa = _piece_f(piece, ray, a)
+        fb = _piece_f(piece, ray, b)
+        root, s = _illinois_piece(piece, ray, a, b, fa, fb), np.nan
     return root, s
 
 
 @njit(**JIT)
-def _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, dx, dy, dz, a, b, out, n):
+def _piece_root(piece, box, ray, a, b, out, n):
     """The crossings of table piece ``k`` (rows ``k, k + 1``) inside ``[a, b]``, appended to
-    ``out`` when they lie on the piece (their base angles at :data:`PARAM_SLOT` on).
+    ``out`` when they lie on the piece (``box`` = ``(r0, r1, z0, z1, pad)``, its extent in mm
+    and padding) (their base angles at :data:`PARAM_SLOT` on).
 
     The residual's sign at a point comes from the piece's band beside its chord when the point
     lies outside it (no curve to solve: most ends, the band being micrometres wide), else from
     the curve. Ends of one sign hide a pair of crossings only if the ray dips towards the other
     side between them: then the sign where the ray's distance from the chord is extreme
     (:func:`_chord_extreme`) splits the interval. Each crossing: :func:`_piece_solve`."""
+    ox, oy, oz, dx, dy, dz = ray
+    tab, k, axis = piece.tab, piece.k, piece.axis
+    r0, r1, z0, z1, pad = box
     pr, pz = tab[k, 0], tab[k, 1]
     er, ez = tab[k + 1, 0] - pr, tab[k + 1, 1] - pz
     length = hypot2(er, ez)
@@ -243,35 +258,33 @@ def _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, d
     use_band = math.isfinite(band) and lean != 0.0
     sgn_pos = 1.0 if lean > 0.0 else -1.0
     eps = 1e-12 * (r1 + abs(z1) + 1.0)
-    va = _chord_v(nr, nz, pr, pz, ox, oy, oz, dx, dy, dz, a)
-    vb = _chord_v(nr, nz, pr, pz, ox, oy, oz, dx, dy, dz, b)
+    chord = (nr, nz, length, band)
+    va = _chord_v(nr, nz, pr, pz, ray, a)
+    vb = _chord_v(nr, nz, pr, pz, ray, b)
     fa = _band_side(va, band, eps, sgn_pos) if use_band else 0.0
     fb = _band_side(vb, band, eps, sgn_pos) if use_band else 0.0
     if fa == 0.0:
-        fa = _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, a)
+        fa = _piece_f(piece, ray, a)
     if fb == 0.0:
-        fb = _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, b)
+        fb = _piece_f(piece, ray, b)
     roots_lo, roots_hi = np.nan, np.nan
     s_lo = s_hi = np.nan
     if fa == 0.0:
         roots_lo = a
     elif (fa > 0.0) != (fb > 0.0) and fb != 0.0:
-        roots_lo, s_lo = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx, dy, dz, a, b,
-                                va, vb)
+        roots_lo, s_lo = _piece_solve(piece, chord, ray, a, b, va, vb)
     elif fb != 0.0:  # one sign at both ends: a pair only if the ray dips to the other side
         tm = _chord_extreme(nr, nz, ox, oy, dx, dy, dz, a, b)
         if math.isfinite(tm):
-            vm = _chord_v(nr, nz, pr, pz, ox, oy, oz, dx, dy, dz, tm)
+            vm = _chord_v(nr, nz, pr, pz, ray, tm)
             fm = _band_side(vm, band, eps, sgn_pos) if use_band else 0.0
             if fm != 0.0 and (fm > 0.0) == (fa > 0.0):
                 return n
             if fm == 0.0:
-                fm = _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, tm)
+                fm = _piece_f(piece, ray, tm)
             if fm != 0.0 and (fm > 0.0) != (fa > 0.0):
-                roots_lo, s_lo = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx,
-                                              dy, dz, a, tm, va, vm)
-                roots_hi, s_hi = _piece_solve(seg, tab, k, i, axis, x0, x1, nr, nz, length, band, ox, oy, oz, dx,
-                                              dy, dz, tm, b, vm, vb)
+                roots_lo, s_lo = _piece_solve(piece, chord, ray, a, tm, va, vm)
+                roots_hi, s_hi = _piece_solve(piece, chord, ray, tm, b, vm, vb)
     for j in range(2):
         root = roots_lo if j == 0 else roots_hi
         if not math.isfinite(root):
@@ -287,7 +300,7 @@ def _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, d
 
 
 @njit(**JIT)
-def _illinois_piece(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
+def _illinois_piece(piece, ray, a, b, fa, fb):
     """The crossing in ``[a, b]`` of the piece's exact residual by Illinois false position
     (``a`` itself when the residual does not change sign there, a rounding-level case)."""
     if fa == 0.0 or (fa > 0.0) == (fb > 0.0):
@@ -296,7 +309,7 @@ def _illinois_piece(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
     root = a
     for _ in range(100):
         root = illinois_point(a, b, fa, fb)
-        fr = _piece_f(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, root)
+        fr = _piece_f(piece, ray, root)
         if illinois_done(a, b, fr):
             break
         a, b, fa, fb, last = illinois_update(a, b, fa, fb, root, fr, last)
@@ -304,10 +317,11 @@ def _illinois_piece(seg, tab, k, i, axis, ox, oy, oz, dx, dy, dz, a, b, fa, fb):
 
 
 @njit(**JIT)
-def _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, lo, hi, out, n):
+def _offset_pieces(seg, tab, i, axis, ray, lo, hi, out, n):
     """Crossings of offset arc row ``i`` with the ray for ``t`` in ``[lo, hi]``, appended to
     ``out`` from index ``n`` in table order: the pieces whose key coordinate (z for a wall, r
     for a base) the ray's range of it meets (:func:`offset_roots`)."""
+    ox, oy, oz, dx, dy, dz = ray
     first, count = int(seg[i, S_TAB0]), int(seg[i, S_TABN])
     # the rows rise in the key coordinate: visit only the pieces the ray's range of it meets
     if axis == 1:
@@ -336,10 +350,11 @@ def _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, lo, hi, out, n):
         r0, r1 = min(tab[k, 0], tab[k + 1, 0]), max(tab[k, 0], tab[k + 1, 0])
         z0, z1 = min(tab[k, 1], tab[k + 1, 1]), max(tab[k, 1], tab[k + 1, 1])
         pad = 1e-9 * (r1 + abs(z1) + 1.0)
-        a, b = ray_box(ox, oy, oz, dx, dy, dz, max(r0 - pad, 0.0), r1 + pad, z0 - pad, z1 + pad, lo, hi)
+        a, b = ray_box(ray, max(r0 - pad, 0.0), r1 + pad, z0 - pad, z1 + pad, lo, hi)
         if a > b:
             continue
         x0, x1 = min(tab[k, 2], tab[k + 1, 2]), max(tab[k, 2], tab[k + 1, 2])
+        piece = OffsetPiece(seg, tab, k, i, axis, x0, x1)
         # only where the ray's radius is within the piece's (an annulus: up to two intervals) can
         # it cross the piece; there a base piece (a graph over r) has an unclamped residual, and
         # a ray leaving the piece is not confused by its own start on the far side
@@ -351,13 +366,12 @@ def _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, lo, hi, out, n):
             a, b = (l0, h0) if part == 0 else (l1, h1)
             if a > b:
                 continue
-            n = _piece_root(seg, tab, k, i, axis, x0, x1, r0, r1, z0, z1, pad, ox, oy, oz, dx, dy, dz, a, b,
-                             out, n)
+            n = _piece_root(piece, (r0, r1, z0, z1, pad), ray, a, b, out, n)
     return n
 
 
 @njit(**JIT)
-def offset_roots(seg, tab, i, ox, oy, oz, dx, dy, dz, lo, hi, out):
+def offset_roots(seg, tab, i, ray, lo, hi, out):
     """Crossings (ascending, in ``[lo, hi]``) of the ray with offset arc row ``i`` revolved.
 
     The arc's table cuts it into pieces along which both r and z are monotone, so the two rows
@@ -368,44 +382,46 @@ def offset_roots(seg, tab, i, ox, oy, oz, dx, dy, dz, lo, hi, out):
     of one short piece (a graze within its band, a few micrometres) can be missed. At most
     :data:`PARAM_SLOT` roots; their base angles (rad, ``nan`` where unknown) follow from
     ``out[PARAM_SLOT]`` on, in the same order."""
+    ox, oy, oz, dx, dy, dz = ray
     axis = int(seg[i, S_AXIS])
     if axis == 0:  # a base: [lo, hi] is already within its heights, the key is the radius
-        n = _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, lo, hi, out, 0)
+        n = _offset_pieces(seg, tab, i, axis, ray, lo, hi, out, 0)
     else:  # a wall: only where the ray's radius is within the row's can it meet a piece
         l0, h0, l1, h1 = annulus_bands(ox, oy, dx, dy, seg[i, S_RMIN], seg[i, S_RMAX], lo, hi)
         n = 0
         if l0 <= h0:
-            n = _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, l0, h0, out, n)
+            n = _offset_pieces(seg, tab, i, axis, ray, l0, h0, out, n)
         if l1 <= h1:
-            n = _offset_pieces(seg, tab, i, axis, ox, oy, oz, dx, dy, dz, l1, h1, out, n)
+            n = _offset_pieces(seg, tab, i, axis, ray, l1, h1, out, n)
     sort_small(out, n, PARAM_SLOT)  # pieces come in table order, not ray order (angles alongside)
     return n
 
 
 @njit(**JIT)
-def segment_hits(seg, tab, i, ox, oy, oz, dx, dy, dz, tlo, thi, lo, hi, out, crit, stack):
+def segment_hits(seg, tab, i, ray, tlo, thi, lo, hi, out, crit, stack):
     """Hits (mm, ascending, in ``(tlo, thi)``) of the ray with segment row ``i`` revolved;
     returns their number (written to ``out``). ``[lo, hi]`` is the ray's part inside the
     segment's revolved box (:func:`ray_box`, which the caller has checked is not empty)."""
+    ox, oy, oz, dx, dy, dz = ray
     kind = int(seg[i, S_KIND])
     if kind == LINE:
-        n = cone_roots(ox, oy, oz, dx, dy, dz, seg[i, S_R0], seg[i, S_Z0], seg[i, S_R1],
+        n = cone_roots(ray, seg[i, S_R0], seg[i, S_Z0], seg[i, S_R1],
                        seg[i, S_Z1], tlo, out)
     elif kind == OFFSET:
-        return offset_roots(seg, tab, i, ox, oy, oz, dx, dy, dz, max(lo, tlo), min(hi, thi), out)
+        return offset_roots(seg, tab, i, ray, max(lo, tlo), min(hi, thi), out)
     elif kind == HELIX:
-        return helix_roots(seg, i, ox, oy, oz, dx, dy, dz, max(lo, tlo), min(hi, thi), out, MAX_ROOTS)
+        return helix_roots(seg, i, ray, max(lo, tlo), min(hi, thi), out, MAX_ROOTS)
     else:
         cr, cz, ar, az = seg[i, S_CR], seg[i, S_CZ], seg[i, S_AR], seg[i, S_AZ]
         convex = cr < 0.0 or seg[i, S_RMIN] >= cr - 0.5 * SHEET_SLACK * ar  # no quartic needed
         clear = max(abs(seg[i, S_ZMIN] - cz), abs(seg[i, S_ZMAX] - cz)) <= HOLE_POLE * az  # of the poles
         if convex and abs(cr) >= 1e-9 * ar:  # (a spheroid keeps torus_roots' closed form)
-            m = convex_sheet_roots(ox, oy, oz - cz, dx, dy, dz, abs(cr), ar, az, cr < 0.0, max(tlo, lo),
+            m = convex_sheet_roots(Ray(ox, oy, oz - cz, dx, dy, dz), abs(cr), ar, az, cr < 0.0, max(tlo, lo),
                                    min(thi, hi), out)
         elif cr >= 1e-9 * ar and clear:  # on the side of its tube facing the axis
-            m = hole_sheet_roots(ox, oy, oz - cz, dx, dy, dz, cr, ar, az, max(tlo, lo), min(thi, hi), out)
+            m = hole_sheet_roots(Ray(ox, oy, oz - cz, dx, dy, dz), cr, ar, az, max(tlo, lo), min(thi, hi), out)
         else:
-            m = torus_roots(ox, oy, oz - cz, dx, dy, dz, abs(cr), ar, az, cr < 0.0, max(tlo, lo), out, crit,
+            m = torus_roots(Ray(ox, oy, oz - cz, dx, dy, dz), abs(cr), ar, az, cr < 0.0, max(tlo, lo), out, crit,
                             min(thi, hi))
         n = 0
         side = seg[i, S_SIDE]

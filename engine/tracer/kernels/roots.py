@@ -15,6 +15,7 @@ import math
 import numpy as np
 from numba import njit
 
+from .records import Ray
 from .jit import INLINE, JIT
 
 _MAX_ITER = 80
@@ -174,11 +175,15 @@ def _factors(qx, qy, qz, Dx, Dy, Dz, Rn, u):
 
 
 @njit(**JIT)
-def _solve_piece(qx, qy, qz, Dx, Dy, Dz, Rn, lo, hi, f_lo, f_hi, o_lo, o_hi, i_lo, i_hi):
+def _solve_piece(tube_ray, Rn, lo, hi, ends):
     """The single root of ``f = g_out g_in`` in ``[lo, hi]`` where ``f`` changes sign
-    (Newton on the vanishing factor, safeguarded by Illinois false position). ``o_*``, ``i_*``
-    are the factors at the ends: the first guess is false position on the one that changes
-    sign (nearly linear there; the product is not, and costs Newton a step more)."""
+    (Newton on the vanishing factor, safeguarded by Illinois false position), along
+    ``tube_ray`` (``(q, D)`` in the unit-tube frame, :func:`_tube_frame`) about a centre circle
+    of scaled radius ``Rn``. ``ends`` = ``(f_lo, f_hi, o_lo, o_hi, i_lo, i_hi)``: ``f`` and the
+    factors at the ends: the first guess is false position on the one that changes sign (nearly
+    linear there; the product is not, and costs Newton a step more)."""
+    qx, qy, qz, Dx, Dy, Dz = tube_ray
+    f_lo, f_hi, o_lo, o_hi, i_lo, i_hi = ends
     if (o_lo > 0.0) != (o_hi > 0.0):
         x = (lo * o_hi - hi * o_lo) / (o_hi - o_lo)
     elif (i_lo > 0.0) != (i_hi > 0.0):
@@ -227,12 +232,13 @@ def _solve_piece(qx, qy, qz, Dx, Dy, Dz, Rn, lo, hi, f_lo, f_hi, o_lo, o_hi, i_l
 
 
 @njit(**INLINE)
-def _tube_frame(ox, oy, oz, dx, dy, dz, R, a, b):
+def _tube_frame(ray, R, a, b):
     """The ray in the unit-tube frame (x, y over ``a``, z over ``b``): ``(q, D, speed, s0, Rn,
     B, q2)``, its point ``q`` closest to the centre, its unit direction ``D``, the frame's length
     of a mm of the ray, the scaled distance ``s0`` from the origin to ``q`` (a hit at scaled
     distance ``u`` from ``q`` is at ``t = (s0 + u) / speed`` mm), the scaled radius ``Rn`` of the
     tube's centre circle, the torus's scaled bounding radius ``B`` and ``|q|^2``."""
+    ox, oy, oz, dx, dy, dz = ray
     qx, qy, qz = ox / a, oy / a, oz / b
     Dx, Dy, Dz = dx / a, dy / a, dz / b
     speed = math.sqrt(Dx * Dx + Dy * Dy + Dz * Dz)
@@ -244,7 +250,7 @@ def _tube_frame(ox, oy, oz, dx, dy, dz, R, a, b):
 
 
 @njit(**JIT)
-def torus_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, out, crit, tmax=np.inf):
+def torus_roots(ray, R, a, b, inner, tmin, out, crit, tmax=np.inf):
     """Hit distances (mm) of the ray ``o + t d`` (unit ``d``) with the torus about z
     ``((hypot(x,y) - R)/a)^2 + (z/b)^2 = 1`` (``inner``: the mirror sheet ``hypot + R``).
 
@@ -256,7 +262,7 @@ def torus_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, out, crit, tmax=np
     """
     n = 0
     if R < 1e-9 * a:  # the tube centre on the axis: a spheroid, closed form
-        _, _, _, _, _, _, speed, s0, _, _, m2 = _tube_frame(ox, oy, oz, dx, dy, dz, 0.0, a, b)
+        _, _, _, _, _, _, speed, s0, _, _, m2 = _tube_frame(ray, 0.0, a, b)
         m = math.sqrt(m2)
         if m >= 1.0:
             return 0
@@ -266,7 +272,7 @@ def torus_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, out, crit, tmax=np
                 out[n] = tt
                 n += 1
         return n
-    qx, qy, qz, Dx, Dy, Dz, speed, s0, Rn, B, q2 = _tube_frame(ox, oy, oz, dx, dy, dz, R, a, b)
+    qx, qy, qz, Dx, Dy, Dz, speed, s0, Rn, B, q2 = _tube_frame(ray, R, a, b)
     if q2 >= B * B * (1.0 + 1e-12):
         return 0
     E = Dx * Dx + Dy * Dy
@@ -316,7 +322,7 @@ def torus_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, out, crit, tmax=np
         if f_lo == 0.0:
             u = lo
         elif (f_lo > 0.0) != (f_hi > 0.0) and f_hi != 0.0:
-            u = _solve_piece(qx, qy, qz, Dx, Dy, Dz, Rn, lo, hi, f_lo, f_hi, o_lo, o_hi, i_lo, i_hi)
+            u = _solve_piece(Ray(qx, qy, qz, Dx, Dy, Dz), Rn, lo, hi, (f_lo, f_hi, o_lo, o_hi, i_lo, i_hi))
         else:
             continue
         g_o, g_i = _factors(qx, qy, qz, Dx, Dy, Dz, Rn, u)
@@ -423,7 +429,7 @@ def _sheet_pair(hole, f, a_, b_, ga, gb, sa, sb, B):
 
 
 @njit(**JIT)
-def convex_sheet_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, tmax, out):
+def convex_sheet_roots(ray, R, a, b, inner, tmin, tmax, out):
     """Hit distances (mm, ascending, ``tmin < t <= tmax``) of the ray ``o + t d`` (unit ``d``)
     with the part of a torus sheet about z that is convex along every ray: the mirror sheet
     ``hypot(x, y) + R`` whole (``inner``), or the outer sheet where ``hypot(x, y) >= R``, the
@@ -436,7 +442,7 @@ def convex_sheet_roots(ox, oy, oz, dx, dy, dz, R, a, b, inner, tmin, tmax, out):
     where cutting planes find the minimum (tangent touches, double roots, are not reported).
     No cubic, no quartic.
     """
-    qx, qy, qz, Dx, Dy, Dz, speed, s0, Rn, B, q2 = _tube_frame(ox, oy, oz, dx, dy, dz, R, a, b)
+    qx, qy, qz, Dx, Dy, Dz, speed, s0, Rn, B, q2 = _tube_frame(ray, R, a, b)
     if q2 >= B * B * (1.0 + 1e-12):
         return 0
     lo, hi = _scaled_window(speed, s0, B, q2, tmin, tmax)
@@ -514,7 +520,7 @@ def _hole_piece(E, m2, off, zc, Dz, Rn, c, lo, hi):
 
 
 @njit(**JIT)
-def hole_sheet_roots(ox, oy, oz, dx, dy, dz, R, a, b, tmin, tmax, out):
+def hole_sheet_roots(ray, R, a, b, tmin, tmax, out):
     """Hit distances (mm, ascending, ``tmin < t <= tmax``) of the ray ``o + t d`` (unit ``d``)
     with the side of the torus's tube that faces its axis (``hypot(x, y) <= R``), where concave
     arcs lie (waists, shoulders running into a neck). Torus and units as :func:`torus_roots`
@@ -532,7 +538,7 @@ def hole_sheet_roots(ox, oy, oz, dx, dy, dz, R, a, b, tmin, tmax, out):
     from that closest approach (or the window's end nearest it), where the quadratic's terms
     carry no cancellation. No cubic, no quartic, no trigonometry.
     """
-    qx, qy, qz, Dx, Dy, Dz, speed, s0, Rn, B, q2 = _tube_frame(ox, oy, oz, dx, dy, dz, R, a, b)
+    qx, qy, qz, Dx, Dy, Dz, speed, s0, Rn, B, q2 = _tube_frame(ray, R, a, b)
     if q2 >= B * B * (1.0 + 1e-12):
         return 0
     lo, hi = _scaled_window(speed, s0, B, q2, tmin, tmax)
@@ -594,7 +600,7 @@ def hole_sheet_roots(ox, oy, oz, dx, dy, dz, R, a, b, tmin, tmax, out):
     return n
 
 @njit(**INLINE)
-def cone_roots(ox, oy, oz, dx, dy, dz, r0, z0, r1, z1, tmin, out):
+def cone_roots(ray, r0, z0, r1, z1, tmin, out):
     """Hits (mm) of the ray with the segment ``(r0, z0) -> (r1, z1)`` revolved about z.
 
     A frustum (cylinder when ``r0 == r1``, annulus when ``z0 == z1``); only hits whose meridian
@@ -606,6 +612,7 @@ def cone_roots(ox, oy, oz, dx, dy, dz, r0, z0, r1, z1, tmin, out):
     grazing the cone) one Newton step on the unsquared equation restores the lost digits.
     Writes up to two roots ``> tmin`` ascending into ``out`` and returns how many.
     """
+    ox, oy, oz, dx, dy, dz = ray
     dr, dzs = r1 - r0, z1 - z0
     L2 = dr * dr + dzs * dzs
     length = math.sqrt(L2)

@@ -27,7 +27,7 @@ from .integrator import trace_sample
 from .intersect import O_MAT
 from .jit import INLINE, JIT
 from .materials import MG_ALBEDO, MG_SHADOW
-from .records import Cutoffs
+from .records import Cutoffs, Ray
 from .sampling import branch_seed, env_lookup, mix64, uniform01
 
 
@@ -58,12 +58,12 @@ def probe_cut(cut, weight):
 
 
 @njit(**JIT)
-def sky_cells(sc, lab, fin, env_p, tex, ground, z0, cells, idx, n_side, batch, seed, cut, work, depth_rec,
-              counters, rec, rec_n, out):
+def sky_cells(tables, ground, z0, cells, idx, n_side, batch, seed, cut, work, rec, out):
     """Probe batch ``batch`` (``n_side^2`` stratified directions) of the cells ``idx`` (rows of
     ``cells``, ``(x, y)`` centres in mm on the ground plane ``z = z0`` of ground object
-    ``ground``) into the same rows of ``out`` (``Y_*`` columns; module rule). ``rec``, ``rec_n``:
-    an empty ray record (:func:`~.integrator.trace_sample`'s; nothing is recorded)."""
+    ``ground``) into the same rows of ``out`` (``Y_*`` columns; module rule). ``rec``: the
+    probes' :class:`~.records.Recorder` (:func:`~.integrator.trace_sample`'s; its rays none)."""
+    sc, env_p, tex = tables.scene, tables.env, tables.texels
     mat = sc.geom.obj_i[ground, O_MAT]
     albedo = 1.0
     if sc.mat_f[mat, MG_SHADOW] < 0.5:
@@ -84,8 +84,8 @@ def sky_cells(sc, lab, fin, env_p, tex, ground, z0, cells, idx, n_side, batch, s
                 phi = phi0 + (2.0 * u2 - 1.0) * half_az
                 r = math.sqrt(max(0.0, 1.0 - s))
                 wx, wy, wz = r * math.cos(phi), r * math.sin(phi), math.sqrt(s)
-                lr, lg, lb, _, _ = trace_sample(sc, tex, env_p, px, py, z0, wx, wy, wz, branch_seed(cs, k), cut_c,
-                                                work, depth_rec, counters, rec, rec_n, lab, fin, ground)
+                lr, lg, lb, _, _ = trace_sample(tables, Ray(px, py, z0, wx, wy, wz), branch_seed(cs, k), cut_c, work,
+                                                rec, ground)
                 if controlled:
                     er, eg, eb = env_lookup(tex, scale, rot, wx, wy, wz)
                     lr, lg, lb = lr - er, lg - eg, lb - eb
@@ -98,11 +98,11 @@ def sky_cells(sc, lab, fin, env_p, tex, ground, z0, cells, idx, n_side, batch, s
 
 
 @njit(**JIT)
-def sweep_cells(sc, lab, fin, env_p, tex, sweep, cells, idx, n_side, batch, seed, cut, work, depth_rec,
-                counters, rec, rec_n, out):
+def sweep_cells(tables, sweep, cells, idx, n_side, batch, seed, cut, work, rec, out):
     """Probe batch ``batch`` of the sweep grid's cells ``idx`` (rows of ``cells``: ``(u, s)`` in
     mm across and along the profile of sweep object ``sweep``, :func:`~.backdrop.sweep_point`)
     into the same rows of ``out`` (``Y_*`` columns, always controlled; module rule)."""
+    sc, env_p, tex = tables.scene, tables.env, tables.texels
     row = sc.geom.obj_f[sweep]
     mat = sc.geom.obj_i[sweep, O_MAT]
     albedo = max(sc.mat_f[mat, MG_ALBEDO], max(sc.mat_f[mat, MG_ALBEDO + 1], sc.mat_f[mat, MG_ALBEDO + 2]))
@@ -116,8 +116,8 @@ def sweep_cells(sc, lab, fin, env_p, tex, sweep, cells, idx, n_side, batch, seed
             for b in range(n_side):
                 k, u1, u2 = stratum(cs, batch, n_side, a, b)
                 wx, wy, wz = cosine_about(nx, ny, nz, u1, u2)
-                lr, lg, lb, _, _ = trace_sample(sc, tex, env_p, px, py, pz, wx, wy, wz, branch_seed(cs, k), cut_c,
-                                                work, depth_rec, counters, rec, rec_n, lab, fin, sweep)
+                lr, lg, lb, _, _ = trace_sample(tables, Ray(px, py, pz, wx, wy, wz), branch_seed(cs, k), cut_c, work,
+                                                rec, sweep)
                 er, eg, eb = open_model(env_p, tex, wx, wy, wz)
                 lr, lg, lb = lr - er, lg - eg, lb - eb
                 sr, sg, sb = sr + lr, sg + lg, sb + lb

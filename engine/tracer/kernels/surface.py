@@ -11,8 +11,8 @@ It composes three kinds of layer, as Mitsuba's ``mask`` and ``bumpmap`` wrap a n
   to what lies beneath: the wall's glass (:func:`_glass_beneath`) or a closure's own material
   (:func:`_closure_beneath`);
 * **a bump adapter** (:func:`_bumped`): relief bends the *shading* normal
-  (:func:`engine.tracer.kernels.finish.shading_frame`), frosting makes the nested material
-  rough, and afterwards every child is kept on its side of the *geometric* surface
+  (:func:`engine.tracer.kernels.finish.shading_frame`, set once on the interaction by
+  :func:`interaction`), frosting makes the nested material rough, and afterwards every child is kept on its side of the *geometric* surface
   (:func:`_facing` and :func:`~engine.tracer.kernels.materials.keep_sides`, the one place that
   rule is written): the geometric normal alone decides media, so a relief never sends a branch
   into a medium it is not in;
@@ -24,8 +24,9 @@ The ground's material and its light are :mod:`.ground`'s.
 
 A design without labels, relief or closures takes the plain materials exactly as the tracer did
 before these layers (one table-length test per hit each), so such images are bit for bit the
-same. Adding a material means one more branch in :func:`_material` (smooth) and in
-:func:`_bumped` (with relief or frosting) and a row builder in :mod:`engine.tracer.tables`.
+same. The plain path (:func:`_material`) and the bump adapter share one dispatch on the
+material's kind (:func:`_nested`), as Mitsuba's ``bumpmap`` wraps any BSDF without knowing it:
+adding a material means one more branch there and a row builder in :mod:`engine.tracer.tables`.
 """
 from __future__ import annotations
 
@@ -41,7 +42,8 @@ from .ground import ground
 from .materials import (BACKDROP, CONDUCTOR, GROUND, KID_COLS, KW_B, KW_G, KW_R, M_KIND, MF_ALBEDO, MF_COAT_IOR, PLASTIC,
                         SMOOTH_DIELECTRIC, coat, conductor, keep_sides, smooth_dielectric)
 from .microfacet import frosted_glass, rough_mirror
-from .records import Scattered
+from .intersect import O_MAT, object_media
+from .records import Interaction, Scattered
 from .sampling import env_lookup, padded_sobol2, uniform01
 
 AIR = 0
@@ -72,21 +74,42 @@ def lobe_uniforms(it, bseed):
     return padded_sobol2(it.sidx, it.pseed)
 
 
-@njit(**JIT)
-def _bumped(fin, sc, lab, it, bseed, kids, env_p, scratch):
-    """The bump adapter around the object's material: ``(children, r, g, b, bits)``, the
-    radiance factors a diffuse base sends back at once (times the branch's weight) and the
-    label bits its shadow rays consulted (module rule)."""
-    media, mat_i, mat_f = sc.media, sc.mat_i, sc.mat_f
-    px, py, pz, nx, ny, nz, dx, dy, dz = it.px, it.py, it.pz, it.nx, it.ny, it.nz, it.dx, it.dy, it.dz
-    mat, inc, trn = it.mat, it.inc, it.trn
-    kind = mat_i[mat, M_KIND]
+@njit(**INLINE)
+def interaction(tables, ray, hit, sidx, pseed):
+    """The surface interaction (:class:`~.records.Interaction`) of ``ray`` at ``hit`` (a
+    :class:`~.records.Hit`, object >= 0): the point, the media on the ray's and the far side (by
+    the side of the oriented normal the ray meets), and the shading geometry, set here once for
+    every layer (pbrt's ``SetShadingGeometry``): the relief-bent normal and the frosted roughness
+    (:func:`~.finish.shading_frame`), ``s = n`` and 0 on an object without finish rows."""
+    sc, fin = tables.scene, tables.finishes
+    t, k, part, nx, ny, nz = hit
+    ox, oy, oz, dx, dy, dz = ray
+    px, py, pz = ox + t * dx, oy + t * dy, oz + t * dz
+    front, back = object_media(sc.geom.obj_i, sc.geom.obj_f, k, pz)
+    inc, trn = (front, back) if nx * dx + ny * dy + nz * dz < 0.0 else (back, front)
+    sx, sy, sz, rough = nx, ny, nz, 0.0
+    if fin.obj_rows[k, 1] > 0:
+        sx, sy, sz, rough = shading_frame(fin, sc.geom.seg, sc.geom.obj_i, k, part, px, py, pz, nx, ny, nz)
+    return Interaction(px, py, pz, nx, ny, nz, dx, dy, dz, k, part, sc.geom.obj_i[k, O_MAT], inc, trn, sidx,
+                       pseed, sx, sy, sz, rough)
+
+
+@njit(**INLINE)
+def _nested(tables, it, frame, cos_i, bseed, kids, scratch):
+    """The object's own material (the nested BSDF) about the shading normal: the one dispatch on
+    the material's kind that the bump adapter and the plain path share. ``frame`` is
+    ``(f, s)``: the geometric and the shading normal, both facing the incoming direction,
+    ``cos_i`` the cosine of incidence on ``s``. Returns ``(children, r, g, b, bits)``: the
+    radiance factors a diffuse base sends back at once (times the branch's weight) and the label
+    bits its shadow rays consulted. Inlined: the plain path's smooth materials cost no call."""
+    sc, fin, env_p = tables.scene, tables.finishes, tables.env
+    mat_f, mat, alpha = sc.mat_f, it.mat, it.rough
+    dx, dy, dz = it.dx, it.dy, it.dz
+    _, _, _, sx, sy, sz = frame
+    kind = sc.mat_i[mat, M_KIND]
     bits = np.int64(0)
-    sx, sy, sz, alpha = shading_frame(fin, sc.geom.seg, sc.geom.obj_i, it.obj, it.part, px, py, pz, nx, ny, nz)
-    fx, fy, fz, sx, sy, sz = _facing(nx, ny, nz, sx, sy, sz, dx, dy, dz)
-    cos_i = -(dx * sx + dy * sy + dz * sz)
     er = eg = eb = 0.0
-    eta = media[trn, 0] / media[inc, 0]
+    eta = sc.media[it.trn, 0] / sc.media[it.inc, 0]
     u1 = u2 = 0.0
     if alpha > 0.0:  # (relief alone samples no lobe: its hits skip the net's hashing)
         u1, u2 = lobe_uniforms(it, bseed)
@@ -98,49 +121,57 @@ def _bumped(fin, sc, lab, it, bseed, kids, env_p, scratch):
     elif kind == CONDUCTOR:
         nk = conductor(mat_f, mat, dx, dy, dz, sx, sy, sz, cos_i, 1.0, kids, 0)
         if alpha > 0.0:
-            rough_mirror(fin.mirror_albedo, fin.mirror_avg, alpha, dx, dy, dz, sx, sy, sz, u1, u2, kids, mat_f,
+            rough_mirror(fin.mirror_albedo, fin.mirror_avg, alpha, (dx, dy, dz), (sx, sy, sz), u1, u2, kids, mat_f,
                          mat, -1.0)
     elif kind == PLASTIC:
         base = coat(mat_f[mat, MF_COAT_IOR], dx, dy, dz, sx, sy, sz, cos_i, 1.0, kids, 0)
         nk = 1
         if alpha > 0.0:
-            rough_mirror(fin.mirror_albedo, fin.mirror_avg, alpha, dx, dy, dz, sx, sy, sz, u1, u2, kids, mat_f,
+            rough_mirror(fin.mirror_albedo, fin.mirror_avg, alpha, (dx, dy, dz), (sx, sy, sz), u1, u2, kids, mat_f,
                          mat, mat_f[mat, MF_COAT_IOR])
         ir, ig, ib = env_lookup(fin.irradiance, env_p[0], env_p[1], sx, sy, sz)
         if fin.lights.shape[0] > 0:
-            lr, lg, lb, bits = lit_by_lights(sc, lab, fin.lights, it.obj, inc, px, py, pz, nx, ny, nz, sx, sy,
-                                             sz, fx, fy, fz, scratch)
+            lr, lg, lb, bits = lit_by_lights(tables, fin.lights, it, it.inc, frame, scratch)
             ir, ig, ib = ir + lr, ig + lg, ib + lb
         er = base * mat_f[mat, MF_ALBEDO] * ir
         eg = base * mat_f[mat, MF_ALBEDO + 1] * ig
         eb = base * mat_f[mat, MF_ALBEDO + 2] * ib
     else:
         nk = 0
+    return nk, er, eg, eb, bits
+
+
+@njit(**JIT)
+def _bumped(tables, it, bseed, kids, scratch):
+    """The bump adapter around the object's material (module rule): the nested material about
+    the shading normal, then every child kept on its side of the geometric surface.
+    Returns what :func:`_nested` does."""
+    dx, dy, dz = it.dx, it.dy, it.dz
+    frame = _facing(it.nx, it.ny, it.nz, it.sx, it.sy, it.sz, dx, dy, dz)
+    fx, fy, fz, sx, sy, sz = frame
+    nk, er, eg, eb, bits = _nested(tables, it, frame, -(dx * sx + dy * sy + dz * sz), bseed, kids, scratch)
+    eta = tables.scene.media[it.trn, 0] / tables.scene.media[it.inc, 0]
     keep_sides(kids, nk, dx, dy, dz, fx, fy, fz, eta)
     return nk, er, eg, eb, bits
 
 
 @njit(**INLINE)
-def _material(sc, it, kids):
-    """The object's own material on a smooth surface without finish: its children."""
-    kind = sc.mat_i[it.mat, M_KIND]
+def _material(tables, it, bseed, kids, scratch):
+    """The object's own material on a smooth surface without finish: its children (the nested
+    dispatch with ``s = f``, the normal facing the ray; no side rule is needed)."""
     dn = it.nx * it.dx + it.ny * it.dy + it.nz * it.dz
     fx, fy, fz = (it.nx, it.ny, it.nz) if dn < 0.0 else (-it.nx, -it.ny, -it.nz)
-    if kind == SMOOTH_DIELECTRIC:
-        return smooth_dielectric(it.dx, it.dy, it.dz, fx, fy, fz, abs(dn),
-                                 sc.media[it.trn, 0] / sc.media[it.inc, 0], 1.0, kids, 0)
-    if kind == CONDUCTOR:
-        return conductor(sc.mat_f, it.mat, it.dx, it.dy, it.dz, fx, fy, fz, abs(dn), 1.0, kids, 0)
-    return 0
+    return _nested(tables, it, (fx, fy, fz, fx, fy, fz), abs(dn), bseed, kids, scratch)[0]
 
 
 @njit(**INLINE)
-def _glass_beneath(sc, it, bx, by, bz, weight, kids, nk):
+def _glass_beneath(sc, it, weight, kids, nk):
     """The wall's glass under the uncovered fraction ``weight`` of a label's texel: its two
     branches after the ``nk`` children in ``kids``, about the smooth surface, or where a relief
-    bends the shading normal to ``b`` through the bump adapter's frame and side rule. Returns the
+    bends the shading normal ``s`` through the bump adapter's frame and side rule. Returns the
     count."""
     dx, dy, dz, nx, ny, nz = it.dx, it.dy, it.dz, it.nx, it.ny, it.nz
+    bx, by, bz = it.sx, it.sy, it.sz
     eta = sc.media[it.trn, 0] / sc.media[it.inc, 0]
     if bx == nx and by == ny and bz == nz:
         fx, fy, fz = (nx, ny, nz) if it.inc == AIR else (-nx, -ny, -nz)
@@ -153,19 +184,20 @@ def _glass_beneath(sc, it, bx, by, bz, weight, kids, nk):
 
 
 @njit(**JIT)
-def _closure_beneath(fin, sc, lab, it, bseed, kids, nk, rest, env_p, scratch):
+def _closure_beneath(tables, it, bseed, kids, nk, rest, scratch):
     """The closure's own material under the uncovered fraction ``rest`` of a print's texel:
     its children (weights times ``rest``) go before the print's ``nk`` children in ``kids``.
     Returns ``(children, r, g, b, bits)``: the radiance factors of its diffuse base times
     ``rest`` and the object-mask bits of the labels its shadow rays consulted."""
+    sc = tables.scene
     end = kids.shape[0] - nk  # the print's children wait in the last rows
     for c in range(nk - 1, -1, -1):
         for j in range(KID_COLS):
             kids[end + c, j] = kids[c, j]
     er = eg = eb = 0.0
     bits = np.int64(0)
-    if fin.obj_rows[it.obj, 1] > 0 or sc.mat_i[it.mat, M_KIND] == PLASTIC:
-        m, er, eg, eb, bits = _bumped(fin, sc, lab, it, bseed, kids, env_p, scratch)
+    if tables.finishes.obj_rows[it.obj, 1] > 0 or sc.mat_i[it.mat, M_KIND] == PLASTIC:
+        m, er, eg, eb, bits = _bumped(tables, it, bseed, kids, scratch)
     else:  # a closure's outside faces the air: the ray meets it against its normal
         m = conductor(sc.mat_f, it.mat, it.dx, it.dy, it.dz, it.nx, it.ny, it.nz,
                       -(it.nx * it.dx + it.ny * it.dy + it.nz * it.dz), 1.0, kids, 0)
@@ -180,33 +212,30 @@ def _closure_beneath(fin, sc, lab, it, bseed, kids, nk, rest, env_p, scratch):
 
 
 @njit(**INLINE)
-def scatter(sc, lab, fin, env_p, tex, it, wr, wg, wb, bseed, kids, scratch):
+def scatter(tables, it, wr, wg, wb, bseed, kids, scratch):
     """What the surface at interaction ``it`` does to a branch of weight ``w`` (module rule):
     a :class:`~.records.Scattered` whose children are in ``kids``. Inlined into the integrator:
     a call passing the scene's, labels' and finishes' tables (some forty arrays) at every hit
     doubled a frame's time; the layers it calls for labels and finishes are calls, as before."""
+    sc, lab, fin = tables.scene, tables.labels, tables.finishes
     bits = np.int64(0)
     if lab.rows.shape[0] > 0 and (lab.objects[0] >> np.int64(it.obj)) & 1:
-        bx, by, bz = it.nx, it.ny, it.nz
-        if fin.obj_rows[it.obj, 1] > 0:  # relief under the label bends its shading normal too
-            bx, by, bz, _ = shading_frame(fin, sc.geom.seg, sc.geom.obj_i, it.obj, it.part, it.px, it.py, it.pz,
-                                          it.nx, it.ny, it.nz)
-        nk, ar, ag, ab, lbits, rest = label_hit(lab, sc, env_p, it, bx, by, bz, wr, wg, wb, kids, scratch)
+        nk, ar, ag, ab, lbits, rest = label_hit(tables, it, wr, wg, wb, kids, scratch)
         if nk >= 0:
             er = eg = eb = 0.0
             if rest > 0.0 and it.obj == 0:  # the wall's glass shows through the uncovered part
-                nk = _glass_beneath(sc, it, bx, by, bz, rest, kids, nk)
+                nk = _glass_beneath(sc, it, rest, kids, nk)
             elif rest > 0.0:  # a closure shows through the print's uncovered part
-                nk, er, eg, eb, bits = _closure_beneath(fin, sc, lab, it, bseed, kids, nk, rest, env_p, scratch)
+                nk, er, eg, eb, bits = _closure_beneath(tables, it, bseed, kids, nk, rest, scratch)
             return Scattered(nk, er, eg, eb, ar, ag, ab, bits | lbits, lbits)
         bits = lbits
     if sc.mat_i[it.mat, M_KIND] == GROUND:
-        nk, er, eg, eb, gbits = ground(sc, lab, fin, env_p, tex, it, bseed, kids, scratch)
+        nk, er, eg, eb, gbits = ground(tables, it, bseed, kids, scratch)
         return Scattered(nk, er, eg, eb, 0.0, 0.0, 0.0, bits | gbits, np.int64(0))
     if sc.mat_i[it.mat, M_KIND] == BACKDROP:
-        nk, er, eg, eb, gbits = backdrop(sc, lab, fin, env_p, tex, it, bseed, kids, scratch)
+        nk, er, eg, eb, gbits = backdrop(tables, it, bseed, kids, scratch)
         return Scattered(nk, er, eg, eb, 0.0, 0.0, 0.0, bits | gbits, np.int64(0))
     if fin.obj_rows[it.obj, 1] > 0 or sc.mat_i[it.mat, M_KIND] == PLASTIC:
-        nk, er, eg, eb, fbits = _bumped(fin, sc, lab, it, bseed, kids, env_p, scratch)
+        nk, er, eg, eb, fbits = _bumped(tables, it, bseed, kids, scratch)
         return Scattered(nk, er, eg, eb, 0.0, 0.0, 0.0, bits | fbits, np.int64(0))
-    return Scattered(_material(sc, it, kids), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, bits, np.int64(0))
+    return Scattered(_material(tables, it, bseed, kids, scratch), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, bits, np.int64(0))

@@ -18,10 +18,11 @@ import math
 
 from numba import njit
 
-from .bands import F_WALL, band_roots
+from .bands import band_roots
 from .outlines import RSQUARE, rrect_sd, square_corner, xs_eval
 from .profile import S_R0, S_R1, S_Z0, S_Z1, wall_state
 from .jit import INLINE, JIT
+from .records import Wall
 from .roots import quadratic, sort_small
 
 #: Columns of the slab table (``slab_f``): the slab's heights, its circumradius (mm), whether
@@ -30,15 +31,20 @@ SL_Z0, SL_Z1, SL_RMAX, SL_RULED, SL_A0, SL_KA, SL_B0, SL_KB, SL_C0, SL_KC = rang
 SL_COLS = 10
 
 
-@njit(**JIT)
-def swept_roots(seg, tab, slab_seg, kind, nsec, cos_r, sin_r, ox, oy, oz, dx, dy, dz, lo, hi, leaf,
-                out, stack):
-    """Crossings (mm, ascending, at most ``len(out)``) of the ray with the swept wall in one
-    slab (sections on segment rows ``slab_seg``), for ``t`` in ``[lo, hi]``."""
+@njit(**INLINE)
+def swept_wall(seg, tab, slab_seg, kind, nsec, cos_r, sin_r):
+    """The :class:`~.records.Wall` of one slab: sections of cross-section ``kind`` on segment
+    rows ``slab_seg`` (``nsec`` of them), the bottle turned by ``(cos_r, sin_r)``."""
     r1 = slab_seg[1] if nsec > 1 else slab_seg[0]
     r2 = slab_seg[2] if nsec > 2 else slab_seg[0]
-    return band_roots(F_WALL, seg, tab, slab_seg[0], r1, r2, nsec, kind, cos_r, sin_r, ox, oy, oz,
-                      dx, dy, dz, lo, hi, leaf, out, 0, stack)
+    return Wall(seg, tab, slab_seg[0], r1, r2, nsec, kind, cos_r, sin_r)
+
+
+@njit(**JIT)
+def swept_roots(wall, ray, lo, hi, leaf, out, stack):
+    """Crossings (mm, ascending, at most ``len(out)``) of the ray with the swept ``wall`` of one
+    slab (:func:`swept_wall`), for ``t`` in ``[lo, hi]``."""
+    return band_roots(wall, ray, lo, hi, leaf, out, 0, stack)
 
 
 @njit(**JIT)
@@ -63,11 +69,15 @@ def swept_normal(seg, slab_seg, kind, nsec, cos_r, sin_r, px, py, pz):
 
 
 @njit(**INLINE)
-def _ruled_roots(cx0, cx1, cy0, cy1, r0, r1, sx, sy, px, py, qx, qy, lo, hi, out, n):
+def _ruled_roots(cone, sx, sy, foot, lo, hi, out, n):
     """Crossings with one corner of a rounded-rectangle wall whose corner centre
     ``(sx hx(z), sy hy(z))`` and radius ``c(z)`` are linear in the height (a slanted circular
     cone), kept where the point lies in that corner's quadrant; appended to ``out``. Asked only
-    for a corner the ray is in at an end of its box interval, so the quadratic is always solved."""
+    for a corner the ray is in at an end of its box interval, so the quadratic is always solved.
+    ``cone`` = ``(cx0, cx1, cy0, cy1, r0, r1)``: ``hx = cx0 + cx1 t``, ``hy``, ``c`` likewise
+    along the ray; ``foot`` = ``(px, py, qx, qy)``, the ray's footprint ``p + t q``."""
+    cx0, cx1, cy0, cy1, r0, r1 = cone
+    px, py, qx, qy = foot
     # along the ray: hx = cx0 + cx1 t etc. (t measured from the ray origin)
     ux0, ux1 = px - sx * cx0, qx - sx * cx1
     uy0, uy1 = py - sy * cy0, qy - sy * cy1
@@ -87,7 +97,7 @@ def _ruled_roots(cx0, cx1, cy0, cy1, r0, r1, sx, sy, px, py, qx, qy, lo, hi, out
 
 
 @njit(**JIT)
-def ruled_roots(sl, cos_r, sin_r, ox, oy, oz, dx, dy, dz, lo, hi, out):
+def ruled_roots(sl, cos_r, sin_r, ray, lo, hi, out):
     """Exact crossings (ascending) in ``[lo, hi]`` with a rounded-square or rounded-rectangle
     wall in a ruled slab (``sl``, its row of the slab table: every section a straight line, so
     the outline's half extents and corner radius are linear in z, ``SL_A0..SL_KC``): the four
@@ -101,6 +111,7 @@ def ruled_roots(sl, cos_r, sin_r, ox, oy, oz, dx, dy, dz, lo, hi, out):
     the wall. Outside the corners' quadrants the box is inside the wall, and the parts of the
     box outside the wall are the four corner pieces, which the wall's flat bands keep apart:
     so the ray enters and leaves the wall in the quadrants where it enters and leaves the box."""
+    ox, oy, oz, dx, dy, dz = ray
     # from the slab entry, so that far origins lose no digits
     ox, oy, oz = ox + lo * dx, oy + lo * dy, oz + lo * dz
     base, hi, lo = lo, hi - lo, 0.0
@@ -134,9 +145,9 @@ def ruled_roots(sl, cos_r, sin_r, ox, oy, oz, dx, dy, dz, lo, hi, out):
             corner = (1 if x > 0.0 else 0) | (2 if y > 0.0 else 0)
             if corner != solved:
                 solved = corner
-                n = _ruled_roots(ha0 + hka * oz, hka * dz, hb0 + hkb * oz, hkb * dz, c0 + kc * oz, kc * dz,
+                n = _ruled_roots((ha0 + hka * oz, hka * dz, hb0 + hkb * oz, hkb * dz, c0 + kc * oz, kc * dz),
                                  1.0 if corner & 1 else -1.0, 1.0 if corner & 2 else -1.0,
-                                 px, py, qx, qy, lo, hi, out, n)
+                                 (px, py, qx, qy), lo, hi, out, n)
         elif (t > lo if end == 0 else t < hi) and n < out.shape[0]:  # the box's face is the wall
             out[n] = t
             n += 1

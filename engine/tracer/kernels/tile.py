@@ -14,7 +14,7 @@ from .integrator import trace_sample
 from .jit import JIT, JIT_NRT
 from .labels import record_sample
 from .materials import KID_COLS, MAX_CHILDREN
-from .records import Cutoffs, Scratch, Work
+from .records import Cutoffs, Ray, Recorder, Scratch, Work
 from .sampling import C_EYE, C_W, camera_ray, mix64, pixel_offset
 
 
@@ -30,7 +30,7 @@ def make_work(max_depth):
 
 
 @njit(**JIT_NRT)
-def render_pixels(sc, tex, env_p, cam, px, cut, rr_from, out, cancel, rec_rays, rec_n, lab, fin):
+def render_pixels(tables, cam, px, cut, rr_from, out, cancel, rays):
     """Trace the listed samples of each pixel of ``px`` (a :class:`~.records.Pixels`).
 
     Adds into ``out`` (a :class:`~.records.PixelSums`): ``sum[p]`` (RGB radiance sum over the
@@ -39,21 +39,25 @@ def render_pixels(sc, tex, env_p, cam, px, cut, rr_from, out, cancel, rec_rays, 
     samples), min-s ``depth[p, m]`` (shallowest depth each material was met) and the kernel
     counters. ``cut`` are the tree's cut-offs (:class:`~.records.Cutoffs`); samples numbered
     ``rr_from`` and up play Russian roulette below ``cut.rr_weight``, the others not (see
-    :func:`~.integrator.trace_sample`). Stops early, leaving the rest untouched, once
-    ``cancel[0]`` is non-zero; returns the number of pixels finished.
+    :func:`~.integrator.trace_sample`); ``tables`` what the trees read (a
+    :class:`~.records.Tables`), ``rays`` the ``(float32 (N, 6 or 9), count (1,))`` buffers every
+    intersection query is copied into while room lasts (benchmarks; zero rows: none). Stops
+    early, leaving the rest untouched, once ``cancel[0]`` is non-zero; returns the number of
+    pixels finished.
     """
     work = make_work(cut.max_depth)
-    return _render_loop(sc, tex, env_p, cam, px, cut, rr_from, out, cancel, rec_rays, rec_n, lab, fin, work)
+    return _render_loop(tables, cam, px, cut, rr_from, out, cancel, rays, work)
 
 
 @njit(**JIT)
-def _render_loop(sc, tex, env_p, cam, px, cut, rr_from, out, cancel, rec_rays, rec_n, lab, fin, work):
+def _render_loop(tables, cam, px, cut, rr_from, out, cancel, rays, work):
     """The loop of :func:`render_pixels` over its pixels and samples, with the worker's scratch
     ``work``. Compiled without reference counting: from a kernel that counts references, each
     call of :func:`trace_sample` would increment and decrement the count of every array in its
     records (some forty, atomically, once per sample: 11 % of the Bordeaux frame, measured with
     ``perf``)."""
     cols, rows, first, count = px
+    lab = tables.labels
     width = int(cam[C_W])
     ex, ey, ez = cam[C_EYE], cam[C_EYE + 1], cam[C_EYE + 2]
     plain = Cutoffs(cut.max_depth, cut.min_weight, 0.0, cut.max_nodes)
@@ -70,9 +74,9 @@ def _render_loop(sc, tex, env_p, cam, px, cut, rr_from, out, cancel, rec_rays, r
             dx, dy, dz = camera_ray(cam, cols[p] + fx, rows[p] + fy)
             seed = mix64(np.uint64(pix) * np.uint64(0x9E3779B97F4A7C15) ^ np.uint64(k))
             h0 = lab.hit_n[0]
-            r, g, b, sig, m = trace_sample(sc, tex, env_p, ex, ey, ez, dx, dy, dz, seed, cut if k >= rr_from else plain,
-                                           work, out.depth[p], out.counters, rec_rays, rec_n, lab, fin, -1, k - 1,
-                                           pseed)
+            rec = Recorder(out.depth[p], out.counters, rays[0], rays[1])
+            r, g, b, sig, m = trace_sample(tables, Ray(ex, ey, ez, dx, dy, dz), seed, cut if k >= rr_from else plain,
+                                           work, rec, -1, k - 1, pseed)
             record_sample(lab, smp, h0)
             smp += 1
             if k == first[p]:

@@ -150,12 +150,12 @@ def _in_order(pool, fn, args, in_flight: int):
         yield pending.popleft().result()
 
 
-def caustic_grids(scene, lab, fin, env_p, tex, ground_mat: int, z0: float, threads: int | None = None):
-    """``(caustics, grid rows)`` of the lights in ``fin`` for the scene with its ground (module
-    rule): ``caustics`` ``(n_lights, rows, cols, CAUSTIC_COLS)`` (:mod:`engine.tracer.kernels.ground`:
+def caustic_grids(tables, ground_mat: int, z0: float, threads: int | None = None):
+    """``(caustics, grid rows)`` of the lights in the finishes of ``tables`` (a
+    :class:`~engine.tracer.kernels.records.Tables`: the scene with its ground) (module rule): ``caustics`` ``(n_lights, rows, cols, CAUSTIC_COLS)`` (:mod:`engine.tracer.kernels.ground`:
     irradiance over pi landing in the shadow and in the open, and the shadow's share of each
     cell), zero-padded to the largest grid; a light below :data:`MIN_LIGHT_Z` gets an empty grid."""
-    lights = fin.lights
+    scene, lights = tables.scene, tables.finishes.lights
     bound_r = float(scene.mat_f[ground_mat, MG_BOUND_R])
     z1 = float(scene.mat_f[ground_mat, MG_BOUND_Z])
     rows, grids = [], []
@@ -172,8 +172,7 @@ def caustic_grids(scene, lab, fin, env_p, tex, ground_mat: int, z0: float, threa
 
             def chunk(first, beam=beam, light=light, seed=seed):
                 out = np.zeros((CHUNK, P_COLS))
-                trace_photons(scene, lab, fin, env_p, tex, light, beam, z0, first, CHUNK, seed, MAX_BOUNCES,
-                              make_work(MAX_BOUNCES), out)
+                trace_photons(tables, light, beam, z0, first, CHUNK, seed, MAX_BOUNCES, make_work(MAX_BOUNCES), out)
                 return out
 
             # power per photon: the light's irradiance (applied below) x the beam's area per photon;

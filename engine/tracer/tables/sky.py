@@ -32,7 +32,7 @@ from ..kernels import intersect as K
 from ..kernels.intersect import O_MAT
 from ..kernels.ground import S_DR, S_GROW, S_NIN, S_NRING, S_NSEC, S_R1, S_RMAX, SKY_COLS, ring_sectors, sky_ring
 from ..kernels.materials import MG_ALBEDO, MG_BOUND_R, MG_SHADOW, MG_WIDE
-from ..kernels.records import Cutoffs
+from ..kernels.records import Cutoffs, Recorder
 from ..kernels.integrator import N_COUNTERS
 from ..kernels.sky import Y_COLS, Y_CONTROLLED, Y_SHARE, Y_SQ, sky_cells
 from ..kernels.tile import make_work
@@ -181,15 +181,24 @@ def probe_cells(run, side: np.ndarray, batches: int, tolerance: float, threads: 
     return sums, probes
 
 
-def sky_grid(scene, lab, fin, env_p, tex, ground: int, z0: float, reach_mm: float, max_depth: int,
-             min_weight: float, threads: int | None = None, cancelled=None) -> tuple[np.ndarray, np.ndarray]:
-    """``(sky, row)``: the sky grid of the scene's ground object ``ground`` at height ``z0`` (mm)
-    out to ``reach_mm`` (module rule): ``sky`` ``(cells, 3)`` irradiance over pi, traced
-    with the render's cut-offs ``max_depth`` and ``min_weight`` and :data:`ROULETTE`. ``fin``
+def quiet_recorder(scene) -> Recorder:
+    """A probe batch's :class:`~engine.tracer.kernels.records.Recorder`: the depths and counters
+    its trees write (nobody reads them) and no rays kept."""
+    return Recorder(np.full(scene.mat_i.shape[0], 255, np.int64), np.zeros(N_COUNTERS, np.int64),
+                    np.zeros((0, 6), np.float32), np.zeros(1, np.int64))
+
+
+def sky_grid(tables, ground: int, z0: float, reach_mm: float, max_depth: int, min_weight: float,
+             threads: int | None = None, cancelled=None) -> tuple[np.ndarray, np.ndarray]:
+    """``(sky, row)``: the sky grid of the ground object ``ground`` at height ``z0`` (mm) of
+    ``tables`` (a :class:`~engine.tracer.kernels.records.Tables`) out to ``reach_mm`` (module
+    rule): ``sky`` ``(cells, 3)`` irradiance over pi, traced with the render's cut-offs
+    ``max_depth`` and ``min_weight`` and :data:`ROULETTE`. Its finishes
     must carry no sky grid (its probes' own ground hits probe). A cell whose estimate's standard
     error times the ground's albedo is above :data:`SE_TOL` of the open sky's irradiance gets
     another batch of probes, up to :data:`MAX_BATCHES`. Raises :class:`GridCancelled` once ``cancelled()`` is true (checked
     between chunks of cells)."""
+    scene, env_p = tables.scene, tables.env
     mat = int(scene.geom.obj_i[ground, O_MAT])
     bound_r = float(scene.mat_f[mat, MG_BOUND_R])
     row = sky_row(bound_r, min(reach_mm, REACH * bound_r))
@@ -204,10 +213,8 @@ def sky_grid(scene, lab, fin, env_p, tex, ground: int, z0: float, reach_mm: floa
     cut = Cutoffs(int(max_depth), float(min_weight), ROULETTE, MAX_NODES)
 
     def run(idx, n_side, batch, out):
-        depth = np.full(scene.mat_i.shape[0], 255, np.int64)
-        sky_cells(scene, lab, fin, env_p, tex, ground, float(z0), cells, np.ascontiguousarray(idx, np.int64),
-                  int(n_side), int(batch), _SEED, cut, make_work(int(max_depth)), depth,
-                  np.zeros(N_COUNTERS, np.int64), np.zeros((0, 6), np.float32), np.zeros(1, np.int64), out)
+        sky_cells(tables, ground, float(z0), cells, np.ascontiguousarray(idx, np.int64), int(n_side), int(batch),
+                  _SEED, cut, make_work(int(max_depth)), quiet_recorder(scene), out)
 
     sums, probes = probe_cells(run, side, MAX_BATCHES + (WIDE_BATCHES if wide else 0),
                                SE_TOL * float(np.mean(env_p[3:6])) / albedo, threads, cancelled)

@@ -26,7 +26,7 @@ from ..kernels.materials import (BACKDROP, GROUND, MAT_COLS, MG_ALBEDO, MG_ALPHA
                                  MG_COAT_IOR, MG_MIRROR, MG_SHADOW, MG_WIDE)
 from ..kernels.microfacet import MF_FAVG
 from ..kernels.outlines import RRECT
-from ..kernels.records import Geometry, Scene
+from ..kernels.records import Geometry, Scene, Tables
 from ..ggx_albedo import dielectric_average
 from ..environment import ArrayCache
 from ..render_objects import AIR, cached
@@ -262,14 +262,20 @@ def _caustic_key(design, assets) -> tuple:
     return bare, _asset_hashes(assets), _facing_key(design)
 
 
-def stage_caustics(design, assets, scene: Scene, labels, finish, env_params, lookup_texels) -> dict:
-    """The finish tables' ``caustics`` and ``caustic_grid`` fields for ``design`` on its diffuse
-    ground (:func:`engine.tracer.tables.caustics.caustic_grids`), from a small cache."""
-    from .caustics import caustic_grids
+def _with_buffers(tables: Tables) -> Tables:
+    """``tables`` with its labels' (empty) record buffers, as the kernels take them."""
     from .labels import with_buffers
+    return tables._replace(labels=with_buffers(tables.labels))
+
+
+def stage_caustics(design, assets, tables: Tables) -> dict:
+    """The finish tables' ``caustics`` and ``caustic_grid`` fields for ``design`` on its diffuse
+    ground (:func:`engine.tracer.tables.caustics.caustic_grids`, its photons meeting ``tables``),
+    from a small cache."""
+    from .caustics import caustic_grids
+    scene = tables.scene
     hit = cached(_CAUSTIC_CACHE, _SKY_LOCK, _CAUSTIC_KEEP, _caustic_key(design, assets), lambda *_: caustic_grids(
-        scene, with_buffers(labels), finish, env_params, lookup_texels,
-        int(scene.geom.obj_i[ground_object(scene), K.O_MAT]), float(design.stage.z_mm)))
+        _with_buffers(tables), int(scene.geom.obj_i[ground_object(scene), K.O_MAT]), float(design.stage.z_mm)))
     return {"caustics": hit[0], "caustic_grid": hit[1]}
 
 
@@ -288,14 +294,13 @@ def _sky_key(design, assets) -> tuple:
             _facing_key(design))
 
 
-def stage_sky(design, assets, scene: Scene, labels, finish, env_params, lookup_texels, cancelled=None) -> dict:
+def stage_sky(design, assets, tables: Tables, cancelled=None) -> dict:
     """The finish tables' ``sky`` and ``sky_grid`` fields for ``design`` on its diffuse ground
-    (:func:`engine.tracer.tables.sky.sky_grid`, stopped by ``cancelled()``), from a small
-    cache; ``finish`` must carry no sky grid yet."""
-    from .labels import with_buffers
+    (:func:`engine.tracer.tables.sky.sky_grid`, its probes meeting ``tables``, stopped by
+    ``cancelled()``), from a small cache; ``tables.finishes`` must carry no sky grid yet."""
     from .sky import sky_grid
     hit = cached(_SKY_GRID_CACHE, _SKY_LOCK, _CAUSTIC_KEEP, _sky_key(design, assets), lambda *_: sky_grid(
-        scene, with_buffers(labels), finish, env_params, lookup_texels, ground_object(scene), float(design.stage.z_mm),
+        _with_buffers(tables), ground_object(tables.scene), float(design.stage.z_mm),
         math.sqrt(2.0) * float(design.stage.half_size_mm), int(design.render.max_depth),
         float(design.render.min_weight), cancelled=cancelled))
     return {"sky": hit[0], "sky_grid": hit[1]}
@@ -305,14 +310,14 @@ def stage_sky(design, assets, scene: Scene, labels, finish, env_params, lookup_t
 _SWEEP_GRID_CACHE: dict = {}
 
 
-def stage_sweep(design, assets, scene: Scene, labels, finish, env_params, lookup_texels, cancelled=None) -> dict:
+def stage_sweep(design, assets, tables: Tables, cancelled=None) -> dict:
     """The finish tables' ``sweep`` and ``sweep_grid`` fields for ``design``'s backdrop sweep
-    (:func:`engine.tracer.tables.sweep.sweep_grid`, stopped by ``cancelled()``), from a small
-    cache; ``finish`` must carry no sweep or sky grid yet (the sky grid is built after it)."""
-    from .labels import with_buffers
+    (:func:`engine.tracer.tables.sweep.sweep_grid`, its probes meeting ``tables``, stopped by
+    ``cancelled()``), from a small cache; ``tables.finishes`` must carry no sweep or sky grid yet
+    (the sky grid is built after it)."""
     from .sweep import sweep_grid
     hit = cached(_SWEEP_GRID_CACHE, _SKY_LOCK, _CAUSTIC_KEEP, _sky_key(design, assets), lambda *_: sweep_grid(
-        scene, with_buffers(labels), finish, env_params, lookup_texels, int(design.render.max_depth),
+        _with_buffers(tables), int(design.render.max_depth),
         float(design.render.min_weight), cancelled=cancelled))
     return {"sweep": hit[0], "sweep_grid": hit[1]}
 

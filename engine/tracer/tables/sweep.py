@@ -18,12 +18,11 @@ import numpy as np
 
 from ..kernels import intersect as K
 from ..kernels.backdrop import W_A, W_COLS, W_NS, W_NU, W_SMAX, W_UMAX, open_sweep, sweep_point
-from ..kernels.integrator import N_COUNTERS
 from ..kernels.materials import MG_ALBEDO
 from ..kernels.records import Cutoffs
 from ..kernels.sky import Y_SQ, sweep_cells
 from ..kernels.tile import make_work
-from .sky import MAX_BATCHES, MAX_NODES, PROBES_SIDE, ROULETTE, SE_TOL, WIDE_BATCHES, probe_cells, sweep_object
+from .sky import MAX_BATCHES, MAX_NODES, PROBES_SIDE, ROULETTE, SE_TOL, WIDE_BATCHES, probe_cells, quiet_recorder, sweep_object
 
 #: Cells across the sweep and along its profile.
 CELLS = (96, 64)
@@ -60,11 +59,13 @@ def cell_centres(row: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(np.column_stack([uu.ravel(), ss.ravel()]))
 
 
-def sweep_grid(scene, lab, fin, env_p, tex, max_depth: int, min_weight: float, threads: int | None = None,
+def sweep_grid(tables, max_depth: int, min_weight: float, threads: int | None = None,
                cancelled=None) -> tuple[np.ndarray, np.ndarray]:
-    """``(sweep, row)``: the sweep grid of ``scene``'s backdrop sweep (module rule): ``sweep``
-    ``(cells, 3)`` irradiance over pi, traced with the render's cut-offs. ``fin`` must carry no
+    """``(sweep, row)``: the sweep grid of the backdrop sweep of ``tables`` (a
+    :class:`~engine.tracer.kernels.records.Tables`; module rule): ``sweep`` ``(cells, 3)``
+    irradiance over pi, traced with the render's cut-offs. Its finishes must carry no
     sweep grid. Raises :class:`~engine.tracer.tables.sky.GridCancelled` once ``cancelled()``."""
+    scene, env_p = tables.scene, tables.env
     k = sweep_object(scene)
     obj = scene.geom.obj_f[k]
     row = grid_row(obj)
@@ -73,9 +74,8 @@ def sweep_grid(scene, lab, fin, env_p, tex, max_depth: int, min_weight: float, t
     cut = Cutoffs(int(max_depth), float(min_weight), ROULETTE, MAX_NODES)
 
     def run(idx, n_side, batch, out):
-        sweep_cells(scene, lab, fin, env_p, tex, k, cells, np.ascontiguousarray(idx, np.int64), int(n_side),
-                    int(batch), _SEED, cut, make_work(int(max_depth)), np.full(scene.mat_i.shape[0], 255, np.int64),
-                    np.zeros(N_COUNTERS, np.int64), np.zeros((0, 6), np.float32), np.zeros(1, np.int64), out)
+        sweep_cells(tables, k, cells, np.ascontiguousarray(idx, np.int64), int(n_side), int(batch), _SEED, cut,
+                    make_work(int(max_depth)), quiet_recorder(scene), out)
 
     side = np.full(len(cells), PROBES_SIDE)
     sums, probes = probe_cells(run, side, MAX_BATCHES + WIDE_BATCHES,

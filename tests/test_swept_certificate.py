@@ -18,7 +18,7 @@ from engine.tracer.kernels.bands import monotone_sign
 from engine.tracer.kernels.profile import wall_range
 from engine.tracer.kernels.revolved import ray_box
 from engine.tracer.kernels.swept import swept_roots
-from engine.tracer.render_objects import INNER_WALL, OUTER_WALL, render_geometry_for
+from engine.tracer.tables.render_objects import INNER_WALL, OUTER_WALL, render_geometry_for
 
 
 def _square_sample():

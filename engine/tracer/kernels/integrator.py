@@ -82,7 +82,7 @@ def trace_sample(sc, tex, env_p, ox, oy, oz, dx, dy, dz, seed, cut, work, depth_
     ----------
     sc : records.Scene
         The render objects, media (``media[m] = (ior, sigma_r, sigma_g, sigma_b)``, absorption in
-        1/mm) and materials (:mod:`engine.tracer.render_objects`).
+        1/mm) and materials (:mod:`engine.tracer.tables.render_objects`).
     tex, env_p : environment texels ``(H, W, 3)`` (half-float bit patterns, or float32) and
         ``(scale, rotation rad, factor)``: radiance is ``scale * factor * texel``.
     o, d : the ray (mm, unit direction), starting in air.

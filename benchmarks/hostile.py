@@ -100,7 +100,7 @@ def cases(folder, slow):
     from engine.files.serialize import document_from_design
     from engine.geometry.tessellate import tessellate_body
     from engine.model.design import Design, Environment
-    from engine.tracer.environment import environment_from_design
+    from engine.tracer.tables.environment import environment_from_design
     from tests.test_resources import polyline_shape
 
     quotes = zip_bytes([("project.json", '{"design": "' + '\\"' * 60_000)])

@@ -110,7 +110,7 @@ def main(argv=None) -> int:
         print(f"wrote {a.output}")
     ref = reference_path(a.spec)
     if os.path.exists(ref):
-        from engine.tracer.environment import read_radiance_image
+        from engine.tracer.tables.environment import read_radiance_image
         print(f"rel RMSE vs {os.path.basename(ref)}: {rel_rmse(img, read_radiance_image(ref)):.5f}")
     else:
         print(f"no reference at {ref}")

@@ -295,7 +295,7 @@ def main(argv=None) -> int:
     import matplotlib.pyplot as plt
 
     from benchmarks.oracle_render import reference_path
-    from engine.tracer.environment import read_radiance_image
+    from engine.tracer.tables.environment import read_radiance_image
 
     p = argparse.ArgumentParser(prog="python -m benchmarks.peer")
     p.add_argument("--quick", action="store_true", help="fewer settings, Mitsuba up to 256 spp")

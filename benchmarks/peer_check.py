@@ -61,7 +61,7 @@ def reference(name: str) -> tuple[np.ndarray, float]:
     """A scene's reference image and its own noise (``noise_rel_rms`` of its json)."""
     from benchmarks import thick_jar
     from benchmarks.oracle_render import reference_path
-    from engine.tracer.environment import read_radiance_image
+    from engine.tracer.tables.environment import read_radiance_image
 
     if name == thick_jar.NAME:
         thick_jar.ensure_reference()

@@ -60,7 +60,7 @@ def furnace(design, w, h, spp):
     """Rows ``{alpha, before, after}``: mean furnace radiance over the bottle's pixels."""
     from engine.operations.tiles import new_tile
     from engine.tracer.context import RenderContext
-    from engine.tracer.environment import EnvironmentMap
+    from engine.tracer.tables.environment import EnvironmentMap
     white = EnvironmentMap(np.ones((4, 8, 3), np.float32))
     rows = []
     clear = dataclasses.replace(design, glass=dataclasses.replace(design.glass, absorption=(0.0, 0.0, 0.0)),

@@ -330,7 +330,7 @@ def truncation(name, size, spp, cuts):
 def error_vs_time(names, configs):
     """rel RMSE against the reference and wall time (2 threads) per oracle scene and setting."""
     from benchmarks.oracle_render import reference_path, rel_rmse, render_spec
-    from engine.tracer.environment import read_radiance_image
+    from engine.tracer.tables.environment import read_radiance_image
 
     rows = []
     for name in names:

@@ -1,5 +1,5 @@
 """Comparing renders with reference images made when the kernels read float32 environment
-texels (tests/data). The kernels now read half floats (:func:`engine.tracer.environment.
+texels (tests/data). The kernels now read half floats (:func:`engine.tracer.tables.environment.
 half_texels`): every texel within a relative ``2**-11`` of its float32 value (or ``2**-25`` for
 the faintest, stored as subnormals). A pixel is a sum of environment lookups with positive
 weights (bilinear weights times branch weights, the same as before when the rays are), so it

@@ -209,7 +209,7 @@ def test_a_light_behind_the_wall_lights_neither_the_ground_nor_its_caustic():
 
 
 def test_the_sweeps_open_sky_table_is_the_open_sky_where_it_faces_up_and_one_in_a_white_sky():
-    from engine.tracer.environment import environment_from_design
+    from engine.tracer.tables.environment import environment_from_design
     from engine.model.design import Environment
     env = environment_from_design(Environment())
     table = S.sweep_sky_irradiance(env, (0.0, 1.0))

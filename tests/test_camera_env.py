@@ -8,7 +8,7 @@ import pytest
 
 from engine.tracer.camera import PinholeCamera, pixel_offsets
 from engine.model.design import Camera, Environment
-from engine.tracer.environment import EnvironmentMap, environment_from_design, studio_texels
+from engine.tracer.tables.environment import EnvironmentMap, environment_from_design, studio_texels
 
 
 def _cam(w=40, h=20):
@@ -172,7 +172,7 @@ def test_half_texels_keep_eleven_bits_and_scale_a_bright_map_by_a_power_of_two()
     """The kernels' copy of a map: every texel within 2**-11 of its value (normal half floats;
     the faintest within 2**-25 absolute); a map brighter than a half float holds is divided by a
     power of two (exact) that ``factor`` gives back; non-finite texels are cleaned first."""
-    from engine.tracer.environment import HALF_MAX, half_texels
+    from engine.tracer.tables.environment import HALF_MAX, half_texels
 
     rng = np.random.default_rng(7)
     tex = (10.0 ** rng.uniform(-9, 4, size=(32, 64, 3))).astype(np.float32)
@@ -196,7 +196,7 @@ def test_half_texels_keep_eleven_bits_and_scale_a_bright_map_by_a_power_of_two()
 def test_half_texels_of_a_shared_map_are_made_once():
     """The studio (read-only, shared) is converted once, whatever the number of renders; a
     writable array, which may change, is converted each time."""
-    from engine.tracer.environment import half_texels
+    from engine.tracer.tables.environment import half_texels
 
     studio = studio_texels()
     assert half_texels(studio)[0] is half_texels(studio)[0]
@@ -209,7 +209,7 @@ def test_half_texels_of_a_shared_map_are_made_once():
 def test_kernel_lookup_of_half_texels_is_the_float32_lookup_within_their_rounding():
     """The render's lookup (half floats) against the float32 one and SPEC 3, seam and poles
     included: bilinear weights are positive, so a lookup moves by at most 2**-11 of itself."""
-    from engine.tracer.environment import half_texels
+    from engine.tracer.tables.environment import half_texels
     from engine.tracer.kernels.sampling import env_lookup
 
     rng = np.random.default_rng(8)
@@ -242,7 +242,7 @@ def test_a_render_sees_a_bright_map_at_its_brightness():
 
 def test_without_half_float_conversion_the_kernels_read_float32(monkeypatch):
     """A CPU that cannot convert half floats in one instruction gets the float32 texels."""
-    from engine.tracer import environment as E
+    from engine.tracer.tables import environment as E
 
     monkeypatch.setattr(E, "_converts_halves", lambda: False)
     tex = studio_texels()

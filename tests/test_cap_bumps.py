@@ -23,7 +23,7 @@ from engine.files.migrate_fields import migrate_2_to_3
 from engine.files.project import load_project, save_project
 from engine.files.serialize import MIGRATIONS, design_from_document, document_from_design
 from engine.model.check import check_values
-from engine.tracer.render_objects import render_geometry_for
+from engine.tracer.tables.render_objects import render_geometry_for
 from tests.test_finish_render import _image
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -18,12 +18,12 @@ from engine.files.project import load_project
 from engine.model.design import BumpTile, Cap, Design, Light, Liquid
 from engine.tracer.tables import finishes
 from engine.tracer.context import RenderContext, nearest_hits, trace_pixels, trace_rays
-from engine.tracer.environment import EnvironmentMap
-from engine.tracer.ggx_albedo import albedo_tables, conductor_average, dielectric_average
+from engine.tracer.tables.environment import EnvironmentMap
+from engine.tracer.tables.ggx_albedo import albedo_tables, conductor_average, dielectric_average
 from engine.tracer.kernels import microfacet as MF
 from engine.tracer.kernels.finish import shading_frame
 from engine.tracer.kernels.materials import MF_ALBEDO, MF_COAT_IOR, fresnel_conductor, fresnel_dielectric
-from engine.tracer.render_objects import OUTER_WALL, render_geometry_for
+from engine.tracer.tables.render_objects import OUTER_WALL, render_geometry_for
 from tests.test_tracer import WHITE, _furnace
 from tests.test_tracer_properties import tall
 from tests.reference_images import assert_within_half_rounding

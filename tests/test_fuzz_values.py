@@ -19,7 +19,7 @@ from engine.geometry import capacity
 from engine.model import fill
 from engine.model.check import check_values
 from engine.model.design import Camera, Environment, Glass, Liquid, RenderSettings
-from engine.tracer.environment import EnvironmentMap, clean_texels, environment_from_design
+from engine.tracer.tables.environment import EnvironmentMap, clean_texels, environment_from_design
 from tests.test_fuzz_files import cylinder_design
 
 FUZZ = settings(max_examples=120, deadline=None,

@@ -14,7 +14,7 @@ from engine.appearance.presets import FOIL_OPTICS
 from engine.appearance.sample import png_bytes
 from engine.model.design import FinishRegion, Label, LabelSide
 from engine.tracer.context import RenderContext, trace_rays
-from engine.tracer.environment import EnvironmentMap
+from engine.tracer.tables.environment import EnvironmentMap
 from engine.tracer.job import RenderJob
 from engine.tracer.kernels import labels as KL
 from engine.tracer.kernels.materials import fresnel_conductor

@@ -1,5 +1,6 @@
 """The layers of the code: packages import only the layers below them (so no two packages import
-each other, lazily or not), no import circles between modules, widgets never import the
+each other, lazily or not), and so do the sub-layers of a package that has them (the tracer's
+kernels, tables and the rest), no import circles between modules, widgets never import the
 application shell, and the geometry and camera maths the panels use live in the engine."""
 from __future__ import annotations
 
@@ -92,6 +93,15 @@ LAYERS = (
 )
 
 
+#: Packages whose own folders are layered too, from the bottom up; the last is the package itself
+#: (its modules outside those folders). The tracer: the compiled kernels, the row builders that
+#: fill their tables, then what runs a render (docs/ARCHITECTURE.md). A module may import its own
+#: sub-layer and those below it, so a folder and the rest of its package never import each other.
+SUBLAYERS = {
+    "engine.tracer": ("engine.tracer.kernels", "engine.tracer.tables", "engine.tracer"),
+}
+
+
 def _package(module: str) -> str | None:
     """The layered package a module belongs to (``engine`` itself, the root, is none)."""
     for layer in LAYERS:
@@ -105,14 +115,23 @@ def _level(pkg: str) -> int:
     return next(i for i, layer in enumerate(LAYERS) if pkg in layer)
 
 
+def _sublevel(module: str, pkg: str) -> int:
+    """Where ``module`` of ``pkg`` stands among its :data:`SUBLAYERS` (the deepest that holds it)."""
+    subs = SUBLAYERS[pkg]
+    return subs.index(max((s for s in subs if module == s or module.startswith(s + ".")), key=len))
+
+
 def _wrong_way(graph: dict[str, set[str]]) -> list[str]:
-    """Every import from a package to one of its own layer or above, as ``module -> module``."""
+    """Every import from a package to one of its own layer or above, and within a package with
+    sub-layers from one sub-layer to another above it, as ``module -> module``."""
     out = []
     for mod, deps in graph.items():
         a = _package(mod)
         for dep in deps:
             b = _package(dep)
             if a and b and a != b and _level(b) >= _level(a):
+                out.append(f"{mod} -> {dep}")
+            elif a and a == b and a in SUBLAYERS and _sublevel(dep, a) > _sublevel(mod, a):
                 out.append(f"{mod} -> {dep}")
     return sorted(out)
 
@@ -121,6 +140,8 @@ def test_packages_import_only_the_layers_below_them():
     graph = _graph()
     assert {_package(m) for m in graph if m != "engine"} == {p for layer in LAYERS for p in layer}, \
         "a package is missing from LAYERS (or LAYERS names one that is gone)"
+    assert all(any(m == s or m.startswith(s + ".") for m in graph) for subs in SUBLAYERS.values() for s in subs), \
+        "SUBLAYERS names a folder that is gone"
     assert _wrong_way(graph) == []
 
 
@@ -129,6 +150,18 @@ def test_the_layer_check_refuses_an_import_upwards_and_sideways():
              "engine.tracer.job": {"engine.model.design"}}
     assert _wrong_way(graph) == ["engine.files.project -> engine.tracer.job",
                                  "engine.model.design -> engine.appearance.frame"]
+
+
+def test_the_layer_check_sees_a_pair_planted_in_the_tracer():
+    """Issue 44's last two-way folder pair planted back into a copy of the real graph: a row
+    builder importing up into the tracer that imports it, and a kernel importing a row builder."""
+    graph = {mod: set(deps) for mod, deps in _graph().items()}
+    assert "engine.tracer.tables.render_objects" in graph["engine.tracer.context"]
+    assert "engine.tracer.kernels.ground" in graph["engine.tracer.tables.stage"]
+    graph["engine.tracer.tables.render_objects"].add("engine.tracer.context")
+    graph["engine.tracer.kernels.ground"].add("engine.tracer.tables.stage")
+    assert _wrong_way(graph) == ["engine.tracer.kernels.ground -> engine.tracer.tables.stage",
+                                 "engine.tracer.tables.render_objects -> engine.tracer.context"]
 
 
 def test_the_cycle_finder_finds_a_circle():

@@ -1,7 +1,7 @@
 """The compiled offset-arc rows (inner walls of ellipse arcs) against the numpy intersector.
 
 The kernel reads a crossing's sign from each table piece's band beside its chord instead of
-solving the curve (:func:`engine.tracer.render_objects._piece_band`); the band must hold the
+solving the curve (:func:`engine.tracer.tables.render_objects._piece_band`); the band must hold the
 curve, and the hits must be those of :func:`engine.intersect.revolved_hits`, an independent
 implementation (sampled grid + Newton in numpy).
 """
@@ -14,8 +14,8 @@ from numba import njit
 from engine.intersect import offset_arc_parameter, revolved_hits
 from engine.tracer.kernels.profile import S_RMAX, S_RMIN, S_ZMAX, S_ZMIN
 from engine.tracer.kernels.revolved import PARAM_SLOT, ray_box, segment_hits, segment_normal
-from engine.tracer.render_objects import _segment_row
 from engine.tracer.kernels.records import Ray
+from engine.tracer.tables.render_objects import _segment_row
 from tests.test_revolved import SEGMENTS, _random_rays
 
 OFFSETS = ["offset_dome", "offset_shoulder", "offset_concave"]

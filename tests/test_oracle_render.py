@@ -5,7 +5,7 @@ import numpy as np
 import pytest
 
 from benchmarks.oracle_render import reference_path, rel_rmse, render_spec
-from engine.tracer.environment import read_radiance_image
+from engine.tracer.tables.environment import read_radiance_image
 from benchmarks.paths import ORACLE_SPECS
 
 SPECS = str(ORACLE_SPECS)

@@ -9,7 +9,7 @@ import pytest
 import engine.tracer.job as job_module
 from engine.tracer import scheduler
 from engine.tracer.adaptive import preview_block
-from engine.tracer.render_objects import render_geometry_for
+from engine.tracer.tables.render_objects import render_geometry_for
 from engine.tracer.job import RenderJob, render_image, tonemap_srgb8
 from tests.test_tracer import simple_design
 
@@ -158,7 +158,7 @@ def test_tonemap_is_clamped_srgb():
 
 
 def test_render_command_writes_png_and_exr(tmp_path, capsys):
-    from engine.tracer.environment import read_radiance_image
+    from engine.tracer.tables.environment import read_radiance_image
     from engine.files.project import save_project
     from engine.cli.render import render_command
 

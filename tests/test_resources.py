@@ -19,8 +19,8 @@ from engine.geometry.segments import Line
 from engine.geometry.shape import BottleShape
 from engine.geometry.tessellate import tessellate_body
 from engine.model.design import Environment
-from engine.tracer import environment as env_module
-from engine.tracer.environment import DECODED, environment_from_design
+from engine.tracer.tables import environment as env_module
+from engine.tracer.tables.environment import DECODED, environment_from_design
 
 FUZZ = settings(max_examples=25, deadline=None,
                 suppress_health_check=[HealthCheck.too_slow, HealthCheck.function_scoped_fixture])

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 from numba import njit
 
-from engine.tracer import ggx_albedo as A
+from engine.tracer.tables import ggx_albedo as A
 from engine.tracer.kernels import microfacet as M
 from engine.tracer.kernels.materials import MAT_COLS, MF_K, MF_N, MF_TINT, fresnel_conductor
 
@@ -66,7 +66,7 @@ def _conductor_row(n, k, tint=(1.0, 1.0, 1.0)):
 
 def test_the_stored_tables_are_the_kernels_own_albedo():
     """Recomputed entries equal the stored ones (float32): a kernel change that alters the
-    draw without rebuilding the tables (python -m engine.tracer.ggx_albedo) fails here."""
+    draw without rebuilding the tables (python -m engine.tracer.tables.ggx_albedo) fails here."""
     glass, mirror, mirror_avg = A.albedo_tables()
     rng = np.random.default_rng(7)
     for _ in range(6):

@@ -15,7 +15,7 @@ import numpy as np
 from benchmarks.paths import ORACLE_SPECS
 from engine.model.design import Camera, Glass, Light, Stage
 from engine.tracer.context import RenderContext, TraceStats, trace_pixels, trace_rays
-from engine.tracer.environment import EnvironmentMap
+from engine.tracer.tables.environment import EnvironmentMap
 from engine.tracer.kernels.ground import S_RMAX
 from engine.tracer.kernels.intersect import O_MAT
 from engine.tracer.kernels.materials import MG_BOUND_R
@@ -163,7 +163,7 @@ def test_the_lights_light_the_ground_and_the_bottle_shadows_them():
 
 def test_the_spec_ground_scene_is_within_two_per_cent_of_its_reference():
     from benchmarks.oracle_render import reference_path, rel_rmse, render_spec
-    from engine.tracer.environment import read_radiance_image
+    from engine.tracer.tables.environment import read_radiance_image
     spec = str(ORACLE_SPECS / "ground_public_1.json")
     img, _, _ = render_spec(spec, spp=8, threads=2)
     assert rel_rmse(img, read_radiance_image(reference_path(spec))) < 0.02

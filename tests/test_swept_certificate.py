@@ -17,9 +17,9 @@ from engine.tracer.kernels import intersect as K
 from engine.tracer.kernels.bands import monotone_sign
 from engine.tracer.kernels.profile import wall_range
 from engine.tracer.kernels.revolved import ray_box
-from engine.tracer.kernels.swept import swept_roots, swept_wall
-from engine.tracer.render_objects import INNER_WALL, OUTER_WALL, render_geometry_for
 from engine.tracer.kernels.records import Ray, Wall
+from engine.tracer.kernels.swept import swept_roots, swept_wall
+from engine.tracer.tables.render_objects import INNER_WALL, OUTER_WALL, render_geometry_for
 
 
 def _square_sample():

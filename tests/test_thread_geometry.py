@@ -24,7 +24,7 @@ from engine.tracer.context import RenderContext, trace_pixels
 from engine.tracer.kernels import profile as R
 from engine.tracer.kernels.bumps import THREAD, bump_height
 from engine.tracer.kernels.helix import MAX_ROOTS, helix_field, helix_normal, helix_roots
-from engine.tracer.render_objects import OUTER_WALL
+from engine.tracer.tables.render_objects import OUTER_WALL
 from engine.model.design import Camera
 from engine.tracer.kernels.records import Ray
 from tests.test_tracer import WHITE

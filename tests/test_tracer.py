@@ -16,8 +16,8 @@ from engine.geometry.shape import BottleShape
 from engine.model.design import Camera, Design, Glass, Liquid, RenderSettings
 from engine.tracer.context import (RenderContext, TraceStats, nearest_hits, object_normals,
                                    trace_pixels, trace_rays)
-from engine.tracer.environment import EnvironmentMap
-from engine.tracer.render_objects import (AIR, GLASS, INNER_WALL, LIQUID, OUTER_WALL,
+from engine.tracer.tables.environment import EnvironmentMap
+from engine.tracer.tables.render_objects import (AIR, GLASS, INNER_WALL, LIQUID, OUTER_WALL,
                                           render_geometry_for)
 from engine.tracer.kernels.integrator import C_NODES, C_ROULETTE
 from engine.tracer.kernels.intersect import object_media

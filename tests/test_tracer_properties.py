@@ -15,7 +15,7 @@ from engine.geometry.segments import Arc, Line
 from engine.geometry.shape import BottleShape
 from engine.model.design import Camera, Design, Glass, Liquid, RenderSettings
 from engine.tracer.context import RenderContext, nearest_hits, trace_rays
-from engine.tracer.render_objects import BOTTOM, FREE_SURFACE, INNER_BASE, OUTER_WALL, RIM, render_geometry_for
+from engine.tracer.tables.render_objects import BOTTOM, FREE_SURFACE, INNER_BASE, OUTER_WALL, RIM, render_geometry_for
 from tests.test_tracer import WHITE, _furnace, simple_design
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -13,7 +13,7 @@ from engine.geometry.body import BottleBody
 from engine.geometry.shape import BottleShape
 from engine.model.design import Camera, Design, Glass, Liquid, RenderSettings
 from engine.tracer.context import nearest_hits
-from engine.tracer.render_objects import (AIR, BOTTOM, FREE_SURFACE, GLASS, INNER_BASE, INNER_WALL, OUTER_WALL,
+from engine.tracer.tables.render_objects import (AIR, BOTTOM, FREE_SURFACE, GLASS, INNER_BASE, INNER_WALL, OUTER_WALL,
                                           RIM, render_geometry_for)
 from tests.test_offset import punt_section, stepped_section
 from tests.test_tracer import _furnace

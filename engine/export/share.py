@@ -78,7 +78,7 @@ def skybox_png(design, assets, width: int = 1024) -> bytes:
     from PIL import Image
 
     from ..color import tonemap_srgb8
-    from ..tracer.environment import environment_from_design
+    from ..tracer.tables.environment import environment_from_design
     env = environment_from_design(design.environment, assets)
     h = width // 2
     az = ((np.arange(width) + 0.5) / width - 0.5) * 2 * np.pi

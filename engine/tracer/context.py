@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .camera import PinholeCamera
-from .environment import EnvironmentMap, environment_from_design, half_texels
+from .tables.environment import EnvironmentMap, environment_from_design, half_texels
 from .kernels.integrator import (C_BUDGET, C_CUT_DEPTH, C_CUT_WEIGHT, C_LEAKS, C_MISMATCH, C_NODES,
                                  C_QUERIES, N_COUNTERS)
 from .kernels.sampling import C_COLS
@@ -23,7 +23,7 @@ from .kernels.ground import NOISY_BIT
 from .kernels.records import Cutoffs, FinishTables, Geometry, LabelTables, Pixels, PixelSums, Scene, Tables
 from .tables.labels import empty_label_arrays, label_arrays, with_buffers
 from .tables.finishes import cap_tables_for, empty_finish, finish_arrays, scene_with_cap
-from .render_objects import RenderGeometry, render_geometry_for, scene_arrays, search_tables
+from .tables.render_objects import RenderGeometry, render_geometry_for, scene_arrays, search_tables
 from .tables.sky import sky_grid_pays
 from .tables.stage import (environment_params, ground_objects, scene_with_stage, stage_caustics, stage_sky,
                            stage_sweep)
@@ -68,7 +68,7 @@ class RenderContext:
     #: the environment's float32 texels (what the label and finish maps are made from)
     texels: np.ndarray
     #: ``(scale, rotation rad, factor, E_up (rgb))``: the environment's scale and turn, the factor
-    #: of the kernels' half-float copy of the map (:func:`engine.tracer.environment.half_texels`)
+    #: of the kernels' half-float copy of the map (:func:`engine.tracer.tables.environment.half_texels`)
     #: and its open-sky irradiance for a ground, then a backdrop sweep's open-sky table
     #: (:func:`~engine.tracer.tables.stage.environment_params`)
     env_params: np.ndarray

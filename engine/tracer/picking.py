@@ -19,7 +19,7 @@ from .tables.stage import ground_objects
 
 #: Rays cast per call of the search (bounds the memory of print-size coverage).
 CHUNK_RAYS = 1 << 20
-#: The render object of the bottle's outer wall (engine.tracer.render_objects).
+#: The render object of the bottle's outer wall (engine.tracer.tables.render_objects).
 OUTER_WALL = 0
 
 
@@ -91,7 +91,7 @@ def cutout(design, assets, rgb, grid: int = 4):
     h, w = rgb.shape[:2]
     if design.stage.kind != "shadow":
         return rgb, coverage(design, w, h, grid)
-    from .environment import environment_from_design
+    from .tables.environment import environment_from_design
     bottle, _, bg = _pixel_parts(design, w, h, grid, environment_from_design(design.environment, assets))
     rgb = np.asarray(rgb, float)
     kept = np.divide(rgb, bg, out=np.ones_like(rgb), where=bg > 0.0).min(axis=2)

@@ -22,7 +22,7 @@ from .kernels.records import Geometry, Scene
 from .kernels import bumps as B
 from .kernels import intersect as K
 from .kernels import profile as R
-from .render_objects import OUTER_WALL
+from .tables.render_objects import OUTER_WALL
 
 #: Kernel columns of a HELIX row filled from a thread tile's relief row.
 _FROM_RELIEF = ((R.H_REF, B.P_RADIUS), (R.H_STARTS, B.P_REPEAT), (R.H_PHASE, B.P_PHASE),

@@ -2,7 +2,7 @@
 
 Design rule: everything a ray does between leaving the camera and reaching the film runs
 here, in compiled code that releases the GIL, so worker threads scale with cores. Kernels see
-the scene only as the flat arrays of :mod:`engine.tracer.render_objects` and keep no state:
+the scene only as the flat arrays of :mod:`engine.tracer.tables.render_objects` and keep no state:
 scratch space comes from the caller, so memory per worker is fixed by the tree depth, never by
 the scene. Layers, as in pbrt: ``roots`` / ``revolved`` / ``swept`` / ``helix`` (exact
 intersectors per surface kind; the ground plane and the backdrop sweep are in ``intersect``)

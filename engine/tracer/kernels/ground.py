@@ -56,7 +56,7 @@ AIR = 0
 #: two per light for its disc.
 GROUND_STREAM = 9
 LIGHT_STREAM = 11
-#: Columns of a light row (:func:`engine.tracer.lighting.light_table`): unit direction towards
+#: Columns of a light row (:func:`engine.tracer.tables.lighting.light_table`): unit direction towards
 #: the light, colour x intensity (irradiance on a surface facing it), cosine of its half angle.
 L_DX, L_DY, L_DZ, L_R, L_G, L_B, L_COS = range(7)
 LIGHT_COLS = 7

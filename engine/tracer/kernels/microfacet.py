@@ -15,7 +15,7 @@ That is an unbiased one-sample estimate of the *single-scattering* BSDF, whose a
 below 1: light that a microfacet sends into a neighbour (the ``1 - G1`` part) is lost: a
 quarter at alpha 0.5 leaving glass head-on, 40 % at grazing. The multiple scattering between
 microfacets gives it back (energy compensation; tables of ``E`` from
-:mod:`engine.tracer.ggx_albedo`, built by :func:`glass_albedo` / :func:`mirror_albedo` from the
+:mod:`engine.tracer.tables.ggx_albedo`, built by :func:`glass_albedo` / :func:`mirror_albedo` from the
 very weights drawn here, so they agree):
 
 * glass: both weights are divided by ``E(cos_i, alpha, eta)``, the albedo (reflection plus
@@ -31,7 +31,7 @@ very weights drawn here, so they agree):
   where ``F = 1``, and a coloured metal gains the more saturated colour of its repeated
   bounces, never more than the white one.
 
-Tables (``engine.tracer.ggx_albedo.albedo_tables``): ``glass (2, N_X, N_ALPHA, N_MU)`` (side 0
+Tables (``engine.tracer.tables.ggx_albedo.albedo_tables``): ``glass (2, N_X, N_ALPHA, N_MU)`` (side 0
 entering the denser medium, ``eta = n``; side 1 leaving it, ``eta = 1 / n``), ``mirror
 (N_ALPHA, N_MU)`` and ``mirror_avg (N_ALPHA,)``, on uniform grids of ``cos_i`` in [0, 1], alpha
 in [0, :data:`ALPHA_MAX`] and ``x = (n - 1) / (n + 1)`` in [0, :data:`X_MAX`] (n up to 3;

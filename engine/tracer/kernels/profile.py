@@ -1,7 +1,7 @@
 """Section segments as the kernels evaluate them: radius at a height, ranges, tangents.
 
 Design rule: one row of the segment table (columns ``S_*``, built by
-:mod:`engine.tracer.render_objects`) is one meridian segment in its own (r, z) plane, in mm:
+:mod:`engine.tracer.tables.render_objects`) is one meridian segment in its own (r, z) plane, in mm:
 a line, a circle or ellipse arc, or the exact inward offset of an ellipse arc (a degree-8
 curve, evaluated through its base ellipse). Walls rise in z, so a wall segment is a graph
 ``r(z)``; a punt's base curve is a graph ``z(r)``. Ranges over an interval of heights (or

@@ -6,7 +6,7 @@ arrays are built once per render on the Python side (:mod:`engine.tracer.context
 scalars are made per hit inside the kernels. Units mm; directions are unit vectors.
 
 =================  ============================================================================
-``Geometry``       the render objects' tables (:mod:`engine.tracer.render_objects`): what the
+``Geometry``       the render objects' tables (:mod:`engine.tracer.tables.render_objects`): what the
                    exact intersectors search
 ``Scene``          a geometry with its media (``(ior, sigma_r, sigma_g, sigma_b)``, 1/mm) and
                    materials (``mat_i`` kinds, ``mat_f`` parameters, :mod:`.materials`)

@@ -193,7 +193,7 @@ def _half_to_float(typingctx, bits):
 
 def texel(tex, j, i, c):
     """Channel ``c`` of texel ``(j, i)``: float32 texels as they are, uint16 ones read as the
-    bit patterns of half floats (:func:`engine.tracer.environment.half_texels`)."""
+    bit patterns of half floats (:func:`engine.tracer.tables.environment.half_texels`)."""
     v = tex[j, i, c]
     return float(np.uint16(v).view(np.float16)) if tex.dtype == np.uint16 else float(v)
 
@@ -210,7 +210,7 @@ def env_lookup(tex, scale, rot, dx, dy, dz):
     """Radiance ``(r, g, b)`` arriving along unit direction ``d`` (SPEC 3, bilinear, u wraps,
     rows clamped), times ``scale``; the map is turned by ``rot`` rad about +z. ``tex`` is
     ``(H, W, 3)`` float32 texels or the half-float bit patterns of
-    :func:`engine.tracer.environment.half_texels` (the render's map: half the memory traffic)."""
+    :func:`engine.tracer.tables.environment.half_texels` (the render's map: half the memory traffic)."""
     h, w = tex.shape[0], tex.shape[1]
     u = (atan2_poly(dy, dx) - rot) * (0.5 / math.pi)
     u -= math.floor(u)

@@ -16,9 +16,9 @@ not mirror-sharp, metal or coat), except that a material at least :data:`MATTE_R
 surface layer reads (:mod:`engine.tracer.kernels.surface`, :mod:`engine.tracer.kernels.finish`):
 every bump row of the design (the bottle's tiles on the outer wall, and on a punted bottom, the
 closure's reliefs on their parts) sorted by object, and, with a plastic part, the environment's
-cosine-prefiltered irradiance (:func:`engine.tracer.lighting.irradiance_table`, once per environment) and the design's
-distant lights, and always the GGX albedo tables of rough surfaces
-(:func:`engine.tracer.ggx_albedo.albedo_tables`, loaded once per process). A design without
+cosine-prefiltered irradiance (:func:`engine.tracer.tables.lighting.irradiance_table`, once per
+environment) and the design's distant lights, and always the GGX albedo tables of rough surfaces
+(:func:`engine.tracer.tables.ggx_albedo.albedo_tables`, loaded once per process). A design without
 bumps or cap gets empty rows: the kernels then never leave the plain path. Units mm.
 """
 from __future__ import annotations
@@ -35,13 +35,13 @@ from ..kernels import intersect as K
 from ..kernels import profile as R
 from ..kernels.bumps import FROSTED, P_ALPHA, P_COLS, P_V0, P_V1
 from ..kernels.labels import LABEL_BIT0
-from ..ggx_albedo import albedo_tables, conductor_average, dielectric_average
+from .ggx_albedo import albedo_tables, conductor_average, dielectric_average
 from ..kernels.backdrop import W_COLS
 from ..kernels.ground import CAUSTIC_COLS, GRID_COLS, LIGHT_COLS, SKY_COLS
-from ..lighting import irradiance_table, light_table
+from .lighting import irradiance_table, light_table
 from ..kernels.materials import CONDUCTOR, MAT_COLS, MF_ALBEDO, MF_COAT_IOR, MF_K, MF_N, MF_TINT, PLASTIC
 from ..kernels.microfacet import MF_FAVG
-from ..render_objects import AIR, BOTTOM, LIQUID, OUTER_WALL, _chain_bbox, _Tables, cached
+from .render_objects import AIR, BOTTOM, LIQUID, OUTER_WALL, _chain_bbox, _Tables, cached
 
 #: Objects the kernels' int64 object masks can tell apart (the bits above are the labels').
 MAX_OBJECTS = LABEL_BIT0
@@ -122,7 +122,7 @@ BUILDS = [0]
 
 def cap_tables_for(design, geom) -> CapTables | None:
     """The cached :class:`CapTables` of ``design``'s cap on its finish (``None`` without a
-    cap); ``geom`` is the bottle's :class:`~engine.tracer.render_objects.RenderGeometry`."""
+    cap); ``geom`` is the bottle's :class:`~engine.tracer.tables.render_objects.RenderGeometry`."""
     if design.cap is None:
         return None
     key = (design.cap, finish_of(design), float(geom.obj_f[0, K.F_EDGE]))

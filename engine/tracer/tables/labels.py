@@ -6,7 +6,7 @@ kernels take (:class:`engine.tracer.kernels.records.LabelTables`; the labels ker
 label's exact map sampled on a grid, :mod:`engine.appearance.decal`, packed by
 :func:`pack_decals`), the label rows and artwork of :func:`compile_labels`, each label's size in
 mm (for emboss slopes), the environment's diffuse irradiance table
-(:func:`engine.tracer.lighting.irradiance_table`, computed once per environment and cached), the
+(:func:`engine.tracer.tables.lighting.irradiance_table`, computed once per environment and cached), the
 directional lights, each label's place row (the surface and render object it lies on,
 :func:`place_rows`) and the bit mask of the objects labels lie on. A design without labels gets
 :func:`empty_label_arrays`: zero-row tables of the same types, so the kernels compile once and
@@ -14,7 +14,7 @@ pay one length test per hit. Only the objects' numbering comes from the compiled
 label edit rebuilds only this tuple.
 
 :func:`compile_labels` turns ``Design.labels`` and the project's assets into a
-:class:`CompiledLabels` of contiguous numpy arrays, the way :mod:`engine.tracer.render_objects`
+:class:`CompiledLabels` of contiguous numpy arrays, the way :mod:`engine.tracer.tables.render_objects`
 compiles geometry: the kernels index rows and never see a Python object. Geometry (the decals)
 and appearance (images, region maps, finishes, coefficients) come from separate caches keyed by
 value, so an artwork, finish or coefficient edit recompiles in the time it takes to copy the
@@ -46,7 +46,7 @@ from ..kernels.labels import (D_COLS, FINISH_CODES, H_COLS, L_BACK_B, L_BACK_R, 
                               SURFACE_CODES)
 from ..kernels.records import LabelTables
 from ..kernels.ground import LIGHT_COLS
-from ..lighting import irradiance_table, light_table
+from .lighting import irradiance_table, light_table
 
 
 @dataclass(frozen=True, eq=False)

@@ -27,9 +27,9 @@ from ..kernels.materials import (BACKDROP, GROUND, MAT_COLS, MG_ALBEDO, MG_ALPHA
 from ..kernels.microfacet import MF_FAVG
 from ..kernels.outlines import RRECT
 from ..kernels.records import Geometry, Scene, Tables
-from ..ggx_albedo import dielectric_average
-from ..environment import ArrayCache
-from ..render_objects import AIR, cached
+from .ggx_albedo import dielectric_average
+from .environment import ArrayCache
+from .render_objects import AIR, cached
 
 #: The glossy riser's clear coat (acrylic, black glass).
 COAT_IOR = 1.5
@@ -211,7 +211,7 @@ def open_floor(design, e_up) -> np.ndarray:
     the stage's albedo times the open sky's irradiance ``e_up`` (over pi) and the open light of
     the design's lights above the horizon that do not stand behind the sweep (a light behind it
     leaves the floor in its shadow)."""
-    from ..lighting import light_table
+    from .lighting import light_table
     from ..kernels.ground import L_B, L_COS, L_DX, L_DY, L_DZ, L_R
     fc, fs = sweep_facing(design.camera)
     e = np.array(e_up, float)

@@ -14,7 +14,7 @@ import math
 import numpy as np
 
 from .environment import ArrayCache
-from .kernels.ground import LIGHT_COLS
+from ..kernels.ground import LIGHT_COLS
 
 #: Rows x columns of the irradiance table (lat-long, the environment's convention): a cosine
 #: lobe is smooth, so 32 x 64 holds it to well under 1 %.

@@ -20,9 +20,9 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..errors import bounded, shown
-from ..io.bytes_file import bytes_as_file
-from ..limits import (ENV_SCALE_RANGE, MAX_ENV_TEXELS, MAX_TEXEL, MAX_TURN_DEG, check_range)
+from ...errors import bounded, shown
+from ...io.bytes_file import bytes_as_file
+from ...limits import (ENV_SCALE_RANGE, MAX_ENV_TEXELS, MAX_TEXEL, MAX_TURN_DEG, check_range)
 
 
 @dataclass(frozen=True, eq=False)

@@ -5,7 +5,7 @@ Design rule: the tables are the mean weights of the kernels' own rough-surface d
 on a :data:`QUADRATURE` x :data:`QUADRATURE` grid of the draw's two uniforms), so the
 compensation divides by exactly what the draw loses. Computing them takes about a minute, so
 they are computed once and stored (``data/ggx_albedo.npz``, float32, ~0.2 MB), written by
-``python -m engine.tracer.ggx_albedo``; a test recomputes entries and compares, so a kernel
+``python -m engine.tracer.tables.ggx_albedo``; a test recomputes entries and compares, so a kernel
 change that leaves them stale fails. Grids: :mod:`engine.tracer.kernels.microfacet`.
 Materials' mean Fresnel ``F_avg`` (the other input of a rough mirror's compensation) is
 :func:`fresnel_average`.
@@ -18,8 +18,8 @@ import sys
 
 import numpy as np
 
-from .kernels import microfacet as M
-from .kernels.materials import fresnel_conductor, fresnel_dielectric
+from ..kernels import microfacet as M
+from ..kernels.materials import fresnel_conductor, fresnel_dielectric
 
 #: Side of the midpoint grid over the draw's two uniforms (16384 draws per entry: converged
 #: to about 1e-4 where total internal reflection puts a kink in the integrand).
@@ -76,11 +76,11 @@ def albedo_tables() -> tuple[np.ndarray, np.ndarray, np.ndarray]:
             out = tuple(np.ascontiguousarray(f[k], dtype=np.float64) for k in ("glass", "mirror", "mirror_avg"))
     except (OSError, KeyError, ValueError) as e:
         raise RuntimeError(f"the GGX albedo tables {PATH} are missing or unreadable ({e}); "
-                           "rebuild them with: python -m engine.tracer.ggx_albedo") from e
+                           "rebuild them with: python -m engine.tracer.tables.ggx_albedo") from e
     want = ((2, M.N_X, M.N_ALPHA, M.N_MU), (M.N_ALPHA, M.N_MU), (M.N_ALPHA,))
     if tuple(a.shape for a in out) != want:
         raise RuntimeError(f"the GGX albedo tables {PATH} do not match the kernels' grid; "
-                           "rebuild them with: python -m engine.tracer.ggx_albedo")
+                           "rebuild them with: python -m engine.tracer.tables.ggx_albedo")
     for a in out:
         a.setflags(write=False)
     return out

@@ -38,17 +38,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry.offset import radius_at
-from ..geometry.validate import body_profile
-from ..model.fill import fill_height_of
-from ..geometry.segments import Arc, Line, OffsetEllipseArc
-from ..intersect.revolved import segment_bounds
-from .kernels.records import Geometry, Scene
-from .kernels import intersect as K
-from .kernels import profile as R
-from .kernels.materials import MAT_COLS, SMOOTH_DIELECTRIC
-from .kernels.outlines import CIRCLE, OVAL, RRECT, RSQUARE
-from .kernels.swept import SL_COLS, ruled_coefficients
+from ...geometry.offset import radius_at
+from ...geometry.validate import body_profile
+from ...model.fill import fill_height_of
+from ...geometry.segments import Arc, Line, OffsetEllipseArc
+from ...intersect.revolved import segment_bounds
+from ..kernels.records import Geometry, Scene
+from ..kernels import intersect as K
+from ..kernels import profile as R
+from ..kernels.materials import MAT_COLS, SMOOTH_DIELECTRIC
+from ..kernels.outlines import CIRCLE, OVAL, RRECT, RSQUARE
+from ..kernels.swept import SL_COLS, ruled_coefficients
 
 AIR, GLASS, LIQUID = 0, 1, 2
 OBJECT_NAMES = ("outer wall", "bottom", "inner wall", "inner base", "rim", "free surface")

@@ -94,10 +94,16 @@ class DesignEditor(QObject):
     adjusted(str)
         An edit was made with a consequence the designer did not ask for (a lower mouth
         lowered the liquid too); the text says what.
+    derived(object)
+        The numbers derived from the design (a :class:`~app.wireframe_controller.Derived`:
+        trade and plant numbers, inner walls, warnings), computed off the GUI thread after a
+        change they depend on; the window relays them here, so a panel that shows them
+        follows them like the scene (:func:`widgets.edit_fields.follow`).
     """
 
     refused = Signal(str)
     adjusted = Signal(str)
+    derived = Signal(object)
 
     def __init__(self, scene, stack: QUndoStack, parent=None):
         super().__init__(parent)

@@ -100,12 +100,6 @@ def design_warnings(design: Design, fill_height_mm: float | None = None) -> list
         return []
 
 
-def name_for_fill(name: str, fill_ml: float) -> str | None:
-    """``name`` with the volume it quotes replaced by ``fill_ml`` (:mod:`engine.model.advice`),
-    or ``None`` when it quotes none or quotes this one already."""
-    return advice.updated_name(name, fill_ml)
-
-
 # ------------------------------------------------------------------------------ files
 def load_project(path: str):
     """``(Design, assets)`` from a ``.glassbench`` file; raises :class:`ProjectError`."""

@@ -54,7 +54,8 @@ class Panel:
 
 
 #: Every panel, once: the window makes them in this order and docks them so. Each follows the
-#: scene (and refusals) itself (:func:`widgets.edit_fields.follow`); nobody routes to it.
+#: scene, refusals and the derived numbers itself (:func:`widgets.edit_fields.follow`); nobody
+#: routes to it.
 PANELS = (Panel("section_panel", SectionPanel, "section", "Section", Qt.LeftDockWidgetArea),
           Panel("trade_panel", TradeNumbersPanel, "design", "Design"),
           Panel("materials_panel", MaterialsPanel, "materials", "Materials"),

@@ -4,10 +4,12 @@ Design rule: data flows one way. Panels hand edits to the :class:`DesignEditor` 
 undoable commands); commands change the scene; the scene's notification (``changed`` = the
 top-level Design fields that really changed) reaches :meth:`MainWindow.on_scene_changed`,
 which refreshes only the views that depend on those fields. The panels are one table
-(:data:`app.layout.PANELS`) and each follows the scene and the editor's refusals itself
-(:func:`widgets.edit_fields.follow`): the window routes nothing to them but the derived
-numbers. Where the panes sit is :mod:`app.layout`'s; undo and redo from any field are :mod:`app.edit_keys`'; the preview's
-renders are :mod:`app.render_controller`'s, at the preview pane's size in device pixels.
+(:data:`app.layout.PANELS`) and each follows the scene, the editor's refusals and the numbers
+derived off the GUI thread itself (:func:`widgets.edit_fields.follow`): the window routes
+nothing to them, it only relays the derived numbers to the editor's ``derived`` signal. Where
+the panes sit is :mod:`app.layout`'s; undo and redo from any field are :mod:`app.edit_keys`';
+the preview's renders are :mod:`app.render_controller`'s, at the preview pane's size in device
+pixels.
 """
 from __future__ import annotations
 
@@ -90,7 +92,6 @@ class MainWindow(QMainWindow):
         self.trade_numbers: dict = {}
         self.plant_numbers: dict | None = None  # engine.plant.sheet's dict of the design shown
         self.warnings: list[str] = []
-        self._shown_fill_ml = None  # the fill of the last numbers shown: a change may offer a rename
 
         layout.make_panels(self)  # section_panel, trade_panel, ... (app.layout.PANELS)
         self.preview = PreviewView()
@@ -100,7 +101,8 @@ class MainWindow(QMainWindow):
         # own is flushed alone.
         self.preview.setAttribute(Qt.WA_NativeWindow)
         self.derived_controller = DerivedController(self)
-        self.derived_controller.resultReady.connect(self._on_derived)
+        self.derived_controller.resultReady.connect(self.editor.derived)  # the panels follow them
+        self.editor.derived.connect(self._on_derived)
         self.derived_controller.failed.connect(self._show_status)
         self.render_controller = RenderController(self)
         self.render_controller.tileReady.connect(self._on_tile)
@@ -205,8 +207,6 @@ class MainWindow(QMainWindow):
             self.statusBar().clearMessage()
         if changed & DERIVED_FROM:
             self.derived_controller.request(design)  # trade and plant numbers, inner walls: off-thread
-        if "name" in changed:  # (the Design panel shows the name itself)
-            self._offer_name(self._shown_fill_ml, only_if_shown=True)
         if self.wireframe is not None:
             if changed & {"shape", "cap", "bumps"}:  # a closure follows the finish and its thread
                 self.wireframe_controller.request(design)
@@ -220,8 +220,7 @@ class MainWindow(QMainWindow):
     def document_replaced(self):
         """A design was opened or started: fit the section to it, offer nothing about its name."""
         self.section_panel.canvas.request_fit()
-        self._shown_fill_ml = None
-        self.trade_panel.offer_name("", None)
+        self.trade_panel.forget_offer()
 
     def _show_status(self, text: str, ms: int = 5000):
         self.statusBar().showMessage(text, ms)
@@ -234,32 +233,11 @@ class MainWindow(QMainWindow):
         self.statusBar().showMessage(f"Refused: {message}", 8000)
 
     def _on_derived(self, result):
-        """Show a :class:`~app.wireframe_controller.Derived`: trade and plant numbers, inner
-        walls, warnings."""
-        numbers = result.numbers
-        self.trade_numbers = numbers
+        """Keep the newest :class:`~app.wireframe_controller.Derived`'s trade and plant numbers
+        and warnings (the panels show them themselves)."""
+        self.trade_numbers = result.numbers
         self.plant_numbers = result.plant
         self.warnings = list(result.warnings)
-        self.materials_panel.trade_numbers = numbers
-        self.trade_panel.refresh(numbers)
-        self.trade_panel.show_plant(result.plant)
-        fill_z = numbers.get("fill_height_mm") if result.design.liquid is not None else None
-        self.section_panel.set_derived(result.inner, fill_z)
-        self.section_panel.set_warnings(self.warnings)
-        fill_ml = numbers.get("fill_ml")
-        if self._shown_fill_ml is not None and fill_ml is not None and abs(fill_ml - self._shown_fill_ml) > 0.05:
-            self._offer_name(fill_ml)
-        self._shown_fill_ml = fill_ml
-
-    def _offer_name(self, fill_ml, only_if_shown: bool = False):
-        """Offer a name that states ``fill_ml`` (ml) when the design's name quotes another
-        volume; with ``only_if_shown`` just bring an offer on show up to date."""
-        if only_if_shown and self.trade_panel.offered is None:
-            return
-        name = self.scene.design.name
-        proposed = engine_bridge.name_for_fill(name, fill_ml) if fill_ml is not None else None
-        why = f"The bottle now holds {fill_ml:.0f} ml at its fill line." if fill_ml is not None else ""
-        self.trade_panel.offer_name(name, proposed, why)
 
     def derived_idle(self) -> bool:
         """Whether the trade and plant numbers and inner walls shown are those of the current

@@ -247,3 +247,24 @@ def test_a_refusal_puts_every_panel_back_to_the_model_without_the_window_routing
     assert w.materials_panel.glass_ior.value() == pytest.approx(design.glass.ior)
     assert w.trade_panel.name.text() == design.name
     assert w.statusBar().currentMessage() == "Refused: refused for the test"
+
+
+def test_derived_numbers_reach_the_panels_without_the_window_routing_them(make_window, qtbot):
+    """The numbers derived off the GUI thread come through the editor (``editor.derived``) and
+    each panel that shows them follows them (widgets.edit_fields.follow); the window keeps its
+    copy and names no panel. Every panel's ``refresh`` shows the design."""
+    import inspect
+
+    from app.layout import PANELS
+    from app.window import MainWindow
+    from app.wireframe_controller import Derived
+    assert "_panel" not in inspect.getsource(MainWindow._on_derived)
+    assert all(list(inspect.signature(p.cls.refresh).parameters)[1] == "design" for p in PANELS)
+    w = make_window()
+    qtbot.waitUntil(w.derived_idle)
+    numbers = {"brimful_ml": 321.0, "fill_ml": 123.4, "fill_height_mm": 50.0}
+    w.editor.derived.emit(Derived(w.scene.design, numbers, {}, ("a warning for the test",), None))
+    assert w.trade_panel.text("brimful_ml") == "321.0 ml" and w.trade_panel.text("glass_mass_g") == "\u2014"
+    assert w.trade_panel.plant_text("least_tip") == "\u2014"
+    assert w.section_panel.warnings.text() == "\u26a0 a warning for the test"
+    assert w.materials_panel.trade_numbers is numbers and w.trade_numbers is numbers

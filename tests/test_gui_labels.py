@@ -91,7 +91,7 @@ def test_labels_reorder_in_the_overlap_order(make_window, tmp_path):
     assert panel.list.currentRow() == 1
     panel.up_button.click()
     assert [lab.name for lab in w.scene.design.labels] == ["second", "first"]
-    assert panel.list.currentRow() == 0 and panel.label.name == "second", "the selection moves along"
+    assert panel.list.currentRow() == 0 and panel.selection.label.name == "second", "the selection moves along"
     w.undo_stack.undo()
     assert [lab.name for lab in w.scene.design.labels] == ["first", "second"]
     assert [panel.list.item(i).text() for i in range(2)] == ["first", "second"]
@@ -380,3 +380,45 @@ def test_a_label_goes_on_the_cap_top_and_skirt_from_the_on_choice_undoably(make_
     assert w.scene.design.labels[0].surface == "cap-top" and panel.placement.surface.currentData() == "cap-top"
     w.undo_stack.undo()
     assert w.scene.design.labels == on_wall.labels and panel.placement.surface.currentData() == "wall"
+
+
+def test_a_part_needs_only_the_editor_and_the_selected_label(qtbot, tmp_path):
+    """The labels panel's parts take the editor and the selected label (a small observable),
+    never the panel: a placement box made alone shows the selected label and edits it as one
+    undoable step, and no part's source names a panel."""
+    import ast
+    import inspect
+
+    from PySide6.QtGui import QUndoStack
+
+    from app.commands import DesignEditor
+    from engine.model.scene import Scene
+    from engine.operations import labels as ops
+    from tests.label_helpers import cylinder_shape, design_with
+    from widgets.labels import placement, preview, regions, sheet
+    from widgets.labels.selection import SelectedLabel
+    for module in (placement, preview, regions, sheet):
+        tree = ast.parse(inspect.getsource(module))
+        names = {n.id for n in ast.walk(tree) if isinstance(n, ast.Name)}
+        names |= {n.attr for n in ast.walk(tree) if isinstance(n, ast.Attribute)}
+        names |= {n.arg for n in ast.walk(tree) if isinstance(n, ast.arg)}
+        assert "panel" not in names, f"{module.__name__} reaches into the panel"
+    edit = ops.add_label(design_with(cylinder_shape()), {}, artwork(tmp_path, "a.png"), filename="a.png")
+    stack = QUndoStack()
+    editor = DesignEditor(Scene(edit.design, dict(edit.assets)), stack)
+    selection = SelectedLabel(editor)
+    box = placement.PlacementBox(editor, selection)
+    qtbot.addWidget(box)
+    assert selection.index == -1 and selection.label is None
+    with qtbot.waitSignal(selection.changed):
+        selection.select(0)
+    box.show_label(selection.label)
+    z0 = selection.label.z_mm
+    box.z_mm.setValue(z0 + 10.0)
+    assert editor.design.labels[0].z_mm == pytest.approx(z0 + 10.0) and stack.count() == 1
+    assert selection.label == editor.design.labels[0], "the selected label is the design's, never stale"
+    with qtbot.waitSignal(selection.problem) as said:
+        box.surface.setCurrentIndex(box.surface.findData("cap-top"))  # no cap: refused before the editor
+    assert said.args[0] and box.surface.currentData() == "wall" and stack.count() == 1
+    stack.undo()
+    assert editor.design.labels[0].z_mm == pytest.approx(z0)

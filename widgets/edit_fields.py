@@ -108,12 +108,13 @@ def show_rows(view, texts: list, row: int) -> None:
         view.setCurrentRow(min(max(row, 0), len(texts) - 1))
 
 
-def follow(widget, editor, fields, refresh) -> None:
+def follow(widget, editor, fields, refresh, derived=None) -> None:
     """Show the editor's design now with ``refresh(design, assets)``, again after every change
     that touches ``fields``, and after every refused edit (the widget that asked shows the model
-    again, not what was asked for): the panel shows what the model holds without anyone routing
-    it. Unsubscribe when ``widget`` is destroyed. Notifications arrive on the thread that edits:
-    the GUI thread."""
+    again, not what was asked for); with ``derived``, show each set of numbers derived from the
+    design (``editor.derived``: a :class:`~app.wireframe_controller.Derived`, computed off the
+    GUI thread) with ``derived(result)``. The panel shows what the model holds without anyone
+    routing it. Unsubscribe when ``widget`` is destroyed. Notifications arrive on the GUI thread."""
     scene = editor.scene
     fields = frozenset(fields)
     refresh(scene.design, scene.assets)
@@ -125,13 +126,19 @@ def follow(widget, editor, fields, refresh) -> None:
     def on_refused(_message):
         refresh(scene.design, scene.assets)
 
+    def on_derived(result):  # (a plain function: disconnecting it never touches a deleted widget)
+        derived(result)
+
     unsubscribe = scene.subscribe(on_change)
-    editor.refused.connect(on_refused)
+    signals = [(editor.refused, on_refused)] + ([(editor.derived, on_derived)] if derived is not None else [])
+    for signal, slot in signals:
+        signal.connect(slot)
 
     def forget(*_):
         unsubscribe()
-        with contextlib.suppress(RuntimeError, TypeError):  # the editor may be gone first
-            editor.refused.disconnect(on_refused)
+        for signal, slot in signals:
+            with contextlib.suppress(RuntimeError, TypeError):  # the editor may be gone first
+                signal.disconnect(slot)
     widget.destroyed.connect(forget)
 
 

@@ -62,6 +62,7 @@ class MaterialsPanel(QWidget):
     def __init__(self, editor, parent=None):
         super().__init__(parent)
         self.editor = editor
+        self.trade_numbers: dict = {}  # the newest derived ones: a fill-mode switch keeps the level
         self.glass_ior = _spin(1.0, 3.0, 4, 0.01, tip="Refractive index of the glass (soda-lime: 1.52)")
         self.glass_density = _spin(0.5, 10.0, 3, 0.01, " g/cm\u00b3",
                                    "Density of the glass, for the glass weight (soda-lime: 2.52)")
@@ -104,7 +105,7 @@ class MaterialsPanel(QWidget):
         self.liquid_thickness.valueChanged.connect(lambda _: self._rethicken_liquid())
         self.fill_mode.currentIndexChanged.connect(lambda _: self._set_fill_mode(self.fill_mode.currentData()))
         self.fill_value.valueChanged.connect(lambda v: self._liquid("Fill level", "fill-value", fill_value=v))
-        ef.follow(self, editor, self.FIELDS, lambda d, a: self.refresh(d))
+        ef.follow(self, editor, self.FIELDS, lambda d, a: self.refresh(d), self._take_derived)
 
     def choose_color(self, initial_rgb01, title: str):
         """Ask for a colour (0..1 RGB) or ``None``; tests replace this method."""
@@ -112,7 +113,7 @@ class MaterialsPanel(QWidget):
         return (c.redF(), c.greenF(), c.blueF()) if c.isValid() else None
 
     # ------------------------------------------------------------------ model → view
-    def refresh(self, design, trade: dict | None = None):
+    def refresh(self, design):
         widgets = (self.glass_ior, self.glass_density, self.filled, self.liquid_ior,
                    self.fill_mode, self.fill_value)
         blockers = [QSignalBlocker(w) for w in widgets]
@@ -130,6 +131,9 @@ class MaterialsPanel(QWidget):
         self.fill_value.setSuffix(" mm" if shown.fill_mode == "height" else " ml")
         self.fill_value.setValue(shown.fill_value)
         del blockers
+
+    def _take_derived(self, result):
+        self.trade_numbers = result.numbers
 
     # ------------------------------------------------------------------ view → command
     def _glass(self, label, key, **fields):
@@ -153,7 +157,7 @@ class MaterialsPanel(QWidget):
         design = self.editor.design
         if design.liquid is None or not mode or mode == design.liquid.fill_mode:
             return
-        from_trade = getattr(self, "trade_numbers", None)
+        from_trade = self.trade_numbers
         value = design.liquid.fill_value
         if from_trade:
             other = from_trade.get("fill_ml" if mode == "volume" else "fill_height_mm")

@@ -122,7 +122,7 @@ class SectionPanel(QWidget):
         self.base_spin.valueChanged.connect(lambda v: self._set_shape_number("base_thickness", v))
         self.rotation_spin.valueChanged.connect(lambda v: self._set_shape_number("rotation_deg", v))
         editor.refused.connect(self.show_problem)
-        ef.follow(self, editor, self.FIELDS, lambda d, a: self.refresh(d))
+        ef.follow(self, editor, self.FIELDS, lambda d, a: self.refresh(d), self.show_derived)
 
     @staticmethod
     def _spin(lo, hi, suffix, tip) -> QDoubleSpinBox:
@@ -136,22 +136,19 @@ class SectionPanel(QWidget):
         return s
 
     # ---------------------------------------------------------------- model → view
-    def set_derived(self, inner: dict, fill_z):
-        """Inner walls (section name -> segments) and fill height (mm) computed off-thread for
-        the newest shape; shown with the section until newer ones arrive."""
-        self.derived = {"inner": dict(inner), "fill_z": fill_z}
+    def show_derived(self, result):
+        """Show what was derived off-thread from the newest design (a
+        :class:`~app.wireframe_controller.Derived`): its inner walls (section name -> segments)
+        and fill height (mm), drawn with the section until newer ones arrive, and its warnings."""
+        fill_z = result.numbers.get("fill_height_mm") if result.design.liquid is not None else None
+        self.derived = {"inner": dict(result.inner), "fill_z": fill_z}
         if self.shape is not None:
             self.canvas.show_section(self.canvas.section, self.derived["inner"].get(self.current_name),
                                      fill_z, self.canvas.ghosts)
+        self.warnings.setText("\n".join(f"\u26a0 {w}" for w in result.warnings))
 
-    def set_warnings(self, warnings):
-        """Show the design's warnings (texts; empty: none)."""
-        self.warnings.setText("\n".join(f"\u26a0 {w}" for w in warnings))
-
-    def refresh(self, design, derived: dict | None = None):
+    def refresh(self, design):
         """Show ``design.shape`` (with the last derived inner walls and fill line)."""
-        if derived is not None:
-            self.derived = derived
         derived = self.derived
         shape = design.shape
         self.shape = shape

@@ -1,18 +1,20 @@
 """Design panel: the design's name, and its trade numbers (capacities, fill point, glass).
 
-Design rule: the numbers are a read-only view: ``refresh(numbers)`` takes the dict computed by
-the window's controller (``None`` values show as a dash: not computable). The name is an edit
-like any other (``editor.apply(..., name=...)``, one undo step per finished edit), refreshed with
-its signals blocked. When the fill no longer matches a volume the name quotes, the window calls
-:meth:`offer_name`: a line under the name offers the corrected name, and the designer takes it
-(an undoable rename) or keeps the old one; nothing is renamed unasked.
+Design rule: the numbers are a read-only view of what was derived from the design off the GUI
+thread (:class:`app.wireframe_controller.Derived`, announced by the editor): the panel follows
+them itself (:func:`widgets.edit_fields.follow`), ``show_numbers(numbers)`` showing the trade
+numbers (``None`` values show as a dash: not computable). The name is an edit like any other
+(``editor.apply(..., name=...)``, one undo step per finished edit), refreshed with its signals
+blocked. When new numbers change the fill and the name quotes another volume, a line under the
+name offers the corrected name (:meth:`offer_name`), and the designer takes it (an undoable
+rename) or keeps the old one; nothing is renamed unasked.
 
 Under them the Plant group shows the plant's figures (:func:`engine.plant.sheet.plant_numbers`,
-computed off the GUI thread with the trade numbers: ``show_plant(plant)``, a part that cannot be
-computed a dash) and the warnings of the designer's limits, in the amber of the section's
-warnings. The plant's settings and limits (``design.plant``) are edited here too, one undoable
+derived with the trade numbers: ``show_plant(plant)``, a part that cannot be computed a dash)
+and the warnings of the designer's limits, in the amber of the section's warnings. The plant's
+settings and limits (``design.plant``) are edited here too, one undoable
 ``editor.apply(..., plant=...)`` per finished edit, and the panel follows the scene for that
-field itself (:func:`widgets.edit_fields.follow`), so an undo shows here.
+field and the name (``refresh(design)``), so an undo shows here.
 """
 from __future__ import annotations
 
@@ -22,6 +24,7 @@ from PySide6.QtCore import QSignalBlocker
 from PySide6.QtWidgets import (QDoubleSpinBox, QFormLayout, QGridLayout, QGroupBox, QHBoxLayout,
                                QLabel, QLineEdit, QPushButton, QVBoxLayout, QWidget)
 
+from engine.model import advice
 from engine.model.check import PLANT_RANGES
 from widgets import edit_fields as ef
 
@@ -156,6 +159,7 @@ class TradeNumbersPanel(QWidget):
         self.offer_box.setLayout(offer)
         self.offer_box.hide()
         self.offered: str | None = None
+        self._shown_fill_ml = None  # the fill of the last numbers shown: a change may offer a rename
         form = QFormLayout()
         form.addRow("Name", self.name)
         self.labels: dict[str, QLabel] = {}
@@ -178,7 +182,7 @@ class TradeNumbersPanel(QWidget):
         self.keep_name.clicked.connect(self.withdraw_offer)
         self.dismissed: set[tuple[str, str]] = set()
         if editor is not None:
-            ef.follow(self, editor, self.FIELDS, lambda d, a: (self.show_name(d.name), self.show_settings(d)))
+            ef.follow(self, editor, self.FIELDS, lambda d, a: self.refresh(d), self.show_derived)
 
     def _figure(self, key: str, tip: str) -> QLabel:
         label = QLabel(DASH)
@@ -269,7 +273,28 @@ class TradeNumbersPanel(QWidget):
         plant = dataclasses.replace(self.editor.design.plant, **{field: float(value)})
         return self.editor.apply(label, f"plant-{field}", plant=plant)  # (a refusal: follow re-shows)
 
-    def refresh(self, numbers: dict):
+    def refresh(self, design):
+        """Show ``design``'s name and plant settings (signals blocked); an offer on show is
+        brought up to date with the name."""
+        self.show_name(design.name)
+        self.show_settings(design)
+        if self.offered is not None:
+            self._offer_for(self._shown_fill_ml)
+
+    def show_derived(self, result):
+        """Show the numbers derived from the newest design (a
+        :class:`~app.wireframe_controller.Derived`): trade and plant numbers; a fill that moved
+        offers a name that states it."""
+        numbers = result.numbers
+        self.show_numbers(numbers)
+        self.show_plant(result.plant)
+        fill_ml = numbers.get("fill_ml")
+        if self._shown_fill_ml is not None and fill_ml is not None and abs(fill_ml - self._shown_fill_ml) > 0.05:
+            self._offer_for(fill_ml)
+        self._shown_fill_ml = fill_ml
+
+    def show_numbers(self, numbers: dict):
+        """Show the trade numbers ``numbers`` (:func:`app.engine_bridge.trade_numbers`' dict)."""
         for key, _, fmt, _ in ROWS:
             value = numbers.get(key)
             text = "\u2014" if value is None else fmt.format(**value) if isinstance(value, dict) \
@@ -290,6 +315,18 @@ class TradeNumbersPanel(QWidget):
         if self.editor is not None and self.name.text() != self.editor.design.name:
             if not self.editor.apply("Rename design", None, name=self.name.text()):
                 self.show_name(self.editor.design.name)
+
+    def _offer_for(self, fill_ml):
+        """Offer a name that states ``fill_ml`` (ml) when the design's name quotes another volume."""
+        name = self.editor.design.name
+        proposed = advice.updated_name(name, fill_ml) if fill_ml is not None else None
+        why = f"The bottle now holds {fill_ml:.0f} ml at its fill line." if fill_ml is not None else ""
+        self.offer_name(name, proposed, why)
+
+    def forget_offer(self):
+        """Another design was opened: offer nothing, and offer a name only once its fill moves."""
+        self._shown_fill_ml = None
+        self.offer_name("", None)
 
     def offer_name(self, current: str, proposed: str | None, why: str = ""):
         """Offer ``proposed`` instead of ``current`` (``None``: offer nothing); an offer the

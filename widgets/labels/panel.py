@@ -2,7 +2,9 @@
 
 Design rule: the panel holds the list (add, remove, reorder) and composes its parts, one module
 each: :mod:`~widgets.labels.placement`, :mod:`~widgets.labels.preview` (artwork and die-line),
-:mod:`~widgets.labels.sheet` (coefficients and faces), :mod:`~widgets.labels.regions`. Every edit
+:mod:`~widgets.labels.sheet` (coefficients and faces), :mod:`~widgets.labels.regions`. The parts
+know the editor and the selected label (:class:`~widgets.labels.selection.SelectedLabel`, which
+the list writes), not the panel; the panel shows the selected label in them. Every edit
 is a named operation of :mod:`engine.operations.labels` (the one the command line uses) or a
 changed field of the selected label, applied as ``editor.apply(text, merge_key, labels=...,
 assets=...)``: one undoable step, validated by the engine (a label that leaves the wall is refused
@@ -28,9 +30,10 @@ from engine.appearance.frame import Placement, label_frame
 from engine.errors import GlassbenchError
 from engine.operations import labels as ops
 from widgets import edit_fields as ef
-from widgets.labels.placement import SURFACE_WORDS, PlacementBox
+from widgets.labels.placement import PlacementBox
 from widgets.labels.preview import PreviewBox
 from widgets.labels.regions import RegionsBox
+from widgets.labels.selection import SelectedLabel
 from widgets.labels.sheet import SheetBox
 
 
@@ -61,7 +64,7 @@ class LabelsPanel(QWidget):
     def __init__(self, editor, parent=None):
         super().__init__(parent)
         self.editor = editor
-        self._select = None  # the row to show after an add, move or remove
+        self.selection = SelectedLabel(editor, self)
         self.list = QListWidget()
         self.list.setToolTip("The labels on the bottle; later ones lie on top where they overlap")
         self.list.setMaximumHeight(72)
@@ -81,10 +84,11 @@ class LabelsPanel(QWidget):
             buttons.addWidget(b)
         for b in (self.up_button, self.down_button):
             b.setMaximumWidth(40)
-        self.preview = PreviewBox(self)
-        self.placement = PlacementBox(self)
-        self.sheet = SheetBox(self)
-        self.finishes = RegionsBox(self)
+        self.preview = PreviewBox(editor, self.selection)
+        self.placement = PlacementBox(editor, self.selection)
+        # (the colour asked for at the click: tests replace choose_color on the panel)
+        self.sheet = SheetBox(editor, self.selection, self.ask_image, lambda rgb, title: self.choose_color(rgb, title))
+        self.finishes = RegionsBox(editor, self.selection, self.preview, self.ask_image)
         self.details = QWidget()
         dl = QVBoxLayout(self.details)
         dl.setContentsMargins(0, 0, 0, 0)
@@ -97,6 +101,7 @@ class LabelsPanel(QWidget):
         layout.addWidget(self.details)
         layout.addStretch(1)
         self.list.currentRowChanged.connect(lambda _: self.refresh(self.editor.design, self.editor.scene.assets))
+        self.selection.problem.connect(self._say)
         self.add_button.clicked.connect(lambda: self.add_label())
         self.remove_button.clicked.connect(self.remove_label)
         self.up_button.clicked.connect(lambda: self.move_label(-1))
@@ -114,22 +119,12 @@ class LabelsPanel(QWidget):
         """Ask for a colour (linear RGB) or ``None``; tests replace this method."""
         return ef.ask_linear_color(self, initial_linear, title)
 
-    # ---------------------------------------------------------------- for the parts
-    @property
-    def index(self) -> int:
-        """The selected label (-1: none)."""
-        i = self.list.currentRow()
-        return i if 0 <= i < len(self.editor.design.labels) else -1
-
-    @property
-    def label(self):
-        i = self.index
-        return self.editor.design.labels[i] if i >= 0 else None
-
-    def refuse(self, text: str):
-        """Say why an edit was refused, here and in the status bar."""
+    # ---------------------------------------------------------------- what to say
+    def _say(self, text: str):
+        """Show why an edit was refused (here, and in the status bar); an empty text clears it."""
         self.problem.setText(text)
-        self.message.emit(f"Refused: {text}")
+        if text:
+            self.message.emit(f"Refused: {text}")
 
     def image(self, path: str | None, title: str):
         """``(path, bytes)`` of a checked image file (asked for when ``path`` is ``None``);
@@ -140,32 +135,12 @@ class LabelsPanel(QWidget):
         try:
             return path, read_checked_image(path)
         except (GlassbenchError, OSError, ValueError) as exc:
-            self.refuse(str(exc))
+            self.selection.refuse(str(exc))
             return path, None
 
-    def apply(self, edit, key=None) -> bool:
-        """Apply an operation's :class:`~engine.operations.labels.Edit` as one undoable step
-        (``key`` merges a gesture's or a field's steps); the refresh after it selects the label
-        the edit names."""
-        if edit is None:
-            return False
-        self.problem.setText("")
-        self._select = edit.select if key is None else None
-        ok = self.editor.apply(edit.text, key, assets=dict(edit.assets), labels=edit.design.labels)
-        self._select = None
-        return ok  # (a refused edit: the panel shows the model again, following the refusal)
-
-    def put(self, text: str, key, label) -> bool:
-        """The selected label becomes ``label``."""
-        i = self.index
-        return i >= 0 and self.apply(ops.replace_label(self.editor.design, i, label, text), key)
-
-    def edit_field(self, text: str, field: str, **fields) -> bool:
-        """Change fields of the selected label (``label-INDEX-FIELD`` merges a field's steps)."""
-        lab = self.label
-        if lab is None:
-            return False
-        return self.put(text, f"label-{self.index}-{field}", dataclasses.replace(lab, **fields))
+    def ask_image(self, title: str) -> bytes | None:
+        """The bytes of a checked image file the designer picks (``None``: none, or refused)."""
+        return self.image(None, title)[1]
 
     # ----------------------------------------------------------------- labels
     def add_label(self, path: str | None = None, at=None) -> bool:
@@ -174,47 +149,32 @@ class LabelsPanel(QWidget):
         path, data = self.image(path, "Label artwork")
         if data is None:
             return False
-        return self.apply(ops.add_label(self.editor.design, self.editor.scene.assets, data, filename=path, at=at))
+        return self.selection.apply(ops.add_label(self.editor.design, self.editor.scene.assets, data,
+                                                  filename=path, at=at))
 
     def remove_label(self) -> bool:
-        i = self.index
-        return i >= 0 and self.apply(ops.remove_label(self.editor.design, i))
+        i = self.selection.index
+        return i >= 0 and self.selection.apply(ops.remove_label(self.editor.design, i))
 
     def move_label(self, step: int) -> bool:
         """Move the selected label ``step`` places in the overlap order."""
-        return self.apply(ops.move_label(self.editor.design, self.index, step))
-
-    def choose_surface(self, surface: str) -> bool:
-        """Put the selected label on ``surface`` (:data:`SURFACE_WORDS`' keys), centred there
-        and shrunk to fit (aspect kept); one undo step, refused by the engine with its message
-        (a design without a cap, a crown's skirt)."""
-        lab = self.label
-        if lab is None or surface is None or surface == lab.surface:
-            return False
-        design = self.editor.design
-        try:
-            moved = ops.placed_on(design, lab, surface)
-        except (GlassbenchError, ValueError) as exc:
-            self.refuse(str(exc))
-            self.refresh(design, self.editor.scene.assets)
-            return False
-        return self.put(f"Label on the {SURFACE_WORDS[surface]}", None, moved)
+        return self.selection.apply(ops.move_label(self.editor.design, self.selection.index, step))
 
     def place_selected(self, at, merge_key=None) -> bool:
         """Move the selected label's centre to ``at`` (``(z_mm, angle_deg)`` on the wall);
         ``merge_key`` makes a drag's moves one undo step. A print on the cap is placed by its
         numbers only."""
-        lab = self.label
+        lab = self.selection.label
         if lab is None or lab.surface != "wall":
             return False
         z, angle = (round(float(v), 1) for v in at)
-        return self.put("Move label", merge_key, dataclasses.replace(lab, z_mm=z, angle_deg=angle))
+        return self.selection.put("Move label", merge_key, dataclasses.replace(lab, z_mm=z, angle_deg=angle))
 
     def size_selected(self, at, merge_key=None) -> bool:
         """Size the selected label, kept centred, so that a corner lies at ``at`` (``(z_mm,
         angle_deg)`` on the surface: :meth:`engine.appearance.frame.LabelFrame.size_to`);
         ``merge_key`` makes a drag's sizes one undo step. At least 1 mm a side."""
-        lab = self.label
+        lab = self.selection.label
         if lab is None or lab.surface != "wall":
             return False
         try:
@@ -223,17 +183,20 @@ class LabelsPanel(QWidget):
         except (GlassbenchError, ValueError, ArithmeticError):
             return False
         height, width = (round(max(1.0, v), 1) for v in (height, width))
-        return self.put("Size label", merge_key, dataclasses.replace(lab, height_mm=height, width_mm=width))
+        return self.selection.put("Size label", merge_key, dataclasses.replace(lab, height_mm=height, width_mm=width))
 
     # ------------------------------------------------------------------ model -> view
     def refresh(self, design, assets=None):
-        """Show ``design``'s labels and the selected one in every part (signals blocked)."""
+        """Show ``design``'s labels, select the list's row (or the one an edit asked for) and show
+        that label in every part (signals blocked)."""
         assets = self.editor.scene.assets if assets is None else assets
+        after_edit = self.selection.after_edit
         blocker = QSignalBlocker(self.list)
         ef.show_rows(self.list, [lab.name for lab in design.labels],
-                     self.list.currentRow() if self._select is None else self._select)
+                     self.list.currentRow() if after_edit is None else after_edit)
         del blocker
-        lab = self.label
+        self.selection.select(self.list.currentRow())
+        lab = self.selection.label
         self.details.setEnabled(lab is not None)
         for b in (self.remove_button, self.up_button, self.down_button):
             b.setEnabled(lab is not None)

@@ -1,14 +1,17 @@
 """Where the selected label lies: its name, the surface, its centre and its size.
 
-Design rule: a part of the labels panel (:mod:`widgets.labels.panel`): it shows one label's
-placement with its signals blocked and turns each field's edit into the panel's one undoable
-edit of that label (``label-INDEX-FIELD`` merge keys, so scrolling a field is one step).
+Design rule: a part of the labels panel (:mod:`widgets.labels.panel`), made with the editor and
+the selected label (:class:`~widgets.labels.selection.SelectedLabel`): it shows one label's
+placement with its signals blocked and turns each field's edit into one undoable edit of the
+selected label (``label-INDEX-FIELD`` merge keys, so scrolling a field is one step).
 """
 from __future__ import annotations
 
 from PySide6.QtCore import QSignalBlocker
 from PySide6.QtWidgets import QComboBox, QFormLayout, QGroupBox, QLineEdit
 
+from engine.errors import GlassbenchError
+from engine.operations import labels as ops
 from widgets import edit_fields as ef
 
 #: The designer's words for where a label lies (``Label.surface``).
@@ -16,11 +19,13 @@ SURFACE_WORDS = {"wall": "bottle", "cap-top": "cap top", "cap-skirt": "cap skirt
 
 
 class PlacementBox(QGroupBox):
-    """The placement fields of the labels panel ``panel``."""
+    """The placement fields of the label ``selection`` (a
+    :class:`~widgets.labels.selection.SelectedLabel` of ``editor``'s design)."""
 
-    def __init__(self, panel):
+    def __init__(self, editor, selection):
         super().__init__("Placement (on the surface)")
-        self.panel = panel
+        self.editor = editor
+        self.selection = selection
         self.name = QLineEdit()
         self.name.setToolTip("The label's name (unique in the design; the command line uses it)")
         self.surface = QComboBox()
@@ -44,17 +49,32 @@ class PlacementBox(QGroupBox):
                         ("Centre angle", self.angle_deg), ("Height", self.height_mm), ("Width", self.width_mm)):
             form.addRow(text, w)
         self.name.editingFinished.connect(self._rename)
-        self.surface.currentIndexChanged.connect(lambda _: panel.choose_surface(self.surface.currentData()))
+        self.surface.currentIndexChanged.connect(lambda _: self.choose_surface(self.surface.currentData()))
         for w, key, text in ((self.z_mm, "z_mm", "Label height"), (self.angle_deg, "angle_deg", "Label angle"),
                              (self.cap_x_mm, "cap_x_mm", "Label centre x"),
                              (self.cap_y_mm, "cap_y_mm", "Label centre y"),
                              (self.height_mm, "height_mm", "Label size"), (self.width_mm, "width_mm", "Label width")):
-            w.valueChanged.connect(lambda v, key=key, text=text: panel.edit_field(text, key, **{key: v}))
+            w.valueChanged.connect(lambda v, key=key, text=text: selection.edit_field(text, key, **{key: v}))
 
     def _rename(self):
-        lab = self.panel.label
+        lab = self.selection.label
         if lab is not None and self.name.text() != lab.name:
-            self.panel.edit_field("Rename label", "name", name=self.name.text())
+            self.selection.edit_field("Rename label", "name", name=self.name.text())
+
+    def choose_surface(self, surface: str) -> bool:
+        """Put the selected label on ``surface`` (:data:`SURFACE_WORDS`' keys), centred there
+        and shrunk to fit (aspect kept); one undo step, refused by the engine with its message
+        (a design without a cap, a crown's skirt)."""
+        lab = self.selection.label
+        if lab is None or surface is None or surface == lab.surface:
+            return False
+        try:
+            moved = ops.placed_on(self.editor.design, lab, surface)
+        except (GlassbenchError, ValueError) as exc:
+            self.selection.refuse(str(exc))
+            self.show_label(lab)  # the surface it is still on
+            return False
+        return self.selection.put(f"Label on the {SURFACE_WORDS[surface]}", None, moved)
 
     def show_label(self, lab) -> None:
         """Show label ``lab`` (signals blocked: nothing echoes back)."""

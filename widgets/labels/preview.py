@@ -1,6 +1,7 @@
 """The selected label's artwork and its flat die-line, with the printer's figures and warnings.
 
-Design rule: a part of the labels panel (:mod:`widgets.labels.panel`). The die-line and its
+Design rule: a part of the labels panel (:mod:`widgets.labels.panel`), made with the editor and
+the selected label (:class:`~widgets.labels.selection.SelectedLabel`). The die-line and its
 warnings are :func:`engine.appearance.report.label_report`'s, the same the ``glassbench labels``
 command prints, drawn once the label has held still for :data:`DIELINE_SETTLE_MS` (a drag does
 not flatten at every step). The artwork is decoded once per content and shown decimated when
@@ -21,11 +22,13 @@ DIELINE_SETTLE_MS = 150
 
 
 class PreviewBox(QGroupBox):
-    """Artwork and die-line of the labels panel ``panel``'s selected label."""
+    """Artwork and die-line of the label ``selection`` (a
+    :class:`~widgets.labels.selection.SelectedLabel` of ``editor``'s design)."""
 
-    def __init__(self, panel):
+    def __init__(self, editor, selection):
         super().__init__("Artwork and die-line")
-        self.panel = panel
+        self.editor = editor
+        self.selection = selection
         self._thumbs: dict = {}
         self.art = None  # the front artwork shown, sRGB uint8 RGBA
         self.report = None
@@ -86,11 +89,11 @@ class PreviewBox(QGroupBox):
 
     def show_dieline(self) -> None:
         """Flatten the selected label and show its die-line, figures and warnings."""
-        panel = self.panel
-        if panel.index < 0:
+        i = self.selection.index
+        if i < 0:
             return
         try:
-            self.report = report.label_report(panel.editor.design, panel.index)
+            self.report = report.label_report(self.editor.design, i)
         except (GlassbenchError, ValueError, ArithmeticError) as exc:
             self.report = None
             self.dieline.set_report(None)

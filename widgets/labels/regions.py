@@ -1,9 +1,11 @@
 """The selected label's finish regions: foil, vinyl, emboss, varnish, keyed by colour or a mask.
 
-Design rule: a part of the labels panel (:mod:`widgets.labels.panel`): it lists the label's
-regions and edits the selected one; each edit replaces the label's ``regions`` through the
-panel, one undoable step. A key colour is picked on the artwork with the eyedropper (sRGB, as
-the designer sees it); the artwork view outlines where the selected region applies
+Design rule: a part of the labels panel (:mod:`widgets.labels.panel`), made with the editor, the
+selected label (:class:`~widgets.labels.selection.SelectedLabel`) and the artwork it keys
+colours on (its sibling :class:`~widgets.labels.preview.PreviewBox`): it lists the label's
+regions and edits the selected one; each edit replaces the selected label's ``regions``, one
+undoable step. A key colour is picked on the artwork with the eyedropper (sRGB, as the designer
+sees it); the artwork view outlines where the selected region applies
 (:func:`engine.appearance.regions.region_map`).
 """
 from __future__ import annotations
@@ -29,11 +31,17 @@ FINISH_WORDS = {"gold_foil": "Gold foil", "silver_foil": "Silver foil", "clear_v
 
 
 class RegionsBox(QGroupBox):
-    """The finish regions of the labels panel ``panel``'s selected label."""
+    """The finish regions of the label ``selection`` (a
+    :class:`~widgets.labels.selection.SelectedLabel` of ``editor``'s design), keyed on the
+    artwork ``preview`` shows; ``ask_image(title)`` asks for a checked mask image (its bytes,
+    ``None``: none)."""
 
-    def __init__(self, panel):
+    def __init__(self, editor, selection, preview, ask_image):
         super().__init__("Finish regions")
-        self.panel = panel
+        self.editor = editor
+        self.selection = selection
+        self.preview = preview
+        self.ask_image = ask_image
         self.select = None  # the row to show after an add or remove
         self.regions = QListWidget()
         self.regions.setMaximumHeight(60)
@@ -82,7 +90,7 @@ class RegionsBox(QGroupBox):
         form.addRow("Gloss", self.gloss)
         self.regions.currentRowChanged.connect(lambda _: self.show_region())
         self.eyedropper.toggled.connect(
-            lambda on: panel.preview.artwork.setCursor(Qt.CrossCursor if on else Qt.ArrowCursor))
+            lambda on: preview.artwork.setCursor(Qt.CrossCursor if on else Qt.ArrowCursor))
         self.add_region.clicked.connect(lambda: self.add_finish_region(self.region_preset.currentData()))
         self.remove_region.clicked.connect(self.remove_finish_region)
         self.apply_preset.clicked.connect(lambda: self.apply_finish_preset(self.region_preset.currentData()))
@@ -97,42 +105,42 @@ class RegionsBox(QGroupBox):
     @property
     def index(self) -> int:
         """The selected region of the selected label (-1: none)."""
-        lab = self.panel.label
+        lab = self.selection.label
         k = self.regions.currentRow()
         return k if lab is not None and 0 <= k < len(lab.regions) else -1
 
     # ------------------------------------------------------------------ edits
     def _set_regions(self, text: str, key, regions: tuple, assets: dict | None = None, select=None) -> bool:
-        panel = self.panel
-        lab = panel.label
+        selection = self.selection
+        lab = selection.label
         if lab is None:
             return False
         self.select = select
-        edit = ops.replace_label(panel.editor.design, panel.index, dataclasses.replace(lab, regions=regions),
+        edit = ops.replace_label(self.editor.design, selection.index, dataclasses.replace(lab, regions=regions),
                                  text, assets)
-        ok = panel.apply(edit, key)
+        ok = selection.apply(edit, key)
         self.select = None
         return ok
 
     def edit_region(self, text: str, key, **fields) -> bool:
         """Change fields of the selected region (``key``: the merge key's last part)."""
-        lab, k = self.panel.label, self.index
+        lab, k = self.selection.label, self.index
         if k < 0:
             return False
         region = dataclasses.replace(lab.regions[k], **fields)
-        return self._set_regions(text, None if key is None else f"label-{self.panel.index}-region-{k}-{key}",
+        return self._set_regions(text, None if key is None else f"label-{self.selection.index}-region-{k}-{key}",
                                  ef.replaced(lab.regions, k, region))
 
     def _first_colour(self) -> tuple:
         """A starting key: the artwork's centre colour (sRGB), white without artwork."""
-        px = self.panel.preview.artwork.pixels
+        px = self.preview.artwork.pixels
         if px is None:
             return (1.0, 1.0, 1.0)
         h, w = px.shape[:2]
         return tuple(float(v) / 255.0 for v in px[h // 2, w // 2, :3])
 
     def add_finish_region(self, preset: str | None) -> bool:
-        lab = self.panel.label
+        lab = self.selection.label
         if lab is None or preset is None:
             return False
         region = presets.finish_preset(preset, keys=(self._first_colour(),))
@@ -142,7 +150,7 @@ class RegionsBox(QGroupBox):
         k = self.index
         if k < 0:
             return False
-        regions = ef.removed(self.panel.label.regions, k)
+        regions = ef.removed(self.selection.label.regions, k)
         return self._set_regions("Remove region", None, regions, select=min(k, len(regions) - 1))
 
     def apply_finish_preset(self, preset: str | None) -> bool:
@@ -153,9 +161,9 @@ class RegionsBox(QGroupBox):
 
     def _source_chosen(self, source: str):
         k = self.index
-        if k < 0 or source == self.panel.label.regions[k].source:
+        if k < 0 or source == self.selection.label.regions[k].source:
             return
-        region = self.panel.label.regions[k]
+        region = self.selection.label.regions[k]
         if source == "mask" and region.mask_asset is None:
             if not self.choose_mask():
                 self.show_region()
@@ -169,18 +177,18 @@ class RegionsBox(QGroupBox):
         k = self.index
         if not self.eyedropper.isChecked() or k < 0:
             return False
-        region = self.panel.label.regions[k]
+        region = self.selection.label.regions[k]
         key = tuple(round(v, 6) for v in srgb)
         keys = (region.keys + (key,)) if add and region.source == "chroma" else (key,)
         return self.edit_region("Pick key colour", None, source="chroma", keys=keys)
 
     def choose_mask(self) -> bool:
         k = self.index
-        data = self.panel.image(None, "Finish mask")[1] if k >= 0 else None
+        data = self.ask_image("Finish mask") if k >= 0 else None
         if data is None:
             return False
-        lab = self.panel.label
-        asset = ops.asset_name(lab.name, f"mask{k}", data, self.panel.editor.scene.assets)
+        lab = self.selection.label
+        asset = ops.asset_name(lab.name, f"mask{k}", data, self.editor.scene.assets)
         region = dataclasses.replace(lab.regions[k], source="mask", mask_asset=asset)
         return self._set_regions("Region mask", None, ef.replaced(lab.regions, k, region), {asset: data})
 
@@ -207,7 +215,7 @@ class RegionsBox(QGroupBox):
                             self.eyedropper):
             w.setEnabled(k >= 0)
         if k >= 0:
-            r = self.panel.label.regions[k]
+            r = self.selection.label.regions[k]
             self.finish.setCurrentIndex(self.finish.findData(r.finish))
             self.source.setCurrentIndex(self.source.findData(r.source))
             self.tolerance.setValue(r.tolerance)
@@ -222,17 +230,17 @@ class RegionsBox(QGroupBox):
         else:
             self.keys_text.setText("")
         del blockers
-        lab = self.panel.label
+        lab = self.selection.label
         if lab is not None:
-            self.panel.preview.show_artwork(self._claimed(lab, k))
+            self.preview.show_artwork(self._claimed(lab, k))
 
     def _claimed(self, lab, k: int):
         """Where region ``k`` of ``lab`` applies, at the artwork picture's size (``None``: nothing)."""
-        art = self.panel.preview.art
+        art = self.preview.art
         if k < 0 or art is None:
             return None
         try:
-            rmap = region_map(lab, self.panel.editor.scene.assets)
+            rmap = region_map(lab, self.editor.scene.assets)
         except (GlassbenchError, ValueError, KeyError):
             return None
         h, w = art.shape[:2]

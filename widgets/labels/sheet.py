@@ -1,9 +1,10 @@
 """The selected label's sheet and faces: paper or film coefficients, front and back prints.
 
-Design rule: a part of the labels panel (:mod:`widgets.labels.panel`): shows one label with
+Design rule: a part of the labels panel (:mod:`widgets.labels.panel`), made with the editor and
+the selected label (:class:`~widgets.labels.selection.SelectedLabel`): shows one label with
 its signals blocked; each edit is one of the named operations of
 :mod:`engine.operations.labels` (a face's image or plain colour) or a field of the label,
-applied by the panel as one undoable step. Colours are linear RGB in the model, sRGB on screen
+applied to the selected label as one undoable step. Colours are linear RGB in the model, sRGB on screen
 (:class:`widgets.edit_fields.LinearColorButton`).
 """
 from __future__ import annotations
@@ -20,11 +21,17 @@ from widgets import edit_fields as ef
 
 
 class SheetBox(QGroupBox):
-    """The sheet fields and the two faces of the labels panel ``panel``."""
+    """The sheet fields and the two faces of the label ``selection`` (a
+    :class:`~widgets.labels.selection.SelectedLabel` of ``editor``'s design). ``ask_image(title)``
+    asks for a checked image (its bytes, ``None``: none), ``ask_color(linear, title)`` for a
+    colour (linear RGB, ``None``: cancelled)."""
 
-    def __init__(self, panel):
+    def __init__(self, editor, selection, ask_image, ask_color):
         super().__init__("Sheet")
-        self.panel = panel
+        self.editor = editor
+        self.selection = selection
+        self.ask_image = ask_image
+        self.ask_color = ask_color
         self.sheet = QComboBox()
         self.sheet.addItem("(custom)", None)
         for name in presets.SHEET_PRESETS:
@@ -58,7 +65,7 @@ class SheetBox(QGroupBox):
             form.addRow("", shown)
         for w, key, text in ((self.diffuse, "diffuse", "Label diffuse"), (self.specular, "specular", "Label specular"),
                              (self.transmission, "transmission", "Label transmission")):
-            w.valueChanged.connect(lambda v, key=key, text=text: panel.edit_field(text, key, **{key: v}))
+            w.valueChanged.connect(lambda v, key=key, text=text: selection.edit_field(text, key, **{key: v}))
         self.sheet.currentIndexChanged.connect(lambda _: self._preset(self.sheet.currentData()))
         self.front_image.clicked.connect(lambda: self.choose_side_image("front"))
         self.back_image.clicked.connect(lambda: self.choose_side_image("back"))
@@ -66,35 +73,35 @@ class SheetBox(QGroupBox):
         self.back_color.clicked.connect(lambda: self.choose_side_color("back"))
 
     def _preset(self, name):
-        lab = self.panel.label
+        lab = self.selection.label
         if name is None or lab is None:
             return
         d, s, t = presets.SHEET_PRESETS[name]
-        self.panel.put(f"Sheet {name}", None, dataclasses.replace(lab, diffuse=d, specular=s, transmission=t))
+        self.selection.put(f"Sheet {name}", None, dataclasses.replace(lab, diffuse=d, specular=s, transmission=t))
 
     def choose_side_image(self, side: str) -> bool:
         """Print face ``side`` with an image the designer picks (checked before anything changes)."""
-        panel = self.panel
-        data = panel.image(None, f"Label {side}")[1] if panel.label is not None else None
+        selection = self.selection
+        data = self.ask_image(f"Label {side}") if selection.label is not None else None
         if data is None:
             return False
         try:
-            edit = ops.set_face_image(panel.editor.design, panel.editor.scene.assets, panel.index, side, data)
+            edit = ops.set_face_image(self.editor.design, self.editor.scene.assets, selection.index, side, data)
         except (GlassbenchError, ValueError) as exc:
-            panel.refuse(str(exc))
+            selection.refuse(str(exc))
             return False
-        return panel.apply(edit)
+        return selection.apply(edit)
 
     def choose_side_color(self, side: str) -> bool:
         """Face ``side`` as a plain colour the designer picks."""
-        panel = self.panel
-        lab = panel.label
+        selection = self.selection
+        lab = selection.label
         if lab is None:
             return False
-        rgb = panel.choose_color(getattr(lab, side).color, f"Label {side} colour")
+        rgb = self.ask_color(getattr(lab, side).color, f"Label {side} colour")
         if rgb is None:
             return False
-        return panel.apply(ops.set_face_colour(panel.editor.design, panel.index, side, rgb))
+        return selection.apply(ops.set_face_colour(self.editor.design, selection.index, side, rgb))
 
     def show_label(self, lab) -> None:
         """Show label ``lab`` (signals blocked)."""

@@ -41,9 +41,9 @@ class ReplacePartsCommand(QUndoCommand):
     own change notification then updates every view.
     """
 
-    def __init__(self, scene, label: str, before: dict, after: dict, merge_key: str | None = None,
+    def __init__(self, scene, text: str, before: dict, after: dict, merge_key: str | None = None,
                  assets_before: dict | None = None, assets_after: dict | None = None):
-        super().__init__(label)
+        super().__init__(text)
         self._scene = scene
         self.before = dict(before)
         self.after = dict(after)
@@ -133,10 +133,11 @@ class DesignEditor(QObject):
         self._drag_serial += 1
         return f"{what}#{self._drag_serial}"
 
-    def apply(self, label: str, merge_key: str | None = None, *, assets: dict | None = None,
+    def apply(self, text: str, merge_key: str | None = None, *, assets: dict | None = None,
               **parts) -> bool:
-        """Push a command setting ``parts`` (Design field -> value) and ``assets`` (name ->
-        bytes, ``None`` removes); ``False`` if refused."""
+        """Push a command named ``text`` (the undo history's words, e.g. "Move label") setting
+        ``parts`` (Design field -> value) and ``assets`` (name -> bytes, ``None`` removes);
+        ``False`` if refused."""
         current = self.scene.design
         changed = {k: v for k, v in parts.items() if getattr(current, k) != v}
         old_assets = self.scene.assets
@@ -160,7 +161,7 @@ class DesignEditor(QObject):
             return False
         before = {k: getattr(current, k) for k in changed}
         assets_before = {k: old_assets.get(k) for k in assets}
-        self.stack.push(ReplacePartsCommand(self.scene, label, before, changed, merge_key,
+        self.stack.push(ReplacePartsCommand(self.scene, text, before, changed, merge_key,
                                             assets_before, assets))
         if "liquid" in changed and "liquid" not in parts:
             level, was = changed["liquid"].fill_value, before["liquid"].fill_value

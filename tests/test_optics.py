@@ -1,4 +1,5 @@
-"""Physical invariants of the dielectric optics (SPEC section 5)."""
+"""Physical invariants of the dielectric optics (SPEC section 5), and the kernels' Fresnel
+against the numpy oracle written from the SPEC (tests/optics_oracle.py)."""
 from __future__ import annotations
 
 import math
@@ -7,7 +8,17 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from engine.tracer.optics import beer_lambert, critical_angle_deg, fresnel_dielectric, reflect, refract
+from engine.tracer.kernels import materials
+from tests.optics_oracle import beer_lambert, critical_angle_deg, fresnel_dielectric, reflect, refract
+
+
+def test_the_kernels_fresnel_is_the_specs_at_every_angle_grazing_and_past_the_critical_one():
+    cos_i = np.concatenate([np.linspace(0.0, 1.0, 401), [1e-12, 1e-9, 1e-6, 1.0 - 1e-12]])
+    for eta in (1.0 / 1.5, 1.0 / 1.33, 1.0, 1.33, 1.5, 1.33 / 1.5, 1.5 / 1.33, 2.4):
+        want_r, want_t = fresnel_dielectric(cos_i, eta)
+        got = np.array([materials.fresnel_dielectric(float(c), eta) for c in cos_i])
+        assert np.allclose(got[:, 0], want_r, rtol=0.0, atol=1e-14), eta
+        assert np.allclose(got[:, 1], want_t, rtol=0.0, atol=1e-14), eta
 
 
 def test_normal_incidence_reflectance_is_four_percent_for_n_1_5():

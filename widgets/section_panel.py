@@ -185,10 +185,10 @@ class SectionPanel(QWidget):
         self.message.setText("")
 
     # ---------------------------------------------------------------- view → command
-    def propose_section(self, section, label: str, merge_key: str = ""):
+    def propose_section(self, section, text: str, merge_key: str = ""):
         """Apply ``section`` in place of the current one (one undo step per merge key)."""
         shape = self.editor.design.shape.with_section(self.current_name, section)
-        if self.editor.apply(label, merge_key or None, shape=shape):
+        if self.editor.apply(text, merge_key or None, shape=shape):
             self.message.setText("")
             return True
         return False

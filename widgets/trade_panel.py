@@ -265,13 +265,13 @@ class TradeNumbersPanel(QWidget):
             with QSignalBlocker(spin):
                 spin.setValue(getattr(design.plant, field))
 
-    def set_plant(self, field: str, value: float, label: str = "Plant settings") -> bool:
+    def set_plant(self, field: str, value: float, text: str = "Plant settings") -> bool:
         """Set the plant's ``field`` to ``value`` (one undo step per finished edit; a field's
         quick steps merge); ``False`` if refused, and the field shows the model again."""
         if self.editor is None:
             return False
         plant = dataclasses.replace(self.editor.design.plant, **{field: float(value)})
-        return self.editor.apply(label, f"plant-{field}", plant=plant)  # (a refusal: follow re-shows)
+        return self.editor.apply(text, f"plant-{field}", plant=plant)  # (a refusal: follow re-shows)
 
     def refresh(self, design):
         """Show ``design``'s name and plant settings (signals blocked); an offer on show is

@@ -1,4 +1,4 @@
-"""Format 1 -> 2: bump tiles and the closure become real values (issue 10).
+"""Format 1 -> 2: bump tiles and the closure become real values.
 
 Design rule: one self-contained step, :func:`migrate_1_to_2`, registered as
 ``engine.files.serialize.MIGRATIONS[1]``; it rewrites only ``design.bumps`` and ``design.cap``

@@ -34,8 +34,8 @@ LINEAR_FACTOR = 64
 #: Final renders' default tolerance, a fraction of the design's reference level: a pixel gets
 #: one sample per tolerance of its one-sample scatter (Neyman allocation, :func:`noise_targets`).
 #: Chosen on the bundled samples' final renders (180 x 240, 16 spp, against a render with 64 spp
-#: at 0.001 on other samples): against the rule before (every pixel's standard error below
-#: 0.01) the same or a smaller error in about the same time: jar 1.03 % rel RMSE in 7.2 s
+#: at 0.001 on other samples): against the same standard error for every pixel (below 0.01)
+#: the same or a smaller error in about the same time: jar 1.03 % rel RMSE in 7.2 s
 #: (1.25 % in 6.3 s), cut decanter 1.40 % in 15.3 s (1.60 % in 13.7 s), knurled jar 1.92 % in
 #: 18.9 s (2.71 % in 20.7 s), frosted logo 1.20 % in 2.4 s (1.04 % in 4.2 s; 0.99 % in 4.4 s at
 #: 0.001). 0.005 would take half the time but lose on the frosted logo (1.62 %).
@@ -168,11 +168,11 @@ def noise_targets(film, cap: int, noise_target: float, level: float, space: str 
     error for the samples spent (``sum var_i / n_i`` under ``sum n_i`` fixed); a pixel's
     standard error is then ``sqrt(scatter x tolerance)``: the tolerance where one sample
     scatters by it, more where a pixel is hard. Asking every pixel for the same standard
-    error (``n = var / tolerance^2``, the rule before) pours samples into the few pixels that
-    scatter most (light trapped in a thick base: 30 pixels held half of public_1's error) up to
-    the cap, and too many into the moderate ones. Measured on public_1-4 (4 samples on edges;
-    ``benchmarks/RESULTS.md``, stop 34): 0.98 % rel RMSE in 0.76 s on public_1 where the old
-    rule gave 1.07 % in 1.16 s. A pixel asks at least ``NEIGHBOUR_SHARE`` of what its neediest
+    error (``n = var / tolerance^2``) pours samples into the few pixels that scatter most (light
+    trapped in a thick base: 30 pixels held half of public_1's error) up to the cap, and too
+    many into the moderate ones. Measured on public_1-4 (4 samples on edges;
+    ``benchmarks/RESULTS.md``): 0.98 % rel RMSE in 0.76 s on public_1 where the same standard
+    error everywhere gave 1.07 % in 1.16 s. A pixel asks at least ``NEIGHBOUR_SHARE`` of what its neediest
     neighbour asks: a thin feature that a neighbour's samples caught crosses into this pixel
     too, where four stratified samples may all have missed it.
 
@@ -250,14 +250,15 @@ SPLIT_ROULETTE = 0.2
 #: The window's image-level target, a share of its per-pixel tolerance: a pixel's tolerance is
 #: loosened to the widest step of ``SPLIT_LADDER`` (multiples of it) at which the image's
 #: estimated RMS error stays below this share of it (:func:`split_tolerance`; with the window's
-#: 2 levels, 1 level RMS, two thirds of issue 26's honesty bound of 1.5). Measured at 715 x 953
+#: 2 levels, 1 level RMS, two thirds of the honesty check's bound of 1.5 levels RMS,
+#: ``benchmarks.window_converge``). Measured at 715 x 953
 #: (2 threads; each render's error from a second one on other samples, levels RMS): jar 38.7 s
 #: 0.78 -> 32.5 s 0.90 (3 levels chosen), threaded bottle 19.6 s 0.42 -> 8.9 s 0.68 (8), Bordeaux
 #: 3.2 s 0.23 -> 2.4 s 0.30 (8); samples whose error at 2 levels is already near the bound
 #: (relief) keep 2. Without the cap's floor in the estimate the jar chose 4 levels and measured
 #: 1.02 (26.2 s): its capped pixels stay above the step. The ladder stops at 4 x (8 levels):
 #: with 1 level RMS over the image few pixels can sit there, so the 99th percentile stays far
-#: below issue 26's 10 levels.
+#: below the honesty check's 10 levels.
 SPLIT_IMAGE_SHARE = 0.5
 SPLIT_LADDER = (1.0, 1.5, 2.0, 3.0, 4.0)
 

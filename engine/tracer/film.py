@@ -105,8 +105,9 @@ class Film:
 
     def paint_preview(self, cols, rows, values, b: int, tile: int, region=None) -> None:
         """Paint each preview sample ``(cols[p], rows[p])`` (radiance ``values[p]``) over its
-        ``b x b`` block, clipped to its ``tile x tile`` tile; ``region`` ``(x0, y0, x1, y1)``,
-        tile-aligned, holds all the samples (default: the whole image)."""
+        ``b x b`` block, clipped to its ``tile x tile`` tile; ``region`` ``(y0, y1, x0, x1)``
+        (pixels, half-open, as :meth:`image` takes it), tile-aligned, holds all the samples
+        (default: the whole image)."""
         if tile % b:  # blocks may cross tiles: one block at a time
             for c, r, v in zip(cols, rows, values):
                 by, bx = (r // b) * b, (c // b) * b
@@ -115,7 +116,7 @@ class Film:
                 self.set_preview(by, min(by + b, y1), bx, min(bx + b, x1), v)
             return
         # blocks then never cross a tile: paint whole blocks, cut at the region's edge
-        x0, y0, x1, y1 = region if region is not None else (0, 0, self.width, self.height)
+        y0, y1, x0, x1 = region if region is not None else (0, self.height, 0, self.width)
         h, w = y1 - y0, x1 - x0
         grid = np.zeros((-(-h // b), -(-w // b), 3))
         have = np.zeros(grid.shape[:2], bool)

@@ -366,8 +366,8 @@ class RenderJob:
                 film.add_centre(cols, rows, res)
                 if preview is not None:
                     k = 0
-                    for tl, r, c in parts:
-                        film.paint_preview(c, r, res.sums[k:k + len(r)], preview, self.tile, tl)
+                    for (x0, y0, x1, y1), r, c in parts:
+                        film.paint_preview(c, r, res.sums[k:k + len(r)], preview, self.tile, (y0, y1, x0, x1))
                         k += len(r)
             else:
                 have = film.aa_count[rows, cols]

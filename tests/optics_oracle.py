@@ -1,4 +1,6 @@
-"""Smooth-dielectric optics: Fresnel reflectance, mirror and refraction directions, absorption.
+"""The tests' oracle of smooth-dielectric optics: Fresnel reflectance, mirror and refraction
+directions, absorption, written from SPEC section 5 in numpy apart from the kernels
+(:mod:`engine.tracer.kernels.materials`), which tests/test_optics.py checks against it.
 
 Design rule: pure vectorised numpy on float64 arrays, no geometry and no state. Formulas follow
 ../shared/oracle/SPEC.md section 5 exactly (unpolarised average of the s and p amplitudes,

@@ -196,6 +196,10 @@ class PixelResult:
     #: order, their samples in order) its radiance without label terms and its hits' range, and
     #: the hits (kernels.labels ``H_*``); ``None`` otherwise
     label_record: tuple | None = None
+    #: ``(P, 6)`` sums over the traced samples of the denoiser's guides, albedo RGB and normal
+    #: (:func:`~engine.tracer.kernels.integrator.trace_sample`); ``None`` where none were traced
+    #: (a relabel's recomputed pixels keep the film's)
+    guide: np.ndarray | None = None
 
 
 def _per_pixel(v, p: int) -> np.ndarray:
@@ -229,13 +233,14 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
     mask = np.zeros(p, np.int64)
     depth = np.full((p, ctx.n_materials), 255, np.int64)
     counters = np.zeros(N_COUNTERS, np.int64)
+    guide = np.zeros((p, 6))
     if cancel is None:
         cancel = np.zeros(1, np.int64)
     rec_rays, rec_n = record if record is not None else (np.zeros((0, 6), np.float32), np.zeros(1, np.int64))
     samples = int(count.sum()) if record_labels and ctx.labels.rows.shape[0] > 0 else 0
     hits = None
     cut = Cutoffs(ctx.max_depth, ctx.min_weight, float(roulette), MAX_NODES)
-    out = PixelSums(sums, sumsq, sig, mask, depth, counters)
+    out = PixelSums(sums, sumsq, sig, mask, depth, counters, guide)
     while True:
         labels = with_buffers(ctx.labels, samples, hits)
         done = render_pixels(ctx.tables(labels), ctx.cam, Pixels(cols, rows, first, count), cut, 0, out, cancel,
@@ -244,12 +249,12 @@ def trace_pixels(ctx: RenderContext, cols, rows, first, count, cancel=None, reco
             break
         # more hits than room: trace the call again with room for all (same seeds, same result)
         hits = 4 * labels.hit_f.shape[0]
-        sums[:], sumsq[:], sig[:], mask[:], depth[:], counters[:] = 0, 0, 0, 0, 255, 0
+        sums[:], sumsq[:], sig[:], mask[:], depth[:], counters[:], guide[:] = 0, 0, 0, 0, 255, 0, 0
     rec = None
     if samples and done == p:
         n = int(labels.hit_n[0])
         rec = (labels.smp_f, labels.smp_i, labels.hit_f[:n].copy(), labels.hit_i[:n].copy())
-    return PixelResult(sums, sumsq, sig, mask, depth, counters, int(done), rec)
+    return PixelResult(sums, sumsq, sig, mask, depth, counters, int(done), rec, guide)
 
 
 # --------------------------------------------------------------------------- ray queries

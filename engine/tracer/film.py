@@ -7,7 +7,9 @@ its *centre* sample (sample 0, the midpoint estimate that smooth regions keep) a
 edge pixel's value is an unbiased stratified average over its square while a smooth pixel costs
 one ray. Beside radiance it keeps, per pixel, the dominant-path signature of the centre sample,
 a bit mask of the render objects its ray tree met, and the shallowest tree depth at which each
-material was met: what edge finding and re-rendering only what an edit touched need.
+material was met: what edge finding and re-rendering only what an edit touched need. It also
+sums the denoiser's guides (albedo and normal, :func:`engine.tracer.kernels.integrator.
+trace_sample`) over every sample traced; they never enter the image.
 All arrays are owned by the film and changed only under its lock.
 """
 from __future__ import annotations
@@ -55,6 +57,8 @@ class Film:
         self.signature = np.zeros((h, w), np.uint64)
         self.objects = np.zeros((h, w), np.int64)
         self.depth = np.full((h, w, max(1, int(n_materials))), NEVER, np.uint8)
+        self.guide_sum = np.zeros((h, w, 6))
+        self.guide_n = np.zeros((h, w), np.int64)
 
     # ----------------------------------------------------------------- accumulation
     def add_centre(self, cols, rows, result) -> None:
@@ -67,6 +71,7 @@ class Film:
         with self.lock:  # (the kernel releases the GIL, not the lock)
             add_centres(self.centre, self.has_centre, self.signature, self.objects, self.depth, cols, rows,
                         sums, sig, objects, depth)
+            self._add_guides(cols, rows, 1, result.guide)
 
     def add_aa(self, cols, rows, count, result) -> None:
         """Add ``count[p]`` anti-aliasing samples to distinct pixels ``(cols[p], rows[p])`` (a
@@ -79,6 +84,15 @@ class Film:
         with self.lock:
             add_samples(self.aa_sum, self.aa_sumsq, self.aa_count, self.objects, self.depth, cols, rows, count,
                         sums, sumsq, objects, depth)
+            self._add_guides(cols, rows, count, result.guide)
+
+    def _add_guides(self, cols, rows, count, guide) -> None:
+        """Add the guide sums ``guide`` ``(P, 6)`` of ``count`` samples each to distinct pixels
+        (under the lock; nothing for a result without guides, a relabel's)."""
+        if guide is None:
+            return
+        self.guide_sum[rows, cols] += _shaped(guide, len(cols), np.float64, (6,))
+        self.guide_n[rows, cols] += count
 
     def forget(self, mask) -> None:
         """Drop the anti-aliasing samples of the pixels of ``mask`` (``(H, W)`` bool): they show
@@ -160,6 +174,16 @@ class Film:
         y0, y1, x0, x1 = (int(v) for v in region)
         y0, x0 = min(max(y0, 0), self.height), min(max(x0, 0), self.width)
         return y0, max(min(y1, self.height), y0), x0, max(min(x1, self.width), x0)
+
+    def guides(self) -> tuple[np.ndarray, np.ndarray]:
+        """The denoiser's guides ``(albedo, normal)``, float32 ``(H, W, 3)`` each: the mean over
+        each pixel's traced samples (zero where none was traced). Albedo in ``[0, 1]``, normals
+        in ``[-1, 1]`` (their mean, not renormalised: an edge pixel's is shorter)."""
+        with self.lock:
+            n = np.maximum(self.guide_n, 1)[..., None]
+            g = self.guide_sum / n
+        return (np.clip(g[..., :3], 0.0, 1.0).astype(np.float32),
+                np.clip(g[..., 3:], -1.0, 1.0).astype(np.float32))
 
     def samples(self) -> np.ndarray:
         """Samples per pixel that make its value (the centre counts as one) ``(H, W)``."""

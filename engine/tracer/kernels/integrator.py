@@ -38,7 +38,8 @@ from numba import njit
 from .intersect import O_MAT, nearest_hit
 from .jit import INLINE, JIT
 from .labels import finish_radiance
-from .materials import K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R
+from .materials import (BACKDROP, GROUND, K_SIDE, KD_X, KD_Y, KD_Z, KW_B, KW_G, KW_R, M_KIND, MG_ALBEDO,
+                        PLASTIC)
 from .records import Ray
 from .sampling import branch_seed, env_lookup, mix64, uniform01
 from .surface import interaction, scatter
@@ -74,6 +75,29 @@ def _close(tex, scale, rot, lr, lg, lb, wr, wg, wb, dx, dy, dz):
     return lr + wr * er, lg + wg * eg, lb + wb * eb
 
 
+@njit(**INLINE)
+def _guide(sc, it, s, kids):
+    """The denoiser's guide at a node of the dominant path (module rule): ``(done, albedo r, g,
+    b, reflected share)``. A label's texel, the ground, the backdrop and a plastic closure end
+    the guide with their albedo, a frosted or rough surface with white; smooth glass and metal
+    pass it on (specular), giving the share of their children's weight that is reflected."""
+    if s.gr >= 0.0:
+        return True, s.gr, s.gg, s.gb, 0.0
+    kind = sc.mat_i[it.mat, M_KIND]
+    if kind == GROUND or kind == BACKDROP or kind == PLASTIC:
+        a = sc.mat_f[it.mat]
+        return True, a[MG_ALBEDO], a[MG_ALBEDO + 1], a[MG_ALBEDO + 2], 0.0
+    if it.rough > 0.0:
+        return True, 1.0, 1.0, 1.0, 0.0
+    total = reflected = 0.0
+    for c in range(s.nk):
+        w = kids[c, KW_R] + kids[c, KW_G] + kids[c, KW_B]
+        total += w
+        if kids[c, K_SIDE] < 0.5:
+            reflected += w
+    return False, 1.0, 1.0, 1.0, (reflected / total if total > 0.0 else 0.0)
+
+
 @njit(**JIT)
 def trace_sample(tables, ray, seed, cut, work, rec, leaving=-1, sidx=-1, pseed=0):
     """Radiance ``(r, g, b)`` of one camera ray and its record.
@@ -107,8 +131,14 @@ def trace_sample(tables, ray, seed, cut, work, rec, leaving=-1, sidx=-1, pseed=0
         the path to it, and rough surfaces draw their lobes from a net over the samples there
         (:func:`~.surface.lobe_uniforms`).
 
-    Returns ``(r, g, b, signature, object mask)``: radiance (finite, >= 0), a hash of the
-    dominant path's objects, and a bit per object the tree met.
+    Returns ``(r, g, b, signature, object mask, guide)``: radiance (finite, >= 0), a hash of
+    the dominant path's objects, a bit per object the tree met, and the denoiser's guide
+    ``(albedo r, g, b, normal x, y, z)``: the first hit's shading normal facing the ray (zero
+    for a ray that meets nothing: relief and cut facets stay crisp), and the albedo of the first
+    surface along the dominant path that is not smooth glass or metal (a label's texel, the
+    ground, a closure; white where the path leaves through glass into the environment), mixed
+    at the first glass hit with white by the share it reflects (:func:`_guide`). The guide
+    never touches the radiance.
     """
     sc, lab, tex, env_p = tables.scene, tables.labels, tables.texels, tables.env
     ox, oy, oz, dx, dy, dz = ray
@@ -123,6 +153,10 @@ def trace_sample(tables, ray, seed, cut, work, rec, leaving=-1, sidx=-1, pseed=0
     sig = np.uint64(0x243F6A8885A308D3)
     objmask = np.int64(0)
     dominant = True
+    g_open, g_first = True, True  # the guide: still looking; at the first hit
+    gr = gg = gb = 1.0
+    gnx = gny = gnz = 0.0
+    g_refl = 0.0
     stk_f[0, K_OX], stk_f[0, K_OY], stk_f[0, K_OZ] = ox, oy, oz
     stk_f[0, K_DX], stk_f[0, K_DY], stk_f[0, K_DZ] = dx, dy, dz
     stk_f[0, K_WR], stk_f[0, K_WG], stk_f[0, K_WB] = 1.0, 1.0, 1.0
@@ -179,6 +213,14 @@ def trace_sample(tables, ray, seed, cut, work, rec, leaving=-1, sidx=-1, pseed=0
         if inc != medium:
             counters[C_MISMATCH] += 1
         s = scatter(tables, it, wr, wg, wb, bseed, kids, work.scratch)
+        if dominant and g_open:
+            if g_first:
+                flip = -1.0 if it.sx * dx + it.sy * dy + it.sz * dz > 0.0 else 1.0
+                gnx, gny, gnz = flip * it.sx, flip * it.sy, flip * it.sz
+            done, gr, gg, gb, refl = _guide(sc, it, s, kids)
+            if g_first and not done:
+                g_refl = refl
+            g_open, g_first = not done, False
         objmask |= s.bits
         if s.label_bits != 0:  # a sheet's terms are summed apart, so a relabel can recompute them alone
             ar += wr * s.ar
@@ -236,4 +278,6 @@ def trace_sample(tables, ray, seed, cut, work, rec, leaving=-1, sidx=-1, pseed=0
         rest = lab.rest
         rest[0], rest[1], rest[2] = lr, lg, lb
     r, g, b = finish_radiance(lr, lg, lb, ar, ag, ab)
-    return r, g, b, sig, objmask
+    keep = 1.0 - g_refl  # (the first glass hit's reflection shows the environment: white)
+    guide = (g_refl + keep * gr, g_refl + keep * gg, g_refl + keep * gb, gnx, gny, gnz)
+    return r, g, b, sig, objmask, guide

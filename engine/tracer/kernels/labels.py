@@ -509,12 +509,15 @@ def label_hit(tables, it, wr, wg, wb, kids, scratch):
 
     ``it``'s normal is the object's oriented unit normal (pointing into the air), its shading
     normal ``s`` the one the surface's relief bends it to (``s = n`` without relief), ``w`` the
-    branch's weight (recorded for a relabel); ``tables`` a :class:`~.records.Tables`. Returns ``(nk, r, g, b, bits, rest)``: ``nk = -1`` when no label covers the point
+    branch's weight (recorded for a relabel); ``tables`` a :class:`~.records.Tables`.
+
+    Returns ``(nk, r, g, b, bits, rest, guide)``: ``nk = -1`` when no label covers the point
     (the object's material follows), else the number of children in ``kids`` and the radiance
     (per unit branch weight) the sheet sends back now; ``bits`` the labels consulted
     (object-mask bits, module rule); ``rest`` the uncovered fraction ``1 - alpha`` of the texel,
     which the caller gives what lies beneath (:func:`engine.tracer.kernels.surface.scatter`:
-    the glass of the wall, a closure's own material).
+    the glass of the wall, a closure's own material); ``guide`` the albedo the texel shows the
+    denoiser (its colour times ``alpha``, plus ``rest`` of white; ``-1`` where no label covers).
     """
     lab, sc, env_p = tables.labels, tables.scene, tables.env
     bx, by, bz = it.sx, it.sy, it.sz
@@ -524,7 +527,7 @@ def label_hit(tables, it, wr, wg, wb, kids, scratch):
     theta, h, v = label_point(seg, obj_i, obj_f, obj, part, px, py, pz)
     k, s, t, alpha, code, bits = find_label(lab, obj, theta, h, v, px, py)
     if k < 0 or (obj != 0 and nx * dx + ny * dy + nz * dz >= 0.0):  # a closure: outside only
-        return -1, 0.0, 0.0, 0.0, bits, 0.0
+        return -1, 0.0, 0.0, 0.0, bits, 0.0, (-1.0, -1.0, -1.0)
     lf, irr = lab.f, lab.irr
     scale, rot = env_p[0], env_p[1]
     outside = inc == AIR
@@ -588,4 +591,5 @@ def label_hit(tables, it, wr, wg, wb, kids, scratch):
     er, eg, eb = _emit(alpha, pr, cr, qr), _emit(alpha, pg, cg, qg), _emit(alpha, pb, cb, qb)
     if lab.hit_f.shape[0] > 0:
         _record_hit(lab, (wr, wg, wb), alpha, (pr, pg, pb), (qr, qg, qb), s_face, t, k, face)
-    return nk, er, eg, eb, bits, (1.0 - alpha if alpha < 1.0 else 0.0)
+    rest = 1.0 - alpha if alpha < 1.0 else 0.0
+    return nk, er, eg, eb, bits, rest, (alpha * cr + rest, alpha * cg + rest, alpha * cb + rest)

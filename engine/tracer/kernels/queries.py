@@ -44,6 +44,6 @@ def radiance(tables, o, d, cut, out, counters, seed):
     rec = Recorder(np.full(tables.scene.mat_i.shape[0], 255, np.int64), counters, np.zeros((0, 6), np.float32),
                    np.zeros(1, np.int64))
     for i in range(o.shape[0]):
-        r, g, b, _, _ = trace_sample(tables, Ray(o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2]),
+        r, g, b, _, _, _ = trace_sample(tables, Ray(o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2]),
                                      np.uint64(seed) + np.uint64(i), cut, work, rec)
         out[i, 0], out[i, 1], out[i, 2] = r, g, b

@@ -65,8 +65,10 @@ Hit = namedtuple("Hit", ("t", "obj", "part", "nx", "ny", "nz"))
 #: The samples a tile call traces: pixel columns and rows, first sample and count of each.
 Pixels = namedtuple("Pixels", ("cols", "rows", "first", "count"))
 #: Per pixel of a tile call: RGB sums, sums of squared luminance, the first sample's signature,
-#: the objects met, the shallowest depth each material was met; and the call's kernel counters.
-PixelSums = namedtuple("PixelSums", ("sum", "sumsq", "sig", "mask", "depth", "counters"))
+#: the objects met, the shallowest depth each material was met; and the call's kernel counters;
+#: then the sums of the denoiser's guides over the samples, ``(P, 6)``: albedo RGB and normal
+#: (:func:`~.integrator.trace_sample`'s guide rule).
+PixelSums = namedtuple("PixelSums", ("sum", "sumsq", "sig", "mask", "depth", "counters", "guide"))
 #: Where a sample's tree stops (:mod:`.integrator`): boundaries deep, branch weight, the Russian
 #: roulette weight (0: none), boundaries per sample.
 Cutoffs = namedtuple("Cutoffs", ("max_depth", "min_weight", "rr_weight", "max_nodes"))
@@ -85,8 +87,11 @@ Interaction = namedtuple("Interaction", ("px", "py", "pz", "nx", "ny", "nz", "dx
 #: ``nk`` children written into the work's ``kids``; ``e*`` radiance sent back at once and ``a*``
 #: a label sheet's share of it (summed apart for relabels), both per unit branch weight;
 #: ``bits`` the labels consulted (object-mask bits); ``label_bits`` nonzero when a label answered
-#: (the dominant path's signature takes them).
-Scattered = namedtuple("Scattered", ("nk", "er", "eg", "eb", "ar", "ag", "ab", "bits", "label_bits"))
+#: (the dominant path's signature takes them); ``g*`` the albedo a label's texel shows the
+#: denoiser's guide (its colour times its cover, the uncovered rest white), -1 where no label
+#: answered (:mod:`.integrator`'s guide rule reads the material instead).
+Scattered = namedtuple("Scattered", ("nk", "er", "eg", "eb", "ar", "ag", "ab", "bits", "label_bits",
+                                     "gr", "gg", "gb"))
 #: Decal rows and nodes, label rows, texels and their index, region codes and their index,
 #: finish-region rows, label sizes (mm), the irradiance table, lights, place rows, the mask of
 #: the objects labels lie on; then the record buffers of a relabel (hits, their count,

@@ -84,7 +84,7 @@ def sky_cells(tables, ground, z0, cells, idx, n_side, batch, seed, cut, work, re
                 phi = phi0 + (2.0 * u2 - 1.0) * half_az
                 r = math.sqrt(max(0.0, 1.0 - s))
                 wx, wy, wz = r * math.cos(phi), r * math.sin(phi), math.sqrt(s)
-                lr, lg, lb, _, _ = trace_sample(tables, Ray(px, py, z0, wx, wy, wz), branch_seed(cs, k), cut_c, work,
+                lr, lg, lb, _, _, _ = trace_sample(tables, Ray(px, py, z0, wx, wy, wz), branch_seed(cs, k), cut_c, work,
                                                 rec, ground)
                 if controlled:
                     er, eg, eb = env_lookup(tex, scale, rot, wx, wy, wz)
@@ -116,7 +116,7 @@ def sweep_cells(tables, sweep, cells, idx, n_side, batch, seed, cut, work, rec, 
             for b in range(n_side):
                 k, u1, u2 = stratum(cs, batch, n_side, a, b)
                 wx, wy, wz = cosine_about(nx, ny, nz, u1, u2)
-                lr, lg, lb, _, _ = trace_sample(tables, Ray(px, py, pz, wx, wy, wz), branch_seed(cs, k), cut_c, work,
+                lr, lg, lb, _, _, _ = trace_sample(tables, Ray(px, py, pz, wx, wy, wz), branch_seed(cs, k), cut_c, work,
                                                 rec, sweep)
                 er, eg, eb = open_model(env_p, tex, wx, wy, wz)
                 lr, lg, lb = lr - er, lg - eg, lb - eb

@@ -220,22 +220,23 @@ def scatter(tables, it, wr, wg, wb, bseed, kids, scratch):
     sc, lab, fin = tables.scene, tables.labels, tables.finishes
     bits = np.int64(0)
     if lab.rows.shape[0] > 0 and (lab.objects[0] >> np.int64(it.obj)) & 1:
-        nk, ar, ag, ab, lbits, rest = label_hit(tables, it, wr, wg, wb, kids, scratch)
+        nk, ar, ag, ab, lbits, rest, guide = label_hit(tables, it, wr, wg, wb, kids, scratch)
         if nk >= 0:
             er = eg = eb = 0.0
             if rest > 0.0 and it.obj == 0:  # the wall's glass shows through the uncovered part
                 nk = _glass_beneath(sc, it, rest, kids, nk)
             elif rest > 0.0:  # a closure shows through the print's uncovered part
                 nk, er, eg, eb, bits = _closure_beneath(tables, it, bseed, kids, nk, rest, scratch)
-            return Scattered(nk, er, eg, eb, ar, ag, ab, bits | lbits, lbits)
+            return Scattered(nk, er, eg, eb, ar, ag, ab, bits | lbits, lbits, guide[0], guide[1], guide[2])
         bits = lbits
     if sc.mat_i[it.mat, M_KIND] == GROUND:
         nk, er, eg, eb, gbits = ground(tables, it, bseed, kids, scratch)
-        return Scattered(nk, er, eg, eb, 0.0, 0.0, 0.0, bits | gbits, np.int64(0))
+        return Scattered(nk, er, eg, eb, 0.0, 0.0, 0.0, bits | gbits, np.int64(0), -1.0, -1.0, -1.0)
     if sc.mat_i[it.mat, M_KIND] == BACKDROP:
         nk, er, eg, eb, gbits = backdrop(tables, it, bseed, kids, scratch)
-        return Scattered(nk, er, eg, eb, 0.0, 0.0, 0.0, bits | gbits, np.int64(0))
+        return Scattered(nk, er, eg, eb, 0.0, 0.0, 0.0, bits | gbits, np.int64(0), -1.0, -1.0, -1.0)
     if fin.obj_rows[it.obj, 1] > 0 or sc.mat_i[it.mat, M_KIND] == PLASTIC:
         nk, er, eg, eb, fbits = _bumped(tables, it, bseed, kids, scratch)
-        return Scattered(nk, er, eg, eb, 0.0, 0.0, 0.0, bits | fbits, np.int64(0))
-    return Scattered(_material(tables, it, bseed, kids, scratch), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, bits, np.int64(0))
+        return Scattered(nk, er, eg, eb, 0.0, 0.0, 0.0, bits | fbits, np.int64(0), -1.0, -1.0, -1.0)
+    return Scattered(_material(tables, it, bseed, kids, scratch), 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, bits, np.int64(0),
+                     -1.0, -1.0, -1.0)

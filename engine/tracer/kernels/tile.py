@@ -36,8 +36,8 @@ def render_pixels(tables, cam, px, cut, rr_from, out, cancel, rays):
     Adds into ``out`` (a :class:`~.records.PixelSums`): ``sum[p]`` (RGB radiance sum over the
     samples), ``sumsq[p]`` (sum of the squared per-sample mean of RGB, for noise estimates),
     ``sig[p]`` (the first sample's dominant-path signature), ``mask[p]`` (objects met, OR over
-    samples), min-s ``depth[p, m]`` (shallowest depth each material was met) and the kernel
-    counters. ``cut`` are the tree's cut-offs (:class:`~.records.Cutoffs`); samples numbered
+    samples), min-s ``depth[p, m]`` (shallowest depth each material was met), ``guide[p]`` (the
+    sums of the denoiser's guides, albedo and normal) and the kernel counters. ``cut`` are the tree's cut-offs (:class:`~.records.Cutoffs`); samples numbered
     ``rr_from`` and up play Russian roulette below ``cut.rr_weight``, the others not (see
     :func:`~.integrator.trace_sample`); ``tables`` what the trees read (a
     :class:`~.records.Tables`), ``rays`` the ``(float32 (N, 6 or 9), count (1,))`` buffers every
@@ -75,7 +75,7 @@ def _render_loop(tables, cam, px, cut, rr_from, out, cancel, rays, work):
             seed = mix64(np.uint64(pix) * np.uint64(0x9E3779B97F4A7C15) ^ np.uint64(k))
             h0 = lab.hit_n[0]
             rec = Recorder(out.depth[p], out.counters, rays[0], rays[1])
-            r, g, b, sig, m = trace_sample(tables, Ray(ex, ey, ez, dx, dy, dz), seed, cut if k >= rr_from else plain,
+            r, g, b, sig, m, guide = trace_sample(tables, Ray(ex, ey, ez, dx, dy, dz), seed, cut if k >= rr_from else plain,
                                            work, rec, -1, k - 1, pseed)
             record_sample(lab, smp, h0)
             smp += 1
@@ -87,6 +87,8 @@ def _render_loop(tables, cam, px, cut, rr_from, out, cancel, rays, work):
             lum = (r + g + b) / 3.0
             ssq += lum * lum
             mask |= m
+            for j in range(6):
+                out.guide[p, j] += guide[j]
         out.sum[p, 0] += sr
         out.sum[p, 1] += sg
         out.sum[p, 2] += sb

@@ -68,6 +68,9 @@ class FinalRenderDialog(QDialog):
         for text, _ in FORMATS:
             self.format.addItem(text)
         self.alpha = QCheckBox("Alpha (the bottle's coverage)")
+        self.denoise = QCheckBox("Denoise (keep the raw image beside it)")
+        self.denoise.setToolTip("Writes the denoised estimate (Intel Open Image Denoise, guided by albedo and normal) "
+                                "and the raw render as NAME.raw.EXT; each file says which it is")
         self.path = QLineEdit(self._default_path())
         self.browse = QPushButton("Browse\u2026")
         self.render_button = QPushButton("Render")
@@ -97,6 +100,7 @@ class FinalRenderDialog(QDialog):
         form.addRow("Samples", self.samples)
         form.addRow("Format", self.format)
         form.addRow("", self.alpha)
+        form.addRow("", self.denoise)
         where = QHBoxLayout()
         where.addWidget(self.path, 1)
         where.addWidget(self.browse)
@@ -143,7 +147,7 @@ class FinalRenderDialog(QDialog):
             self.current = FinalRender(
                 self.window.scene.snapshot(), dict(self.window.scene.assets), self.path.text(),
                 width=self.width_px.value(), height=self.height_px.value(), spp=self.samples.value(),
-                alpha=self.alpha.isChecked(),
+                alpha=self.alpha.isChecked(), denoise=self.denoise.isChecked(),
                 on_progress=self._worker_progress.emit, on_done=self._worker_done.emit)
         except ValueError as exc:
             self.status.setText(f"Cannot render: {exc}")
@@ -168,7 +172,7 @@ class FinalRenderDialog(QDialog):
             self.current.cancel()
 
     def _set_running(self, running: bool):
-        for w in (self.width_px, self.height_px, self.samples, self.format, self.alpha, self.path,
+        for w in (self.width_px, self.height_px, self.samples, self.format, self.alpha, self.denoise, self.path,
                   self.browse, self.render_button):
             w.setEnabled(not running)
         self.cancel_button.setEnabled(running)

@@ -11,8 +11,16 @@ The preview renders at the size the window asks for (the pane in device pixels, 
 a cheap **live pass** instead: a quarter-size job at 1 sample per pixel, cancelled by the next
 edit; releasing the hold starts the full render of the newest design. The controller says
 honestly what the picture is (:attr:`state`, signal ``stateChanged``): ``"stale"`` while a hold
-keeps the full render back, ``"refining"`` while a full job adds waves, ``"converged"`` once it
-is done for the design shown, ``"failed"``. A job's failure is reported through ``failed`` and
+keeps the full render back, ``"refining"`` while a full job adds waves, ``"denoised"`` while the
+picture is the denoiser's estimate of the film after the newest wave, ``"converged"`` once it is
+done for the design shown (the raw film, never the denoised one), ``"failed"``.
+
+The denoised preview (:class:`engine.tracer.denoise.FrameDenoiser`, on a thread of its own with
+one OIDN thread, niced like the workers): after each wave of a full job from the first
+full-resolution one (wave 1; wave 0 is the block preview) the film and its guides
+are denoised as a whole frame; once one is shown the raw tiles of later waves are not painted
+over it (a mix of the two would be neither), and convergence paints the raw film whole.
+:meth:`set_denoise` (View ▸ Raw preview) turns it off and shows the raw film at once. A job's failure is reported through ``failed`` and
 the controller stays usable. Every job is made in :meth:`_make_job`, the one place that knows
 the tracer's constructor.
 """
@@ -61,6 +69,8 @@ class RenderController(QObject):
     stateChanged = Signal(str, int, float)
     _worker_tile = Signal(int, object, object)
     _worker_done = Signal(int, object)
+    _worker_wave = Signal(int, object, int)
+    _denoised = Signal(int, object, object, float)
 
     def __init__(self, parent=None, restart_delay_ms: int = 40, flush_ms: int = 33):
         super().__init__(parent)
@@ -80,6 +90,13 @@ class RenderController(QObject):
         self._flush_timer.timeout.connect(self.flush_tiles)
         self._worker_tile.connect(self._on_worker_tile)
         self._worker_done.connect(self._on_worker_done)
+        self._worker_wave.connect(self._on_worker_wave)
+        self._denoised.connect(self._on_denoised)
+        self.denoise = True  # False: the raw film only (View ▸ Raw preview)
+        self._frame_denoiser = None  # made at the first wave (OIDN loads then)
+        self._denoised_generation = -1  # whose denoised frame is on screen
+        #: the mean samples per pixel of the denoised frame shown (the status bar says them)
+        self.denoised_samples = 0.0
         # why: every core: the tracer's kernels release the GIL, and the GUI thread only copies
         # finished tiles (the GUI-drag benchmark measures the cost of this choice)
         cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 2)
@@ -180,6 +197,47 @@ class RenderController(QObject):
         for job in jobs + self._old_jobs:
             job.wait(timeout)
         self._old_jobs = []
+        if self._frame_denoiser is not None:
+            self._frame_denoiser.close(timeout)
+            self._frame_denoiser = None
+
+    def set_denoise(self, on: bool):
+        """Show the denoised preview (``True``, the default) or the raw film only: turning it
+        off repaints the raw film at once, turning it on denoises the film as it is now."""
+        self.denoise = bool(on)
+        job = self.job
+        if job is None or self.live:
+            return
+        if not self.denoise and self._denoised_generation == self.generation:
+            self._denoised_generation = -1
+            self._paint_whole(job)
+            if self.ended_generation != self.generation:
+                self._set_state("refining", self.wave, float(job.progress))
+        elif self.denoise and self.ended_generation != self.generation and self.wave >= 0:
+            self._request_denoise(self.generation, job, self.wave)
+
+    def _paint_whole(self, job):
+        """Hand out the raw film's whole frame as one tile (GUI thread)."""
+        w, h = self.size
+        self.tileReady.emit(self.generation, 0, 0, job.display((0, h, 0, w)))
+
+    def _request_denoise(self, generation, job, wave):
+        if self._frame_denoiser is None:
+            from engine.color import tonemap_srgb8
+            from engine.tracer.denoise import FrameDenoiser
+
+            def deliver(key, image, samples):  # (on the denoiser's thread: the tone map too)
+                self._denoised.emit(key[0], key[1], tonemap_srgb8(image), samples)
+
+            def failed(key, message):
+                self.failed.emit(key[0], f"denoiser: {message}")
+
+            self._frame_denoiser = FrameDenoiser(deliver, failed, nice=WORKER_NICE)
+        self._frame_denoiser.request((generation, job, wave), job)
+
+    def denoiser_idle(self) -> bool:
+        """Whether no frame waits for the denoiser or is being denoised (tests, screenshots)."""
+        return self._frame_denoiser is None or self._frame_denoiser.idle()
 
     def _set_state(self, state: str, wave: int, fraction: float):
         self.state, self.wave = state, wave
@@ -200,7 +258,7 @@ class RenderController(QObject):
             design, assets, width=width, height=height, spp=spp, threads=self.threads,
             worker_nice=WORKER_NICE, on_tile=lambda j, t, g=generation: self._worker_tile.emit(g, j, t),
             on_done=lambda j, g=generation: self._worker_done.emit(g, j), **engine_bridge.WINDOW_NOISE,
-            **reuse)
+            on_wave=None if live else (lambda j, w, g=generation: self._worker_wave.emit(g, j, w)), **reuse)
         if not live:
             self._last_full = job
         return job
@@ -247,8 +305,9 @@ class RenderController(QObject):
         if not tiles or job is None:
             return
         generation = self.generation
+        denoised = self.denoise and not self.live and self._denoised_generation == generation
         try:
-            for tile in _latest_per_area(tiles):  # only the tiles' pixels: the film is locked meanwhile
+            for tile in ([] if denoised else _latest_per_area(tiles)):  # only the tiles' pixels: the film is locked meanwhile
                 rgb8 = job.display((tile.y0, tile.y1, tile.x0, tile.x1))
                 self.tileReady.emit(generation, tile.x0, tile.y0, rgb8)
         except Exception as exc:  # why: a bad tile is reported, the job keeps running
@@ -257,7 +316,24 @@ class RenderController(QObject):
         fraction = float(job.progress)
         self.progressed.emit(generation, fraction, *self.size)
         wave = max(max(t.wave for t in tiles), self.wave)
-        self._set_state("stale" if self.live else "refining", wave, 0.0 if self.live else fraction)
+        state = "stale" if self.live else ("denoised" if denoised else "refining")
+        self._set_state(state, wave, 0.0 if self.live else fraction)
+
+    def _on_worker_wave(self, generation, job, wave):
+        # (wave 0 is the block preview: its guides hold only the blocks' centres)
+        if generation != self.generation or job is not self.job or self.live or not self.denoise or wave < 1:
+            return
+        self._request_denoise(generation, job, wave)
+
+    def _on_denoised(self, generation, job, rgb8, samples):
+        if (generation != self.generation or job is not self.job or self.live or not self.denoise
+                or self.ended_generation == generation):
+            return  # stale, converged meanwhile, or the raw film asked for
+        self._dirty = []  # (raw tiles of this wave are in the frame)
+        self._denoised_generation = generation
+        self.denoised_samples = samples
+        self.tileReady.emit(generation, 0, 0, rgb8)
+        self._set_state("denoised", self.wave, float(job.progress))
 
     def _on_worker_done(self, generation, job):
         if generation != self.generation or job is not self.job:
@@ -272,6 +348,9 @@ class RenderController(QObject):
         elif not getattr(job, "cancelled", False):
             self.ended_generation = generation
             self.converged_generation = generation
+            if self._denoised_generation == generation:  # the raw film replaces the estimate
+                self._denoised_generation = -1
+                self._paint_whole(job)
             self._set_state("converged", self.wave, 1.0)
             self.finished.emit(generation)
 

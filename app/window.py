@@ -34,7 +34,8 @@ MAX_PREVIEW_PIXELS = 3_000_000
 #: How long (ms) the pane's size must hold still before the preview renders at the new size.
 RESIZE_SETTLE_MS = 250
 STATE_TEXT = {"stale": "Stale: a quick pass while you drag; the full render follows on release",
-              "refining": "Refining", "converged": "Converged", "failed": "Render failed",
+              "refining": "Refining", "denoised": "Denoised preview", "converged": "Converged",
+              "failed": "Render failed",
               "idle": ""}
 
 
@@ -173,6 +174,11 @@ class MainWindow(QMainWindow):
             act.setShortcut(QKeySequence(key))
             act.triggered.connect(slot)
             view.addAction(act)
+        self.raw_preview_action = QAction("Raw preview (no denoiser)", self)
+        self.raw_preview_action.setCheckable(True)
+        self.raw_preview_action.setToolTip("Show the tracer's film as it is, without the denoised estimate")
+        self.raw_preview_action.toggled.connect(lambda raw: self.render_controller.set_denoise(not raw))
+        view.addAction(self.raw_preview_action)
         for dock in self.findChildren(QDockWidget):
             view.addAction(dock.toggleViewAction())
         render = self.menuBar().addMenu("&Render")
@@ -275,12 +281,15 @@ class MainWindow(QMainWindow):
         text = STATE_TEXT.get(state, state)
         if state == "refining" and wave >= 0:
             text = f"Refining (wave {wave}) {int(fraction * 100)} %"
+        elif state == "denoised":  # an estimate: never called converged
+            text = f"Denoised preview \u00b7 {max(1, round(rc.denoised_samples))} samples"
         elif state == "converged":
             text = f"Converged {rc.size[0]}\u00d7{rc.size[1]}"
             text += capped_note(getattr(rc.job, "capped", 0), rc.size[0] * rc.size[1])
         self.render_state.setText(text)
         self.render_progress.setValue(int(round(fraction * 100)))
-        self.preview.set_note({"stale": "stale: live pass", "refining": "refining"}.get(state, ""))
+        self.preview.set_note({"stale": "stale: live pass", "refining": "refining",
+                               "denoised": "denoised preview"}.get(state, ""))
 
     def _on_render_failed(self, generation, message):
         self.statusBar().showMessage(f"Render failed: {message}")

@@ -13,6 +13,7 @@ from app.final_render import format_seconds
 from engine.files.images import read_image
 from engine.files.project import load_project
 from engine.files.images import save_image
+from engine.tracer.denoise import RAW_NOTE
 from engine.tracer.job import render_image
 
 pytestmark = pytest.mark.usefixtures("no_leaks")
@@ -60,7 +61,7 @@ def test_a_final_image_is_the_command_line_render_and_the_preview_comes_back(win
     assert "Saved" in d.status.text()
     reference = out / "reference.png"
     save_image(str(reference), render_image(w.scene.snapshot(), dict(w.scene.assets), width=24, height=32,
-                                            spp=2))
+                                            spp=2), description=RAW_NOTE)
     assert (out / "final.png").read_bytes() == reference.read_bytes()
     assert d.open_button.isEnabled()
     qtbot.mouseClick(d.open_button, Qt.LeftButton)
@@ -126,3 +127,25 @@ def test_shutting_the_window_mid_render_stops_it_and_writes_nothing(window, qtbo
     w.shutdown()
     assert render.done and render.state == "cancelled"
     assert not d.isVisible() and os.listdir(out) == []
+
+
+def test_denoise_writes_the_denoised_image_and_the_raw_one_beside_it(window, qtbot, tmp_path):
+    import OpenImageIO as oiio
+    w = window
+    out = tmp_path / "out"
+    out.mkdir()
+    d = open_dialog(w, qtbot, out / "still.png", spp=1)
+    d.denoise.setChecked(True)
+    with qtbot.waitSignal(d.ended, timeout=60_000) as ended:
+        qtbot.mouseClick(d.render_button, Qt.LeftButton)
+        assert not d.denoise.isEnabled()
+    assert ended.args[0] == "written"
+    assert sorted(os.listdir(out)) == ["still.png", "still.raw.png"]
+    notes = {}
+    for name in ("still.png", "still.raw.png"):
+        inp = oiio.ImageInput.open(str(out / name))
+        notes[name] = inp.spec().get_string_attribute("ImageDescription")
+        inp.close()
+    assert notes["still.raw.png"] == RAW_NOTE
+    assert notes["still.png"].startswith("glassbench: denoised estimate of the raw render still.raw.png")
+    assert not np.array_equal(read_image(str(out / "still.png")), read_image(str(out / "still.raw.png")))

@@ -40,6 +40,8 @@ class FinalRender:
         Pixels and samples per pixel (>= 1).
     alpha : bool
         Add the bottle's coverage as an alpha channel (:func:`engine.tracer.picking.coverage`).
+    denoise : bool
+        Write the denoised image at ``path`` and the raw one beside it (:func:`write_final`).
     threads : int, optional
         Tracer threads (default: the tracer's choice).
     on_progress, on_done : callable, optional
@@ -47,7 +49,8 @@ class FinalRender:
     """
 
     def __init__(self, design, assets, path: str, *, width: int, height: int, spp: int,
-                 alpha: bool = False, threads: int | None = None, on_progress=None, on_done=None):
+                 alpha: bool = False, denoise: bool = False, threads: int | None = None, on_progress=None,
+                 on_done=None):
         ext = os.path.splitext(path)[1].lower()
         if ext not in (".png", ".exr", ".tif", ".tiff"):
             raise ValueError(f"the file name must end in .png, .exr or .tif: {path}")
@@ -60,6 +63,7 @@ class FinalRender:
         self.design, self.assets, self.path = design, dict(assets or {}), os.path.abspath(path)
         self.width, self.height, self.spp = int(width), int(height), int(spp)
         self.alpha = bool(alpha)
+        self.denoise = bool(denoise)
         self.threads = threads
         self.on_progress, self.on_done = on_progress, on_done
         self.error: BaseException | None = None
@@ -124,12 +128,7 @@ class FinalRender:
             elif job.cancelled:
                 self.state = "cancelled"
             else:
-                from ..files.images import save_image
-                rgb, cov = job.image(), None
-                if self.alpha:  # the bottle's coverage, and on a shadow catcher its shadow
-                    from ..tracer.picking import cutout
-                    rgb, cov = cutout(self.design, self.assets, rgb)
-                save_image(self.path, rgb, cov)
+                write_final(job, self.design, self.assets, self.path, alpha=self.alpha, denoise=self.denoise)
                 self.state = "written"
         except Exception as exc:  # reported to the caller, never lost
             self.error, self.state = exc, "failed"
@@ -141,3 +140,26 @@ class FinalRender:
                     self.on_done(self)
             finally:
                 self._returned.set()
+
+
+def write_final(job, design, assets, path, *, alpha: bool = False, denoise: bool = False) -> list[str]:
+    """Write the finished ``job``'s image to ``path`` (atomically; PNG/EXR/TIFF), with the
+    bottle's coverage as alpha when asked (and on a shadow catcher its shadow). With ``denoise``
+    the image at ``path`` is the denoised estimate (:func:`engine.tracer.denoise.denoise_job`)
+    and the raw film goes beside it (:func:`engine.tracer.denoise.raw_path`); each file's
+    ``ImageDescription`` says which it is. Returns the paths written, the raw one first."""
+    from ..files.images import save_image
+    from ..tracer.denoise import DENOISED_NOTE, RAW_NOTE, denoise_job, raw_path
+    rgb = job.image()
+    images = [(os.fspath(path), rgb, RAW_NOTE)]
+    if denoise:  # (the film's own image and guides: the denoiser never touches the film)
+        raw = raw_path(path)
+        images = [(raw, rgb, RAW_NOTE), (os.fspath(path), denoise_job(job),
+                                         DENOISED_NOTE.format(raw=os.path.basename(raw)))]
+    for where, image, note in images:
+        cov = None
+        if alpha:
+            from ..tracer.picking import cutout
+            image, cov = cutout(design, assets, image)
+        save_image(where, image, cov, note)
+    return [where for where, _, _ in images]

@@ -14,8 +14,9 @@ import time
 
 from .. import limits
 from ..errors import CliError, shown
-from ..files.images import IMAGE_SUFFIXES, save_image
+from ..files.images import IMAGE_SUFFIXES
 from ..limits import check_image_size
+from ..batch.still import write_final
 from ..tracer.job import RenderJob
 
 
@@ -31,6 +32,9 @@ def add_parsers(sub) -> None:
                              "pixels whose samples still scatter up to 64 x N in all (default: the project's)")
     render.add_argument("--alpha", action="store_true",
                         help="add the bottle's coverage (glass and closure) as an alpha channel")
+    render.add_argument("--denoise", action="store_true",
+                        help="write the denoised image (Intel Open Image Denoise, guided by albedo and normal) and "
+                             "keep the raw one beside it as NAME.raw.EXT; each file's description says which it is")
 
 
 def cmd_render(args) -> int:
@@ -42,17 +46,23 @@ def cmd_render(args) -> int:
         v = getattr(args, name)
         if v is not None:
             limits.check_range(f"--{name}", v, bounds, integer=True)
-    render_command(args.project, args.output, args.width, args.height, args.spp, alpha=args.alpha)
-    print(f"wrote {args.output}")
+    render_command(args.project, args.output, args.width, args.height, args.spp, alpha=args.alpha,
+                   denoise=args.denoise)
+    if args.denoise:
+        from ..tracer.denoise import raw_path
+        print(f"wrote {args.output} (denoised) and {raw_path(args.output)} (raw)")
+    else:
+        print(f"wrote {args.output}")
     return 0
 
 
 def render_command(project_path, out_path, width=None, height=None, spp=None, threads=None,
-                   progress=True, alpha=False) -> int:
+                   progress=True, alpha=False, denoise=False) -> int:
     """Render a ``.glassbench`` project to ``out_path``; returns the exit status (0 = written).
 
     ``width``, ``height`` (pixels) and ``spp`` override the project's render settings; ``alpha``
-    adds the coverage as alpha. With ``progress`` a percentage line is updated on stderr; the
+    adds the coverage as alpha; ``denoise`` writes the denoised image to ``out_path`` and the raw
+    one beside it (:func:`engine.tracer.denoise.raw_path`). With ``progress`` a percentage line is updated on stderr; the
     time taken is printed on stdout. Raises ``engine.errors.ProjectError`` for an unreadable
     project and ``ValueError`` for a bad output name; a failing render re-raises the worker's
     exception.
@@ -76,11 +86,7 @@ def render_command(project_path, out_path, width=None, height=None, spp=None, th
         print(file=sys.stderr)
     if job.error is not None:
         raise job.error
-    rgb, cov = job.image(), None
-    if alpha:  # the bottle's coverage, and on a shadow catcher its shadow
-        from ..tracer.picking import cutout
-        rgb, cov = cutout(design, assets, rgb)
     secs = time.perf_counter() - t0
-    save_image(out_path, rgb, cov)
+    write_final(job, design, assets, out_path, alpha=alpha, denoise=denoise)
     print(f"rendered {job.width}x{job.height}, {job.spp} spp, in {secs:.2f} s")
     return 0

@@ -21,8 +21,9 @@ from ..io.atomic import replacing
 IMAGE_SUFFIXES = (".png", ".exr", ".tif", ".tiff")
 
 
-def save_image(path, rgb, alpha=None) -> None:
-    """Write linear ``rgb`` ``(H, W, 3)`` (and ``alpha`` ``(H, W)`` in [0, 1], optional) to ``path``.
+def save_image(path, rgb, alpha=None, description: str | None = None) -> None:
+    """Write linear ``rgb`` ``(H, W, 3)`` (and ``alpha`` ``(H, W)`` in [0, 1], optional) to ``path``,
+    with ``description`` as its ``ImageDescription`` (what the image is: raw or denoised).
 
     Raises ``ValueError`` for a suffix other than :data:`IMAGE_SUFFIXES` and ``OSError`` when the
     file cannot be written.
@@ -49,6 +50,8 @@ def save_image(path, rgb, alpha=None) -> None:
         spec.alpha_channel = 3
         if not exr:
             spec.attribute("oiio:UnassociatedAlpha", 1)
+    if description:
+        spec.attribute("ImageDescription", str(description))
     with replacing(path, suffix=ext) as tmp:
         out = oiio.ImageOutput.create(tmp)
         if out is None:

@@ -136,7 +136,7 @@ def test_a_failed_write_whose_cleanup_also_fails_is_one_project_error(tmp_path, 
 
 
 def test_a_failed_image_write_keeps_the_previous_image(tmp_path):
-    from engine.cli.render import save_image
+    from engine.files.images import save_image
     path = tmp_path / "render.png"
     save_image(path, np.full((4, 4, 3), 0.5, np.float32))
     before = path.read_bytes()

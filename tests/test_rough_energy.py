@@ -50,7 +50,7 @@ def _mirror_mean(mirror, mirror_avg, alpha, cos_i, u, mat_f):
     sin_i = math.sqrt(1.0 - cos_i * cos_i)
     out = np.zeros(3)
     for i in range(u.shape[0]):
-        M.rough_mirror(mirror, mirror_avg, alpha, sin_i, 0.0, -cos_i, 0.0, 0.0, 1.0, u[i, 0], u[i, 1], kids,
+        M.rough_mirror(mirror, mirror_avg, alpha, (sin_i, 0.0, -cos_i), (0.0, 0.0, 1.0), u[i, 0], u[i, 1], kids,
                        mat_f, 0, -1.0)
         out += kids[0, 3:6]
     return out / u.shape[0]

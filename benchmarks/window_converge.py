@@ -162,6 +162,23 @@ def flip_mean(image, other) -> float:
     return float(flip_evaluator.evaluate(a, b, "LDR", applyMagma=False)[1])
 
 
+_DENOISERS: dict = {}
+
+
+def _warm_denoiser(width, height):
+    """The window's preview denoiser, made once per run and warmed on a frame of the size: OIDN
+    loads its library and builds its filter for a size once, as the window does at its first
+    denoised frame."""
+    from engine.tracer.denoise import Denoiser
+
+    if (width, height) not in _DENOISERS:
+        den = Denoiser()
+        den(np.full((height, width, 3), 0.5, np.float32), np.full((height, width, 3), 0.5, np.float32),
+            np.zeros((height, width, 3), np.float32))
+        _DENOISERS[(width, height)] = den
+    return _DENOISERS[(width, height)]
+
+
 def denoised_progress(design, assets, width, height, threads, policy, converged) -> dict:
     """What the window shows on the way to ``converged`` (its converged image at ``width x
     height``), from a second render as the window runs it: the denoiser (one thread, the
@@ -185,7 +202,8 @@ def denoised_progress(design, assets, width, height, threads, policy, converged)
         wave, raw = key
         shown.append((t, wave, image, raw))
 
-    watcher = FrameDenoiser(deliver, nice=WORKER_NICE)  # (the window's denoiser: its threads, its quality)
+    # the window's denoiser (its threads, its quality), warm as the window's is after its first frame
+    watcher = FrameDenoiser(deliver, denoiser=_warm_denoiser(width, height), nice=WORKER_NICE)
 
     def on_wave(job, wave):  # (on the job's thread: as cheap as the window's signal)
         if wave == 0 and clock["first"] is None:
@@ -196,7 +214,8 @@ def denoised_progress(design, assets, width, height, threads, policy, converged)
     clear_stage_caches()
     clock["start"] = time.perf_counter()
     try:
-        job, secs = render(design, assets, width, height, threads, policy=policy, on_wave=on_wave)
+        job, secs = render(design, assets, width, height, threads, policy=policy, on_wave=on_wave,
+                           worker_nice=WORKER_NICE)  # (the window's workers: niced as its denoiser)
     finally:
         watcher.close(120)
     frames = []

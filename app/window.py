@@ -282,7 +282,8 @@ class MainWindow(QMainWindow):
         if state == "refining" and wave >= 0:
             text = f"Refining (wave {wave}) {int(fraction * 100)} %"
         elif state == "denoised":  # an estimate: never called converged
-            text = f"Denoised preview \u00b7 {max(1, round(rc.denoised_samples))} samples"
+            n = max(1, round(rc.denoised_samples))
+            text = f"Denoised preview \u00b7 {n} sample{'' if n == 1 else 's'}"
         elif state == "converged":
             text = f"Converged {rc.size[0]}\u00d7{rc.size[1]}"
             text += capped_note(getattr(rc.job, "capped", 0), rc.size[0] * rc.size[1])

@@ -41,7 +41,7 @@ def test_an_edit_on_the_knurled_jar_shows_a_denoised_preview_then_the_converged_
     rc.tileReady.connect(lambda g, x0, y0, rgb8: frames.append(rgb8) if rgb8.shape[:2] == (80, 64) else None)
     assert w.editor.apply("Glass IOR", None, glass=dataclasses.replace(d.glass, ior=d.glass.ior + 0.02))
     qtbot.waitUntil(lambda: rc.state == "denoised", timeout=300_000)
-    assert re.fullmatch(r"Denoised preview \u00b7 \d+ samples", w.render_state.text())
+    assert re.fullmatch(r"Denoised preview \u00b7 (1 sample|\d+ samples)", w.render_state.text())
     assert w.preview.note == "denoised preview"
     denoised = frames[-1]
     assert np.array_equal(_shown(w.preview), denoised)  # the whole frame, not tiles over it

@@ -156,10 +156,13 @@ def write_final(job, design, assets, path, *, alpha: bool = False, denoise: bool
         raw = raw_path(path)
         images = [(raw, rgb, RAW_NOTE), (os.fspath(path), denoise_job(job),
                                          DENOISED_NOTE.format(raw=os.path.basename(raw)))]
+    parts = None
+    if alpha:  # (traced once for both images)
+        from ..tracer.picking import cut_out, cutout_parts
+        parts = cutout_parts(design, assets, rgb.shape[1], rgb.shape[0])
     for where, image, note in images:
         cov = None
-        if alpha:
-            from ..tracer.picking import cutout
-            image, cov = cutout(design, assets, image)
+        if parts is not None:
+            image, cov = cut_out(image, parts)
         save_image(where, image, cov, note)
     return [where for where, _, _ in images]

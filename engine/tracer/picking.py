@@ -89,10 +89,25 @@ def cutout(design, assets, rgb, grid: int = 4):
     brighter than the background has alpha 0 there: straight alpha cannot add light.
     ``colour`` is unassociated (:func:`engine.files.images.save_image` multiplies for EXR)."""
     h, w = rgb.shape[:2]
+    return cut_out(rgb, cutout_parts(design, assets, w, h, grid))
+
+
+def cutout_parts(design, assets, width: int, height: int, grid: int = 4) -> tuple:
+    """What :func:`cutout` traces for an image of ``width x height``: ``(bottle coverage, the
+    background seen on a shadow catcher or None)``; one pair serves any image of the design
+    (the raw render and its denoised estimate)."""
     if design.stage.kind != "shadow":
-        return rgb, coverage(design, w, h, grid)
+        return coverage(design, width, height, grid), None
     from .tables.environment import environment_from_design
-    bottle, _, bg = _pixel_parts(design, w, h, grid, environment_from_design(design.environment, assets))
+    bottle, _, bg = _pixel_parts(design, width, height, grid, environment_from_design(design.environment, assets))
+    return bottle, bg
+
+
+def cut_out(rgb, parts) -> tuple:
+    """:func:`cutout` of ``rgb`` from its :func:`cutout_parts`."""
+    bottle, bg = parts
+    if bg is None:
+        return rgb, bottle
     rgb = np.asarray(rgb, float)
     kept = np.divide(rgb, bg, out=np.ones_like(rgb), where=bg > 0.0).min(axis=2)
     shade = np.clip(1.0 - kept, 0.0, 1.0)

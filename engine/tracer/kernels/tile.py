@@ -69,12 +69,12 @@ def _render_loop(tables, cam, px, cut, rr_from, out, cancel, rays, work):
         pseed = mix64(np.uint64(pix) ^ np.uint64(0x2545F4914F6CDD1D))  # the pixel's, for every sample
         sr = sg = sb = ssq = 0.0
         mask = np.int64(0)
+        rec = Recorder(out.depth[p], out.counters, rays[0], rays[1])  # (the pixel's, for every sample)
         for k in range(first[p], first[p] + count[p]):
             fx, fy = pixel_offset(pix, k)
             dx, dy, dz = camera_ray(cam, cols[p] + fx, rows[p] + fy)
             seed = mix64(np.uint64(pix) * np.uint64(0x9E3779B97F4A7C15) ^ np.uint64(k))
             h0 = lab.hit_n[0]
-            rec = Recorder(out.depth[p], out.counters, rays[0], rays[1])
             r, g, b, sig, m, guide = trace_sample(tables, Ray(ex, ey, ez, dx, dy, dz), seed, cut if k >= rr_from else plain,
                                            work, rec, -1, k - 1, pseed)
             record_sample(lab, smp, h0)

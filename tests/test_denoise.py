@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from engine.files.project import load_project
-from engine.tracer.denoise import Denoiser, FrameDenoiser
+from engine.tracer.denoise import Denoiser, FrameDenoiser, denoised_frame, raw_weight
+from engine.tracer.film import Film
 from engine.tracer.job import RenderJob
 
 RNG = np.random.default_rng(42)
@@ -95,6 +96,47 @@ def test_the_converged_image_is_the_same_with_the_denoiser_watching_every_wave()
     assert frames and frames[0][1] == (48, 36, 3) and frames[0][2] >= 1.0
     np.testing.assert_array_equal(watched.image(), plain.image())  # bit for bit: display only
     np.testing.assert_array_equal(watched.film.samples(), plain.film.samples())
+
+
+def _film_with(counts, means, spread):
+    """A 1 x len(counts) film whose pixels hold ``counts`` samples of mean luminance ``means``
+    scattered +- ``spread`` (every sample grey), each with its centre."""
+    k = len(counts)
+    film = Film(k, 1)
+    film.has_centre[...] = True
+    for x, (n, m, d) in enumerate(zip(counts, means, spread)):
+        vals = np.array([m + d if i % 2 else m - d for i in range(n)])
+        film.aa_count[0, x] = n
+        film.aa_sum[0, x] = vals.sum()
+        film.aa_sumsq[0, x] = (vals ** 2).sum()
+    return film
+
+
+def test_a_pixel_keeps_its_raw_value_once_its_own_error_is_small_and_an_edge_not_yet_sampled_is_denoised():
+    # standard error of a mean of 0.18 (display level ~118): 64 samples +-0.001 -> ~0.05 levels,
+    # 4 samples +-0.1 -> ~ 35 levels, 16 samples +-0.02 -> ~ 1.6 levels (between the bounds)
+    film = _film_with([64, 4, 16, 0, 0, 1], [0.18] * 6, [0.001, 0.1, 0.02, 0, 0, 0])
+    sampled = np.array([[False, True, True, False, True, True]])
+    w = raw_weight(film, sampled)
+    assert w[0, 0] == 1.0 and w[0, 1] == 0.0 and 0.0 < w[0, 2] < 1.0
+    assert w[0, 3] == 1.0, "a smooth pixel's centre is its value: raw"
+    assert w[0, 4] == 0.0 and w[0, 5] == 0.0, "an edge with its centre alone (or one sample): denoised"
+    assert np.all(raw_weight(film, None)[0, 3:] == 0.0), "before every centre is traced, no pixel is known smooth"
+    # more samples of the same scatter: a smaller error, a larger raw weight
+    assert raw_weight(_film_with([64], [0.18], [0.02]))[0, 0] > w[0, 2]
+
+
+def test_the_denoised_frame_of_a_converged_render_keeps_its_settled_pixels_raw():
+    d, a = _labelled(36, 48)
+    job = RenderJob(d, a, threads=2).start()
+    assert job.wait(600) and job.error is None
+    raw = job.image()
+    out = denoised_frame(job, Denoiser())
+    w = raw_weight(job.film, job.aa_pixels())
+    settled = w == 1.0
+    assert settled.mean() > 0.5, "most pixels of a converged render keep their raw value"
+    np.testing.assert_allclose(out[settled], raw[settled], rtol=0, atol=1e-6)
+    assert not np.allclose(out, raw), "the rest is the denoiser's"
 
 
 def _description(path) -> str:

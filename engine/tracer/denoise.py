@@ -135,9 +135,54 @@ def denoise_job(job, quality: str = "high", threads: int | None = None) -> np.nd
 
 def denoised_frame(job, denoiser: Denoiser) -> np.ndarray:
     """The denoised linear image ``(H, W, 3)`` of ``job``'s film as it is now (a copy of its
-    image and guides; the film is not changed)."""
-    albedo, normal = job.film.guides()
-    return denoiser(job.image(), albedo, normal)
+    image and guides; the film is not changed), blended per pixel with the raw film by
+    :func:`raw_weight`: a pixel whose own error is already small keeps its raw value."""
+    film = job.film
+    albedo, normal = film.guides()
+    raw = job.image()
+    sampled = job.aa_pixels() if film.has_centre.all() else None
+    weight = raw_weight(film, sampled)[..., None]
+    return weight * raw + (1.0 - weight) * denoiser(raw, albedo, normal)
+
+
+#: The raw film's own error (display levels, the standard error of a pixel's mean) below which
+#: a pixel shows its raw value, and above which the denoiser's; linear in between. The raw
+#: film's error falls as samples come, the denoiser's bias does not: on the jar at 715 x 953 the
+#: blend keeps the denoiser's gain early (5.9 against 9.5 levels RMS after the centres) and
+#: the raw film's detail late (mean FLIP 0.002 against the denoiser's 0.008 at convergence).
+RAW_BELOW_LEVELS, DENOISED_ABOVE_LEVELS = 1.0, 3.0
+
+
+def raw_weight(film, sampled=None) -> np.ndarray:
+    """Each pixel's weight ``(H, W)`` in ``[0, 1]`` of the raw film against the denoiser's.
+
+    A pixel with anti-aliasing samples is weighed by its own error: the standard error of its
+    samples' mean luminance in display levels (from the film's sums of squares; stratified
+    samples make it an overestimate, so the raw value is trusted late rather than early),
+    :data:`RAW_BELOW_LEVELS` -> 1, :data:`DENOISED_ABOVE_LEVELS` -> 0. A pixel that shows its
+    centre alone keeps it where the rounds will not sample it (not in ``sampled``, the job's
+    :meth:`~engine.tracer.job.RenderJob.aa_pixels`: a smooth pixel's centre is its value) and
+    takes the denoiser's where they will (an edge not yet anti-aliased). Before every centre is
+    traced (``sampled`` ``None``) and where only the preview's blocks are, the denoiser's."""
+    from ..color import srgb_encode
+
+    with film.lock:
+        n = film.aa_count.astype(np.float64)
+        total = film.aa_sum.mean(axis=2)
+        sumsq = film.aa_sumsq.copy()
+        centre = film.has_centre.copy()
+    have = n >= 2
+    m = total[have] / n[have]
+    var = np.maximum(sumsq[have] / n[have] - m * m, 0.0) * n[have] / (n[have] - 1.0)
+    se = np.sqrt(var / n[have])
+    # the error as the display shows it: the tone map's spread over mean +- one standard error
+    levels = 127.5 * (srgb_encode(m + se) - srgb_encode(np.maximum(m - se, 0.0)))
+    weight = np.zeros(n.shape, np.float32)
+    span = DENOISED_ABOVE_LEVELS - RAW_BELOW_LEVELS
+    weight[have] = np.clip((DENOISED_ABOVE_LEVELS - levels) / span, 0.0, 1.0)
+    if sampled is not None:
+        weight[centre & (n == 0) & ~sampled] = 1.0
+    return weight
 
 
 class FrameDenoiser:

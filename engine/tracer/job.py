@@ -295,8 +295,7 @@ class RenderJob:
             # (2...) anti-aliasing on edges (in final renders also on smooth pixels of the bottle
             # whose own samples step away from their centre): uniform rounds, then (adaptive)
             # where samples scatter
-            edges = adaptive.edge_mask(film.luminance(), film.signature, level)
-            edges |= (film.objects & ctx.stochastic_objects) != 0  # a sampled surface: noisy anywhere
+            edges = self.aa_pixels()
             measured = adaptive.measure_mask(film.objects, edges, self.adaptive, self.noise_space)
             first = 2
             if measured.any():  # (final renders) samples in each smooth pixel on the bottle ...
@@ -323,6 +322,16 @@ class RenderJob:
             else:  # every round ran: the last one's pixels may have stopped at the cap, not converged
                 if plan[-1][1]:
                     self.capped = policy.capped(film, mark)
+
+    def aa_pixels(self) -> np.ndarray:
+        """The pixels ``(H, W)`` bool the anti-aliasing rounds sample, as judged from the film's
+        centres once wave 1 has traced them all: edges (:func:`engine.tracer.adaptive.edge_mask`)
+        and pixels that met a sampled surface (noisy anywhere). Every other pixel keeps its centre
+        (a final render may still measure some: :func:`~engine.tracer.adaptive.measure_mask`)."""
+        film, ctx = self.film, self.context
+        edges = adaptive.edge_mask(film.luminance(), film.signature, max(ctx.reference_level, 1e-6))
+        edges |= (film.objects & ctx.stochastic_objects) != 0  # a sampled surface: noisy anywhere
+        return edges
 
     def adopt(self, previous) -> None:
         """Take ``previous``'s film as this job's (:data:`~engine.tracer.reuse.KEEP_FILM`): its

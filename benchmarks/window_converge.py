@@ -218,19 +218,75 @@ def denoised_progress(design, assets, width, height, threads, policy, converged)
                            worker_nice=WORKER_NICE)  # (the window's workers: niced as its denoiser)
     finally:
         watcher.close(120)
-    frames = []
+    frames, regions, by_region = [], failure_regions(job), []
     for t, wave, image, raw in shown:
         if t >= secs:
             continue  # converged first: the window shows the raw film then
         frames.append((t, wave, distance(image, converged)[0], flip_mean(image, converged),
                        distance(raw, converged)[0], flip_mean(raw, converged)))
+        by_region.append(region_errors(image, raw, converged, regions))
     ready = secs
     for t, wave, rms, flip, _, _ in reversed(frames):
         if rms > READY_LEVELS or flip > READY_FLIP:
             break
         ready = t
     first = clock["first"] if clock["first"] is not None else secs
-    return {"first_s": first, "converged_s": secs, "frames": frames, "ready_s": ready}
+    return {"first_s": first, "converged_s": secs, "frames": frames, "ready_s": ready, "regions": by_region}
+
+
+#: Where a denoiser fails, as regions of the converged film (:func:`failure_regions`).
+REGIONS = ("label_edges", "relief_edges", "silhouette", "ground", "thick_glass", "fireflies")
+
+
+def _neighbour_differs(a, differs) -> np.ndarray:
+    """Pixels (``(H, W)``) where ``differs(a, neighbour)`` holds for one of the 4 neighbours."""
+    out = np.zeros(a.shape[:2], bool)
+    for axis in (0, 1):
+        d = differs(np.take(a, range(1, a.shape[axis]), axis), np.take(a, range(a.shape[axis] - 1), axis))
+        lo = [slice(None)] * 2
+        hi = [slice(None)] * 2
+        lo[axis], hi[axis] = slice(1, None), slice(None, -1)
+        out[tuple(lo)] |= d
+        out[tuple(hi)] |= d
+    return out
+
+
+def failure_regions(job) -> dict:
+    """Masks ``(H, W)`` of the places issue 42 names, from a converged window render ``job``:
+    ``label_edges`` (the albedo guide steps by > 0.1: label text, die-cut edges, seen directly or
+    through the glass), ``relief_edges`` (the first hit's normal turns by > 15 deg to a neighbour
+    on the bottle: knurling, cut facets, threads), ``silhouette`` (bottle next to background),
+    ``ground`` (pixels that see the stage's ground and no bottle: caustic, soft shadow),
+    ``thick_glass`` (pixels at half the sample cap or more: light circling in a thick base, total
+    internal reflection). ``fireflies`` is per frame (:func:`region_errors`)."""
+    film, ctx = job.film, job.context
+    albedo, normal = film.guides()
+    ground = int(ctx.ground_objects)
+    bottle = (film.objects & ((1 << len(ctx.geometry.names)) - 1)) != 0  # (the bottle's own surfaces)
+    grey = albedo.mean(axis=2)
+    label = _neighbour_differs(grey, lambda a, b: np.abs(a - b) > 0.1)
+    unit = normal / np.maximum(np.linalg.norm(normal, axis=2, keepdims=True), 1e-9)
+    turned = _neighbour_differs(unit, lambda a, b: (a * b).sum(axis=-1) < np.cos(np.radians(15.0)))
+    silhouette = _neighbour_differs(bottle, lambda a, b: a != b)
+    counts = film.samples()
+    return {"label_edges": label & bottle, "relief_edges": turned & bottle & ~silhouette,
+            "silhouette": silhouette, "ground": ((film.objects & ground) != 0) & ~bottle,
+            "thick_glass": bottle & (counts >= max(2, counts.max() // 2))}
+
+
+def region_errors(image, raw, converged, regions) -> dict:
+    """``{region: (pixels, levels RMS of image, of raw)}`` against ``converged`` in each of
+    ``regions`` and in ``fireflies`` (pixels where ``raw`` is brighter than ``converged`` by
+    more than 64 display levels: single samples of a small bright light)."""
+    a, r, c = levels(image).mean(axis=2), levels(raw).mean(axis=2), levels(converged).mean(axis=2)
+    masks = dict(regions, fireflies=(r - c) > 64.0)
+    out = {}
+    for name in REGIONS:
+        m = masks[name]
+        n = int(np.count_nonzero(m))
+        out[name] = (n, float(np.sqrt(np.mean((a[m] - c[m]) ** 2))) if n else 0.0,
+                     float(np.sqrt(np.mean((r[m] - c[m]) ** 2))) if n else 0.0)
+    return out
 
 
 def progress_errors(seen, final_rms: float) -> list:
@@ -373,6 +429,10 @@ def main(argv=None) -> int:
                       f"(its render converged in {dp['converged_s']:.1f} s); frames shown (s: levels RMS / FLIP, "
                       "raw film then): " + ", ".join(f"{t:.1f}: {e:.1f}/{f:.3f} ({re_:.1f}/{rf:.3f})"
                                                      for t, _, e, f, re_, rf in dp["frames"]), flush=True)
+                row["regions"] = dp["regions"]
+                if dp["regions"]:  # where the denoiser fails: its first frame's error by region
+                    print(f"{name}: first denoised frame by region (pixels: levels RMS denoised / raw): " + ", ".join(
+                        f"{k} {n}: {e:.1f}/{re_:.1f}" for k, (n, e, re_) in dp["regions"][0].items() if n), flush=True)
             check = (f", against the reference at {row['check_size']}: {row['rms_levels']:.2f} levels RMS, "
                      f"p99 {row['p99_levels']:.1f} (the reference's own noise {ref_noise:.2f}, "
                      f"the render's own {row['own_rms_levels']:.2f}); its own error at "
@@ -388,7 +448,7 @@ def main(argv=None) -> int:
             print(f"{name} [{policy}]: {secs:.1f} s, {rays / 1e6:.1f} M rays, {row['rays_per_pixel']:.0f} rays/pixel, "
                   f"{row['samples_per_pixel']:.1f} samples/pixel{settled}{check}", flush=True)
     with open(os.path.join(OUT, "window_converge.csv"), "w", newline="") as fh:
-        writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r if k != "progress"}),
+        writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r if k not in ("progress", "regions")}),
                                 extrasaction="ignore")
         writer.writeheader()
         writer.writerows(rows)
@@ -407,6 +467,13 @@ def main(argv=None) -> int:
                 out.writerows([r["sample"], f"{t:.3f}", w, f"{e:.3f}", f"{f:.4f}", f"{re_:.3f}", f"{rf:.4f}"]
                               for t, w, e, f, re_, rf in r["denoised_frames"])
         ready_chart(denoised, os.path.join(OUT, "window_ready.png"))
+        with open(os.path.join(OUT, "window_denoise_regions.csv"), "w", newline="") as fh:
+            out = csv.writer(fh)
+            out.writerow(["sample", "seconds", "region", "pixels", "levels_rms", "raw_levels_rms"])
+            for r in denoised:
+                for (t, *_), regions in zip(r["denoised_frames"], r["regions"]):
+                    out.writerows([r["sample"], f"{t:.3f}", k, n, f"{e:.3f}", f"{re_:.3f}"]
+                                  for k, (n, e, re_) in regions.items())
     for policy in policies[1:]:
         ratio = [r["seconds"] / q["seconds"] for r in rows if r["policy"] == policy
                  for q in rows if q["policy"] == policies[0] and q["sample"] == r["sample"]]

@@ -59,6 +59,9 @@ PROGRESS_BOUNDS = (3.0, 1.5)
 #: "Ready" (issue 42): the denoised preview within this many display levels RMS and this mean
 #: FLIP of the converged image; the window's denoiser quality.
 READY_LEVELS, READY_FLIP = 3.0, 0.02
+#: Bytes a colour-only edit would need per leaf of the ray trees to re-weigh them without tracing
+#: (RGB weight and the lengths in glass and liquid, float32): issue 42's item 4.
+KEPT_LEAF_BYTES = 20
 
 
 def samples(names=None) -> list[str]:
@@ -405,8 +408,13 @@ def main(argv=None) -> int:
             clear_stage_caches()  # (the time includes the ground's grids, as a design's first render does)
             job, secs = render(design, assets, a.width, a.height, a.threads, policy=policy)
             rays = job.stats.rays_cast
+            # a colour-only edit could re-weigh a kept tree instead of tracing it again: each leaf
+            # (a segment leaving for the environment or cut) would keep its RGB weight without
+            # absorption and its length in glass and in liquid (5 float32)
+            leaves = rays - job.stats.boundaries + job.stats.cut_depth
             row = {"sample": name, "policy": policy, "width": a.width, "height": a.height, "seconds": secs,
                    "rays": rays, "rays_per_pixel": rays / (a.width * a.height),
+                   "tree_leaves": leaves, "kept_tree_gib": leaves * KEPT_LEAF_BYTES / 2 ** 30,
                    "samples_per_pixel": float(job.sample_counts().mean()),
                    # the per-pixel tolerance the split policy settled at (display levels)
                    "tolerance_levels": None if job.tolerance is None else job.tolerance * 255.0}
@@ -446,7 +454,8 @@ def main(argv=None) -> int:
                                                      else f"{row[f'within_{b:g}_levels_s']:.1f} s")
                     for b in PROGRESS_BOUNDS)
             print(f"{name} [{policy}]: {secs:.1f} s, {rays / 1e6:.1f} M rays, {row['rays_per_pixel']:.0f} rays/pixel, "
-                  f"{row['samples_per_pixel']:.1f} samples/pixel{settled}{check}", flush=True)
+                  f"{row['samples_per_pixel']:.1f} samples/pixel{settled}, a kept tree for colour edits "
+                  f"{row['kept_tree_gib']:.2f} GiB{check}", flush=True)
     with open(os.path.join(OUT, "window_converge.csv"), "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r if k not in ("progress", "regions")}),
                                 extrasaction="ignore")

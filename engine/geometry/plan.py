@@ -362,7 +362,7 @@ class PlanOutline:
         return tuple(out)
 
     @cached_property
-    def _turns(self) -> tuple[float, ...]:
+    def _joint_turns(self) -> tuple[float, ...]:
         """Turn (rad) where segment ``i`` starts, in ``[0, pi)``; a smooth joint turns 0."""
         return tuple(t if t > ANGLE_TOL else 0.0 for t in _turns(list(self.segments)))
 
@@ -371,9 +371,9 @@ class PlanOutline:
         """The sharp joints of ``P`` (exterior angle ``alpha > 1e-6`` rad), in chain order."""
         out = []
         for i, s in enumerate(self.segments):
-            if self._turns[i] > 0:
+            if self._joint_turns[i] > 0:
                 n_in, n_out = _end_normals(self.segments[i - 1])[1], _end_normals(s)[0]
-                out.append(Corner(i, s.p0, n_in, n_out, self._turns[i]))
+                out.append(Corner(i, s.p0, n_in, n_out, self._joint_turns[i]))
         return tuple(out)
 
     @cached_property
@@ -383,9 +383,9 @@ class PlanOutline:
         lines' normals these ranges cover every direction once."""
         out = []
         for i, s in enumerate(self.segments):
-            if self._turns[i] > 0:
+            if self._joint_turns[i] > 0:
                 n_in = _end_normals(self.segments[i - 1])[1]
-                out.append((s.p0, 0.0, math.atan2(n_in[1], n_in[0]), self._turns[i], None))
+                out.append((s.p0, 0.0, math.atan2(n_in[1], n_in[0]), self._joint_turns[i], None))
             if s.kind == "arc":
                 out.append((s.center, s.radius, s.theta0, s.sweep, i))
         return tuple(out)
@@ -506,10 +506,10 @@ class PlanOutline:
             return (ArcPiece((0.0, 0.0), c, 0.0, TWO_PI),)
         pieces = []
         for i, s in enumerate(self.segments):
-            if self._turns[i] > 0 and c > 0:
+            if self._joint_turns[i] > 0 and c > 0:
                 n_in = _end_normals(self.segments[i - 1])[1]
                 a = math.atan2(n_in[1], n_in[0])
-                pieces.append(ArcPiece((k * s.p0[0], k * s.p0[1]), c, a, a + self._turns[i]))
+                pieces.append(ArcPiece((k * s.p0[0], k * s.p0[1]), c, a, a + self._joint_turns[i]))
             if s.kind == "line":
                 n = s.normal
                 pieces.append(PlanLine((k * s.p0[0] + c * n[0], k * s.p0[1] + c * n[1]),
@@ -532,7 +532,7 @@ class PlanOutline:
             a = segs[i - 1]
             n_in, n_out = _end_normals(a)[1], _end_normals(b)[0]
             vx, vy = k * b.p0[0], k * b.p0[1]
-            if self._turns[i] == 0:  # smooth: both offsets pass through k V + t n
+            if self._joint_turns[i] == 0:  # smooth: both offsets pass through k V + t n
                 joint[i] = (vx + t * n_in[0], vy + t * n_in[1])
                 if a.kind == "arc":
                     phi1[(i - 1) % m] = a.theta1 + 0 * t
@@ -714,7 +714,7 @@ def sample_pieces(pieces, chord_tol_mm: float | None = None, max_turn_deg: float
     gives its start and inner points, the next piece its end (sharp corners stay exact)."""
     if not (0 < max_turn_deg <= 90):
         raise OutlineError(None, f"max_turn_deg must be in (0, 90], got {shown(max_turn_deg)}")
-    step = math.radians(max_turn_deg)
+    step = math.radians(max_turn_deg) * (1 - 1e-6)  # why: a hair under, so rounding never exceeds it
     pts = []
     for p in pieces:
         if p.kind == "line":
@@ -723,9 +723,9 @@ def sample_pieces(pieces, chord_tol_mm: float | None = None, max_turn_deg: float
         sweep = p.theta1 - p.theta0
         if p.radius <= 0 or sweep <= 0:
             continue  # a zero-size corner arc: a sharp corner, its point comes with the next piece
-        n = math.ceil(sweep / step - 1e-9)
+        n = math.ceil(sweep / step)
         if chord_tol_mm is not None and p.radius > chord_tol_mm > 0:
-            n = max(n, math.ceil(sweep / (2 * math.acos(1 - chord_tol_mm / p.radius)) - 1e-9))
+            n = max(n, math.ceil(sweep / (2 * math.acos(1 - chord_tol_mm / p.radius))))
         a = p.theta0 + sweep * np.arange(max(n, 1)) / max(n, 1)
         pts.append(np.stack([p.center[0] + p.radius * np.cos(a), p.center[1] + p.radius * np.sin(a)], axis=-1))
     return np.concatenate(pts, axis=0)

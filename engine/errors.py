@@ -53,6 +53,15 @@ class SectionError(GlassbenchError, ValueError):
         super().__init__(prefix + message)
 
 
+class OutlineError(GlassbenchError, ValueError):
+    """An invalid plan outline (SPEC_outline section 2); ``index`` is the offending segment of
+    the chain (or ``None`` when the fault is the outline's as a whole, e.g. the origin outside)."""
+
+    def __init__(self, index: int | None, message: str):
+        self.index = index
+        super().__init__((f"segment {index}: " if index is not None else "") + message)
+
+
 class WallError(GlassbenchError, ValueError):
     """A wall or base thickness the section cannot carry."""
 

@@ -301,12 +301,12 @@ class EmbreeSearch:
                 g.obj_i, self.obj_i, g.obj_f, self.rest, np.ascontiguousarray(o, float), np.ascontiguousarray(d, float),
                 np.ascontiguousarray(medium, np.int64), np.ascontiguousarray(last, np.int64),
                 np.ascontiguousarray(side, np.int64), self.tnear, self.bracket, out_t, out_k, out_j, fell,
-                np.zeros(16), np.zeros(5), np.zeros((64, 2)))
+                np.zeros(16), np.zeros(5), np.zeros((64, 2)), g.plan)
         return out_t, out_k, out_j, fell
 
 
 @njit(nogil=True, error_model="numpy")
-def _part_roots(seg, tab, slab_f, slab_i, obj_i, obj_f, k, j, ox, oy, oz, dx, dy, dz, a, b, roots, crit, stack):
+def _part_roots(seg, tab, slab_f, slab_i, obj_i, obj_f, k, j, ox, oy, oz, dx, dy, dz, a, b, roots, crit, stack, plan):
     """Crossings of part ``j`` of object ``k`` in ``[a, b]`` (the tracer's solvers), within the
     part's own box as :func:`~engine.tracer.kernels.intersect.nearest_hit` asks them."""
     axis = ray_axis(ox, oy, dx, dy, dz)
@@ -322,13 +322,13 @@ def _part_roots(seg, tab, slab_f, slab_i, obj_i, obj_f, k, j, ox, oy, oz, dx, dy
         return 0
     if slab_f[j, SL_RULED] > 0.5:
         return ruled_roots(slab_f[j], obj_f[k, F_COS], obj_f[k, F_SIN], ray, a, b, roots)
-    return swept_roots(swept_wall(seg, tab, slab_i[j], obj_i[k, O_XS], obj_i[k, O_NSEC], obj_f[k, F_COS],
-                                  obj_f[k, F_SIN]), ray, a, b, obj_f[k, F_LEAF], roots, stack)
+    return swept_roots(swept_wall(seg, tab, slab_i[j], obj_i[k, O_XS], obj_i[k, O_NSEC], (obj_f[k, F_COS],
+                                  obj_f[k, F_SIN]), plan), ray, a, b, obj_f[k, F_LEAF], roots, stack)
 
 
 @njit(nogil=True, error_model="numpy")
 def refine_hit(k, j, te, seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx, dy, dz, medium, last, side, bracket,
-               best, roots, crit, stack):
+               best, roots, crit, stack, plan):
     """The crossing Embree's hit at ``te`` (mm) on a triangle of part ``j`` of object ``k``
     stands for: the first root of that part (then of its neighbours on the object) within
     ``bracket`` mm of ``te`` and before ``best`` that the tracer accepts (medium, the side the
@@ -339,7 +339,7 @@ def refine_hit(k, j, te, seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx,
         t0 = START_FRACTION * obj_f[k, F_EDGE] if k == last else 0.0
         a, b = max(te - bracket, t0), min(te + bracket, best)
         if obj_i[k, O_KIND] == PLANE:
-            t = _plane_hit(obj_i, obj_f, k, Ray(ox, oy, oz, dx, dy, dz), a, b)
+            t = _plane_hit(Geometry(seg, tab, slab_f, slab_i, obj_i, obj_f, plan), k, Ray(ox, oy, oz, dx, dy, dz), a, b)
             nz = obj_f[k, F_PNZ]
             if t < b and _accept(obj_i, obj_f, k, t, 0.0 * dx + 0.0 * dy + nz * dz, oz + t * dz, medium, last, side):
                 rt, rk, rnz = t, k, nz
@@ -350,14 +350,14 @@ def refine_hit(k, j, te, seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx,
                 if rk >= 0 or jj < first or jj >= first + count:
                     continue
                 n = _part_roots(seg, tab, slab_f, slab_i, obj_i, obj_f, k, jj, ox, oy, oz, dx, dy, dz, a, b, roots,
-                                crit, stack)
+                                crit, stack, plan)
                 for q in range(n):
                     t = roots[q]
                     pz = oz + t * dz
                     if not (t > t0 and t < b) or pz < obj_f[k, F_ZMIN] or pz > obj_f[k, F_ZMAX]:
                         continue
-                    nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, jj, ox + t * dx, oy + t * dy, pz,
-                                               root_param(seg, obj_i, k, jj, roots, q))
+                    nx, ny, nz = object_normal(Geometry(seg, tab, slab_f, slab_i, obj_i, obj_f, plan), k, jj, ox + t * dx,
+                                               oy + t * dy, pz, root_param(seg, obj_i, k, jj, roots, q))
                     if _accept(obj_i, obj_f, k, t, nx * dx + ny * dy + nz * dz, pz, medium, last, side):
                         rt, rk, rj, rnx, rny, rnz = t, k, jj, nx, ny, nz
                         break
@@ -366,12 +366,13 @@ def refine_hit(k, j, te, seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy, oz, dx,
 
 @njit(nogil=True, error_model="numpy")
 def _search(scene, tri_obj, tri_part, seg, seg_rest, tab, slab_f, slab_rest, slab_i, obj_i, obj_rest, obj_f, rest,
-            o, d, medium, last, side, tnear, bracket, out_t, out_k, out_j, fell, roots, crit, stack):
+            o, d, medium, last, side, tnear, bracket, out_t, out_k, out_j, fell, roots, crit, stack, plan):
+    geom = Geometry(seg, tab, slab_f, slab_i, obj_i, obj_f, plan)
     for i in range(o.shape[0]):
         ox, oy, oz, dx, dy, dz = o[i, 0], o[i, 1], o[i, 2], d[i, 0], d[i, 1], d[i, 2]
         best, best_k, best_j = np.inf, -1, -1
         if rest:  # the surfaces kept analytic first
-            best, best_k, best_j, _, _, _ = nearest_hit(Geometry(seg_rest, tab, slab_rest, slab_i, obj_rest, obj_f),
+            best, best_k, best_j, _, _, _ = nearest_hit(Geometry(seg_rest, tab, slab_rest, slab_i, obj_rest, obj_f, plan),
                                                         Ray(ox, oy, oz, dx, dy, dz), medium[i], last[i], side[i],
                                                         Scratch(roots, crit, stack))
         decided = True
@@ -385,7 +386,7 @@ def _search(scene, tri_obj, tri_part, seg, seg_rest, tab, slab_f, slab_rest, sla
                     t0 = START_FRACTION * obj_f[k, F_EDGE] if k == last[i] else 0.0
                     a, b = max(te - bracket, t0), min(te + bracket, best)
                     if obj_i[k, O_KIND] == PLANE:
-                        t = _plane_hit(obj_i, obj_f, k, Ray(ox, oy, oz, dx, dy, dz), a, b)
+                        t = _plane_hit(geom, k, Ray(ox, oy, oz, dx, dy, dz), a, b)
                         if t < best and _accept(obj_i, obj_f, k, t, 0.0 * dx + 0.0 * dy + obj_f[k, F_PNZ] * dz,
                                                 oz + t * dz, medium[i], last[i], side[i]):
                             best, best_k, best_j, found = t, k, -1, True
@@ -396,13 +397,13 @@ def _search(scene, tri_obj, tri_part, seg, seg_rest, tab, slab_f, slab_rest, sla
                             if found or jj < first or jj >= first + count:
                                 continue
                             n = _part_roots(seg, tab, slab_f, slab_i, obj_i, obj_f, k, jj, ox, oy, oz, dx, dy, dz,
-                                            a, min(b, best), roots, crit, stack)
+                                            a, min(b, best), roots, crit, stack, plan)
                             for q in range(n):
                                 t = roots[q]
                                 pz = oz + t * dz
                                 if not (t > t0 and t < best) or pz < obj_f[k, F_ZMIN] or pz > obj_f[k, F_ZMAX]:
                                     continue
-                                nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, jj, ox + t * dx,
+                                nx, ny, nz = object_normal(geom, k, jj, ox + t * dx,
                                                            oy + t * dy, pz, root_param(seg, obj_i, k, jj, roots, q))
                                 if _accept(obj_i, obj_f, k, t, nx * dx + ny * dy + nz * dz, pz, medium[i], last[i], side[i]):
                                     best, best_k, best_j, found = t, k, jj, True
@@ -413,7 +414,7 @@ def _search(scene, tri_obj, tri_part, seg, seg_rest, tab, slab_f, slab_rest, sla
             decided = False  # the ray cannot leave its medium without a crossing
         if not decided:
             fell[i] = True
-            best, best_k, best_j, _, _, _ = nearest_hit(Geometry(seg, tab, slab_f, slab_i, obj_i, obj_f),
+            best, best_k, best_j, _, _, _ = nearest_hit(geom,
                                                         Ray(ox, oy, oz, dx, dy, dz), medium[i], last[i], side[i],
                                                         Scratch(roots, crit, stack))
         out_t[i], out_k[i], out_j[i] = best, best_k, best_j

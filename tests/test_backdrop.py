@@ -42,7 +42,7 @@ def _only(row):
     oi = np.zeros((1, K.O_COLS), np.int64)
     oi[0, K.O_KIND], oi[0, K.O_XS_IN] = K.SWEEP, -1
     z = np.zeros((1, 1))
-    return Geometry(z, z, z, np.zeros((1, 1), np.int64), oi, row[None, :].copy())
+    return Geometry(z, z, z, np.zeros((1, 1), np.int64), oi, row[None, :].copy(), np.zeros((1, 11)))
 
 
 def _surface_point(row, across, s):

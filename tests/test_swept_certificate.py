@@ -99,7 +99,7 @@ def test_certified_windows_are_monotone(name):
         ranges = [wall_range(geom.seg, geom.tab, r, z_lo, z_hi) for r in rows]
         px, py = c * o[0] + s * o[1], -s * o[0] + c * o[1]
         qx, qy = c * d[0] + s * d[1], -s * d[0] + c * d[1]
-        wall = Wall(geom.seg, geom.tab, rows[0], rows[1], rows[2], nsec, kind, c, s)
+        wall = Wall(geom.seg, geom.tab, rows[0], rows[1], rows[2], nsec, kind, c, s, geom.plan)
         sign = monotone_sign(wall, (px, py, qx, qy, d[2]), (a, b, z_lo, z_hi), (*ranges[0], *ranges[1], *ranges[2]))
         tried += 1
         if sign == 0:
@@ -120,7 +120,7 @@ def test_swept_roots_find_every_crossing_a_dense_sampling_finds(name):
     found = 0
     for k, part, j, o, d, lo, hi in _slab_rays(geom, 11, 150):
         kind, nsec, c, s, leaf = _wall(geom, k)
-        n = swept_roots(swept_wall(geom.seg, geom.tab, geom.slab_i[j], kind, nsec, c, s), Ray(*o, *d), lo, hi, leaf, out,
+        n = swept_roots(swept_wall(geom.seg, geom.tab, geom.slab_i[j], kind, nsec, (c, s), geom.plan), Ray(*o, *d), lo, hi, leaf, out,
                         stack)
         roots = out[:n].copy()
         assert np.all(np.diff(roots) > 0.0) and np.all((roots >= lo) & (roots <= hi))
@@ -188,7 +188,7 @@ def test_ruled_slabs_cross_where_the_certified_bands_do(name):
                 rays.append(("from the wall", p, e, max(a, tol), b))
         for kind_of_ray, o_, d_, lo_, hi_ in rays:
             n = ruled_roots(geom.slab_f[j], c, s, Ray(*o_, *d_), lo_, hi_, out)
-            m = swept_roots(swept_wall(geom.seg, geom.tab, geom.slab_i[j], kind, nsec, c, s), Ray(*o_, *d_), lo_, hi_,
+            m = swept_roots(swept_wall(geom.seg, geom.tab, geom.slab_i[j], kind, nsec, (c, s), geom.plan), Ray(*o_, *d_), lo_, hi_,
                             leaf, ref, stack)
             assert n == m and np.allclose(out[:n], ref[:m], rtol=0.0, atol=tol), \
                 (name, j, kind_of_ray, out[:n], ref[:m])

@@ -64,7 +64,7 @@ def scene_with_threads(scene: Scene, design) -> Scene:
     drawings = [(t, d) for t, d in zip(design.bumps, thread_drawings(design)) if d is not None and d.mode == "true"]
     if not drawings:
         return scene
-    (seg, tab, slab_f, slab_i, obj_i, obj_f), media, mat_i, mat_f = scene
+    (seg, tab, slab_f, slab_i, obj_i, obj_f, plan), media, mat_i, mat_f = scene
     seg, obj_f = seg.copy(), obj_f.copy()
     neck = 2.0 * finish_of(design).r_neck
     for tile, drawing in drawings:
@@ -73,5 +73,5 @@ def scene_with_threads(scene: Scene, design) -> Scene:
         j = _wall_row(seg, obj_i, drawing.z0, drawing.z1)
         seg[j] = helix_row(seg[j], relief, drawing.z0, drawing.z1)
         obj_f[OUTER_WALL, K.F_RMAX] = max(obj_f[OUTER_WALL, K.F_RMAX], seg[j, R.S_RMAX])
-    return Scene(Geometry(np.ascontiguousarray(seg), tab, slab_f, slab_i, obj_i, np.ascontiguousarray(obj_f)),
+    return Scene(Geometry(np.ascontiguousarray(seg), tab, slab_f, slab_i, obj_i, np.ascontiguousarray(obj_f), plan),
                  media, mat_i, mat_f)

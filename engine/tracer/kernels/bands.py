@@ -4,8 +4,8 @@ Design rule: over a ray interval ``[a, b]`` the heights ``z`` span a range, so e
 radius spans a range ``[r_lo, r_hi]`` (exact for lines and arcs, from a monotone table for the
 offset of an ellipse). Cross-section functions are monotone in the radii, so the surface can
 only be crossed where the ray's footprint is inside the *outer* outline (largest radii) and
-outside the *inner* one (smallest): a closed-form 2-D problem (a ray against circles, ellipses
-and rounded rectangles) giving at most two *bands*. Restricting to a band narrows the height
+outside the *inner* one (smallest): a closed-form 2-D problem (a ray against circles, ellipses,
+rounded rectangles and free plan outlines, :mod:`.plans`) giving at most two *bands*. Restricting to a band narrows the height
 range, hence the radii, hence the bands: the iteration contracts onto the crossings; where it
 stalls the interval is halved. A band narrower than the leaf length is solved on the exact
 surface: a sign change at its ends gives one crossing (safeguarded Newton). This is a proof, not a sampling: no crossing outside the bands is possible.
@@ -31,8 +31,8 @@ import math
 import numpy as np
 from numba import njit
 
-from .outlines import (CIRCLE, OVAL, RRECT, RSQUARE, SQRT2, disc_interval, gradient_span, outline_interval,
-                       rrect_directions, square_corner, xs_eval)
+from .outlines import (CIRCLE, OUTLINE, OVAL, RRECT, RSQUARE, SQRT2, disc_interval, gradient_span,
+                       outline_interval, rrect_directions, square_corner, xs_eval)
 from .profile import wall_r, wall_range, wall_slopes, wall_state
 from .jit import INLINE, JIT
 
@@ -72,7 +72,7 @@ def residual(wall, ray, t):
     """Signed residual of the wall (a :class:`~.records.Wall`) at ray distance ``t``: positive
     outside the outline (cross-section ``kind`` at radii ``r(z)`` of segment rows ``r0..r2``; a
     CIRCLE wall is ``rho - r(z)``)."""
-    seg, _, r0, r1, r2, nsec, kind, c, s = wall
+    seg, _, r0, r1, r2, nsec, kind, c, s, plan = wall
     ox, oy, oz, dx, dy, dz = ray
     x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
     ra = wall_r(seg, r0, z)
@@ -81,7 +81,7 @@ def residual(wall, ray, t):
     rb = wall_r(seg, r1, z) if nsec > 1 else 0.0
     rc = wall_r(seg, r2, z) if nsec > 2 else 0.0
     xb, yb = c * x + s * y, -s * x + c * y
-    return xs_eval(kind, ra, rb, rc, xb, yb)[0]
+    return xs_eval(plan, kind, ra, rb, rc, xb, yb)[0]
 
 
 @njit(**JIT)
@@ -89,7 +89,7 @@ def wall_value_slope(wall, ray, t):
     """The residual of ``wall`` at ray distance ``t`` (mm) and its derivative in ``t``: the
     outline's gradient along the ray's footprint plus, through the radii, ``dr/dz dz/dt``
     from the sections' tangents (finite where the certificate below lets Newton run)."""
-    seg, _, r0, r1, r2, nsec, kind, c, s = wall
+    seg, _, r0, r1, r2, nsec, kind, c, s, plan = wall
     ox, oy, oz, dx, dy, dz = ray
     x, y, z = ox + t * dx, oy + t * dy, oz + t * dz
     ra, tra, tza = wall_state(seg, r0, z)
@@ -98,7 +98,7 @@ def wall_value_slope(wall, ray, t):
         rb, trb, tzb = wall_state(seg, r1, z)
     if nsec > 2:
         rc, trc, tzc = wall_state(seg, r2, z)
-    f, gx, gy, d0, d1, d2 = xs_eval(kind, ra, rb, rc, c * x + s * y, -s * x + c * y)
+    f, gx, gy, d0, d1, d2 = xs_eval(plan, kind, ra, rb, rc, c * x + s * y, -s * x + c * y)
     qx, qy = c * dx + s * dy, -s * dx + c * dy
     return f, gx * qx + gy * qy + dz * (d0 * tra / tza + d1 * trb / tzb + d2 * trc / tzc)
 
@@ -168,7 +168,7 @@ def monotone_sign(wall, foot, window, radii):
     dz)``: ``(px, py) + t (qx, qy)`` the ray's footprint in the bottle frame, ``dz`` its rise per
     mm; ``window`` = ``(a, b, z_lo, z_hi)``, the ray distances and heights (mm) of the window;
     ``radii`` = ``(a_lo, a_hi, b_lo, b_hi, c_lo, c_hi)``, the sections' radius ranges there (mm)."""
-    seg, _, r0, r1, r2, _, kind, _, _ = wall
+    seg, _, r0, r1, r2, _, kind, _, _, _ = wall
     px, py, qx, qy, dz = foot
     a, b, z_lo, z_hi = window
     a_lo, a_hi, b_lo, b_hi, c_lo, c_hi = radii
@@ -238,7 +238,7 @@ def band_roots(wall, ray, lo, hi, leaf, out, n, stack):
     the bottle's rotation. Only a pair of crossings closer than ``leaf`` can be missed (a
     graze). ``stack`` is ``(64, 2)`` scratch.
     """
-    seg, tab, r0, r1, r2, nsec, kind, c, s = wall
+    seg, tab, r0, r1, r2, nsec, kind, c, s, plan = wall
     ox, oy, oz, dx, dy, dz = ray
     # the ray's footprint in the bottle frame (outlines are not turned)
     px, py = c * ox + s * oy, -s * ox + c * oy
@@ -288,14 +288,17 @@ def band_roots(wall, ray, lo, hi, leaf, out, n, stack):
                     ko, o0, o1, o2 = RRECT, a_hi, b_hi, c_lo
                     ki, i0, i1, i2 = RRECT, a_lo, b_lo, c_hi
                     ok_in = c_hi <= min(a_lo, b_lo)
+                elif kind == OUTLINE:  # monotone in the core and the growth: both decrease it
+                    ko, o0, o1, o2 = OUTLINE, a_hi, b_hi, 0.0
+                    ki, i0, i1, i2 = OUTLINE, a_lo, b_lo, 0.0
                 else:
                     ko, o0, o1, o2 = OVAL, a_hi, b_hi, 0.0
                     ki, i0, i1, i2 = OVAL, a_lo, b_lo, 0.0
-                e0, e1 = outline_interval(ko, o0, o1, o2, px, py, qx, qy)
+                e0, e1 = outline_interval(plan, ko, o0, o1, o2, px, py, qx, qy)
                 if max(e0, a) > min(e1, b):  # never inside the outer outline: no band
                     empty = True
                     break
-                g0, g1 = (outline_interval(ki, i0, i1, i2, px, py, qx, qy) if ok_in else (1.0, -1.0))
+                g0, g1 = (outline_interval(plan, ki, i0, i1, i2, px, py, qx, qy) if ok_in else (1.0, -1.0))
                 l0, h0, l1, h1 = subtract(e0, e1, g0, g1, a, b)
             if l0 > h0 and l1 > h1:
                 empty = True

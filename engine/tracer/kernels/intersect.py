@@ -63,10 +63,12 @@ def object_media(obj_i, obj_f, k, z):
 
 
 @njit(**JIT)
-def object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, part, px, py, pz, param=np.nan):
-    """Oriented unit normal of object ``k`` at its point ``p``; ``part`` is the segment row
-    (revolved) or slab row (swept) the hit was found on, ``param`` the point's base angle on an
-    offset arc when its root solve knows it (else ``nan``)."""
+def object_normal(geom, k, part, px, py, pz, param=np.nan):
+    """Oriented unit normal of object ``k`` of ``geom`` (a :class:`~.records.Geometry`) at its
+    point ``p``; ``part`` is the segment row (revolved) or slab row (swept) the hit was found on,
+    ``param`` the point's base angle on an offset arc when its root solve knows it (else
+    ``nan``)."""
+    seg, tab, slab_f, slab_i, obj_i, obj_f, plan = geom
     kind = obj_i[k, O_KIND]
     sgn = obj_f[k, F_NSIGN]
     if kind == PLANE:
@@ -78,8 +80,7 @@ def object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, part, px, py, pz, param=
     elif slab_f[part, SL_RULED] > 0.5:
         nx, ny, nz = ruled_normal(slab_f[part], obj_f[k, F_COS], obj_f[k, F_SIN], px, py, pz)
     else:
-        nx, ny, nz = swept_normal(seg, slab_i[part], obj_i[k, O_XS], obj_i[k, O_NSEC],
-                                  obj_f[k, F_COS], obj_f[k, F_SIN], px, py, pz)
+        nx, ny, nz = swept_normal(_wall(geom, k, part), px, py, pz)
     return sgn * nx, sgn * ny, sgn * nz
 
 
@@ -108,9 +109,17 @@ def _accept(obj_i, obj_f, k, t, dn, pz, medium, last_obj, last_side):
     return True
 
 
+@njit(**INLINE)
+def _wall(geom, k, part):
+    """The :class:`~.records.Wall` of swept object ``k`` in its slab row ``part``."""
+    return swept_wall(geom.seg, geom.tab, geom.slab_i[part], geom.obj_i[k, O_XS], geom.obj_i[k, O_NSEC],
+                      (geom.obj_f[k, F_COS], geom.obj_f[k, F_SIN]), geom.plan)
+
+
 @njit(**JIT)
-def _plane_hit(obj_i, obj_f, k, ray, tlo, thi):
-    """Distance to plane object ``k`` inside its outline region, or ``inf``."""
+def _plane_hit(geom, k, ray, tlo, thi):
+    """Distance to plane object ``k`` of ``geom`` inside its outline region, or ``inf``."""
+    obj_i, obj_f, plan = geom.obj_i, geom.obj_f, geom.plan
     ox, oy, oz, dx, dy, dz = ray
     if dz == 0.0:
         return np.inf
@@ -120,10 +129,10 @@ def _plane_hit(obj_i, obj_f, k, ray, tlo, thi):
     x, y = ox + t * dx, oy + t * dy
     c, s = obj_f[k, F_COS], obj_f[k, F_SIN]
     xb, yb = c * x + s * y, -s * x + c * y
-    if outline_sd(obj_i[k, O_XS], obj_f[k, F_OUT0], obj_f[k, F_OUT1], obj_f[k, F_OUT2], xb, yb) > 0.0:
+    if outline_sd(plan, obj_i[k, O_XS], obj_f[k, F_OUT0], obj_f[k, F_OUT1], obj_f[k, F_OUT2], xb, yb) > 0.0:
         return np.inf
     if obj_i[k, O_XS_IN] >= 0:
-        if outline_sd(obj_i[k, O_XS_IN], obj_f[k, F_IN0], obj_f[k, F_IN1], obj_f[k, F_IN2], xb, yb) < 0.0:
+        if outline_sd(plan, obj_i[k, O_XS_IN], obj_f[k, F_IN0], obj_f[k, F_IN1], obj_f[k, F_IN2], xb, yb) < 0.0:
             return np.inf
     return t
 
@@ -211,7 +220,7 @@ def nearest_hit(geom, ray, medium, last_obj, last_side, scratch):
     worker's :class:`~.records.Scratch`.
     """
     ox, oy, oz, dx, dy, dz = ray
-    seg, tab, slab_f, slab_i, obj_i, obj_f = geom
+    seg, tab, slab_f, slab_i, obj_i, obj_f, _ = geom
     roots, crit, stack = scratch
     best = np.inf
     best_k, best_part = -1, -1
@@ -240,7 +249,7 @@ def nearest_hit(geom, ray, medium, last_obj, last_side, scratch):
             continue
         kind = obj_i[k, O_KIND]
         if kind == PLANE:
-            t = _plane_hit(obj_i, obj_f, k, ray, t0, best)
+            t = _plane_hit(geom, k, ray, t0, best)
             if t < best:
                 pz = oz + t * dz
                 nz = obj_f[k, F_PNZ]
@@ -297,8 +306,7 @@ def nearest_hit(geom, ray, medium, last_obj, last_side, scratch):
                 if slab_f[j, SL_RULED] > 0.5:  # straight sections: planes and slanted cones, closed form
                     n = ruled_roots(slab_f[j], obj_f[k, F_COS], obj_f[k, F_SIN], ray, a, b, roots)
                 else:
-                    n = swept_roots(swept_wall(seg, tab, slab_i[j], obj_i[k, O_XS], obj_i[k, O_NSEC], obj_f[k, F_COS],
-                                                    obj_f[k, F_SIN]), ray, a, b, obj_f[k, F_LEAF], roots, stack)
+                    n = swept_roots(_wall(geom, k, j), ray, a, b, obj_f[k, F_LEAF], roots, stack)
             for q in range(n):
                 t = roots[q]
                 if not (t > t0 and t < best):
@@ -313,12 +321,12 @@ def nearest_hit(geom, ray, medium, last_obj, last_side, scratch):
                     best, best_k, best_part, pending, best_param = t, k, j, True, param
                     break
                 px, py = ox + t * dx, oy + t * dy
-                nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k, j, px, py, pz, param)
+                nx, ny, nz = object_normal(geom, k, j, px, py, pz, param)
                 if _accept(obj_i, obj_f, k, t, nx * dx + ny * dy + nz * dz, pz, medium, last_obj, last_side):
                     best, best_k, best_part, pending = t, k, j, False
                     bnx, bny, bnz = nx, ny, nz
                     break
     if pending:
-        bnx, bny, bnz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, best_k, best_part, ox + best * dx,
-                                      oy + best * dy, oz + best * dz, best_param)
+        bnx, bny, bnz = object_normal(geom, best_k, best_part, ox + best * dx, oy + best * dy, oz + best * dz,
+                                      best_param)
     return Hit(best, best_k, best_part, bnx, bny, bnz)

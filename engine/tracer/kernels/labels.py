@@ -292,7 +292,7 @@ def shadow(sc, lab, ox, oy, oz, lx, ly, lz, medium, last, side, scratch):
     point on object ``last`` (left with ``side``, in ``medium``) along unit ``l`` (module rule:
     labels block by their alpha, interfaces pass ``1 - R``, media absorb, closure parts block;
     refraction ignored). Shared by label sheets and plastic closures."""
-    seg, tab, slab_f, slab_i, obj_i, obj_f = sc.geom
+    seg, tab, slab_f, slab_i, obj_i, obj_f, _ = sc.geom
     media, mat_i = sc.media, sc.mat_i
     tr = tg = tb = 1.0
     bits = np.int64(0)
@@ -521,7 +521,7 @@ def label_hit(tables, it, wr, wg, wb, kids, scratch):
     """
     lab, sc, env_p = tables.labels, tables.scene, tables.env
     bx, by, bz = it.sx, it.sy, it.sz
-    seg, tab, slab_f, slab_i, obj_i, obj_f = sc.geom
+    seg, tab, slab_f, slab_i, obj_i, obj_f, _ = sc.geom
     px, py, pz, nx, ny, nz, dx, dy, dz = it.px, it.py, it.pz, it.nx, it.ny, it.nz, it.dx, it.dy, it.dz
     obj, part, inc, trn = it.obj, it.part, it.inc, it.trn
     theta, h, v = label_point(seg, obj_i, obj_f, obj, part, px, py, pz)

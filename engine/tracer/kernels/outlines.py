@@ -17,8 +17,10 @@ import numpy as np
 from numba import njit
 
 from .jit import INLINE, JIT
+from .plans import plan_interval, plan_value
 
-CIRCLE, RRECT, RSQUARE, OVAL = 0, 1, 2, 3
+#: ``OUTLINE``: a free plan outline (:mod:`.plans`), radii ``(k, r)``: its core scale and growth
+CIRCLE, RRECT, RSQUARE, OVAL, OUTLINE = 0, 1, 2, 3, 4
 SQRT2 = math.sqrt(2.0)
 DQ_DU, DQ_DV = (SQRT2 + 1.0) * SQRT2, -(SQRT2 + 1.0)
 
@@ -50,11 +52,14 @@ def rrect_sd(x, y, a, b, c):
 
 
 @njit(**JIT)
-def xs_eval(kind, r0, r1, r2, x, y):
+def xs_eval(plan, kind, r0, r1, r2, x, y):
     """``(f, gx, gy, d0, d1, d2)``: the swept kind's signed value at section radii ``r0..r2``
-    (RSQUARE ``(u, v)``, RRECT ``(a, b, c)``, OVAL ``(a, b)``, CIRCLE ``(r)``), its (x, y)
-    gradient and its derivatives in the radii. Decreasing in every radius but a rectangle's
-    corner; |d/d radius| <= 1 for the rounded shapes."""
+    (RSQUARE ``(u, v)``, RRECT ``(a, b, c)``, OVAL ``(a, b)``, CIRCLE ``(r)``, OUTLINE ``(k, r)``
+    of the outline ``plan``), its (x, y) gradient and its derivatives in the radii. Decreasing in
+    every radius but a rectangle's corner; |d/d radius| <= 1 for the rounded shapes."""
+    if kind == OUTLINE:
+        f, gx, gy, dk = plan_value(plan, r0, r1, x, y)
+        return f, gx, gy, dk, -1.0, 0.0
     if kind == RSQUARE:
         sd, gx, gy, da, db, dc = rrect_sd(x, y, r0, r0, square_corner(r0, r1))
         return sd, gx, gy, da + db + dc * DQ_DU, dc * DQ_DV, 0.0
@@ -120,9 +125,9 @@ def gradient_span(x, y, qx, qy, hx_lo, hx_hi, hy_lo, hy_hi):
 
 
 @njit(**JIT)
-def outline_sd(kind, p0, p1, p2, x, y):
-    """Signed value of a fixed outline (CIRCLE, RRECT or OVAL parameters) at ``(x, y)``."""
-    return xs_eval(kind, p0, p1, p2, x, y)[0]
+def outline_sd(plan, kind, p0, p1, p2, x, y):
+    """Signed value of a fixed outline (CIRCLE, RRECT, OVAL or OUTLINE parameters) at ``(x, y)``."""
+    return xs_eval(plan, kind, p0, p1, p2, x, y)[0]
 
 
 @njit(**INLINE)
@@ -223,10 +228,12 @@ def _rrect_interval(a, b, c, px, py, qx, qy):
 
 
 @njit(**JIT)
-def outline_interval(kind, p0, p1, p2, px, py, qx, qy):
+def outline_interval(plan, kind, p0, p1, p2, px, py, qx, qy):
     """``(t_in, t_out)``: where the 2-D line ``p + t q`` is inside the convex outline
-    (CIRCLE ``(r)``, OVAL ``(a, b)``, RRECT ``(a, b, c)``, ``0 <= c <= min(a, b)``);
-    ``t_in > t_out`` when it never is."""
+    (CIRCLE ``(r)``, OVAL ``(a, b)``, RRECT ``(a, b, c)``, ``0 <= c <= min(a, b)``, OUTLINE
+    ``(k, r)`` of ``plan``); ``t_in > t_out`` when it never is."""
+    if kind == OUTLINE:
+        return plan_interval(plan, p0, p1, px, py, qx, qy)
     if kind == CIRCLE:
         return disc_interval(px, py, qx, qy, 0.0, 0.0, p0)
     if kind == OVAL:

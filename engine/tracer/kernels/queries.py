@@ -29,9 +29,8 @@ def hits(geom, o, d, medium, last, side, out_t, out_k, out_part, out_n):
 @njit(**JIT_NRT)
 def normals(geom, k, part, p, out):
     """Oriented normals of object ``k[i]`` of ``geom`` at points ``p[i]`` on its part ``part[i]``."""
-    seg, tab, slab_f, slab_i, obj_i, obj_f = geom
     for i in range(p.shape[0]):
-        nx, ny, nz = object_normal(seg, slab_f, slab_i, obj_i, obj_f, k[i], part[i], p[i, 0], p[i, 1], p[i, 2])
+        nx, ny, nz = object_normal(geom, k[i], part[i], p[i, 0], p[i, 1], p[i, 2])
         out[i, 0], out[i, 1], out[i, 2] = nx, ny, nz
 
 

@@ -7,7 +7,7 @@ scalars are made per hit inside the kernels. Units mm; directions are unit vecto
 
 =================  ============================================================================
 ``Geometry``       the render objects' tables (:mod:`engine.tracer.tables.render_objects`): what the
-                   exact intersectors search
+                   exact intersectors search, with the bottle's plan outline (:mod:`.plans`)
 ``Scene``          a geometry with its media (``(ior, sigma_r, sigma_g, sigma_b)``, 1/mm) and
                    materials (``mat_i`` kinds, ``mat_f`` parameters, :mod:`.materials`)
 ``Tables``         what a tree reads, in one order everywhere: the scene, the labels, the
@@ -36,7 +36,7 @@ from __future__ import annotations
 
 from collections import namedtuple
 
-Geometry = namedtuple("Geometry", ("seg", "tab", "slab_f", "slab_i", "obj_i", "obj_f"))
+Geometry = namedtuple("Geometry", ("seg", "tab", "slab_f", "slab_i", "obj_i", "obj_f", "plan"))
 Scene = namedtuple("Scene", ("geom", "media", "mat_i", "mat_f"))
 #: What the tree of a sample reads (all built once per render, :mod:`engine.tracer.context`): the
 #: :class:`Scene`, the :class:`LabelTables`, the :class:`FinishTables`, the environment's row
@@ -50,15 +50,16 @@ Ray = namedtuple("Ray", ("ox", "oy", "oz", "dx", "dy", "dz"))
 #: of its intersection queries, ``rays`` float32 ``(N, 6 or 9)`` filled up to ``n_rays[0]``
 #: (zero rows: none kept).
 Recorder = namedtuple("Recorder", ("depth", "counters", "rays", "n_rays"))
-#: A non-round wall in one slab (:mod:`.bands`, :mod:`.swept`): the segment table and its
-#: offset tables, the segment rows ``r0, r1, r2`` of its ``nsec`` sections, the cross-section
-#: ``kind`` (:mod:`.outlines`) and ``(c, s)``, the cosine and sine of the bottle's rotation.
 #: One piece of an offset arc's table (:mod:`.revolved`): the segment table and its offset
 #: tables, the table row ``k`` (rows ``k, k + 1`` bound the piece), the segment row ``i``, the
 #: key coordinate ``axis`` (1: z, a wall; 0: r, a base) and the piece's parameter range
 #: ``x0 <= x1`` (fractions of the arc's sweep).
 OffsetPiece = namedtuple("OffsetPiece", ("seg", "tab", "k", "i", "axis", "x0", "x1"))
-Wall = namedtuple("Wall", ("seg", "tab", "r0", "r1", "r2", "nsec", "kind", "c", "s"))
+#: A non-round wall in one slab (:mod:`.bands`, :mod:`.swept`): the segment table and its
+#: offset tables, the segment rows ``r0, r1, r2`` of its ``nsec`` sections, the cross-section
+#: ``kind`` (:mod:`.outlines`), ``(c, s)``, the cosine and sine of the bottle's rotation, and
+#: the table of a free plan outline's pieces (:mod:`.plans`; read only by ``OUTLINE`` walls).
+Wall = namedtuple("Wall", ("seg", "tab", "r0", "r1", "r2", "nsec", "kind", "c", "s", "plan"))
 Scratch = namedtuple("Scratch", ("roots", "crit", "ivals"))
 Work = namedtuple("Work", ("stk_f", "stk_i", "stk_u", "kids", "order", "scratch"))
 Hit = namedtuple("Hit", ("t", "obj", "part", "nx", "ny", "nz"))

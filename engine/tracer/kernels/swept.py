@@ -32,12 +32,13 @@ SL_COLS = 10
 
 
 @njit(**INLINE)
-def swept_wall(seg, tab, slab_seg, kind, nsec, cos_r, sin_r):
+def swept_wall(seg, tab, slab_seg, kind, nsec, rot, plan):
     """The :class:`~.records.Wall` of one slab: sections of cross-section ``kind`` on segment
-    rows ``slab_seg`` (``nsec`` of them), the bottle turned by ``(cos_r, sin_r)``."""
+    rows ``slab_seg`` (``nsec`` of them), the bottle turned by ``rot = (cos, sin)``, a free
+    outline's pieces ``plan`` (:mod:`.plans`)."""
     r1 = slab_seg[1] if nsec > 1 else slab_seg[0]
     r2 = slab_seg[2] if nsec > 2 else slab_seg[0]
-    return Wall(seg, tab, slab_seg[0], r1, r2, nsec, kind, cos_r, sin_r)
+    return Wall(seg, tab, slab_seg[0], r1, r2, nsec, kind, rot[0], rot[1], plan)
 
 
 @njit(**JIT)
@@ -48,17 +49,18 @@ def swept_roots(wall, ray, lo, hi, leaf, out, stack):
 
 
 @njit(**JIT)
-def swept_normal(seg, slab_seg, kind, nsec, cos_r, sin_r, px, py, pz):
-    """Unit gradient (world) of the swept wall's residual at ``p`` (mm): points out of the
-    outline."""
+def swept_normal(wall, px, py, pz):
+    """Unit gradient (world) of the swept ``wall``'s residual (a :class:`~.records.Wall`,
+    :func:`swept_wall`) at ``p`` (mm): points out of the outline."""
+    seg, _, s0, s1, s2, nsec, kind, cos_r, sin_r, plan = wall
     x, y = cos_r * px + sin_r * py, -sin_r * px + cos_r * py
-    r0, tr0, tz0 = wall_state(seg, slab_seg[0], pz)
+    r0, tr0, tz0 = wall_state(seg, s0, pz)
     r1, tr1, tz1, r2, tr2, tz2 = 0.0, 0.0, 1.0, 0.0, 0.0, 1.0
     if nsec > 1:
-        r1, tr1, tz1 = wall_state(seg, slab_seg[1], pz)
+        r1, tr1, tz1 = wall_state(seg, s1, pz)
     if nsec > 2:
-        r2, tr2, tz2 = wall_state(seg, slab_seg[2], pz)
-    _, gx, gy, d0, d1, d2 = xs_eval(kind, r0, r1, r2, x, y)
+        r2, tr2, tz2 = wall_state(seg, s2, pz)
+    _, gx, gy, d0, d1, d2 = xs_eval(plan, kind, r0, r1, r2, x, y)
     tz0, tz1, tz2 = max(tz0, 1e-300), max(tz1, 1e-300), max(tz2, 1e-300)
     gz = d0 * tr0 * tz1 * tz2 + d1 * tr1 * tz0 * tz2 + d2 * tr2 * tz0 * tz1
     prod = tz0 * tz1 * tz2

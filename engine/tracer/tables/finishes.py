@@ -141,7 +141,7 @@ def scene_with_cap(scene: Scene, cap: CapTables | None, fill_height: float | Non
     like the inner wall."""
     if cap is None:
         return scene
-    (seg, tab, slab_f, slab_i, obj_i, obj_f), media, mat_i, mat_f = scene
+    (seg, tab, slab_f, slab_i, obj_i, obj_f, plan), media, mat_i, mat_f = scene
     oi = cap.obj_i.copy()
     oi[:, K.O_FIRST] += seg.shape[0]
     oi[:, K.O_MAT] += mat_i.shape[0]
@@ -158,7 +158,7 @@ def scene_with_cap(scene: Scene, cap: CapTables | None, fill_height: float | Non
     mf[:, :mat_f.shape[1]] = mat_f
     c = np.ascontiguousarray
     return Scene(Geometry(c(np.concatenate([seg, cap.seg])), tab, slab_f, slab_i, c(np.concatenate([obj_i, oi])),
-                          c(np.concatenate([obj_f, of]))), media, c(np.concatenate([mat_i, cap.mat_i])),
+                          c(np.concatenate([obj_f, of])), plan), media, c(np.concatenate([mat_i, cap.mat_i])),
                  c(np.concatenate([mf, cap.mat_f])))
 
 

@@ -104,7 +104,7 @@ def scene_with_stage(scene: Scene, stage: Stage, camera=None) -> Scene:
     ``scene`` itself for the stage ``none``)."""
     if stage.kind == "none":
         return scene
-    (seg, tab, slab_f, slab_i, obj_i, obj_f), media, mat_i, mat_f = scene
+    (seg, tab, slab_f, slab_i, obj_i, obj_f, plan), media, mat_i, mat_f = scene
     oi = _air_object(K.PLANE, mat_i.shape[0])
     oi[K.O_XS] = RRECT
     of = np.zeros(K.F_COLS)
@@ -134,7 +134,7 @@ def scene_with_stage(scene: Scene, stage: Stage, camera=None) -> Scene:
         new_mi.append(np.array([[BACKDROP] + [0] * (mat_i.shape[1] - 1)], np.int64))
         new_mf.append(sweep)
     c = np.ascontiguousarray
-    return Scene(Geometry(seg, tab, slab_f, slab_i, c(np.vstack([obj_i, *new_i])), c(np.vstack([obj_f, *new_f]))),
+    return Scene(Geometry(seg, tab, slab_f, slab_i, c(np.vstack([obj_i, *new_i])), c(np.vstack([obj_f, *new_f])), plan),
                  media, c(np.vstack([mat_i, *new_mi])), c(np.vstack([mf, *new_mf])))
 
 

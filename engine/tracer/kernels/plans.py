@@ -1,0 +1,167 @@
+"""Free plan outlines (convex chains of lines and arcs) as the kernels evaluate them.
+
+Design rule: a bottle of cross-section kind ``OUTLINE`` (../shared/oracle/SPEC_outline.md) has
+at height z the section ``{q : sd(q, k P) <= r}``: the plan outline ``P`` (normalised, its
+farthest point at distance 1 from the axis) scaled by the core ``k(z)`` and grown by ``r(z)``
+(the rounding ``c`` on the outer wall, ``c - w`` on the inner one, which may be negative: then
+the section is ``k P`` eroded, with sharp inner corners). Everything here rests on one identity
+of convex sets: with ``h(u)`` the support function of ``P``,
+
+    sd(q, k P) - r  =  max over unit u of  ( q . u - k h(u) - r ),
+
+true inside and outside (inside, the nearest boundary point lies on a supporting line), for
+``r`` of either sign. ``P``'s normal fan is cut into *pieces*, one table row each
+(:data:`PL_COLS` columns, built by :func:`engine.tracer.tables.plans.plan_table`):
+
+==========  ==========================================================================
+``FLAT``    a line of ``P``: outward unit normal ``n``, support value ``h``: one ``u``
+``ROUND``   an arc of ``P`` (centre ``C``, radius ``rho``) or a sharp corner (``C`` the
+            vertex, ``rho = 0``) over a wedge of normals ``u0 -> u1`` (ccw, at most 90 deg:
+            longer arcs and corners come as several rows), ``h(u) = C . u + rho``
+==========  ==========================================================================
+
+so the value is a maximum of closed forms, its gradient the maximising ``u`` and its derivative
+in ``k`` ``-h(u)`` (negative: the origin is inside ``P``), in ``r`` ``-1``. The section is the
+intersection over pieces of ``{max over the piece's u of (...) <= 0}``: a half-plane per
+``FLAT`` row, per ``ROUND`` row the two half-planes of its end normals and, where the grown
+radius ``k rho + r`` is positive, the disc of that radius inside the wedge's cone (for a
+negative one the two half-planes alone: the corner stays sharp). A line's interval in the
+section is therefore the intersection of closed-form intervals (:func:`plan_interval`).
+Units: mm for ``k``, ``r`` and points; ``P`` is unitless.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .jit import INLINE, JIT
+
+FLAT, ROUND = 0, 1
+#: Columns of a plan row: kind, then ``FLAT``: normal, support value; ``ROUND``: centre,
+#: radius, the wedge's end normals ``u0`` and ``u1``.
+PL_KIND, PL_NX, PL_NY, PL_H, PL_CX, PL_CY, PL_RHO, PL_U0X, PL_U0Y, PL_U1X, PL_U1Y = range(11)
+PL_COLS = 11
+
+
+@njit(**INLINE)
+def _in_wedge(row, vx, vy):
+    """Whether the direction of ``v`` (not zero) lies in the row's wedge ``u0 -> u1``."""
+    return (row[PL_U0X] * vy - row[PL_U0Y] * vx >= 0.0) and (vx * row[PL_U1Y] - vy * row[PL_U1X] >= 0.0)
+
+
+@njit(**JIT)
+def plan_value(plan, k, r, x, y):
+    """``(f, gx, gy, dk)``: ``f = sd((x, y), k P) - r`` (mm, negative inside the section), its
+    unit gradient (a subgradient where pieces tie: the first maximum) and ``df/dk`` (``df/dr``
+    is -1). ``plan``: the table of pieces (module doc)."""
+    best, gx, gy, dk = -np.inf, 1.0, 0.0, 0.0
+    for i in range(plan.shape[0]):
+        row = plan[i]
+        if row[PL_KIND] == FLAT:
+            v = x * row[PL_NX] + y * row[PL_NY] - k * row[PL_H] - r
+            if v > best:
+                best, gx, gy, dk = v, row[PL_NX], row[PL_NY], -row[PL_H]
+            continue
+        cx, cy, rho = row[PL_CX], row[PL_CY], row[PL_RHO]
+        vx, vy = x - k * cx, y - k * cy
+        d = math.sqrt(vx * vx + vy * vy)
+        if d > 0.0 and _in_wedge(row, vx, vy):
+            v = d - k * rho - r
+            if v > best:
+                ux, uy = vx / d, vy / d
+                best, gx, gy, dk = v, ux, uy, -(cx * ux + cy * uy + rho)
+            continue
+        for e in range(2):  # outside the wedge: the largest of its end normals
+            ux, uy = (row[PL_U0X], row[PL_U0Y]) if e == 0 else (row[PL_U1X], row[PL_U1Y])
+            v = vx * ux + vy * uy - k * rho - r
+            if v > best:
+                best, gx, gy, dk = v, ux, uy, -(cx * ux + cy * uy + rho)
+    return best, gx, gy, dk
+
+
+@njit(**INLINE)
+def _half_plane(g0, g1, lo, hi):
+    """``[lo, hi]`` cut to where ``g0 + g1 t <= 0`` (empty: ``lo > hi``)."""
+    if g1 > 0.0:
+        hi = min(hi, -g0 / g1)
+    elif g1 < 0.0:
+        lo = max(lo, -g0 / g1)
+    elif g0 > 0.0:
+        return 1.0, -1.0
+    return lo, hi
+
+
+@njit(**INLINE)
+def _disc(px, py, qx, qy, cx, cy, rad):
+    """Parameters ``t`` where ``p + t q`` lies in the disc of radius ``rad`` about ``c``."""
+    ux, uy = px - cx, py - cy
+    a = qx * qx + qy * qy
+    if a == 0.0:
+        return (-np.inf, np.inf) if ux * ux + uy * uy <= rad * rad else (1.0, -1.0)
+    s = -(ux * qx + uy * qy) / a  # closest approach first: no cancellation far away
+    mx, my = ux + s * qx, uy + s * qy
+    h2 = rad * rad - (mx * mx + my * my)
+    if h2 < 0.0:
+        return 1.0, -1.0
+    h = math.sqrt(h2 / a)
+    return s - h, s + h
+
+
+@njit(**INLINE)
+def _hull(lo, hi, l2, h2):
+    """The smallest interval holding ``[lo, hi]`` and ``[l2, h2]`` (either may be empty)."""
+    if l2 > h2:
+        return lo, hi
+    if lo > hi:
+        return l2, h2
+    return min(lo, l2), max(hi, h2)
+
+
+@njit(**INLINE)
+def _round_interval(row, k, r, px, py, qx, qy, lo, hi):
+    """``[lo, hi]`` cut to a ``ROUND`` row's part of the section (module doc): its end normals'
+    half-planes, and where the grown radius is positive, inside the disc within its cone."""
+    cx, cy = k * row[PL_CX], k * row[PL_CY]
+    rad = k * row[PL_RHO] + r
+    ux, uy, wx, wy = row[PL_U0X], row[PL_U0Y], row[PL_U1X], row[PL_U1Y]
+    ox, oy = px - cx, py - cy
+    lo, hi = _half_plane(ox * ux + oy * uy - rad, qx * ux + qy * uy, lo, hi)
+    lo, hi = _half_plane(ox * wx + oy * wy - rad, qx * wx + qy * wy, lo, hi)
+    if lo > hi or rad < 0.0:
+        return lo, hi
+    # the cone of the wedge from the centre: cross(u0, v) >= 0 and cross(v, u1) >= 0
+    c0, c1 = _half_plane(-(ux * oy - uy * ox), -(ux * qy - uy * qx), -np.inf, np.inf)
+    c0, c1 = _half_plane(-(ox * wy - oy * wx), -(qx * wy - qy * wx), c0, c1)
+    c0, c1 = max(c0, lo), min(c1, hi)
+    if c0 > c1:  # the line misses the cone within [lo, hi]: the half-planes decide
+        return lo, hi
+    d0, d1 = _disc(px, py, qx, qy, cx, cy, rad)
+    # allowed: [lo, hi] outside the cone, and the cone's part inside the disc (their hull: the
+    # section is convex, so its trace on the line is one interval)
+    a0, a1 = 1.0, -1.0
+    if lo < c0:
+        a0, a1 = lo, c0
+    if c1 < hi:
+        a0, a1 = _hull(a0, a1, c1, hi)
+    a0, a1 = _hull(a0, a1, max(c0, d0), min(c1, d1))
+    return a0, a1
+
+
+@njit(**JIT)
+def plan_interval(plan, k, r, px, py, qx, qy):
+    """``(t_in, t_out)``: where the 2-D line ``p + t q`` lies in the section ``sd(., k P) <= r``
+    (``t_in > t_out`` when it never does); ``q = 0`` asks about the point ``p`` (``(-inf, inf)``
+    or empty)."""
+    lo, hi = -np.inf, np.inf
+    for i in range(plan.shape[0]):
+        row = plan[i]
+        if row[PL_KIND] == FLAT:
+            nx, ny = row[PL_NX], row[PL_NY]
+            lo, hi = _half_plane(px * nx + py * ny - k * row[PL_H] - r, qx * nx + qy * ny, lo, hi)
+        else:
+            lo, hi = _round_interval(row, k, r, px, py, qx, qy, lo, hi)
+        if lo > hi:
+            return 1.0, -1.0
+    return lo, hi

@@ -232,7 +232,9 @@ def export_drawing(design: Design, path: str, sheet: str = "A3", progress=None) 
 
 
 def export_review_page(design: Design, assets: dict, folder: str, tol_mm: float,
-                       poster_height: int | None, turntable: str | None, progress=None):
-    """Write the review page folder; the folder."""
+                       poster_height: int | None, turntable: str | None, progress=None,
+                       denoise: bool = False):
+    """Write the review page folder (with ``denoise``, the poster denoised and the raw one
+    beside it); the folder."""
     from engine.export.share import write_share
-    return write_share(design, assets, folder, tol_mm, poster_height, turntable, progress)
+    return write_share(design, assets, folder, tol_mm, poster_height, turntable, progress, denoise=denoise)

@@ -2,7 +2,7 @@
 window.
 
 Design rule: each action asks its options (the command line's: tolerance, liquid, poster
-height, turntable, sheet) through :class:`ExportDialogs` and its target through the window's
+height, turntable, denoise, sheet) through :class:`ExportDialogs` and its target through the window's
 ``dialogs.ask_save_path``, both methods tests replace, then runs the engine's export (the same
 function the command line calls, through :mod:`app.engine_bridge`) on a snapshot of the design
 on a worker thread. The thread reports progress through a Qt signal, so the status bar's
@@ -33,7 +33,7 @@ EXPORT_ERRORS = (GlassbenchError, OSError, ValueError, KeyError, TypeError, Arit
 #: The options of each export and their defaults (the command line's).
 DEFAULTS = {"cad": {"tol_mm": 0.001, "liquid": True},
             "scene": {"tol_mm": 0.05},
-            "review": {"tol_mm": 0.05, "poster_height": 640, "turntable": ""},
+            "review": {"tol_mm": 0.05, "poster_height": 640, "turntable": "", "denoise": False},
             "drawing": {"sheet": "A3"}}
 TITLES = {"cad": "CAD", "scene": "glTF scene", "review": "review page", "drawing": "drawing"}
 #: The paper sizes a drawing is laid out on.
@@ -63,7 +63,7 @@ class ExportOptionsDialog(QDialog):
         if key == "tol_mm":
             return "Fit tolerance (mm)" if kind == "cad" else "Chordal tolerance (mm)"
         return {"liquid": "Liquid as its own solid", "poster_height": "Poster height (px)",
-                "turntable": "Turntable frames", "sheet": "Sheet"}[key]
+                "turntable": "Turntable frames", "denoise": "Denoise the poster", "sheet": "Sheet"}[key]
 
     @staticmethod
     def _field(key, value):
@@ -73,9 +73,12 @@ class ExportOptionsDialog(QDialog):
             w.setRange(1e-6 if value < 0.01 else 0.001, 1.0 if value < 0.01 else 10.0)
             w.setValue(value)
             return w
-        if key == "liquid":
+        if isinstance(value, bool):  # liquid, denoise
             w = QCheckBox()
             w.setChecked(value)
+            if key == "denoise":
+                w.setToolTip("Write poster.png denoised (Intel Open Image Denoise) and keep the raw render "
+                             "beside it as poster.raw.png; the page says which it shows")
             return w
         if key == "sheet":
             w = QComboBox()
@@ -190,7 +193,7 @@ class ExportActions(QObject):
                 "scene": lambda p: engine_bridge.export_scene(design, assets, path, options["tol_mm"], p),
                 "review": lambda p: engine_bridge.export_review_page(
                     design, assets, path, options["tol_mm"], options["poster_height"],
-                    options["turntable"] or None, p),
+                    options["turntable"] or None, p, denoise=options["denoise"]),
                 "drawing": lambda p: engine_bridge.export_drawing(design, path, options["sheet"], p)}[kind]
         self.bar.setValue(0)
         self.bar.show()

@@ -118,6 +118,7 @@ def test_json_job_files_are_read_the_same_way(tmp_path):
     ("spp = 2", "spp = 0", "spp must be a whole number", None),
     ("turntable = 4", "turntable = 4\nformat = \"jpeg\"", "format must be one of", None),
     ("turntable = 4", "turntable = 4\nthreads = 3", "unknown setting 'threads'", None),
+    ("turntable = 4", "turntable = 4\ndenoise = \"yes\"", "denoise must be true or false, got 'yes'", None),
 ])
 def test_a_bad_line_is_named_before_anything_renders(tmp_path, old, new, words, at):
     assert old in JOB
@@ -187,6 +188,27 @@ def test_the_turntable_command_job_writes_flat_frame_names(tmp_path):
     assert [f.relpath for f in job.frames()] == ["frame_0000.exr", "frame_0001.exr", "frame_0002.exr"]
     with pytest.raises(JobError, match="--frames must be in 1..3600"):
         turntable_job(BORDEAUX, 0, str(tmp_path / "t"))
+
+
+def test_denoise_is_read_and_enters_the_frame_hash_only_when_true(tmp_path):
+    import hashlib
+
+    from engine.batch.manifest import RENDERER, asset_digests, frame_hash
+    from engine.files.serialize import design_to_dict
+    assert read_job(write(tmp_path, JOB)).denoise is False
+    job = read_job(write(tmp_path, JOB.replace("turntable = 4", "turntable = 4\ndenoise = true")))
+    assert job.denoise is True
+    frame = job.frames()[1]
+    digests = asset_digests(frame.variant.assets)
+    off = frame_hash(frame.design, digests, "png", True, False)
+    # off: the document hashed before denoise existed, exactly (existing manifests stay valid)
+    doc = {"renderer": RENDERER, "format": "png", "alpha": True, "design": design_to_dict(frame.design),
+           "assets": digests}
+    old = hashlib.sha256(json.dumps(doc, sort_keys=True, separators=(",", ":")).encode()).hexdigest()
+    assert off == old == frame_hash(frame.design, digests, "png", True)
+    assert frame_hash(frame.design, digests, "png", True, True) != off, "toggling denoise renders again"
+    turn = turntable_job(BORDEAUX, 2, str(tmp_path / "t"), width=36, height=48, spp=2, denoise=True)
+    assert turn.denoise is True and turntable_job(BORDEAUX, 2, str(tmp_path / "t")).denoise is False
 
 
 def test_a_stage_override_merges_into_the_designs_stage(tmp_path):

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 from engine import cli
-from engine.files.images import read_image
+from engine.files.images import image_description, read_image
 from engine.batch.jobfile import read_job
 from engine.batch.manifest import Manifest
 from engine.batch.run import run_batch
@@ -109,3 +109,70 @@ def test_bad_cluster_options_are_one_line_errors(tmp_path, capsys):
     assert cli.main(["batch", str(tmp_path / "missing.toml")]) == 2
     assert "missing.toml" in capsys.readouterr().err
     assert not (tmp_path / "review").exists()
+
+
+DENOISED_JOB = f"""\
+output = "review"
+width = 36
+height = 48
+spp = 2
+turntable = 2
+alpha = true
+denoise = true
+
+[[projects]]
+file = "{RESOURCES}/labelled.glassbench"
+"""
+
+
+def test_a_denoised_batch_writes_each_frame_denoised_and_its_raw_film_beside_it(tmp_path, capsys):
+    job_file = tmp_path / "review.toml"
+    job_file.write_text(DENOISED_JOB)
+    assert cli.main(["batch", str(job_file), "--workers", "1", "--quiet"]) == 0
+    assert "rendered 2 frame(s), skipped 0" in capsys.readouterr().out
+    out = tmp_path / "review"
+    assert files_under(out) == sorted(
+        ["contact_sheet.png", "manifest.json", "summary.csv", "summary.json"]
+        + [f"labelled/frame_000{k}{kind}.png" for k in (0, 1) for kind in ("", ".raw")])
+    for k in (0, 1):
+        frame, raw = out / f"labelled/frame_000{k}.png", out / f"labelled/frame_000{k}.raw.png"
+        assert image_description(raw).startswith("glassbench: raw render")
+        assert image_description(frame).startswith(f"glassbench: denoised estimate of the raw render frame_000{k}.raw.png")
+        a, b = read_image(str(frame)), read_image(str(raw))
+        assert a.shape == b.shape == (48, 36, 4)
+        assert not np.array_equal(a[..., :3], b[..., :3]), "the denoised frame is not the raw one"
+        assert np.array_equal(a[..., 3], b[..., 3]) and a[0, 0, 3] == 0 and a[24, 18, 3] == 255, \
+            "one coverage, the bottle's, on both"
+    summary = json.loads((out / "summary.json").read_text())
+    assert summary["denoised"] is True
+    assert [f["raw_file"] for f in summary["variants"][0]["frames"]] == [
+        "labelled/frame_0000.raw.png", "labelled/frame_0001.raw.png"]
+    with open(out / "summary.csv", newline="") as fh:
+        assert [r["denoised"] for r in csv.DictReader(fh)] == ["true"]
+    entry = Manifest(str(out)).frames["labelled/frame_0000.png"]
+    assert list(entry["beside"]) == ["labelled/frame_0000.raw.png"]
+
+    # done frames are skipped; a raw film gone is made again with its frame
+    os.remove(out / "labelled/frame_0001.raw.png")
+    assert cli.main(["batch", str(job_file), "--workers", "1", "--quiet"]) == 0
+    assert "rendered 1 frame(s), skipped 1" in capsys.readouterr().out
+    assert (out / "labelled/frame_0001.raw.png").exists()
+    # denoise off: every frame renders again, raw, at the frame's own name
+    job_file.write_text(DENOISED_JOB.replace("denoise = true", "denoise = false"))
+    assert cli.main(["batch", str(job_file), "--workers", "1", "--quiet"]) == 0
+    assert "rendered 2 frame(s), skipped 0" in capsys.readouterr().out
+    assert image_description(out / "labelled/frame_0000.png").startswith("glassbench: raw render")
+    assert json.loads((out / "summary.json").read_text())["denoised"] is False
+
+
+def test_turntable_denoise_from_the_command_line(tmp_path, capsys):
+    out = tmp_path / "turn"
+    assert cli.main(["turntable", os.path.join(RESOURCES, "labelled.glassbench"), "--frames", "1", "-o", str(out),
+                     "--width", "36", "--height", "48", "--spp", "2", "--denoise", "--workers", "1",
+                     "--quiet"]) == 0
+    assert "raw film of each beside it" in capsys.readouterr().out
+    assert {"frame_0000.png", "frame_0000.raw.png"} <= {p.name for p in out.iterdir()}
+    assert image_description(out / "frame_0000.png").startswith(
+        "glassbench: denoised estimate of the raw render frame_0000.raw.png")
+    assert image_description(out / "frame_0000.raw.png").startswith("glassbench: raw render")
+    assert not np.array_equal(read_image(str(out / "frame_0000.png")), read_image(str(out / "frame_0000.raw.png")))

@@ -9,6 +9,7 @@ import threading
 import numpy as np
 import pytest
 
+from engine.files.images import image_description
 from engine.files.project import load_project
 from engine.tracer.denoise import Denoiser, FrameDenoiser, denoised_frame, raw_weight
 from engine.tracer.film import Film
@@ -139,15 +140,6 @@ def test_the_denoised_frame_of_a_converged_render_keeps_its_settled_pixels_raw()
     assert not np.allclose(out, raw), "the rest is the denoiser's"
 
 
-def _description(path) -> str:
-    import OpenImageIO as oiio
-    inp = oiio.ImageInput.open(str(path))
-    try:
-        return inp.spec().get_string_attribute("ImageDescription")
-    finally:
-        inp.close()
-
-
 def test_render_denoise_writes_the_denoised_image_and_keeps_the_raw_one_beside_it(tmp_path, capsys):
     import OpenImageIO as oiio
 
@@ -157,12 +149,12 @@ def test_render_denoise_writes_the_denoised_image_and_keeps_the_raw_one_beside_i
                      "--spp", "2", "--denoise"]) == 0
     raw = tmp_path / "still.raw.exr"
     assert f"wrote {out} (denoised) and {raw} (raw)" in capsys.readouterr().out
-    assert _description(raw).startswith("glassbench: raw render")
-    assert _description(out).startswith("glassbench: denoised estimate of the raw render still.raw.exr")
+    assert image_description(raw).startswith("glassbench: raw render")
+    assert image_description(out).startswith("glassbench: denoised estimate of the raw render still.raw.exr")
     a, b = oiio.ImageBuf(str(out)).get_pixels(), oiio.ImageBuf(str(raw)).get_pixels()
     assert a.shape == b.shape == (48, 36, 3) and not np.array_equal(a, b)
     plain = tmp_path / "plain.exr"
     assert cli.main(["render", "resources/labelled.glassbench", "-o", str(plain), "--width", "36", "--height", "48",
                      "--spp", "2"]) == 0
-    assert _description(plain).startswith("glassbench: raw render")
+    assert image_description(plain).startswith("glassbench: raw render")
     np.testing.assert_array_equal(oiio.ImageBuf(str(plain)).get_pixels(), b)  # the raw film, untouched

@@ -81,11 +81,34 @@ def test_review_page_from_the_menu(make_window, qtbot, tmp_path):
     design, assets = load("jar.glassbench")
     w = make_window(design, assets=assets)
     out = tmp_path / "review"
-    ok, _, progress = run_export(qtbot, w, "review", out, tol_mm=0.1, poster_height=16, turntable="")
+    ok, _, progress = run_export(qtbot, w, "review", out, tol_mm=0.1, poster_height=16, turntable="",
+                                 denoise=False)
     assert ok and w.dialogs.errors == []
     assert {"index.html", "scene.glb", "poster.png", "numbers.json",
             "model-viewer-umd.min.js"} <= {p.name for p in out.iterdir()}
+    assert "poster.raw.png" not in {p.name for p in out.iterdir()}
     assert len(progress) >= 3
+
+
+def test_the_review_dialogs_denoise_box_reaches_the_page(make_window, qtbot, tmp_path):
+    from app.export_actions import ExportOptionsDialog
+    from engine.files.images import image_description
+    dialog = ExportOptionsDialog("review")
+    qtbot.addWidget(dialog)
+    assert dialog.fields["denoise"].isChecked() is False, "off unless asked"
+    dialog.fields["denoise"].setChecked(True)
+    dialog.fields["poster_height"].setValue(16)
+    options = dialog.values()
+    assert options["denoise"] is True
+    design, assets = load("jar.glassbench")
+    w = make_window(design, assets=assets)
+    out = tmp_path / "review"
+    ok, _, _ = run_export(qtbot, w, "review", out, **options)
+    assert ok and w.dialogs.errors == []
+    assert image_description(out / "poster.raw.png").startswith("glassbench: raw render")
+    assert image_description(out / "poster.png").startswith(
+        "glassbench: denoised estimate of the raw render poster.raw.png")
+    assert '<a href="poster.raw.png">' in (out / "index.html").read_text()
 
 
 def test_a_refused_export_says_why_and_keeps_the_old_file(make_window, qtbot, tmp_path):

@@ -74,7 +74,23 @@ def test_turntable_frames_become_a_flip_book(tmp_path):
     assert sorted(p.name for p in (out / "turntable").iterdir()) == ["0000.png", "0001.png", "0002.png"]
     page = (out / "index.html").read_text()
     assert 'id="turntable" src="turntable/0000.png"' in page and 'max="2"' in page
-    assert "No labels." in page
+    assert "No labels." in page and "Denoised frames" not in page
+
+
+def test_a_denoised_turntable_is_a_flip_book_of_its_denoised_frames_said_to_be_so(tmp_path):
+    from engine.files.images import save_image
+    from engine.tracer.denoise import DENOISED_NOTE, RAW_NOTE
+    frames = tmp_path / "turn"
+    frames.mkdir()
+    for k in range(2):  # as turntable --denoise writes them
+        rgb = np.full((8, 8, 3), 0.1 * (k + 1), np.float32)
+        save_image(frames / f"frame_{k:04d}.raw.png", rgb, None, RAW_NOTE)
+        save_image(frames / f"frame_{k:04d}.png", rgb, None, DENOISED_NOTE.format(raw=f"frame_{k:04d}.raw.png"))
+    design, assets = no_labels()
+    out = write_share(design, assets, tmp_path / "r", poster_height=8, turntable=frames)
+    assert sorted(p.name for p in (out / "turntable").iterdir()) == ["0000.png", "0001.png"]
+    page = (out / "index.html").read_text()
+    assert 'max="1"' in page and "Denoised frames (Intel Open Image Denoise)" in page
 
 
 def test_a_foreign_folder_is_never_replaced_and_a_page_is(tmp_path, capsys):
@@ -90,3 +106,24 @@ def test_a_foreign_folder_is_never_replaced_and_a_page_is(tmp_path, capsys):
     write_share(design, assets, out, poster_height=8)
     assert (out / MARKER).exists() and not (out / "stale.txt").exists()
     assert sorted(p.name for p in tmp_path.iterdir()) == ["mine", "page"]  # no temporaries left
+
+
+def test_share_denoise_writes_the_denoised_poster_and_the_raw_one_beside_it_and_says_so(tmp_path, capsys):
+    from engine.files.images import image_description, read_image
+    project = next(p for p in SAMPLES if p.name == "labelled.glassbench")
+    out = tmp_path / "review"
+    assert cli.main(["share", str(project), "-o", str(out), "--poster-height", str(POSTER), "--denoise"]) == 0
+    assert "poster.raw.png" in capsys.readouterr().out
+    poster, raw = out / "poster.png", out / "poster.raw.png"
+    assert image_description(raw).startswith("glassbench: raw render")
+    assert image_description(poster).startswith("glassbench: denoised estimate of the raw render poster.raw.png")
+    a, b = read_image(str(poster)), read_image(str(raw))
+    assert a.shape == b.shape and a.shape[0] == POSTER and not np.array_equal(a, b)
+    page = (out / "index.html").read_text()
+    assert ("denoised estimate (Intel Open Image Denoise); the raw render: "
+            '<a href="poster.raw.png">poster.raw.png</a>') in page
+    # without --denoise: one poster, the raw render, and no such caption
+    plain = write_share(*load("labelled.glassbench"), tmp_path / "plain", poster_height=POSTER)
+    assert not (plain / "poster.raw.png").exists()
+    assert image_description(plain / "poster.png").startswith("glassbench: raw render")
+    assert "poster.raw.png" not in (plain / "index.html").read_text()

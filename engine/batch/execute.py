@@ -67,7 +67,7 @@ def open_client(scheduler: str | None = None, workers: int | None = None):
 
 
 def run_frames(client, frames, payload_of, *, alpha: bool, threads: int, on_result,
-               on_progress=None) -> None:
+               on_progress=None, denoise: bool = False) -> None:
     """Render ``frames`` on ``client``'s cluster; call ``on_result(frame, result)`` per frame.
 
     Parameters
@@ -76,7 +76,7 @@ def run_frames(client, frames, payload_of, *, alpha: bool, threads: int, on_resu
     payload_of : callable
         ``payload_of(frame) -> (design, assets)``: the variant data to scatter (one call per
         variant; frames of a variant share the scattered copy).
-    alpha, threads
+    alpha, threads, denoise
         Passed to :func:`engine.batch.task.render_frame`.
     on_result : callable
         ``on_result(frame, result_dict)``, on this thread, as each frame finishes.
@@ -101,7 +101,7 @@ def run_frames(client, frames, payload_of, *, alpha: bool, threads: int, on_resu
 
     def submit(frame):
         return client.submit(render_frame, payload(frame), frame.design.camera, frame.design.render,
-                             alpha, threads, topic, frame.relpath, pure=False)
+                             alpha, threads, topic, frame.relpath, denoise, pure=False)
 
     pending = {}
     attempts = {}

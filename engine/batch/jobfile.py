@@ -11,6 +11,7 @@ inputs. Relative paths start at the job file's folder. A job file::
     spp = 8
     format = "png"               # png | exr | tif
     alpha = false                # add the bottle's silhouette coverage as alpha
+    denoise = false              # true: VIEW.EXT denoised (OIDN), the raw film as VIEW.raw.EXT
     turntable = 8                # views frame_0000 ... orbiting the axis (optional)
 
     [cameras.front]              # named views (optional): eye and target in mm
@@ -24,7 +25,9 @@ inputs. Relative paths start at the job file's folder. A job file::
       glass_tint = [0.002, 0.006, 0.02]
       fill_ml = 700
 
-Images go to ``OUTPUT/VARIANT/VIEW.EXT`` (the turntable command: ``OUTPUT/frame_0000.EXT``).
+Images go to ``OUTPUT/VARIANT/VIEW.EXT`` (the turntable command: ``OUTPUT/frame_0000.EXT``);
+with ``denoise = true`` that file is the denoised estimate and the raw film goes beside it as
+``VIEW.raw.EXT``, each file's description saying which it is.
 """
 from __future__ import annotations
 
@@ -42,7 +45,8 @@ from .views import View, job_views, turntable_views
 FORMATS = ("png", "exr", "tif")
 #: Names that become file and folder names: no separators, no leading dot, at most 64 chars.
 SAFE_NAME = re.compile(r"^[A-Za-z0-9][A-Za-z0-9_.+-]{0,63}\Z")
-TOP_KEYS = ("output", "width", "height", "spp", "format", "alpha", "turntable", "cameras", "projects")
+TOP_KEYS = ("output", "width", "height", "spp", "format", "alpha", "denoise", "turntable", "cameras",
+            "projects")
 LIMITS = {"width": 16384, "height": 16384, "spp": 1 << 20, "turntable": 3600}
 #: Variants one job may hold (over all its projects), and frames (variants times views): a job
 #: past them is refused before any project is loaded or any override applied, so ``--check``
@@ -74,7 +78,9 @@ class Frame:
 
 @dataclass(frozen=True, eq=False)
 class BatchJob:
-    """Variants x views at one size; ``output`` is the absolute folder everything goes to."""
+    """Variants x views at one size; ``output`` is the absolute folder everything goes to.
+    With ``denoise`` each frame's file is the denoised estimate and its raw film is kept beside
+    it (:func:`engine.tracer.denoise.raw_path`)."""
 
     output: str
     variants: tuple
@@ -85,6 +91,7 @@ class BatchJob:
     format: str = "png"
     alpha: bool = False
     flat: bool = False
+    denoise: bool = False
 
     def frames(self) -> list[Frame]:
         """Every frame, variant-major, with its path relative to ``output`` (POSIX ``/``)."""
@@ -124,9 +131,7 @@ def read_job(path: str | os.PathLike, output: str | None = None) -> BatchJob:
     fmt = data.get("format", "png")
     if fmt not in FORMATS:
         raise tree.error(("format",), f"format must be one of {', '.join(FORMATS)}, got {fmt!r}")
-    alpha = data.get("alpha", False)
-    if not isinstance(alpha, bool):
-        raise tree.error(("alpha",), f"alpha must be true or false, got {alpha!r}")
+    alpha, denoise = _flag(tree, data, "alpha"), _flag(tree, data, "denoise")
     views = job_views(tree, data, sizes["turntable"],
                       lambda where, name: _check_name(tree, where, name, "camera"))
     count = _variant_count(tree, data)
@@ -135,7 +140,14 @@ def read_job(path: str | os.PathLike, output: str | None = None) -> BatchJob:
                                         f"frames; a job may render at most {MAX_FRAMES} (split it)")
     variants = _variants(tree, data, base)
     return BatchJob(os.path.abspath(os.path.join(base, out)), variants, views, sizes["width"],
-                    sizes["height"], sizes["spp"], fmt, alpha)
+                    sizes["height"], sizes["spp"], fmt, alpha, denoise=denoise)
+
+
+def _flag(tree, data, key) -> bool:
+    v = data.get(key, False)
+    if not isinstance(v, bool):
+        raise tree.error((key,), f"{key} must be true or false, got {v!r}")
+    return v
 
 
 def _whole(tree, data, key):
@@ -210,8 +222,9 @@ def _check_name(tree, where, name, what):
 
 
 def turntable_job(project: str, frames: int, output: str, *, width=None, height=None, spp=None,
-                  format: str = "png", alpha: bool = False) -> BatchJob:
-    """The ``glassbench turntable`` job: one project, ``frames`` views, ``OUTPUT/frame_0000.EXT``."""
+                  format: str = "png", alpha: bool = False, denoise: bool = False) -> BatchJob:
+    """The ``glassbench turntable`` job: one project, ``frames`` views, ``OUTPUT/frame_0000.EXT``
+    (with ``denoise``, denoised, and the raw film beside each as ``frame_0000.raw.EXT``)."""
     from ..files.project import load_project
     if format not in FORMATS:
         raise JobError(f"--format must be one of {', '.join(FORMATS)}, got {format!r}")
@@ -224,4 +237,4 @@ def turntable_job(project: str, frames: int, output: str, *, width=None, height=
     name = stem if SAFE_NAME.match(stem) else "project"
     variant = Variant(name, os.path.abspath(project), design, dict(assets))
     return BatchJob(os.path.abspath(output), (variant,), turntable_views(frames), width, height, spp,
-                    format, alpha, flat=True)
+                    format, alpha, flat=True, denoise=bool(denoise))

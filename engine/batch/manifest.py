@@ -4,8 +4,9 @@ Design rule: a frame is skipped on a re-run only if the manifest holds the same 
 its file and the file on disk still has the recorded SHA-256, so a changed override, project,
 asset, size or format renders again, and a damaged or deleted image is made anew. The input
 hash covers everything a pixel depends on: the frame's design as the project file stores it
-(camera and render settings included), the SHA-256 of every asset, the format, alpha, and the
-renderer version. ``manifest.json`` in the output folder is rewritten atomically after every
+(camera and render settings included), the SHA-256 of every asset, the format, alpha, denoise,
+and the renderer version. A denoised frame's raw image beside it (``NAME.raw.EXT``) is
+checked the same way: its SHA-256 is recorded with the frame's. ``manifest.json`` in the output folder is rewritten atomically after every
 finished frame, so an interrupted batch keeps all it finished.
 """
 from __future__ import annotations
@@ -27,12 +28,15 @@ def asset_digests(assets) -> dict:
     return {name: hashlib.sha256(bytes(data)).hexdigest() for name, data in sorted(assets.items())}
 
 
-def frame_hash(design, digests: dict, fmt: str, alpha: bool) -> str:
+def frame_hash(design, digests: dict, fmt: str, alpha: bool, denoise: bool = False) -> str:
     """SHA-256 (hex) of one frame's inputs: design, asset digests (:func:`asset_digests`),
-    format, alpha and renderer."""
+    format, alpha, denoise and renderer. ``denoise`` enters the hashed document only when true,
+    so a frame without it hashes as it did before the option existed (manifests stay valid)."""
     from ..files.serialize import design_to_dict
     doc = {"renderer": RENDERER, "format": fmt, "alpha": bool(alpha),
            "design": design_to_dict(design), "assets": digests}
+    if denoise:
+        doc["denoise"] = True
     text = json.dumps(doc, sort_keys=True, separators=(",", ":"), allow_nan=False)
     return hashlib.sha256(text.encode("utf-8")).hexdigest()
 
@@ -70,16 +74,26 @@ class Manifest:
             self.frames = {}
 
     def is_done(self, relpath: str, inputs: str) -> bool:
-        """Whether ``relpath`` was made from ``inputs`` and is still on disk unchanged."""
+        """Whether ``relpath`` was made from ``inputs`` and is still on disk unchanged, and so
+        is every file recorded beside it."""
         entry = self.frames.get(relpath)
         if not entry or entry.get("inputs") != inputs:
             return False
-        return file_sha256(os.path.join(self.folder, relpath)) == entry.get("sha256")
+        files = {relpath: entry.get("sha256")}
+        beside = entry.get("beside")
+        if beside is not None and not isinstance(beside, dict):
+            return False
+        files.update(beside or {})
+        return all(file_sha256(os.path.join(self.folder, p)) == sha for p, sha in files.items())
 
-    def record(self, relpath: str, inputs: str, **info) -> None:
-        """Note a finished frame (its file must already be in place) and save the manifest."""
+    def record(self, relpath: str, inputs: str, beside=(), **info) -> None:
+        """Note a finished frame (its file, and the files ``beside`` it, relative paths, must
+        already be in place) and save the manifest."""
         sha = file_sha256(os.path.join(self.folder, relpath))
-        self.frames[relpath] = {"inputs": inputs, "sha256": sha, **info}
+        entry = {"inputs": inputs, "sha256": sha, **info}
+        if beside:
+            entry["beside"] = {p: file_sha256(os.path.join(self.folder, p)) for p in beside}
+        self.frames[relpath] = entry
         self.save()
 
     def save(self) -> None:

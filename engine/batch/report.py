@@ -6,8 +6,10 @@ contact sheet (``contact_sheet.png``) shows each variant's views in order, a var
 a new row, each thumbnail captioned with variant and view. The summary (``summary.csv`` and
 ``summary.json``) has one row per variant: the project, the overrides, its trade numbers
 (as ``glassbench info``: ml, mm, cm^3, g) and the plant's figures (tip angles, centres of
-gravity, weight to capacity, membrane stress: :data:`engine.plant.sheet.SUMMARY_FIGURES`). All
-three are written atomically.
+gravity, weight to capacity, membrane stress: :data:`engine.plant.sheet.SUMMARY_FIGURES`) and
+whether the frames are denoised (``denoised``; then each frame row in the JSON names its
+``raw_file`` beside it, and the contact sheet, which shows the denoised frames, says so in its
+title). All three are written atomically.
 """
 from __future__ import annotations
 
@@ -19,6 +21,7 @@ import os
 from ..operations.trade import NUMBER_KEYS, trade_numbers
 from ..plant.sheet import SUMMARY_FIGURES, plant_numbers, summary_figures
 from ..files.images import display_rgb8, write_bytes
+from ..tracer.denoise import raw_path
 
 CONTACT_SHEET = "contact_sheet.png"
 SUMMARY_CSV = "summary.csv"
@@ -74,9 +77,11 @@ def variant_rows(job, manifest) -> list[dict]:
     by_variant: dict = {}
     for frame in job.frames():
         entry = manifest.frames.get(frame.relpath, {})
-        by_variant.setdefault(frame.variant.name, []).append(
-            {"view": frame.view.name, "file": frame.relpath, "sha256": entry.get("sha256"),
-             "seconds": entry.get("seconds"), "worker": entry.get("worker")})
+        row = {"view": frame.view.name, "file": frame.relpath, "sha256": entry.get("sha256"),
+               "seconds": entry.get("seconds"), "worker": entry.get("worker")}
+        if job.denoise:  # the file is the denoised estimate; the raw film is beside it
+            row["raw_file"] = raw_path(frame.relpath)
+        by_variant.setdefault(frame.variant.name, []).append(row)
     rows = []
     for var in job.variants:
         numbers = trade_numbers(var.design)
@@ -96,19 +101,20 @@ def variant_rows(job, manifest) -> list[dict]:
 def write_summary(job, manifest, folder: str) -> tuple[str, str]:
     """Write ``summary.csv`` and ``summary.json`` into ``folder``; returns their paths."""
     rows = variant_rows(job, manifest)
-    doc = {"output": job.output, "format": job.format, "alpha": job.alpha,
+    doc = {"output": job.output, "format": job.format, "alpha": job.alpha, "denoised": job.denoise,
            "views": [v.name for v in job.views], "variants": rows}
     json_path = os.path.join(folder, SUMMARY_JSON)
     write_bytes(json_path, json.dumps(doc, indent=1, allow_nan=False).encode("utf-8"))
     buf = io.StringIO()
     cols = ["variant", "project", *NUMBER_KEYS, *SUMMARY_FIGURES, "glass_absorption_per_mm",
             "liquid_absorption_per_mm",
-            "overrides", "frames", "render_seconds"]
+            "overrides", "frames", "denoised", "render_seconds"]
     writer = csv.DictWriter(buf, fieldnames=cols, lineterminator="\n")
     writer.writeheader()
     for row in rows:
-        flat = {k: row[k] for k in cols if k != "frames"}
+        flat = {k: row[k] for k in cols if k not in ("frames", "denoised")}
         flat["frames"] = len(row["frames"])
+        flat["denoised"] = "true" if job.denoise else "false"
         for k in ("glass_absorption_per_mm", "liquid_absorption_per_mm", "overrides"):
             flat[k] = "" if row[k] is None else json.dumps(row[k], separators=(",", ":"))
         for k in (*NUMBER_KEYS, *SUMMARY_FIGURES):

@@ -2,7 +2,8 @@
 
 Design rule: every path written is ``job.output`` joined with a checked relative name and is
 refused if, once symbolic links are resolved, it would land outside the output folder. Frames
-are written atomically by the client the moment each arrives, and the manifest is updated
+are written atomically by the client the moment each arrives (a denoised frame with its raw
+film beside it, ``NAME.raw.EXT``: :func:`engine.batch.still.save_final`), and the manifest is updated
 right after, so an interruption at any point loses at most the frames still rendering; a re-run
 renders only frames whose input hash is not in the manifest (or whose file changed). The
 contact sheet and summary are made last, from the output folder, covering every frame.
@@ -14,11 +15,12 @@ import time
 from dataclasses import dataclass, field
 
 from .execute import open_client, run_frames
-from ..files.images import save_image
 from .manifest import Manifest, asset_digests, frame_hash
 from .progress import BatchProgress
 from .report import CONTACT_SHEET, contact_sheet, write_summary
 from .source import JobError
+from .still import save_final
+from ..tracer.denoise import raw_path
 
 
 @dataclass
@@ -64,19 +66,30 @@ def run_batch(job, *, client=None, scheduler: str | None = None, workers: int | 
     os.makedirs(job.output, exist_ok=True)
     frames = job.frames()
     targets = {f.relpath: inside(job.output, f.relpath) for f in frames}
+    # a denoised frame keeps its raw film beside it, NAME.raw.EXT (checked the same way)
+    raws = {f.relpath: raw_path(f.relpath) for f in frames} if job.denoise else {}
+    for rel in raws.values():
+        if rel in targets:
+            raise JobError(f"the raw image of a denoised frame would be {rel!r}, another frame's name; "
+                           "rename that view")
+        inside(job.output, rel)
     digests = {id(v): asset_digests(v.assets) for v in job.variants}
-    inputs = {f.relpath: frame_hash(f.design, digests[id(f.variant)], job.format, job.alpha) for f in frames}
+    inputs = {f.relpath: frame_hash(f.design, digests[id(f.variant)], job.format, job.alpha, job.denoise)
+              for f in frames}
     manifest = Manifest(job.output)
     todo = [f for f in frames if not manifest.is_done(f.relpath, inputs[f.relpath])]
     waiting = {f.relpath for f in todo}
     report = BatchReport(job.output, skipped=[f.relpath for f in frames if f.relpath not in waiting])
     for f in todo:
         os.makedirs(os.path.dirname(targets[f.relpath]), exist_ok=True)
-        inside(job.output, f.relpath)  # again: a folder made just now must not be a link out
+        for rel in (f.relpath, raws.get(f.relpath)):
+            if rel:  # again: a folder made just now must not be a link out
+                inside(job.output, rel)
 
     def on_result(frame, result):
-        save_image(targets[frame.relpath], result["rgb"], result["alpha"])
-        manifest.record(frame.relpath, inputs[frame.relpath], variant=frame.variant.name,
+        save_final(targets[frame.relpath], result["images"])
+        beside = (raws[frame.relpath],) if job.denoise else ()
+        manifest.record(frame.relpath, inputs[frame.relpath], beside, variant=frame.variant.name,
                         view=frame.view.name, seconds=round(result["seconds"], 4),
                         worker=result["worker"])
         report.rendered.append(frame.relpath)
@@ -87,7 +100,7 @@ def run_batch(job, *, client=None, scheduler: str | None = None, workers: int | 
         if todo:
             def payload_of(frame):
                 return frame.variant.design, frame.variant.assets
-            kw = dict(alpha=job.alpha, threads=threads, on_result=on_result,
+            kw = dict(alpha=job.alpha, denoise=job.denoise, threads=threads, on_result=on_result,
                       on_progress=progress.frame_progress)
             if client is not None:
                 run_frames(client, todo, payload_of, **kw)
@@ -98,7 +111,7 @@ def run_batch(job, *, client=None, scheduler: str | None = None, workers: int | 
         progress.finish()
     first = frames[0].design.render
     title = (f"{len(job.variants)} variant(s) x {len(job.views)} view(s), "
-             f"{first.width}x{first.height} px, {first.spp} spp")
+             f"{first.width}x{first.height} px, {first.spp} spp" + (", denoised" if job.denoise else ""))
     report.contact_sheet = inside(job.output, CONTACT_SHEET)
     contact_sheet(job, frames, report.contact_sheet, title)
     report.summary_csv, report.summary_json = write_summary(job, manifest, job.output)

@@ -6,7 +6,8 @@ its neighbours, so a tile would need its neighbours' samples; a whole frame is a
 tracer seeds every sample by pixel and sample number, never by thread or schedule). The
 variant's design and assets arrive as a ``payload`` that the client scattered once per worker;
 a task adds only the view's camera and the render settings (a few hundred bytes). Workers never
-write files: the frame goes back to the client, which writes it inside the output folder.
+write files: the frame (and, when the batch denoises, its denoised estimate, made on the
+worker from the film's guides) goes back to the client, which writes it inside the output folder.
 Progress (fraction, tiles done) is sent as Dask events at most every ``EVENT_PERIOD_S``.
 """
 from __future__ import annotations
@@ -20,8 +21,8 @@ EVENT_PERIOD_S = 0.25
 
 
 def render_frame(payload, camera, render, alpha: bool, threads: int, topic: str | None = None,
-                 frame_id: str = "") -> dict:
-    """Render one frame; returns ``{"rgb", "alpha", "seconds", "worker"}``.
+                 frame_id: str = "", denoise: bool = False) -> dict:
+    """Render one frame; returns ``{"images", "seconds", "worker"}``.
 
     Parameters
     ----------
@@ -35,30 +36,36 @@ def render_frame(payload, camera, render, alpha: bool, threads: int, topic: str 
         Also compute the bottle's coverage (:func:`engine.tracer.picking.coverage`).
     threads : int
         Tracer threads for this frame (the worker's Dask threads times this should not
-        exceed its cores).
+        exceed its cores); the denoiser runs on as many, after the tracer.
     topic, frame_id : str
         Dask event topic and frame name for progress events (no events without a topic).
+    denoise : bool
+        Also return the denoised estimate of the frame (OIDN quality high).
 
     Returns
     -------
     dict
-        ``rgb`` ``(H, W, 3)`` float32 linear radiance, ``alpha`` ``(H, W)`` float32 or ``None``,
-        ``seconds`` of rendering, ``worker`` address (``"local"`` outside Dask).
+        ``images``: :func:`engine.batch.still.final_images`' ``(rgb, alpha)`` pairs, the raw
+        frame first and with ``denoise`` its denoised estimate (``rgb`` ``(H, W, 3)`` float32
+        linear radiance, ``alpha`` ``(H, W)`` float32 or ``None``); ``seconds`` of rendering
+        and denoising, ``worker`` address (``"local"`` outside Dask).
     """
-    from ..tracer.job import render_image
+    from ..tracer.job import RenderJob
+    from .still import final_images
     design, assets = payload
     design = dataclasses.replace(design, camera=camera, render=render)
     worker = _current_worker()
     report = _Reporter(worker, topic, frame_id)
+    threads = max(1, int(threads))
     t0 = time.perf_counter()
-    rgb = render_image(design, assets, threads=max(1, int(threads)), on_tile=report.tile)
-    cov = None
-    if alpha:  # the bottle's coverage, and on a shadow catcher its shadow
-        from ..tracer.picking import cutout
-        rgb, cov = cutout(design, assets, rgb)
+    job = RenderJob(design, assets, threads=threads, on_tile=report.tile).start()
+    job.wait()
+    if job.error is not None:
+        raise job.error
+    images = final_images(job, design, assets, alpha=alpha, denoise=denoise, threads=threads)
     seconds = time.perf_counter() - t0
     report.send(1.0)
-    return {"rgb": rgb, "alpha": cov, "seconds": seconds,
+    return {"images": images, "seconds": seconds,
             "worker": worker.address if worker is not None else "local"}
 
 

@@ -4,7 +4,8 @@ Design rule: :mod:`engine.cli` owns the program; this module adds two subparsers
 handlers, so ``cli.py`` gains only a few well-separated lines. A handler reads and checks the
 whole job first (:class:`~engine.batch.source.JobError` names the line), then runs it on a
 LocalCluster or the ``--scheduler`` given, with a terminal progress bar unless ``--quiet``,
-and prints where everything went. Errors reach ``engine.cli.main``, which prints one line.
+and prints where everything went (for a denoised job, where its raw frames are too). Errors
+reach ``engine.cli.main``, which prints one line.
 """
 from __future__ import annotations
 
@@ -32,6 +33,9 @@ def add_parsers(sub) -> None:
                              "pixels whose samples still scatter up to 64 x N in all (default: the project's)")
     turn.add_argument("--format", choices=FORMATS, default="png")
     turn.add_argument("--alpha", action="store_true", help="add the bottle's coverage as alpha")
+    turn.add_argument("--denoise", action="store_true",
+                      help="write each frame denoised (Intel Open Image Denoise, guided by albedo and normal) and "
+                           "keep its raw film beside it as frame_NNNN.raw.EXT; each file's description says which")
     _add_cluster_options(turn)
 
 
@@ -49,16 +53,16 @@ def cmd_batch(args) -> int:
     job = read_job(args.job, args.output)
     if args.check:
         n = len(job.variants) * len(job.views)
-        print(f"{args.job}: {len(job.variants)} variant(s) x {len(job.views)} view(s) = {n} frame(s) "
-              f"-> {job.output}")
+        print(f"{args.job}: {len(job.variants)} variant(s) x {len(job.views)} view(s) = {n} frame(s)"
+              f"{', denoised' if job.denoise else ''} -> {job.output}")
         return 0
     return _run(job, args)
 
 
 def cmd_turntable(args) -> int:
-    """``turntable PROJECT --frames N -o DIR [...]``."""
+    """``turntable PROJECT --frames N -o DIR [--alpha] [--denoise] [...]``."""
     job = turntable_job(args.project, args.frames, args.output, width=args.width, height=args.height,
-                        spp=args.spp, format=args.format, alpha=args.alpha)
+                        spp=args.spp, format=args.format, alpha=args.alpha, denoise=args.denoise)
     return _run(job, args)
 
 
@@ -75,6 +79,8 @@ def _run(job, args) -> int:
                        progress=progress)
     print(f"rendered {len(report.rendered)} frame(s), skipped {len(report.skipped)} already done, "
           f"in {report.seconds:.1f} s -> {report.output}")
+    if job.denoise:
+        print("frames denoised (Intel Open Image Denoise); the raw film of each beside it as NAME.raw.EXT")
     print(f"contact sheet {report.contact_sheet}")
     print(f"summary {report.summary_csv} {report.summary_json}")
     return 0

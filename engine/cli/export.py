@@ -41,6 +41,9 @@ def add_parsers(sub) -> None:
                        help="poster height in pixels (default: the design's, at most 640)")
     share.add_argument("--turntable", default=None, metavar="DIR",
                        help="a rendered turntable (glassbench turntable -o DIR) to include")
+    share.add_argument("--denoise", action="store_true",
+                       help="denoise the poster (Intel Open Image Denoise) and keep the raw one beside it as "
+                            "poster.raw.png; the page says which it shows")
     drawing = sub.add_parser("drawing", help="write the glass plant's drawing (PDF, SVG or DXF)")
     drawing.add_argument("project")
     drawing.add_argument("out", nargs="?", default=None, metavar="OUT.pdf|.svg|.dxf")
@@ -94,16 +97,18 @@ def cmd_export_scene(args) -> int:
 
 
 def cmd_share(args) -> int:
-    """``share PROJECT -o DIR [--tol MM] [--poster-height PX] [--turntable DIR]``."""
+    """``share PROJECT -o DIR [--tol MM] [--poster-height PX] [--turntable DIR] [--denoise]``."""
     from ..export.share import write_share
     limits.check_range("--tol", args.tol, (limits.MIN_TOL_MM, limits.MAX_TOL_MM), "mm")
     if args.poster_height is not None:
         limits.check_range("--poster-height", args.poster_height, limits.HEIGHT_RANGE, integer=True)
     design, assets = _load(args.project)
     out = write_share(design, assets, args.output, args.tol, args.poster_height, args.turntable,
-                      progress=_progress if sys.stderr.isatty() else None)
+                      progress=_progress if sys.stderr.isatty() else None, denoise=args.denoise)
     if sys.stderr.isatty():
         print(file=sys.stderr)
+    if args.denoise:
+        print(f"  poster.png denoised, the raw render beside it as {out / 'poster.raw.png'}")
     print(f"wrote {out / 'index.html'}")
     return 0
 

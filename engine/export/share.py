@@ -8,14 +8,16 @@ opened from a file may not fetch its neighbours, so it hands the viewer a ``blob
 the design's environment as the viewer's sky (a ``data:`` PNG, :func:`skybox_png`: glass that
 transmits needs something behind it to show) seen from the design's camera;
 ``poster.png`` rendered by glassbench's tracer to its noise target (converged,
-:class:`engine.tracer.job.RenderJob`); the trade numbers of :func:`engine.operations.trade.
+:class:`engine.tracer.job.RenderJob`; when asked, its denoised estimate, the raw render beside
+it as ``poster.raw.png`` and the page saying which it shows); the trade numbers of :func:`engine.operations.trade.
 trade_numbers`, in a table whose cells carry each exact value (``data-value``), the plant's
 headline figures (:func:`engine.plant.sheet.plant_numbers`: least tip angle, capacity band, membrane
 stress), and, whole, the JSON ``glassbench info --json`` prints (in the page and as
 ``numbers.json``, the plant's under ``"plant"``); each label's
 die-line as SVG (:func:`engine.appearance.dieline_files.write_dieline`; labels of one flat
 shape share one); and the frames of a
-turntable, when one was rendered, as a flip-book. The folder is built beside the target and
+turntable, when one was rendered, as a flip-book (denoised frames said to be so, their raw
+frames left out). The folder is built beside the target and
 swapped in whole; an existing folder is replaced only if it is a review page (it holds
 :data:`MARKER`), never another folder of the user's.
 """
@@ -32,6 +34,7 @@ from pathlib import Path
 from ..errors import GlassbenchError
 from ..operations.trade import INFO_ROWS, trade_numbers
 from ..plant.sheet import plant_numbers
+from ..tracer.denoise import DENOISED_NOTE, raw_path
 from .gltf_scene import scene_glb
 from .web import model_viewer_js
 
@@ -39,6 +42,8 @@ from .web import model_viewer_js
 MARKER = ".glassbench-share"
 #: The poster's default size (pixels): the design's aspect, at most this tall.
 POSTER_HEIGHT = 640
+#: The raw render beside a denoised poster (``poster.raw.png``).
+RAW_POSTER = raw_path("poster.png")
 #: Turntable frames a page takes at most.
 MAX_TURNTABLE_FRAMES = 720
 
@@ -54,9 +59,13 @@ def poster_size(design, height: int | None = None) -> tuple[int, int]:
     return max(1, round(h * design.render.width / design.render.height)), h
 
 
-def render_poster(design, assets, path, width: int, height: int, progress=None) -> None:
-    """Render ``design`` with the tracer to its noise target and save it as PNG at ``path``."""
-    from ..files.images import save_image
+def render_poster(design, assets, path, width: int, height: int, progress=None,
+                  denoise: bool = False) -> list[str]:
+    """Render ``design`` with the tracer to its noise target and save it as PNG at ``path``;
+    with ``denoise`` the PNG at ``path`` is the denoised estimate and the raw render goes beside
+    it (``poster.raw.png``), each saying which it is (:func:`engine.batch.still.write_final`).
+    Returns the paths written, the raw one first."""
+    from ..batch.still import write_final
     from ..tracer.job import RenderJob
     job = RenderJob(design, assets, width=width, height=height, tile=32)
     job.start()
@@ -65,7 +74,7 @@ def render_poster(design, assets, path, width: int, height: int, progress=None) 
             progress(job.progress, f"rendering the poster {width}x{height}")
     if job.error is not None:
         raise job.error
-    save_image(path, job.image())
+    return write_final(job, design, assets, path, denoise=denoise)
 
 
 def skybox_png(design, assets, width: int = 1024) -> bytes:
@@ -115,15 +124,27 @@ def camera_attributes(design) -> str:
 
 
 def turntable_frames(folder) -> list[Path]:
-    """The frames ``frame_NNNN.png|jpg`` of a rendered turntable, in order; ``ShareError`` if
-    there are none or too many."""
+    """The frames ``frame_NNNN.png|jpg`` of a rendered turntable, in order (a denoised
+    turntable's raw frames beside them, ``frame_NNNN.raw.png``, are not frames of the
+    flip-book); ``ShareError`` if there are none or too many."""
     folder = Path(folder)
-    frames = sorted(p for p in folder.glob("frame_*") if p.suffix.lower() in (".png", ".jpg", ".jpeg"))
+    frames = sorted(p for p in folder.glob("frame_*") if p.suffix.lower() in (".png", ".jpg", ".jpeg")
+                    and not p.stem.lower().endswith(".raw"))
     if not frames:
         raise ShareError(f"{folder} holds no turntable frames (frame_0000.png ...)")
     if len(frames) > MAX_TURNTABLE_FRAMES:
         raise ShareError(f"{folder} holds {len(frames)} frames; a page takes {MAX_TURNTABLE_FRAMES}")
     return frames
+
+
+def frames_denoised(frames) -> bool:
+    """Whether a turntable's frames say they are denoised estimates (their first frame's
+    ``ImageDescription``, as ``glassbench turntable --denoise`` writes it)."""
+    from ..files.images import image_description
+    try:
+        return bool(frames) and image_description(frames[0]).startswith(DENOISED_NOTE.split("{")[0])
+    except OSError:
+        return False
 
 
 def dieline_key(design, label) -> tuple:
@@ -198,15 +219,28 @@ def plant_table(plant: dict | None) -> str:
     return f"<h2>The plant's figures</h2><table class=\"numbers\">{body}</table>"
 
 
-def page_html(design, numbers: dict, dielines: list, frames: list[str]) -> str:
-    """``index.html`` (see the module rule)."""
+def poster_caption(denoised: bool) -> str:
+    """What the page says under its rendered poster: nothing for the raw render; for a denoised
+    one, that it is an estimate, and a link to the raw render beside it."""
+    if not denoised:
+        return ""
+    return ('<p class="caption">A denoised estimate (Intel Open Image Denoise); the raw render: '
+            f'<a href="{RAW_POSTER}">{RAW_POSTER}</a></p>')
+
+
+def page_html(design, numbers: dict, dielines: list, frames: list[str], denoised: bool = False,
+              denoised_frames: bool = False) -> str:
+    """``index.html`` (see the module rule); ``denoised``: the poster is a denoised estimate,
+    ``denoised_frames``: so are the turntable's frames."""
     name = html.escape(design.name)
     data = json.dumps(numbers, indent=2, allow_nan=False).replace("</", "<\\/")
     dl = "".join(f'<li><a href="{d}">{_names(design, members)}</a> (SVG, 1:1)</li>'
                  for d, members in dielines) or "<li>No labels.</li>"
     turn = ""
     if frames:
-        turn = (f'<h2>Turntable</h2><img id="turntable" src="{frames[0]}" alt="turntable frame">'
+        note = ('<p class="caption">Denoised frames (Intel Open Image Denoise); the raw frames stay '
+                'with the rendered turntable.</p>') if denoised_frames else ""
+        turn = (f'<h2>Turntable</h2><img id="turntable" src="{frames[0]}" alt="turntable frame">{note}'
                 f'<input id="turn" type="range" min="0" max="{len(frames) - 1}" value="0">'
                 f'<script>const frames = {json.dumps(frames)};'
                 "document.getElementById('turn').addEventListener('input', (e) => {"
@@ -223,6 +257,7 @@ h1 {{ margin: 0.6em 1em 0; font-weight: 600; }} h2 {{ font-size: 1.05em; margin:
 table.numbers th {{ text-align: left; font-weight: normal; padding-right: 1.5em; color: #555; }}
 table.numbers td {{ text-align: right; font-variant-numeric: tabular-nums; }}
 img {{ max-width: 100%; border-radius: 6px; }} input[type=range] {{ width: 100%; }}
+p.caption {{ font-size: 0.85em; color: #555; margin: 0.3em 0 0; }}
 </style>
 <script src="model-viewer-umd.min.js"></script>
 <script src="scene-data.js"></script>
@@ -236,7 +271,8 @@ img {{ max-width: 100%; border-radius: 6px; }} input[type=range] {{ width: 100%;
 {turn}
 </section>
 <aside>
-<h2>Rendered by glassbench</h2><img src="poster.png" alt="{name}, rendered">
+<h2>Rendered by glassbench</h2><img src="poster.png" alt="{name}, rendered{' (denoised)' if denoised else ''}">
+{poster_caption(denoised)}
 <h2>Trade numbers</h2>{numbers_table(numbers)}
 {plant_table(numbers.get("plant"))}
 <h2>Label die-lines</h2><ul>{dl}</ul>
@@ -264,11 +300,13 @@ viewer.src = URL.createObjectURL(new Blob([bytes], {{ type: 'model/gltf-binary' 
 
 
 def write_share(design, assets, out_dir, tol_mm: float = 0.05, poster_height: int | None = None,
-                turntable=None, progress=None) -> Path:
+                turntable=None, progress=None, denoise: bool = False) -> Path:
     """Write the review page of ``design`` into the folder ``out_dir`` (see the module rule).
 
     ``tol_mm`` is the scene's chordal tolerance (mm), ``poster_height`` the poster's height
-    (pixels), ``turntable`` a folder of rendered frames or ``None``. Returns the folder.
+    (pixels), ``turntable`` a folder of rendered frames or ``None``; with ``denoise`` the poster
+    is denoised, the raw render is kept beside it as ``poster.raw.png`` and the page says so
+    under the poster, with a link to the raw one. Returns the folder.
     Raises ``ShareError`` for a folder that is not a review page, ``WebError`` without the
     Node packages, and the exports' own errors; nothing is left half written.
     """
@@ -303,8 +341,9 @@ def write_share(design, assets, out_dir, tol_mm: float = 0.05, poster_height: in
             shutil.copyfile(f, tmp / names[-1])
         w, h = poster_size(design, poster_height)
         render_poster(design, assets, tmp / "poster.png", w, h,
-                      lambda f, m: step(0.3 + 0.65 * f, m))
-        (tmp / "index.html").write_text(page_html(design, numbers, dielines, names), encoding="utf-8")
+                      lambda f, m: step(0.3 + 0.65 * f, m), denoise=denoise)
+        page = page_html(design, numbers, dielines, names, denoise, frames_denoised(frames))
+        (tmp / "index.html").write_text(page, encoding="utf-8")
         (tmp / MARKER).write_text("written by glassbench share\n")
         _swap_in(tmp, out)
     finally:

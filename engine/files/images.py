@@ -81,6 +81,19 @@ def read_image(path: str) -> np.ndarray:
     return np.asarray(data)
 
 
+def image_description(path) -> str:
+    """An image file's ``ImageDescription`` (what :func:`save_image` was told the image is), ``""``
+    when it has none; ``OSError`` when it cannot be read."""
+    import OpenImageIO as oiio
+    inp = oiio.ImageInput.open(os.fspath(path))
+    if inp is None:
+        raise OSError(f"cannot read {path}: {oiio.geterror()}")
+    try:
+        return inp.spec().get_string_attribute("ImageDescription")
+    finally:
+        inp.close()
+
+
 def display_rgb8(path: str) -> np.ndarray:
     """An image file as sRGB ``uint8`` ``(H, W, 3)`` for thumbnails (EXR is tone-mapped)."""
     data = read_image(path)

@@ -105,7 +105,7 @@ def main(argv=None) -> int:
           f"(+ adaptive, mean {job.sample_counts().mean():.1f} spp) in {secs:.2f} s, "
           f"{job.stats.rays_cast / secs / 1e6:.2f} M rays/s")
     if a.output:
-        from engine.cli.render import save_image
+        from engine.files.images import save_image
         save_image(a.output, img)
         print(f"wrote {a.output}")
     ref = reference_path(a.spec)

@@ -76,7 +76,7 @@ def main(argv=None) -> int:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from engine.cli.render import save_image
+    from engine.files.images import save_image
     from engine.tracer.kernels.labels import LABEL_BIT0
 
     os.makedirs(OUT, exist_ok=True)

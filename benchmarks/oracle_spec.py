@@ -65,16 +65,22 @@ def shape_from_spec(bottle: dict) -> BottleShape:
     kind = _get(xs, "kind", "bottle.cross_section", (str,))
     if kind == "round":
         sections = (("profile", _section(_get(bottle, "profile", "bottle", (list,)), "bottle.profile")),)
-    elif kind == "rounded_square":
+    elif kind in ("rounded_square", "outline"):
+        keys = (("u", "profile_u"), ("v", "profile_v")) if kind == "rounded_square" else \
+            (("core", "profile_core"), ("round", "profile_round"))
         sections = tuple((name, _section(_get(xs, key, "bottle.cross_section", (list,)),
                                          f"bottle.cross_section.{key}"))
-                         for name, key in (("u", "profile_u"), ("v", "profile_v")))
+                         for name, key in keys)
     else:
-        raise ProjectError(f"SPEC cross-section kind {kind!r} is not round or rounded_square")
+        raise ProjectError(f"SPEC cross-section kind {kind!r} is not round, rounded_square or outline")
+    plan = None
+    if kind == "outline":  # SPEC_outline: the plan outline, normalised by its reader
+        from engine.geometry.plan import PlanOutline
+        plan = PlanOutline.from_dicts(_get(xs, "outline", "bottle.cross_section", (list,)))
     return BottleShape(kind, sections, wall_thickness=_num(bottle, "wall_thickness", "bottle"),
                        base_thickness=_num(bottle, "base_thickness", "bottle"),
                        rotation_deg=_num(bottle, "rotation_deg", "bottle")
-                       if "rotation_deg" in bottle else 0.0)
+                       if "rotation_deg" in bottle else 0.0, plan=plan)
 
 
 def spec_to_design(spec_path: str | os.PathLike, spp: int = DEFAULT_SPP

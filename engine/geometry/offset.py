@@ -13,6 +13,7 @@ caches its profile per shape (shapes are hashable values).
 from __future__ import annotations
 
 import math
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -282,10 +283,37 @@ def _punt_junction(inner_base, inner_wall_full, name):
                     "(base thickness too small for the punt)")
 
 
+def shifted(seg: Segment, dr: float) -> Segment:
+    """``seg`` moved by ``dr`` mm along r (a translation, not an offset: shape unchanged)."""
+    moved = {"p0": (seg.p0[0] + dr, seg.p0[1]), "p1": (seg.p1[0] + dr, seg.p1[1])}
+    if not isinstance(seg, Line):
+        moved["center"] = (seg.center[0] + dr, seg.center[1])
+    return dataclasses.replace(seg, **moved)
+
+
+def _outline_profile(shape: BottleShape) -> BodyProfile:
+    """The :class:`BodyProfile` of an ``outline`` bottle (SPEC_outline 5): its inner section is
+    the plan offset at the same height, core ``k`` and growth ``c - w``, so the inner walls are
+    the core's wall and the rounding's wall moved by ``-w`` along r (not offset), both from the
+    inner base plane up. The growth may be negative (sharp inner corners)."""
+    bt, w = shape.base_thickness, shape.wall_thickness
+    profiles = []
+    for name, sec in shape.sections:
+        base, wall, _ = split_at_ring(sec)
+        moved = wall if name == "core" else tuple(shifted(s, -w) for s in wall)
+        inner_wall = clip_from_z(moved, bt)
+        inner_base = (Line((0.0, bt), (max(inner_wall[0].p0[0], 0.0), bt)),)
+        profiles.append(SectionProfile(name, tuple(base), tuple(wall), inner_base, tuple(inner_wall)))
+    return BodyProfile(shape.cross_section, tuple(profiles), float(bt), float(shape.z_top), False,
+                       shape.rotation_deg)
+
+
 def build_body_profile(shape: BottleShape) -> BodyProfile:
     """The :class:`BodyProfile` of ``shape``, not validated first (see
     :func:`engine.geometry.validate.body_profile`);
     raises ``WallError`` / ``SectionError`` on what it cannot build."""
+    if shape.cross_section == "outline":
+        return _outline_profile(shape)
     bt = shape.base_thickness
     flat = all(is_flat_base(sec) for _, sec in shape.sections)
     profiles = []

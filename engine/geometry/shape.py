@@ -11,6 +11,9 @@ Section names per cross-section kind:
 ``rounded_square`` ``u`` (half-width at theta = 0), ``v`` (radius on the diagonal, theta = 45 deg)
 ``rounded_rect``   ``half_width`` (x), ``half_depth`` (y), ``corner`` (corner radius)
 ``oval``           ``half_width`` (x semi-axis), ``half_depth`` (y semi-axis)
+``outline``        ``core`` (the plan outline's scale k, may reach 0), ``round`` (its rounding
+                   c > 0): the section ``k P (+) disc(c)`` of the free plan outline ``plan``
+                   (:mod:`engine.geometry.plan`, ../shared/oracle/SPEC_outline.md)
 =================  =======================================================================
 """
 from __future__ import annotations
@@ -24,6 +27,7 @@ SECTION_NAMES = {
     "rounded_square": ("u", "v"),
     "rounded_rect": ("half_width", "half_depth", "corner"),
     "oval": ("half_width", "half_depth"),
+    "outline": ("core", "round"),
 }
 
 
@@ -34,7 +38,9 @@ class BottleShape:
     ``wall_thickness`` is the uniform wall (mm); ``wall_per_segment`` optionally gives one
     thickness per wall segment of the (first) section and then overrides it. ``base_thickness``
     is the height of the inner base above z = 0 (mm, >= wall). ``rotation_deg`` turns a
-    non-round bottle about +z (counter-clockwise seen from above).
+    non-round bottle about +z (counter-clockwise seen from above). ``plan`` is the free plan
+    outline of an ``outline`` bottle (:class:`engine.geometry.plan.PlanOutline`), ``None`` for
+    every other kind.
     """
 
     cross_section: str
@@ -43,6 +49,7 @@ class BottleShape:
     base_thickness: float = 6.0
     rotation_deg: float = 0.0
     wall_per_segment: tuple[float, ...] | None = field(default=None)
+    plan: object = field(default=None)
 
     def __post_init__(self):
         if self.cross_section not in SECTION_NAMES:
@@ -59,6 +66,8 @@ class BottleShape:
             object.__setattr__(self, name, float(getattr(self, name)))
         if self.wall_per_segment is not None:
             object.__setattr__(self, "wall_per_segment", tuple(float(w) for w in self.wall_per_segment))
+        if (self.plan is not None) != (self.cross_section == "outline"):
+            raise ValueError("an outline bottle needs its plan outline, and only an outline bottle has one")
 
     def section(self, name: str) -> Section:
         """The section called ``name`` (see the module table)."""
@@ -82,4 +91,4 @@ class BottleShape:
         self.section(name)
         secs = tuple((k, section if k == name else v) for k, v in self.sections)
         return BottleShape(self.cross_section, secs, self.wall_thickness, self.base_thickness,
-                           self.rotation_deg, self.wall_per_segment)
+                           self.rotation_deg, self.wall_per_segment, self.plan)

@@ -86,13 +86,16 @@ def _monotone(seg, axis: int) -> bool:
     return not _angle_inside(seg, turning)
 
 
-def validate_section(section) -> None:
+def validate_section(section, may_reach_axis: bool = False) -> None:
     """Check one section against the rules of the module docstring.
 
     Parameters
     ----------
     section : Section
         The section (mm).
+    may_reach_axis : bool
+        Let the wall touch the axis (``r >= 0``): an outline bottle's core, which vanishes
+        into its round neck.
 
     Raises
     ------
@@ -127,7 +130,7 @@ def validate_section(section) -> None:
         if not (seg.p1[1] > seg.p0[1] + POINT_TOL_MM) or not _monotone(seg, 1):
             raise SectionError(i, "the wall must rise: z has to increase strictly along it "
                                   "(no overhang or horizontal part)")
-        if _r_min(seg) <= POINT_TOL_MM:
+        if _r_min(seg) <= POINT_TOL_MM and not may_reach_axis:
             raise SectionError(i, "the wall touches or crosses the axis (r must stay > 0)")
     last = segs[-1]
     if not isinstance(last, Line) or abs(last.p1[0] - last.p0[0]) > POINT_TOL_MM:
@@ -203,13 +206,14 @@ def validate_shape(shape) -> BodyProfile:
     kind = shape.cross_section
     for name, sec in shape.sections:
         try:
-            validate_section(sec)
+            validate_section(sec, may_reach_axis=(kind == "outline" and name == "core"))
         except SectionError as exc:
             raise _named(name, exc) from None
     w, bt = shape.wall_thickness, shape.base_thickness
     if not (w > 0 and math.isfinite(w)):
         raise WallError(f"the wall thickness must be a positive number of mm, got {w:g}")
-    _check_convex_radii(shape)  # why before the base: a thicker base cannot cure this one
+    if kind != "outline":  # (an outline bottle's wall is the plan offset: SPEC_outline 5)
+        _check_convex_radii(shape)  # why before the base: a thicker base cannot cure this one
     if not (bt >= w and math.isfinite(bt)):
         raise WallError(f"the base ({bt:g} mm) must be at least as thick as the wall ({w:g} mm)")
     if not math.isfinite(shape.rotation_deg):
@@ -221,9 +225,39 @@ def validate_shape(shape) -> BodyProfile:
             raise WallError("a wall thickness per segment is only supported on round bottles")
         if any(not (x > 0 and math.isfinite(x)) for x in shape.wall_per_segment):
             raise WallError("every per-segment wall thickness must be a positive number of mm")
+    if kind == "outline":
+        return _check_outline(shape)
     if kind != "round":
         _check_non_round_outer(shape)
     return _check_walls(shape)
+
+
+def _check_outline(shape) -> BodyProfile:
+    """An outline bottle (SPEC_outline 3 and 5): flat bases, both profiles ending at the mouth,
+    the rounding positive everywhere, and at every height of the cavity an inner section with a
+    1 mm disc and every piece of the outline (:meth:`engine.geometry.plan.PlanOutline.
+    inner_reason`). Heights are sampled as for the other kinds (every joint, and densely)."""
+    for name, sec in shape.sections:
+        if not is_flat_base(sec):
+            raise SectionError(0, f"{name} profile: an outline bottle stands on a flat base")
+        if abs(sec.z_top - shape.z_top) > POINT_TOL_MM:
+            raise SectionError(len(sec) - 1, f"{name} profile ends at z = {sec.z_top:g} mm, "
+                                             f"not at the mouth z = {shape.z_top:g} mm")
+    round_wall = split_at_ring(shape.section("round"))[1]
+    for i, seg in enumerate(round_wall, start=1):
+        if _r_min(seg) <= POINT_TOL_MM:
+            raise SectionError(i, "round profile: the rounding must stay above 0 mm")
+    prof = build_body_profile(shape)
+    core, rnd = (sp.inner_wall for sp in prof.sections)
+    z = _sample_heights([core, rnd], prof.z_ib, prof.z_top)
+    k = radius_at(core, np.clip(z, core[0].p0[1], core[-1].p1[1]))
+    t = radius_at(rnd, np.clip(z, rnd[0].p0[1], rnd[-1].p1[1]))
+    for zj, kj, tj in zip(z, k, t):
+        reason = shape.plan.inner_reason(float(kj), float(tj))
+        if reason is not None:
+            raise WallError(f"the cavity at z = {zj:.4g} mm (core {kj:.4g} mm, rounding less the wall "
+                            f"{tj:.4g} mm): {reason}")
+    return prof
 
 
 def _check_non_round_outer(shape) -> None:

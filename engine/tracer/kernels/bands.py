@@ -294,11 +294,16 @@ def band_roots(wall, ray, lo, hi, leaf, out, n, stack):
                 else:
                     ko, o0, o1, o2 = OVAL, a_hi, b_hi, 0.0
                     ki, i0, i1, i2 = OVAL, a_lo, b_lo, 0.0
+                # the outer interval a rounding margin wider and the inner one narrower: where the
+                # two outlines coincide (a vertical wall: equal radii ranges) their computed ends
+                # may cross by an ulp and leave no band around the crossing between them
                 e0, e1 = outline_interval(plan, ko, o0, o1, o2, px, py, qx, qy)
+                e0, e1 = e0 - eps, e1 + eps
                 if max(e0, a) > min(e1, b):  # never inside the outer outline: no band
                     empty = True
                     break
                 g0, g1 = (outline_interval(plan, ki, i0, i1, i2, px, py, qx, qy) if ok_in else (1.0, -1.0))
+                g0, g1 = g0 + eps, g1 - eps
                 l0, h0, l1, h1 = subtract(e0, e1, g0, g1, a, b)
             if l0 > h0 and l1 > h1:
                 empty = True

@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import math
 import threading
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -47,7 +48,9 @@ from ..kernels.records import Geometry, Scene
 from ..kernels import intersect as K
 from ..kernels import profile as R
 from ..kernels.materials import MAT_COLS, SMOOTH_DIELECTRIC
-from ..kernels.outlines import CIRCLE, OVAL, RRECT, RSQUARE
+from ..kernels.outlines import CIRCLE, OUTLINE, OVAL, RRECT, RSQUARE
+from ..kernels.plans import PL_COLS
+from .plans import plan_table
 from ..kernels.swept import SL_COLS, ruled_coefficients
 
 AIR, GLASS, LIQUID = 0, 1, 2
@@ -60,7 +63,7 @@ SWEPT_LEAF = 1e-4
 #: Hits nearer than this fraction of the bottle's size to a ray's start must agree with the
 #: ray's medium (a ray leaving an edge onto the neighbouring surface).
 EDGE_FRACTION = 1e-7
-_XS = {"rounded_square": RSQUARE, "rounded_rect": RRECT, "oval": OVAL, "round": CIRCLE}
+_XS = {"rounded_square": RSQUARE, "rounded_rect": RRECT, "oval": OVAL, "round": CIRCLE, "outline": OUTLINE}
 
 
 @dataclass(frozen=True, eq=False)
@@ -72,7 +75,8 @@ class RenderGeometry:
     slab's outline coefficients)`` (:mod:`~engine.tracer.kernels.swept`) and ``slab_i``
     (m, 3) segment rows per section of the swept walls' slabs; ``obj_i`` / ``obj_f`` the
     objects without their media (filled per design); ``scale_mm`` the bottle's size;
-    ``fill_height`` (mm) or ``None``; ``kind`` the cross-section.
+    ``fill_height`` (mm) or ``None``; ``kind`` the cross-section; ``plan`` a free plan
+    outline's pieces (:mod:`~engine.tracer.kernels.plans`; one unused row for the fixed kinds).
     """
 
     seg: np.ndarray
@@ -87,6 +91,7 @@ class RenderGeometry:
     kind: str
     z_top: float
     z_ib: float
+    plan: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros((1, PL_COLS)))
 
 
 # ----------------------------------------------------------------------------- segments
@@ -265,6 +270,8 @@ def _outline(kind, radii):
         return CIRCLE, radii[0], 0.0, 0.0
     if kind == "oval":
         return OVAL, radii[0], radii[1], 0.0
+    if kind == "outline":
+        return OUTLINE, radii[0], radii[1], 0.0
     if kind == "rounded_square":
         u, v = radii
         return RRECT, u, u, (math.sqrt(2) + 1.0) * (math.sqrt(2) * u - v)
@@ -276,6 +283,8 @@ def _circumradius(kind, radii):
         return radii[0]
     if kind == "oval":
         return max(radii)
+    if kind == "outline":  # the plan's farthest point is at distance 1: core + rounding
+        return max(radii[0], 0.0) + max(radii[1], 0.0)
     if kind == "rounded_square":
         return max(radii[1], math.sqrt(2) * radii[0])
     return math.hypot(radii[0], radii[1])
@@ -414,9 +423,10 @@ def build_render_geometry(shape, fill_height: float | None) -> RenderGeometry:
     table = np.ascontiguousarray(np.concatenate(tab.tables) if tab.tables else np.zeros((1, 4)))
     slab_f = np.ascontiguousarray(np.array(tab.slab_f, float).reshape(-1, SL_COLS))
     slab_i = np.ascontiguousarray(np.array(tab.slab_i, np.int64).reshape(-1, 3))
+    plan = plan_table(shape.plan.to_dicts()) if kind == "outline" else np.zeros((1, PL_COLS))
     return RenderGeometry(seg, table, slab_f, slab_i, np.ascontiguousarray(np.array(tab.obj_i)),
                           np.ascontiguousarray(np.array(tab.obj_f)), tuple(tab.names), float(scale),
-                          fill_height, kind, float(prof.z_top), float(prof.z_ib))
+                          fill_height, kind, float(prof.z_top), float(prof.z_ib), plan)
 
 
 _CACHE: dict = {}
@@ -462,7 +472,7 @@ def material_tables(design):
 
 def search_tables(geom: RenderGeometry) -> Geometry:
     """The geometry's tables as the kernels' :class:`~engine.tracer.kernels.records.Geometry`."""
-    return Geometry(geom.seg, geom.tab, geom.slab_f, geom.slab_i, geom.obj_i, geom.obj_f)
+    return Geometry(geom.seg, geom.tab, geom.slab_f, geom.slab_i, geom.obj_i, geom.obj_f, geom.plan)
 
 
 def scene_arrays(geom: RenderGeometry, design) -> Scene:

@@ -31,8 +31,8 @@ from engine.tracer.kernels.records import Geometry, Ray, Scratch
 from engine.tracer.kernels.intersect import (F_COS, F_EDGE, F_LEAF, F_PNZ, F_SIN, F_ZMAX, F_ZMIN, O_BACK_HI,
                                              O_BACK_LO, O_COUNT, O_FIRST, O_FRONT_HI, O_FRONT_LO, O_KIND,
                                              O_NSEC, O_XS, PLANE, REVOLVED, SL_RULED, START_FRACTION,
-                                             nearest_hit, object_normal, root_param, ruled_roots, segment_hits,
-                                             swept_roots, _accept, _plane_hit)
+                                             nearest_hit, object_normal, root_param, segment_hits,
+                                             swept_roots, _accept, _plane_hit, _ruled)
 from engine.tracer.kernels.profile import S_RMAX, S_RMIN, S_ZMAX, S_ZMIN
 from engine.tracer.kernels.revolved import ray_axis, ray_box_from
 from engine.tracer.kernels.swept import SL_RMAX, SL_Z0, SL_Z1, swept_wall
@@ -321,7 +321,7 @@ def _part_roots(seg, tab, slab_f, slab_i, obj_i, obj_f, k, j, ox, oy, oz, dx, dy
     if a > b:
         return 0
     if slab_f[j, SL_RULED] > 0.5:
-        return ruled_roots(slab_f[j], obj_f[k, F_COS], obj_f[k, F_SIN], ray, a, b, roots)
+        return _ruled(Geometry(seg, tab, slab_f, slab_i, obj_i, obj_f, plan), k, j, ray, a, b, roots)
     return swept_roots(swept_wall(seg, tab, slab_i[j], obj_i[k, O_XS], obj_i[k, O_NSEC], (obj_f[k, F_COS],
                                   obj_f[k, F_SIN]), plan), ray, a, b, obj_f[k, F_LEAF], roots, stack)
 

@@ -173,3 +173,35 @@ def test_a_point_is_inside_or_not():
     assert plan_interval(plan, 30.0, 2.0, 0.0, 0.0, 0.0, 0.0) == (-np.inf, np.inf)
     lo, hi = plan_interval(plan, 30.0, 2.0, 40.0, 0.0, 0.0, 0.0)
     assert lo > hi
+
+
+@pytest.mark.parametrize("name", sorted(OUTLINES))
+def test_a_rays_trace_through_a_ruled_slab_is_where_the_section_at_its_height_holds_it(name):
+    # core and growth linear in the ray parameter (a ruled slab: planes and slanted cones);
+    # the growth may change sign on the way (sharp inner corners turning round)
+    from engine.tracer.kernels.plans import plan_trace
+    plan = plan_table(OUTLINES[name]())
+    rng = np.random.default_rng(9)
+    hits = misses = 0
+    for _ in range(200):
+        k0, k1 = rng.uniform(10.0, 40.0), rng.uniform(-0.1, 0.1)
+        r0, r1 = rng.uniform(-2.0, 6.0), rng.uniform(-0.08, 0.08)
+        p = rng.uniform(-80.0, 80.0, 2)
+        a = rng.uniform(0.0, 2 * math.pi)
+        q = np.array([math.cos(a), math.sin(a)]) * rng.uniform(0.2, 2.0)
+        t0, t1 = plan_trace(plan, (k0, k1), (r0, r1), (p[0], p[1], q[0], q[1]))
+        ts = np.linspace(-150.0, 150.0, 3001)
+        ts = ts[k0 + k1 * ts > 0.0]  # (a slab's core is never negative)
+        vals = np.array([plan_value(plan, k0 + k1 * t, r0 + r1 * t, *(p + t * q))[0] for t in ts])
+        inside = ts[vals <= 0.0]
+        within = ts[(ts >= t0) & (ts <= t1)]
+        if len(inside) == 0 and len(within) == 0:
+            misses += 1
+            continue
+        hits += 1
+        assert len(inside) and inside.min() >= t0 - 0.2 and inside.max() <= t1 + 0.2
+        assert np.all(vals[(ts >= t0) & (ts <= t1)] <= 1e-9), "the trace holds only points of the sections"
+        for t in (t0, t1):
+            if ts[0] < t < ts[-1]:
+                assert abs(plan_value(plan, k0 + k1 * t, r0 + r1 * t, *(p + t * q))[0]) < 1e-8
+    assert hits > 30 and misses > 30

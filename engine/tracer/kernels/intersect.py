@@ -24,14 +24,15 @@ import numpy as np
 from numba import njit
 
 from .helix import helix_roots
-from .outlines import outline_sd
+from .outlines import OUTLINE, outline_sd
+from .plans import plan_ruled_roots
 from .profile import HELIX, LINE, OFFSET, S_KIND, S_R0, S_R1, S_RMAX, S_RMIN, S_Z0, S_Z1, S_ZMAX, S_ZMIN
 from .revolved import PARAM_SLOT, ray_axis, ray_box_from, segment_hits, segment_normal
 from .jit import INLINE, JIT
 from .records import Hit
 from .roots import cone_roots
-from .swept import (SL_RMAX, SL_RULED, SL_Z0, SL_Z1, ruled_normal, ruled_roots, swept_normal, swept_roots,
-                    swept_wall)
+from .swept import (SL_A0, SL_B0, SL_KA, SL_KB, SL_RMAX, SL_RULED, SL_Z0, SL_Z1, ruled_normal, ruled_roots,
+                    swept_normal, swept_roots, swept_wall)
 
 # object kinds
 REVOLVED, SWEPT, PLANE, SWEEP = 0, 1, 2, 3
@@ -77,7 +78,7 @@ def object_normal(geom, k, part, px, py, pz, param=np.nan):
         return _sweep_normal(obj_f, k, part, px, py, pz)
     if kind == REVOLVED:
         nx, ny, nz = segment_normal(seg, part, px, py, pz, param)
-    elif slab_f[part, SL_RULED] > 0.5:
+    elif slab_f[part, SL_RULED] > 0.5 and obj_i[k, O_XS] != OUTLINE:
         nx, ny, nz = ruled_normal(slab_f[part], obj_f[k, F_COS], obj_f[k, F_SIN], px, py, pz)
     else:
         nx, ny, nz = swept_normal(_wall(geom, k, part), px, py, pz)
@@ -114,6 +115,16 @@ def _wall(geom, k, part):
     """The :class:`~.records.Wall` of swept object ``k`` in its slab row ``part``."""
     return swept_wall(geom.seg, geom.tab, geom.slab_i[part], geom.obj_i[k, O_XS], geom.obj_i[k, O_NSEC],
                       (geom.obj_f[k, F_COS], geom.obj_f[k, F_SIN]), geom.plan)
+
+
+@njit(**INLINE)
+def _ruled(geom, k, j, ray, a, b, roots):
+    """Crossings in ``[a, b]`` of swept object ``k`` in its ruled slab row ``j`` (closed form)."""
+    sl, obj_f = geom.slab_f[j], geom.obj_f
+    if geom.obj_i[k, O_XS] == OUTLINE:
+        return plan_ruled_roots(geom.plan, (sl[SL_A0], sl[SL_KA], sl[SL_B0], sl[SL_KB]),
+                                (obj_f[k, F_COS], obj_f[k, F_SIN]), ray, a, b, roots)
+    return ruled_roots(sl, obj_f[k, F_COS], obj_f[k, F_SIN], ray, a, b, roots)
 
 
 @njit(**JIT)
@@ -304,7 +315,7 @@ def nearest_hit(geom, ray, medium, last_obj, last_side, scratch):
                 if a > b:
                     continue
                 if slab_f[j, SL_RULED] > 0.5:  # straight sections: planes and slanted cones, closed form
-                    n = ruled_roots(slab_f[j], obj_f[k, F_COS], obj_f[k, F_SIN], ray, a, b, roots)
+                    n = _ruled(geom, k, j, ray, a, b, roots)
                 else:
                     n = swept_roots(_wall(geom, k, j), ray, a, b, obj_f[k, F_LEAF], roots, stack)
             for q in range(n):

@@ -120,24 +120,63 @@ def _hull(lo, hi, l2, h2):
 
 
 @njit(**INLINE)
-def _round_interval(row, k, r, px, py, qx, qy, lo, hi):
+def _cone(v0x, v0y, wx, wy, r0, r1):
+    """``(t0, t1)``: where ``|v0 + t w| <= r0 + r1 t`` (mm): a disc's trace for ``r1 = 0``, else
+    one nappe of a cone's (the side where the radius is not negative). A convex set of ``t``:
+    one interval, maybe unbounded, maybe empty (``t0 > t1``)."""
+    if r1 == 0.0:
+        if r0 < 0.0:
+            return 1.0, -1.0
+        return _disc(v0x, v0y, wx, wy, 0.0, 0.0, r0)
+    a = wx * wx + wy * wy - r1 * r1
+    b = v0x * wx + v0y * wy - r0 * r1
+    c = v0x * v0x + v0y * v0y - r0 * r0
+    apex = -r0 / r1  # the radius is 0 there: the set lies on the side where it grows
+    side0, side1 = (apex, np.inf) if r1 > 0.0 else (-np.inf, apex)
+    if a == 0.0:  # the ray runs along the cone's slope: one linear condition
+        if b == 0.0:
+            return (side0, side1) if c <= 0.0 else (1.0, -1.0)
+        t = -c / (2.0 * b)
+        lo, hi = (-np.inf, t) if b > 0.0 else (t, np.inf)
+        return max(lo, side0), min(hi, side1)
+    disc = b * b - a * c
+    if disc < 0.0:  # no crossing: everywhere inside (a < 0) or nowhere
+        return (side0, side1) if a < 0.0 else (1.0, -1.0)
+    h = math.sqrt(disc)
+    t1, t2 = (-b - h) / a, (-b + h) / a
+    t1, t2 = min(t1, t2), max(t1, t2)
+    if a > 0.0:
+        return max(t1, side0), min(t2, side1)
+    # (a < 0: inside beyond either root; only the half-line on the growing side is the cone)
+    return (t2, np.inf) if r1 > 0.0 else (-np.inf, t1)
+
+
+@njit(**INLINE)
+def _round_interval(row, core, grow, foot, lo, hi):
     """``[lo, hi]`` cut to a ``ROUND`` row's part of the section (module doc): its end normals'
-    half-planes, and where the grown radius is positive, inside the disc within its cone."""
-    cx, cy = k * row[PL_CX], k * row[PL_CY]
-    rad = k * row[PL_RHO] + r
-    ux, uy, wx, wy = row[PL_U0X], row[PL_U0Y], row[PL_U1X], row[PL_U1Y]
-    ox, oy = px - cx, py - cy
-    lo, hi = _half_plane(ox * ux + oy * uy - rad, qx * ux + qy * uy, lo, hi)
-    lo, hi = _half_plane(ox * wx + oy * wy - rad, qx * wx + qy * wy, lo, hi)
-    if lo > hi or rad < 0.0:
+    half-planes, and inside its cone the grown disc. ``core = (k0, k1)``, ``grow = (r0, r1)``:
+    the core and growth ``k0 + k1 t``, ``r0 + r1 t`` along the line ``foot = (px, py, qx, qy)``
+    (constant ones: a plane section; linear ones: a ruled slab, where the disc is a cone)."""
+    k0, k1 = core
+    r0, r1 = grow
+    px, py, qx, qy = foot
+    cx, cy, rho = row[PL_CX], row[PL_CY], row[PL_RHO]
+    # the point relative to the moving centre, v0 + t w, and the grown radius rad0 + t rad1
+    v0x, v0y = px - k0 * cx, py - k0 * cy
+    wx, wy = qx - k1 * cx, qy - k1 * cy
+    rad0, rad1 = k0 * rho + r0, k1 * rho + r1
+    ux, uy, zx, zy = row[PL_U0X], row[PL_U0Y], row[PL_U1X], row[PL_U1Y]
+    lo, hi = _half_plane(v0x * ux + v0y * uy - rad0, wx * ux + wy * uy - rad1, lo, hi)
+    lo, hi = _half_plane(v0x * zx + v0y * zy - rad0, wx * zx + wy * zy - rad1, lo, hi)
+    if lo > hi:
         return lo, hi
     # the cone of the wedge from the centre: cross(u0, v) >= 0 and cross(v, u1) >= 0
-    c0, c1 = _half_plane(-(ux * oy - uy * ox), -(ux * qy - uy * qx), -np.inf, np.inf)
-    c0, c1 = _half_plane(-(ox * wy - oy * wx), -(qx * wy - qy * wx), c0, c1)
+    c0, c1 = _half_plane(-(ux * v0y - uy * v0x), -(ux * wy - uy * wx), -np.inf, np.inf)
+    c0, c1 = _half_plane(-(v0x * zy - v0y * zx), -(wx * zy - wy * zx), c0, c1)
     c0, c1 = max(c0, lo), min(c1, hi)
     if c0 > c1:  # the line misses the cone within [lo, hi]: the half-planes decide
         return lo, hi
-    d0, d1 = _disc(px, py, qx, qy, cx, cy, rad)
+    d0, d1 = _cone(v0x, v0y, wx, wy, rad0, rad1)
     # allowed: [lo, hi] outside the cone, and the cone's part inside the disc (their hull: the
     # section is convex, so its trace on the line is one interval)
     a0, a1 = 1.0, -1.0
@@ -150,18 +189,58 @@ def _round_interval(row, k, r, px, py, qx, qy, lo, hi):
 
 
 @njit(**JIT)
-def plan_interval(plan, k, r, px, py, qx, qy):
-    """``(t_in, t_out)``: where the 2-D line ``p + t q`` lies in the section ``sd(., k P) <= r``
-    (``t_in > t_out`` when it never does); ``q = 0`` asks about the point ``p`` (``(-inf, inf)``
-    or empty)."""
+def plan_trace(plan, core, grow, foot):
+    """``(t_in, t_out)``: where the point ``(px, py) + t (qx, qy)`` (``foot``) lies in the section
+    ``sd(., k P) <= r`` whose core and growth change along it as ``core = (k0, k1)``, ``grow =
+    (r0, r1)`` (``k = k0 + k1 t``, mm): the section's trace on a line (constant ones) or a ruled
+    slab's solid's on a ray (the solid is convex: every piece's condition is linear in the point
+    and the height). ``t_in > t_out`` when it never is."""
+    k0, k1 = core
+    r0, r1 = grow
+    px, py, qx, qy = foot
     lo, hi = -np.inf, np.inf
     for i in range(plan.shape[0]):
         row = plan[i]
         if row[PL_KIND] == FLAT:
-            nx, ny = row[PL_NX], row[PL_NY]
-            lo, hi = _half_plane(px * nx + py * ny - k * row[PL_H] - r, qx * nx + qy * ny, lo, hi)
+            nx, ny, h = row[PL_NX], row[PL_NY], row[PL_H]
+            lo, hi = _half_plane(px * nx + py * ny - k0 * h - r0, qx * nx + qy * ny - k1 * h - r1, lo, hi)
         else:
-            lo, hi = _round_interval(row, k, r, px, py, qx, qy, lo, hi)
+            lo, hi = _round_interval(row, core, grow, foot, lo, hi)
         if lo > hi:
             return 1.0, -1.0
     return lo, hi
+
+
+@njit(**JIT)
+def plan_interval(plan, k, r, px, py, qx, qy):
+    """``(t_in, t_out)``: where the 2-D line ``p + t q`` lies in the section ``sd(., k P) <= r``
+    (``t_in > t_out`` when it never does); ``q = 0`` asks about the point ``p`` (``(-inf, inf)``
+    or empty)."""
+    return plan_trace(plan, (k, 0.0), (r, 0.0), (px, py, qx, qy))
+
+
+@njit(**JIT)
+def plan_ruled_roots(plan, coeffs, rot, ray, lo, hi, out):
+    """Exact crossings (ascending, at most 2, into ``out``) in ``[lo, hi]`` of the ray with an
+    outline wall in a ruled slab: core ``k = K0 + K1 z`` and growth ``r = R0 + R1 z`` (mm,
+    ``coeffs = (K0, K1, R0, R1)``), the bottle turned by ``rot = (cos, sin)``. The slab's solid
+    is convex (:func:`plan_trace`), so the ray enters and leaves it once: an end of its trace
+    strictly inside ``[lo, hi]`` is a crossing of the wall (ends at ``lo`` or ``hi`` are the
+    slab's own planes)."""
+    K0, K1, R0, R1 = coeffs
+    c, s = rot
+    ox, oy, oz, dx, dy, dz = ray
+    # from the slab entry, so that far origins lose no digits
+    ox, oy, oz = ox + lo * dx, oy + lo * dy, oz + lo * dz
+    px, py = c * ox + s * oy, -s * ox + c * oy
+    qx, qy = c * dx + s * dy, -s * dx + c * dy
+    t0, t1 = plan_trace(plan, (K0 + K1 * oz, K1 * dz), (R0 + R1 * oz, R1 * dz), (px, py, qx, qy))
+    n = 0
+    if t0 > t1:
+        return 0
+    span = hi - lo
+    for t in (t0, t1):
+        if t > 0.0 and t < span and n < out.shape[0]:
+            out[n] = t + lo
+            n += 1
+    return n

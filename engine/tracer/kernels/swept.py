@@ -19,7 +19,7 @@ import math
 from numba import njit
 
 from .bands import band_roots
-from .outlines import RSQUARE, rrect_sd, square_corner, xs_eval
+from .outlines import OUTLINE, RSQUARE, rrect_sd, square_corner, xs_eval
 from .profile import S_R0, S_R1, S_Z0, S_Z1, wall_state
 from .jit import INLINE, JIT
 from .records import Wall
@@ -177,12 +177,15 @@ def ruled_coefficients(kind, rows):
     """``(A0, KA, B0, KB, C0, KC)``: the outline's half extents ``a = A0 + KA z``, ``b = B0 +
     KB z`` and corner radius ``c = C0 + KC z`` (mm) in a slab whose sections are the straight
     segment rows ``rows`` (``(seg row, ...)`` of :mod:`.profile`, one per section) of a rounded
-    square (sections ``u, v``) or rounded rectangle (half width, half depth, corner)."""
+    square (sections ``u, v``) or rounded rectangle (half width, half depth, corner); for a free
+    outline (``OUTLINE``) its core and growth, ``(K0, K1, R0, R1, 0, 0)``."""
     lines = []
     for r in rows:
         k = (r[S_R1] - r[S_R0]) / (r[S_Z1] - r[S_Z0])
         lines.append((r[S_R0] - k * r[S_Z0], k))
     (a0, ka), (b0, kb) = lines[0], lines[1]
+    if kind == OUTLINE:  # the core and the growth (:func:`.plans.plan_ruled_roots`)
+        return a0, ka, b0, kb, 0.0, 0.0
     if kind == RSQUARE:  # u = a = b, the corner q(u, v), linear in both
         return a0, ka, a0, ka, square_corner(a0, b0), square_corner(ka, kb)
     c0, kc = lines[2]

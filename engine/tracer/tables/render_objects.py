@@ -344,7 +344,8 @@ def _slabs(tab, chains, kind, scale):
             rmaxes.append(tab.seg[f + i][R.S_RMAX])
         rmax = _circumradius(kind, rmaxes) * (1 + 1e-9) + pad
         rmax_all = max(rmax_all, rmax)
-        ruled = kind in ("rounded_square", "rounded_rect") and all(tab.seg[r][R.S_KIND] == R.LINE for r in rows)
+        ruled = kind in ("rounded_square", "rounded_rect", "outline") and all(tab.seg[r][R.S_KIND] == R.LINE
+                                                                             for r in rows)
         coeffs = ruled_coefficients(_XS[kind], [tab.seg[r] for r in rows]) if ruled else (0.0,) * (SL_COLS - 4)
         tab.slab_f.append((za - pad, zb + pad, rmax, 1.0 if ruled else 0.0, *coeffs))
         tab.slab_i.append(rows + [rows[0]] * (3 - len(rows)))

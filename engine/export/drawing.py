@@ -82,7 +82,7 @@ def write_drawing(design, path, sheet: str = "A3", scale=None, date: str | None 
     ``scale_factor``, ``size_mm``, ``views`` (name -> paper bounding box ``[x0, y0, x1, y1]`` mm),
     ``dimensions`` (``tag``, ``text``, ``measured_mm``). Raises :class:`DrawingError` for an
     unknown suffix or sheet or a scale that does not fit, the geometry's errors for an invalid
-    design, ``OSError`` when the file cannot be written (an existing file is then untouched).
+    design, ``DesignError`` for a bottle drawings do not support yet (an outline), ``OSError`` when the file cannot be written (an existing file is then untouched).
     """
     path = Path(path)
     suffix = path.suffix.lower()
@@ -106,6 +106,7 @@ def layout(design, sheet: str = "A3", scale=None, date: str | None = None) -> tu
     if sheet not in SHEETS:
         raise DrawingError(f"the sheet is one of {', '.join(SHEETS)}, got {sheet!r}")
     shape = design.shape
+    shape.xs.require("drawing")  # why first: the trade numbers would pass, the views would not
     fig = views.figures(shape)
     zones = views.label_zones(design)
     trade, plant = trade_numbers(design), plant_numbers(design)

@@ -32,7 +32,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import DesignError
+from ..errors import NotSupportedError
 
 SQRT2 = math.sqrt(2.0)
 #: d q / d u and d q / d v for the rounded square (q = (sqrt2+1)(sqrt2 u - v)).
@@ -42,6 +42,7 @@ HALF_PI = 0.5 * math.pi
 #: What a kind may not offer yet (:meth:`CrossSection.require`), in the words of its refusal.
 FEATURES = {"labels": "labels", "relief": "relief (bump tiles, bands and embossing)",
             "cad": "CAD export", "drawing": "technical drawings", "stability": "the stability check",
+            "stress": "the membrane stress estimate",
             "mesh": "meshes (viewport and exports)"}
 
 
@@ -78,10 +79,10 @@ class CrossSection:
     vanishing: tuple[str, ...] = ()
 
     def require(self, feature: str) -> None:
-        """Raise ``DesignError`` (one line) if this kind cannot offer ``feature`` (a key of
-        :data:`FEATURES`) yet; nothing otherwise."""
+        """Raise ``NotSupportedError`` (a ``DesignError``, one line) if this kind cannot offer
+        ``feature`` (a key of :data:`FEATURES`) yet; nothing otherwise."""
         if feature in self.unsupported:
-            raise DesignError(f"{FEATURES[feature]}: not supported on {self.name} bottles yet")
+            raise NotSupportedError(f"{FEATURES[feature]}: not supported on {self.name} bottles yet")
 
     def canonical(self, radii):
         """``(cross-section, radii)``: the same section as round, rounded_rect, oval or outline."""
@@ -332,7 +333,7 @@ class Outline(CrossSection):
     plan: object
     name = "outline"
     sections = ("core", "round")
-    unsupported = frozenset({"labels", "relief", "cad", "drawing", "stability", "mesh"})
+    unsupported = frozenset({"labels", "relief", "cad", "drawing", "stability", "stress", "mesh"})
     #: Steiner's polynomial for r >= 0, the inner parallel set's area below: equal in value and
     #: slope at r = 0 but not in curvature, which would cost Gauss-Legendre its exactness.
     area_breaks = ((1, 0.0),)

@@ -124,7 +124,7 @@ def layout(design, sheet: str = "A3", scale=None, date: str | None = None) -> tu
     area = (FRAME_LEFT_MM + 4.0, area_y0, col_x0 - 6.0, h - FRAME_MM - 4.0)
     fill_h = trade.get("fill_height_mm")
     lanes_right = len(zones) + (fill_h is not None)
-    placed = _place(fig, shape.cross_section != "round", lanes_right, area, _scale(scale))
+    placed = _place(fig, not shape.xs.revolved, lanes_right, area, _scale(scale))
     page = Page(sheet, placed.scale, placed.origin)
     _frame(page, col_x0)
     boxes = _views(page, design, fig, placed, zones, fill_h, plant)
@@ -276,7 +276,7 @@ def _front(page: Page, design, fig, zones, fill_h, tols) -> list[float]:
     page.curves += curves
     page.curves.append(views.axis_line(0.0, -3.0 / s, fig.height + 3.0 / s))
     H, rx, top = fig.height, fig.half_x, fig.r_top
-    round_ = shape.cross_section == "round"
+    round_ = shape.xs.revolved
     dia = "Ø" if round_ else ""
     page.dims.append(Dim((-fig.ring_x, 0.0), (-top, H), "y", -((rx - fig.ring_x) * s + FIRST_LANE_MM),
                          f"{H:.1f}{table.tol(tols.get('height_mm'))}", "height"))
@@ -336,7 +336,7 @@ def _plan(page: Page, shape, fig, center) -> list[float]:
     page.curves += curves
     cx, cy = center
     box = _box(page, curves[:1])
-    if shape.cross_section == "round":
+    if shape.xs.revolved:
         r = fig.ring_x
         page.dims.append(Dim((cx - r, cy), (cx + r, cy), "x", -((fig.half_x + 4.0) * s + FIRST_LANE_MM),
                              f"Ø{2 * r:.1f} ring", "ring"))

@@ -25,7 +25,6 @@ import time
 import numpy as np
 from scipy.spatial import cKDTree
 
-from engine.geometry import crosssection
 from engine.geometry.body import BottleBody
 from engine.geometry.section import Section
 from engine.geometry.segments import Line
@@ -60,7 +59,7 @@ def _probe_points(vertices, faces):
 
 def wall_deviation(body: BottleBody, q, part: str = "outer") -> float:
     """Largest distance (mm) of points ``q`` from the exact ``outer`` or ``inner`` wall."""
-    if body.kind == "round":
+    if body.xs.revolved:
         sp = body.profile.sections[0]
         chain = sp.outer_wall if part == "outer" else sp.inner_wall
         tree = cKDTree(np.concatenate([s.point(np.linspace(0, 1, 20001)) for s in chain]))
@@ -69,7 +68,7 @@ def wall_deviation(body: BottleBody, q, part: str = "outer") -> float:
     x = math.cos(rot) * q[:, 0] + math.sin(rot) * q[:, 1]
     y = -math.sin(rot) * q[:, 0] + math.cos(rot) * q[:, 1]
     states = body.wall_radii(part, q[:, 2])
-    sd, gx, gy, d = crosssection.signed_distance(body.kind, [s[0] for s in states], x, y)
+    sd, gx, gy, d = body.xs.signed_distance([s[0] for s in states], x, y)
     gz = sum(d[j] * states[j][1] / np.maximum(states[j][2], 1e-9) for j in range(len(states)))
     steep = np.min([s[2] for s in states], axis=0) > 0.2  # first-order distance is reliable there
     return float((np.abs(sd) / np.sqrt(gx ** 2 + gy ** 2 + gz ** 2))[steep].max())

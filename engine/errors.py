@@ -75,6 +75,12 @@ class DesignError(ProjectError, ValueError):
     names the field. A ``ProjectError``, since a project may not hold it either."""
 
 
+class NotSupportedError(DesignError):
+    """Something the design's kind of bottle cannot do yet (labels, CAD, ... on an outline
+    bottle): one line naming the feature and the kind
+    (:meth:`engine.geometry.crosssection.CrossSection.require`)."""
+
+
 class InputFileError(GlassbenchError, ValueError):
     """A file handed to glassbench (an image, a job file) that it will not read: not a regular
     file, or larger than its kind may be (:func:`engine.io.read.read_bounded`)."""

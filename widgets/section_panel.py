@@ -164,7 +164,7 @@ class SectionPanel(QWidget):
         self.wall_spin.setValue(shape.wall_thickness)
         self.base_spin.setValue(shape.base_thickness)
         self.rotation_spin.setValue(shape.rotation_deg)
-        self.rotation_spin.setEnabled(shape.cross_section != "round")
+        self.rotation_spin.setEnabled(not shape.xs.revolved)
         del blockers
         section = shape.section(self.current_name)
         ghosts = [s for n, s in shape.sections if n != self.current_name]

@@ -15,6 +15,8 @@ CROSS_SECTIONS = {
                                          "the flats (u) and across the corners (v)"),
     "rounded_rect": ("Rounded rectangle", "Half width, half depth and corner radius, each a section"),
     "oval": ("Oval", "An ellipse at every height: half width and half depth, each a section"),
+    "outline": ("Plan outline", "A free convex plan outline, scaled by the core section and rounded "
+                                "by the rounding section (read from a SPEC_outline scene)"),
 }
 
 SECTIONS = {
@@ -26,6 +28,9 @@ SECTIONS = {
     "half_width": ("Half width (x)", "Half the width, along x"),
     "half_depth": ("Half depth (y)", "Half the depth, along y"),
     "corner": ("Corner radius", "Radius of the rounded corners"),
+    "core": ("Core scale", "How large the plan outline is at each height (mm from the axis to its "
+                           "farthest point; 0 where the neck is round)"),
+    "round": ("Rounding", "The radius the plan outline is rounded by at each height"),
 }
 
 SEGMENT_KINDS = {

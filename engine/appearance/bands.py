@@ -24,14 +24,16 @@ def band_coordinates(design, z0: float, z1: float):
     """``(v0, v1, radius)`` of the band of heights ``z0..z1`` on the outer wall: ``v`` as the
     tracer measures it (round bottles: arc length from the axis along the outer section;
     otherwise the height) and the reference radius (the wall's radius at mid-band, of the
-    first section). ``None`` for a band outside the wall (clipped to it otherwise)."""
+    first section). ``None`` for a band outside the wall (clipped to it otherwise); ``DesignError``
+    on a bottle that cannot carry relief yet (an outline)."""
+    design.shape.xs.require("relief")
     prof = body_profile(design.shape)
     wall = prof.sections[0].outer_wall
     lo, hi = max(z0, wall[0].p0[1]), min(z1, wall[-1].p1[1])
     if not hi - lo > 1e-6:
         return None
     radius = float(radius_at(wall, 0.5 * (lo + hi)))
-    if design.shape.cross_section != "round":
+    if not design.shape.xs.revolved:
         return float(lo), float(hi), radius
     base = sum(sg.length for sg in prof.sections[0].outer_base)
     starts = np.concatenate([[0.0], np.cumsum([sg.length for sg in wall])])
@@ -72,7 +74,7 @@ def _thread_drawings(shape, bumps) -> tuple:
                       and sg.p0[1] <= lo + 1e-9 and sg.p1[1] >= hi - 1e-9), None)
         band = band_coordinates(design, tile.z0, tile.z1)
         turns = thread_layout(tile, band[1] - band[0], neck).turns if band is not None else 0.0
-        if shape.cross_section != "round":
+        if not shape.xs.revolved:
             obstacle = "a round neck"
         elif band is None:
             obstacle = "its band on the wall"

@@ -189,8 +189,10 @@ class NonRoundFrame(LabelFrame):
 def label_frame(shape, placement: Placement, where: str = "label") -> LabelFrame:
     """The :class:`LabelFrame` of a label with ``placement`` on ``shape`` (cached by value).
 
-    Raises ``DesignError`` when its centre is not on the wall; whether the whole patch is,
+    Raises ``DesignError`` when its centre is not on the wall or the bottle cannot carry labels
+    yet (an outline); whether the whole patch is,
     :func:`engine.appearance.placement.check_label_placement` says.
     """
-    cls = LabelFrame if shape.cross_section == "round" else NonRoundFrame
+    shape.xs.require("labels")
+    cls = LabelFrame if shape.xs.revolved else NonRoundFrame
     return cls(shape, placement, where)

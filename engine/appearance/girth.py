@@ -1,14 +1,17 @@
 """Arc length around a horizontal cross-section: how far a label's width reaches.
 
-Design rule: closed forms, vectorised, for every cross-section kind of
-:mod:`engine.geometry.crosssection`. The *girth length* ``l(theta)`` is the arc length of the
+Design rule: closed forms, vectorised, for every cross-section a label can wrap (a
+:class:`~engine.geometry.crosssection.CrossSection`; an outline refuses labels before it gets
+here, and the partial arc lengths are this module's own closed forms, not the protocol's, which
+knows only whole perimeters). The *girth length* ``l(theta)`` is the arc length of the
 boundary from polar angle 0 to ``theta`` (rad, the bottle's own frame), counter-clockwise seen
 from above; ``theta`` may be any real number (``l(theta + 2 pi) = l(theta) + P``, ``P`` the
 perimeter), so a label straddling ``theta = 0`` has a continuous coordinate. Circle: ``r
 theta``. Rounded rectangle (and square, the rectangle ``(u, u, q)``): per quadrant a side
 ``a tan(theta)``, a corner arc ``c phi`` about ``(a - c, b - c)``, a top side. Oval: the
 incomplete elliptic integral of the second kind of the eccentric anomaly. Radii are the
-kind's section values at one height (mm), broadcast against ``theta``.
+kind's section values at one height (mm), broadcast against ``theta``; ``xs`` is the bottle's
+cross-section object.
 """
 from __future__ import annotations
 
@@ -17,16 +20,9 @@ import math
 import numpy as np
 from scipy.special import ellipe, ellipeinc
 
-from ..geometry import crosssection
+from ..geometry.crosssection import RECT
 
 HALF_PI = 0.5 * math.pi
-
-
-def _rect(kind: str, radii):
-    if kind == "rounded_square":
-        u, v = (np.asarray(x, float) for x in radii)
-        return u, u, crosssection.square_corner(u, v)[1]
-    return tuple(np.asarray(x, float) for x in radii)
 
 
 def _oval_quarter(a, b, theta=None):
@@ -52,7 +48,7 @@ def _rect_quarter(a, b, c, theta=None):
     with np.errstate(divide="ignore", invalid="ignore"):
         side = a * np.tan(theta)
         top = quarter - b / np.tan(theta)
-    x, y, _, _ = crosssection.boundary("rounded_rect", (a, b, c), theta)
+    x, y, _, _ = RECT.boundary((a, b, c), theta)
     phi = np.arctan2(y - (b - c), x - (a - c))
     corner = (b - c) + c * np.clip(phi, 0.0, HALF_PI)
     on_side = np.sin(theta) * np.hypot(x, y) <= b - c
@@ -60,49 +56,47 @@ def _rect_quarter(a, b, c, theta=None):
     return np.where(on_side, side, np.where(on_top, top, corner))
 
 
-def _quarter(kind, radii, theta=None):
-    if kind == "oval":
+def _quarter(xs, radii, theta=None):
+    if xs.name == "oval":
         a, b = (np.asarray(x, float) for x in radii)
         return _oval_quarter(a, b, theta)
-    return _rect_quarter(*_rect(kind, radii), theta)
+    return _rect_quarter(*xs.as_rect(radii), theta)
 
 
-def perimeter(kind: str, radii) -> np.ndarray:
-    """Perimeter (mm) of the cross-section with ``radii`` (``2 pi r`` for a circle)."""
-    if kind == "round":
-        return 2.0 * math.pi * np.asarray(radii[0], float)
-    return 4.0 * _quarter(kind, radii)
+def perimeter(xs, radii) -> np.ndarray:
+    """Perimeter (mm) of the cross-section ``xs`` with ``radii``: its ``girth``."""
+    return xs.girth(radii)
 
 
-def girth_length(kind: str, radii, theta) -> np.ndarray:
+def girth_length(xs, radii, theta) -> np.ndarray:
     """Arc length (mm) of the boundary from polar angle 0 to ``theta`` (rad, any real value),
     counter-clockwise; continuous and increasing in ``theta``."""
     theta = np.asarray(theta, float)
-    if kind == "round":
+    if xs.revolved:
         return np.asarray(radii[0], float) * theta
     turns = np.floor(theta / (2.0 * math.pi))
     rest = theta - 2.0 * math.pi * turns
     quadrant = np.minimum(np.floor(rest / HALF_PI), 3.0)
-    q = _quarter(kind, radii)
+    q = _quarter(xs, radii)
     mirrored = (quadrant == 1) | (quadrant == 3)
     local = np.where(mirrored, (quadrant + 1) * HALF_PI - rest, rest - quadrant * HALF_PI)
-    part = _quarter(kind, radii, np.clip(local, 0.0, HALF_PI))
+    part = _quarter(xs, radii, np.clip(local, 0.0, HALF_PI))
     within = np.where(mirrored, (quadrant + 1) * q - part, quadrant * q + part)
     return 4.0 * q * turns + within
 
 
-def theta_at_length(kind: str, radii, length) -> np.ndarray:
+def theta_at_length(xs, radii, length) -> np.ndarray:
     """The polar angle (rad) whose :func:`girth_length` is ``length`` (mm, any real value):
     the inverse, by bisection to 1e-14 rad (the girth length rises strictly)."""
     length = np.asarray(length, float)
-    if kind == "round":
+    if xs.revolved:
         return length / np.asarray(radii[0], float)
-    p = perimeter(kind, radii)
+    p = perimeter(xs, radii)
     turns = np.floor(length / p)
     lo = np.broadcast_to(2.0 * math.pi * turns, np.broadcast(length, p).shape).copy()
     hi = lo + 2.0 * math.pi
     for _ in range(52):
         mid = 0.5 * (lo + hi)
-        below = girth_length(kind, radii, mid) < length
+        below = girth_length(xs, radii, mid) < length
         lo, hi = np.where(below, mid, lo), np.where(below, hi, mid)
     return 0.5 * (lo + hi)

@@ -114,6 +114,7 @@ class NonRoundWall:
     def __init__(self, shape):
         self.shape = shape
         self.kind = shape.cross_section
+        self.xs = shape.xs
         self.profile = body_profile(shape)
         self.body = BottleBody(shape)
         self.z_top = float(self.profile.z_top)
@@ -124,14 +125,14 @@ class NonRoundWall:
 
     def girth(self, theta, z) -> np.ndarray:
         """Girth length (mm) from polar angle 0 to ``theta`` at heights ``z``."""
-        return girth.girth_length(self.kind, self.radii(z), theta)
+        return girth.girth_length(self.xs, self.radii(z), theta)
 
     def theta_at(self, length, z) -> np.ndarray:
         """The polar angle whose girth length at ``z`` is ``length`` (mm)."""
-        return girth.theta_at_length(self.kind, self.radii(z), length)
+        return girth.theta_at_length(self.xs, self.radii(z), length)
 
     def perimeter(self, z) -> np.ndarray:
-        return girth.perimeter(self.kind, self.radii(z))
+        return girth.perimeter(self.xs, self.radii(z))
 
     def points(self, theta, z) -> np.ndarray:
         """World points ``(..., 3)`` (mm) of the outer wall."""
@@ -158,7 +159,7 @@ def _meridian(shape, theta: float):
 @lru_cache(maxsize=16)
 def wall_of(shape):
     """The :class:`RoundWall` or :class:`NonRoundWall` of a shape (cached by value)."""
-    return RoundWall(shape) if shape.cross_section == "round" else NonRoundWall(shape)
+    return RoundWall(shape) if shape.xs.revolved else NonRoundWall(shape)
 
 
 def surface_coordinates(shape, points):
@@ -168,7 +169,7 @@ def surface_coordinates(shape, points):
     the standing ring or above the mouth), non-round bottles the height z.
     """
     p = np.asarray(points, float)
-    if shape.cross_section == "round":
+    if shape.xs.revolved:
         return np.arctan2(p[..., 1], p[..., 0]), wall_of(shape).h_at_z(p[..., 2])
     a = math.radians(shape.rotation_deg)
     theta = np.arctan2(p[..., 1], p[..., 0]) - a

@@ -114,10 +114,10 @@ def _joints(frame):
 def _cross_section_corners(shape, frame, flat):
     """Warnings for corners of a rounded square / rectangle tighter than :data:`MIN_CORNER_MM`
     that the label wraps at its centre height."""
-    if shape.cross_section not in ("rounded_square", "rounded_rect"):
+    xs = shape.xs
+    if not hasattr(xs, "as_rect"):  # why: only rounded squares and rectangles have such corners
         return []
-    from .girth import _rect
-    a, b, c = (float(v) for v in _rect(shape.cross_section, frame.wall.radii(frame.h_c)))
+    a, b, c = (float(v) for v in xs.as_rect(frame.wall.radii(frame.h_c)))
     if c >= MIN_CORNER_MM:
         return []
     mid = math.atan2(b - c + c * math.sqrt(0.5), a - c + c * math.sqrt(0.5))

@@ -100,15 +100,17 @@ def liquid_meridian(prof, height: float) -> list:
 
 def glass_bodies(design, tol_mm: float = DEFAULT_TOL_MM, liquid: bool = True) -> list[CadBody]:
     """The design's solids: ``glass``, ``liquid`` (with ``liquid`` and a liquid in the design)
-    and one ``closure <part>`` per closure part. Raises ``CadError`` where the kernel cannot."""
+    and one ``closure <part>`` per closure part. Raises ``CadError`` where the kernel cannot and
+    ``DesignError`` for a bottle CAD export does not support yet (an outline)."""
     shape = design.shape
+    shape.xs.require("cad")
     prof = body_profile(shape)
     glass_mm3 = capacity.glass_volume_cm3(shape) * capacity.MM3_PER_ML
     height = fill.fill_height_mm(shape, design.liquid) if (liquid and design.liquid) else None
     liquid_mm3 = (fill.fill_volume_ml(shape, design.liquid) * capacity.MM3_PER_ML
                   if height is not None else None)
     bodies = []
-    if shape.cross_section == "round":
+    if shape.xs.revolved:
         solid, dev = revolved_solid(glass_meridian(prof), tol_mm, "glass")
         bodies.append(CadBody("glass", "glass", solid, glass_mm3, dev))
         if height is not None and height > prof.z_ib:

@@ -50,10 +50,8 @@ def radii_at(chains, z):
 
 
 def _rect(kind, radii):
-    if kind == "rounded_square":
-        u, v = radii
-        return u, u, crosssection.square_corner(u, v)[1]
-    return radii
+    """``(a, b, c)`` (mm) of the rounded rectangle a rounded square or rectangle is."""
+    return crosssection.of_kind(kind).as_rect(radii)
 
 
 def patch_kinds(kind: str) -> list[tuple]:

@@ -5,7 +5,7 @@ Design rule: nothing here computes geometry of its own. The outlines are the val
 profile's chains (:func:`engine.geometry.validate.body_profile`), drawn segment by segment (a
 line stays a line, an arc an arc, so the DXF carries them exactly); heights and radii come from
 :func:`~engine.geometry.chain.radius_at`, plan outlines from
-:func:`engine.geometry.crosssection.boundary`, a label's edges from its
+the cross-section's ``boundary``, a label's edges from its
 :func:`~engine.appearance.frame.label_frame`. Views are drawn in the bottle's own frame
 (``rotation_deg`` turns the bottle in a scene, not on a drawing): the front view looks along
 its y axis (the x-z silhouette: the ``profile``, ``u`` or ``half_width`` section), the side view
@@ -19,7 +19,6 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry import crosssection
 from ..geometry.chain import radius_at
 from ..geometry.segments import Line
 from ..geometry.validate import body_profile
@@ -82,18 +81,19 @@ def _heights(chain) -> np.ndarray:
 
 def figures(shape) -> Figures:
     """The :class:`Figures` of a valid ``shape``."""
+    shape.xs.require("drawing")
     prof = body_profile(shape)
-    kind = shape.cross_section
+    kind, xs = shape.cross_section, shape.xs
     sx, sy, sc = VIEW_SECTIONS[kind]
     (rx, zx), (ry, zy) = _widest(_chain(prof, sx)), _widest(_chain(prof, sy))
     corner = _widest(_chain(prof, sc)) if sc else None
     if kind == "rounded_rect":  # why: its corner reach is no section of its own
         z = _heights(_chain(prof, sx))
-        rc = crosssection.circumradius(kind, _radii(prof, z))
+        rc = xs.circumradius(_radii(prof, z))
         j = int(np.argmax(rc))
         corner = (float(rc[j]), float(z[j]))
     z = _heights(_chain(prof, sx))
-    z_widest = float(z[int(np.argmax(crosssection.circumradius(kind, _radii(prof, z))))])
+    z_widest = float(z[int(np.argmax(xs.circumradius(_radii(prof, z))))])
     sp = prof.sections[0]
     return Figures(kind, float(prof.z_top), rx, zx, ry, zy,
                    None if corner is None else corner[0], None if corner is None else corner[1],
@@ -201,10 +201,10 @@ def _outline(shape, prof, z: float, center, layer: str, style: str):
     radii = [np.array(float(r)) for r in _radii(prof, np.array(z))]
     if z <= 0.0:  # the standing ring: where each section's wall starts
         radii = [np.array(sp.outer_wall[0].p0[0]) for sp in prof.sections]
-    if shape.cross_section == "round":
+    if shape.xs.revolved:
         return Circle(center, float(radii[0]), layer, style)
     theta = np.linspace(0.0, 2.0 * math.pi, PLAN_SAMPLES, endpoint=False)
-    x, y, _, _ = crosssection.boundary(shape.cross_section, radii, theta)
+    x, y, _, _ = shape.xs.boundary(radii, theta)
     pts = np.column_stack([center[0] + x, center[1] + y])
     return Polyline(tuple(map(tuple, pts)), layer, style, closed=True)
 

@@ -152,7 +152,7 @@ def dieline_key(design, label) -> tuple:
     (height; also the azimuth on a non-round one). Labels with one key share one die-line."""
     key = (label.surface, label.height_mm, label.width_mm)
     if label.surface == "wall":
-        key += (label.z_mm,) if design.shape.cross_section == "round" else (label.z_mm, label.angle_deg)
+        key += (label.z_mm,) if design.shape.xs.revolved else (label.z_mm, label.angle_deg)
     return key
 
 

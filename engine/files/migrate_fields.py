@@ -1,8 +1,9 @@
-"""Format 2 -> 3 -> 4 -> 5: fields added since get the values old projects meant.
+"""Format 2 -> 3 -> 4 -> 5 -> 6: fields added since get the values old projects meant.
 
 Design rule: self-contained steps, :func:`migrate_2_to_3` (fields of labels and bump tiles) and
-:func:`migrate_3_to_4` (the stage) and :func:`migrate_4_to_5` (the plant's settings), registered as
-``engine.files.serialize.MIGRATIONS[2]``, ``[3]`` and ``[4]``. Format 3 added fields whose default is exactly what a
+:func:`migrate_3_to_4` (the stage), :func:`migrate_4_to_5` (the plant's settings) and
+:func:`migrate_5_to_6` (the shape's plan outline), registered as
+``engine.files.serialize.MIGRATIONS[2]`` to ``[5]``. Format 3 added fields whose default is exactly what a
 format-2 project drew, so the step only fills in what is missing, in new dictionaries, and checks
 nothing else (the decoder does): an old file opens unchanged, and a glassbench of format 2
 refuses a format-3 file with "made by a newer glassbench" instead of "unknown field".
@@ -58,3 +59,13 @@ def migrate_4_to_5(doc: dict) -> dict:
     if not isinstance(design, dict):
         return dict(doc, format_version=5)  # the decoder names what is wrong
     return dict(doc, format_version=5, design={"plant": dataclasses.asdict(Plant()), **design})
+
+
+def migrate_5_to_6(doc: dict) -> dict:
+    """The format-6 document of format-5 ``doc``: format 6 added the shape's ``plan`` (an
+    outline bottle's plan outline); no format-5 bottle had one, so it gets ``null``."""
+    design = doc.get("design")
+    shape = design.get("shape") if isinstance(design, dict) else None
+    if not isinstance(shape, dict):
+        return dict(doc, format_version=6)  # the decoder names what is wrong
+    return dict(doc, format_version=6, design={**design, "shape": {**shape, "plan": None}})

@@ -11,7 +11,12 @@ Floats are written as Python floats; ``json`` writes them with ``repr``, which r
 float64 exactly.
 
 A *document* is what ``project.json`` holds: ``{"format_version": N, "generator": str,
-"design": {...}}``. Format 5 is current: format 4 with the design's ``plant`` (the proof
+"design": {...}}``. Format 6 is current: format 5 with the shape's ``plan``, the free plan outline
+of an ``outline`` bottle as its SPEC_outline segment list (``[{"type": "line", "p0", "p1"} |
+{"type": "arc", "center", "radius", "p0", "p1", "ccw"}, ...]``) **normalised** (its farthest
+point at distance 1, so the core and rounding sections are mm; the plan reads back bit for bit),
+and ``null`` for every other kind; a format-5 shape gets ``null`` (it could not be an outline).
+Format 5: format 4 with the design's ``plant`` (the proof
 pressure, liquid density, closure and label masses and warning limits of :mod:`engine.plant`;
 a format-4 project gets the defaults). Format 4: format 3 with the design's ``stage`` (what the bottle
 stands on; a format-3 bottle floated: ``none``). Format 3: format 2 with fields added to labels and bump tiles
@@ -46,14 +51,15 @@ from ..errors import ProjectError, shown
 from ..limits import MAX_LIST_ITEMS as LIST_LIMIT, MAX_SEGMENTS, MAX_TEXT_CHARS
 from ..model.design import Design
 from .migrate_fields import (migrate_2_to_3 as _migrate_2_to_3, migrate_3_to_4 as _migrate_3_to_4,
-                             migrate_4_to_5 as _migrate_4_to_5)
+                             migrate_4_to_5 as _migrate_4_to_5, migrate_5_to_6 as _migrate_5_to_6)
 from .migrate_finishes import migrate_1_to_2 as _finishes_1_to_2
 from .migrate_labels import migrate_1_to_2 as _labels_1_to_2
+from ..geometry.plan import MAX_SEGMENTS as MAX_PLAN_SEGMENTS, PlanOutline
 from ..geometry.section import Section
 from ..geometry.shape import SECTION_NAMES, BottleShape
 
 #: The format this glassbench writes (``project.json``'s ``format_version``).
-CURRENT_FORMAT = 5
+CURRENT_FORMAT = 6
 #: Longest string accepted anywhere in a design (:data:`engine.limits.MAX_TEXT_CHARS`).
 MAX_STRING_CHARS = MAX_TEXT_CHARS
 #: Most items accepted in any list (:data:`engine.limits.MAX_LIST_ITEMS`); a section's
@@ -199,7 +205,8 @@ def _encode_shape(shape: BottleShape, path: str) -> dict:
             "wall_thickness": _encode(shape.wall_thickness, f"{path}.wall_thickness"),
             "base_thickness": _encode(shape.base_thickness, f"{path}.base_thickness"),
             "rotation_deg": _encode(shape.rotation_deg, f"{path}.rotation_deg"),
-            "wall_per_segment": _encode(shape.wall_per_segment, f"{path}.wall_per_segment")}
+            "wall_per_segment": _encode(shape.wall_per_segment, f"{path}.wall_per_segment"),
+            "plan": None if shape.plan is None else _encode(shape.plan.to_dicts(), f"{path}.plan")}
 
 
 # ---------------------------------------------------------------------------- decoding
@@ -315,7 +322,7 @@ def _decode_dataclass(value, cls, path: str):
 
 def _decode_shape(value, path: str) -> BottleShape:
     obj = _object(value, path, ("cross_section", "sections", "wall_thickness", "base_thickness",
-                                "rotation_deg", "wall_per_segment"))
+                                "rotation_deg", "wall_per_segment", "plan"))
     kind = _string(obj["cross_section"], f"{path}.cross_section")
     if kind not in SECTION_NAMES:
         raise ProjectError(f"{path}.cross_section: unknown cross-section {kind[:60]!r}; "
@@ -345,9 +352,23 @@ def _decode_shape(value, path: str) -> BottleShape:
         base_thickness=_number(obj["base_thickness"], f"{path}.base_thickness"),
         rotation_deg=_number(obj["rotation_deg"], f"{path}.rotation_deg"),
         wall_per_segment=None if wps is None else _decode(wps, tuple[float, ...],
-                                                          f"{path}.wall_per_segment"))
+                                                          f"{path}.wall_per_segment"),
+        plan=_decode_plan(obj["plan"], f"{path}.plan"))
     try:
         return BottleShape(kind, tuple(sections), **kwargs)
+    except (ValueError, TypeError) as exc:
+        raise ProjectError(f"{path}: {exc}") from None
+
+
+def _decode_plan(value, path: str) -> PlanOutline | None:
+    """``None`` or the plan outline of a shape's ``plan`` segment list, read and checked by
+    :meth:`~engine.geometry.plan.PlanOutline.from_dicts` (SPEC_outline section 2's rules; its
+    ``OutlineError`` names the segment) after the list's length is held to the plan's limit."""
+    if value is None:
+        return None
+    items = _list(value, path, MAX_PLAN_SEGMENTS)
+    try:
+        return PlanOutline.from_dicts(items)
     except (ValueError, TypeError) as exc:
         raise ProjectError(f"{path}: {exc}") from None
 
@@ -363,4 +384,4 @@ def _migrate_1_to_2(doc: dict) -> dict:
 
 
 MIGRATIONS = {0: _migrate_0_to_1, 1: _migrate_1_to_2, 2: _migrate_2_to_3, 3: _migrate_3_to_4,
-              4: _migrate_4_to_5}
+              4: _migrate_4_to_5, 5: _migrate_5_to_6}

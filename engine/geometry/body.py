@@ -18,7 +18,8 @@ frame; points and normals come out in the world frame, turned by ``rotation_deg`
 
 Normals face **out of the glass**: away from the axis on the outer wall, into the cavity on the
 inner wall, down under the base, up on the inner base and on the rim. A wall's normal is the
-normalised gradient of ``g(x, y, z) = sd(x, y; radii(z))`` (:mod:`engine.geometry.crosssection`), with
+normalised gradient of ``g(x, y, z) = sd(x, y; radii(z))`` (the shape's
+:class:`~engine.geometry.crosssection.CrossSection`), with
 ``d radius / dz = T_r / T_z`` from each section's tangent; multiplying through by the product of
 the ``T_z`` keeps it finite where a section turns horizontal.
 """
@@ -28,7 +29,6 @@ import math
 
 import numpy as np
 
-from . import crosssection
 from .chain import by_segment, locate
 from .offset import BodyProfile
 from .validate import body_profile
@@ -83,7 +83,8 @@ class BottleBody:
         self.shape = shape
         self.profile: BodyProfile = body_profile(shape)
         self.kind = shape.cross_section
-        a = math.radians(shape.rotation_deg if self.kind != "round" else 0.0)
+        self.xs = self.profile.xs
+        a = math.radians(shape.rotation_deg if not self.xs.revolved else 0.0)
         self._cos, self._sin = math.cos(a), math.sin(a)
 
     # ------------------------------------------------------------------ helpers
@@ -101,8 +102,8 @@ class BottleBody:
         theta, z = np.broadcast_arrays(np.asarray(theta, float), np.asarray(z, float))
         states = self.wall_radii(part, z, above)
         radii = [st[0] for st in states]
-        x, y, nx, ny = crosssection.boundary(self.kind, radii, theta)
-        _, _, _, d_r = crosssection.signed_distance(self.kind, radii, x, y)
+        x, y, nx, ny = self.xs.boundary(radii, theta)
+        _, _, _, d_r = self.xs.signed_distance(radii, x, y)
         tz = [np.maximum(st[2], 1e-12) for st in states]  # walls rise: T_z >= 0
         prod = np.prod(tz, axis=0)
         nz = np.zeros_like(prod)
@@ -127,7 +128,7 @@ class BottleBody:
             return (self._world(r * c, r * sn, z), self._world(nr * c, nr * sn, nz))
         edge = [c[-1].p1[0] for c in chains]
         z0 = chains[0][-1].p1[1]
-        x, y, _, _ = crosssection.boundary(self.kind, edge, theta)
+        x, y, _, _ = self.xs.boundary(edge, theta)
         z = np.full(s.shape, z0)
         nz = np.full(s.shape, -1.0 if part == "base_outer" else 1.0)
         zero = np.zeros(s.shape)
@@ -136,8 +137,8 @@ class BottleBody:
     def _rim(self, theta, s):
         theta, s = np.broadcast_arrays(np.asarray(theta, float), np.asarray(s, float))
         sps = self.profile.sections
-        xo, yo, _, _ = crosssection.boundary(self.kind, [sp.r_top for sp in sps], theta)
-        xi, yi, _, _ = crosssection.boundary(self.kind, [sp.r_in_top for sp in sps], theta)
+        xo, yo, _, _ = self.xs.boundary([sp.r_top for sp in sps], theta)
+        xi, yi, _, _ = self.xs.boundary([sp.r_in_top for sp in sps], theta)
         z = np.full(s.shape, self.profile.z_top)
         zero = np.zeros(s.shape)
         return (self._world(xi + s * (xo - xi), yi + s * (yo - yi), z),
@@ -160,8 +161,8 @@ class BottleBody:
     def wall_implicit(self, part: str, points):
         """Implicit function of the ``outer`` / ``inner`` wall at world points ``(..., 3)`` (mm).
 
-        Returns ``(g, grad)``: ``g = sd(x, y; radii(z))`` (mm, :func:`engine.geometry.crosssection.
-        signed_distance` of the cross-section at the point's height) is negative inside the
+        Returns ``(g, grad)``: ``g = sd(x, y; radii(z))`` (mm, the cross-section's
+        ``signed_distance`` at the point's height) is negative inside the
         surface (inside the glass's outline for ``outer``, inside the cavity for ``inner``) and
         zero on it; ``grad (..., 3)`` is its world-frame gradient, with ``dg/dz = sum_k
         d sd/d radius_k * T_r,k / T_z,k``. ``g / |grad|`` is the distance to first order, which is
@@ -172,7 +173,7 @@ class BottleBody:
         x = self._cos * p[..., 0] + self._sin * p[..., 1]
         y = -self._sin * p[..., 0] + self._cos * p[..., 1]
         states = self.wall_radii(part, p[..., 2])
-        g, gx, gy, d_r = crosssection.signed_distance(self.kind, [st[0] for st in states], x, y)
+        g, gx, gy, d_r = self.xs.signed_distance([st[0] for st in states], x, y)
         gz = sum(d_r[k] * st[1] / np.maximum(st[2], 1e-12) for k, st in enumerate(states))
         grad = np.stack([self._cos * gx - self._sin * gy, self._sin * gx + self._cos * gy,
                          np.broadcast_to(gz, np.shape(g))], axis=-1)

@@ -6,7 +6,9 @@ and outer, base and wall), so that inside a piece each radius is an analytic fun
 piece is integrated by Gauss-Legendre after the substitution ``z = za + (zb - za)(1 - cos(pi x))/2``,
 which turns the square-root behaviour of r(z) where a section turns horizontal (foot arcs,
 the top of a punt) into a smooth integrand; 24 nodes give ~1e-12 relative. A punt's dome is
-taken off as the disk ``pi rho_b(z)^2`` of the base curve at that height.
+taken off as the disk ``pi rho_b(z)^2`` of the base curve at that height. Where the area's formula
+changes inside a segment (an outline's cavity where its rounding less the wall passes 0:
+:attr:`~engine.geometry.crosssection.CrossSection.area_breaks`) that height is a joint too.
 
 Units: mm in, ml (= cm^3 = 1000 mm^3) and grams out. Results are cached per shape (shapes are
 hashable), so the GUI can ask for them on every edit.
@@ -18,7 +20,6 @@ from functools import lru_cache
 
 import numpy as np
 
-from . import crosssection
 from .offset import BodyProfile, radius_at
 from .validate import body_profile
 
@@ -32,10 +33,42 @@ _SUB_Z = (1.0 - np.cos(math.pi * _X)) / 2.0              # z fraction at each no
 _SUB_W = _W * (math.pi / 2.0) * np.sin(math.pi * _X)     # weight times dz/dx / (zb - za)
 
 
-def _joints(chains, z_lo: float, z_hi: float) -> np.ndarray:
-    zs = [z_lo, z_hi] + [p for c in chains for s in c for p in (s.p0[1], s.p1[1])]
+def _joints(chains, z_lo: float, z_hi: float, extra=()) -> np.ndarray:
+    zs = [z_lo, z_hi, *extra] + [p for c in chains for s in c for p in (s.p0[1], s.p1[1])]
     z = np.unique(np.clip(np.asarray(zs, float), z_lo, z_hi))
     return z
+
+
+#: Samples per segment where a radius is looked for crossing an area break.
+_BREAK_SAMPLES = 65
+
+
+def _crossings(chain, value: float) -> list[float]:
+    """Heights (mm) where the z-rising ``chain``'s radius passes ``value``: every sign change of
+    ``r - value`` between :data:`_BREAK_SAMPLES` samples per segment, bisected to float64 (a
+    segment that only touches the value changes no formula's side)."""
+    out = []
+    t = np.linspace(0.0, 1.0, _BREAK_SAMPLES)
+    for seg in chain:
+        f = seg.point(t)[:, 0] - value
+        for j in np.nonzero(np.signbit(f[:-1]) != np.signbit(f[1:]))[0]:
+            lo, hi = t[j], t[j + 1]
+            below = np.signbit(f[j])
+            for _ in range(60):
+                mid = 0.5 * (lo + hi)
+                if np.signbit(seg.point(mid)[0] - value) == below:
+                    lo = mid
+                else:
+                    hi = mid
+            out.append(float(seg.point(0.5 * (lo + hi))[1]))
+    return out
+
+
+@lru_cache(maxsize=64)  # why: a fill height's Newton steps integrate the same cavity again and again
+def _area_breaks(prof: BodyProfile, which: str) -> tuple[float, ...]:
+    """Heights (mm) where the cross-section's area changes formula (its ``area_breaks``)."""
+    walls = [sp.inner_wall if which == "inner" else sp.outer_wall for sp in prof.sections]
+    return tuple(z for i, value in prof.xs.area_breaks for z in _crossings(walls[i], value))
 
 
 def section_radii_at(prof: BodyProfile, z, which: str):
@@ -56,7 +89,7 @@ def section_radii_at(prof: BodyProfile, z, which: str):
 def _area_at(prof: BodyProfile, z, which: str) -> np.ndarray:
     """Area (mm^2) of the cavity (``which="inner"``) or outer solid at heights ``z`` (mm)."""
     radii, dome = section_radii_at(prof, z, which)
-    a = crosssection.area(prof.cross_section, radii)
+    a = prof.xs.area(radii)
     return a if dome is None else a - math.pi * dome ** 2
 
 
@@ -69,7 +102,7 @@ def _chains(prof: BodyProfile, which: str):
 def _integrate(prof: BodyProfile, which: str, z_lo: float, z_hi: float, power: int = 0) -> np.ndarray:
     """Volumes (mm^3) of each piece between joints from ``z_lo`` to ``z_hi``, and the joints;
     with ``power`` 1 the pieces' moments ``int z A(z) dz`` (mm^4) instead."""
-    joints = _joints(_chains(prof, which), z_lo, z_hi)
+    joints = _joints(_chains(prof, which), z_lo, z_hi, _area_breaks(prof, which))
     za, zb = joints[:-1, None], joints[1:, None]
     z = za + (zb - za) * _SUB_Z
     a = _area_at(prof, z.ravel(), which).reshape(z.shape) * z ** power
@@ -191,8 +224,7 @@ def max_diameter_mm(shape) -> float:
 
     def radius(zz):
         zz = np.asarray(zz, float)
-        return crosssection.circumradius(prof.cross_section,
-                                         [radius_at(w, np.clip(zz, w[0].p0[1], w[-1].p1[1])) for w in walls])
+        return prof.xs.circumradius([radius_at(w, np.clip(zz, w[0].p0[1], w[-1].p1[1])) for w in walls])
 
     r = radius(z)
     j = int(np.argmax(r))

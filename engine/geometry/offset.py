@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import SectionError, WallError
+from .crosssection import CrossSection, cross_section_of
 from .chain import Z_TOL_MM, by_segment, locate, param_at_z, radius_at, subsegment
 from .segments import Arc, EllipseArc, Line, Segment
 from .shape import BottleShape
@@ -224,6 +225,8 @@ class BodyProfile:
     lowest height of the cavity (mm): the inner base plane ``base_thickness`` for a flat base,
     the foot of the inner wall for a punt. ``z_top`` is the mouth (mm). ``punt`` says whether the
     base rises into the bottle (round bottles only). ``rotation_deg`` turns non-round bottles.
+    ``xs`` is the shape's :class:`~engine.geometry.crosssection.CrossSection` (the one to ask for
+    areas, boundaries and distances of the sections' radii).
     """
 
     cross_section: str
@@ -232,6 +235,7 @@ class BodyProfile:
     z_top: float
     punt: bool
     rotation_deg: float = 0.0
+    xs: CrossSection | None = None
 
     def section(self, name: str) -> SectionProfile:
         """The profile of the section called ``name`` (``KeyError`` if there is none)."""
@@ -305,7 +309,7 @@ def _outline_profile(shape: BottleShape) -> BodyProfile:
         inner_base = (Line((0.0, bt), (max(inner_wall[0].p0[0], 0.0), bt)),)
         profiles.append(SectionProfile(name, tuple(base), tuple(wall), inner_base, tuple(inner_wall)))
     return BodyProfile(shape.cross_section, tuple(profiles), float(bt), float(shape.z_top), False,
-                       shape.rotation_deg)
+                       shape.rotation_deg, cross_section_of(shape))
 
 
 def build_body_profile(shape: BottleShape) -> BodyProfile:
@@ -338,4 +342,4 @@ def build_body_profile(shape: BottleShape) -> BodyProfile:
             inner_base = base_off[:m] + ((subsegment(base_off[m], 0.0, tj),) if tj > 1e-12 else ())
         profiles.append(SectionProfile(name, tuple(base), tuple(wall), tuple(inner_base), tuple(inner_wall)))
     return BodyProfile(shape.cross_section, tuple(profiles), float(z_ib), float(shape.z_top),
-                       not flat, shape.rotation_deg)
+                       not flat, shape.rotation_deg, cross_section_of(shape))

@@ -641,6 +641,117 @@ class PlanOutline:
                 total = total + (k * s.radius + t) * (er["phi1"][i] - er["phi0"][i])
         return total
 
+    # ------------------------------------------------------------------ vectorised section queries
+    def _section_pieces(self, k, r):
+        """The boundary pieces of the section ``{q : sd(q, k P) <= r}`` (mm) as arrays over the
+        1-d arrays ``k >= 0`` and ``r`` (one sign throughout: all ``r >= 0`` or all ``r < 0``):
+        ``("line", ax, ay, bx, by, nx, ny)`` and ``("arc", cx, cy, rho, a0, a1)`` in chain order,
+        as :meth:`outer_pieces` / :meth:`inner_pieces` but without their per-height loop (a
+        corner arc or line may have zero size; at ``k = 0`` the arcs about the origin cover it)."""
+        out = []
+        if np.all(r >= 0):
+            for i, s in enumerate(self.segments):
+                if self._joint_turns[i] > 0:
+                    n_in = _end_normals(self.segments[i - 1])[1]
+                    a = math.atan2(n_in[1], n_in[0])
+                    out.append(("arc", k * s.p0[0], k * s.p0[1], r, a, a + self._joint_turns[i]))
+                if s.kind == "line":
+                    n = s.normal
+                    out.append(("line", k * s.p0[0] + r * n[0], k * s.p0[1] + r * n[1],
+                                k * s.p1[0] + r * n[0], k * s.p1[1] + r * n[1], n[0], n[1]))
+                else:
+                    out.append(("arc", k * s.center[0], k * s.center[1], k * s.radius + r, s.theta0, s.theta1))
+            return out
+        er, m = self._eroded(k, r), len(self.segments)
+        for i, s in enumerate(self.segments):
+            if s.kind == "line":
+                (ax, ay), (bx, by) = er["joint"][i], er["joint"][(i + 1) % m]
+                out.append(("line", ax, ay, bx, by, *s.normal))
+            else:
+                out.append(("arc", k * s.center[0], k * s.center[1], k * s.radius + r,
+                            er["phi0"][i], er["phi1"][i]))
+        return out
+
+    def _by_sign(self, r, each):
+        """``each(mask)`` on the heights where ``r >= 0`` and where ``r < 0`` (their pieces differ)."""
+        grown = r >= 0
+        for mask in (grown, ~grown):
+            if mask.any():
+                each(mask)
+
+    def section_boundary(self, theta, k, r):
+        """Where the ray from the origin at polar angle ``theta`` (rad) leaves the section
+        ``{q : sd(q, k P) <= r}`` (mm; ``k >= 0``, any sign of ``r``, the section holding the
+        origin): ``(x, y, nx, ny)`` (mm, unit outward normal), broadcast over the arguments.
+
+        Exact: the section is convex and holds the origin, so the ray leaves it once, through the
+        one piece whose line or circle it meets inside the piece (a circle at the crossing where
+        the ray leaves its disc). Each piece's miss (mm outside its ends) is measured and the
+        least taken, so a ray through a joint takes either neighbour. At a sharp inner corner
+        (``r < 0``) the normal is one side's."""
+        th, k, r = np.broadcast_arrays(*(np.asarray(v, float) for v in (theta, k, r)))
+        ux, uy = np.cos(th).ravel(), np.sin(th).ravel()
+        kf, rf = k.ravel(), r.ravel()
+        out = np.empty((4, kf.size))
+
+        def each(mask):
+            out[:, mask] = _ray_exit(self._section_pieces(kf[mask], rf[mask]), ux[mask], uy[mask])
+
+        self._by_sign(rf, each)
+        return tuple(v.reshape(th.shape) for v in out)
+
+    def section_support(self, psi, k, r):
+        """Support function (mm) of the section ``{q : sd(q, k P) <= r}`` in plan direction
+        ``psi`` (rad), broadcast: ``k h(psi) + r`` for ``r >= 0``; for ``r < 0`` the largest of the
+        inner joints' ``w . u`` and, on each offset arc's normal range, ``k C . u + k rho + r``."""
+        ps, k, r = np.broadcast_arrays(*(np.asarray(v, float) for v in (psi, k, r)))
+        out = np.empty(k.size)
+        pf, kf, rf = ps.ravel(), k.ravel(), r.ravel()
+
+        def each(mask):
+            ux, uy = _u(pf[mask])
+            if rf[mask][0] >= 0:
+                out[mask] = kf[mask] * self.support(pf[mask]) + rf[mask]
+                return
+            h = np.full(ux.shape, -np.inf)
+            for p in self._section_pieces(kf[mask], rf[mask]):
+                if p[0] == "line":
+                    h = np.maximum(h, p[1] * ux + p[2] * uy)
+                else:
+                    _, cx, cy, rho, a0, a1 = p
+                    on = (pf[mask] - a0) % TWO_PI <= (a1 - a0)
+                    h = np.where(on, np.maximum(h, cx * ux + cy * uy + rho), h)
+            out[mask] = h
+
+        self._by_sign(rf, each)
+        return out.reshape(k.shape)
+
+    def section_reach(self, k, r):
+        """Largest distance (mm) of the section ``{q : sd(q, k P) <= r}`` from the origin,
+        vectorised: ``k + r`` for ``r >= 0`` (``P``'s farthest point is at 1); for ``r < 0`` the
+        farthest inner joint or offset arc point (an arc reaches ``|k C| + k rho + r`` where its
+        range holds the direction of its centre)."""
+        k, r = np.broadcast_arrays(np.asarray(k, float), np.asarray(r, float))
+        out = np.empty(k.size)
+        kf, rf = k.ravel(), r.ravel()
+
+        def each(mask):
+            if rf[mask][0] >= 0:
+                out[mask] = kf[mask] + rf[mask]
+                return
+            far = np.zeros(int(mask.sum()))
+            for p in self._section_pieces(kf[mask], rf[mask]):
+                if p[0] == "line":
+                    far = np.maximum(far, np.hypot(p[1], p[2]))
+                else:
+                    _, cx, cy, rho, a0, a1 = p
+                    on = (np.arctan2(cy, cx) - a0) % TWO_PI <= (a1 - a0)
+                    far = np.where(on, np.maximum(far, np.hypot(cx, cy) + rho), far)
+            out[mask] = far
+
+        self._by_sign(rf, each)
+        return out.reshape(k.shape)
+
     # ------------------------------------------------------------------ sampling
     def polyline(self, k: float, c: float, chord_tol_mm: float | None = None, max_turn_deg: float = 0.2):
         """Vertices (mm, shape ``(N, 2)``, closed implicitly) on the outer boundary: see
@@ -705,6 +816,42 @@ def _circle_trims(a: PlanArc, b: PlanArc, k, t):
     # why: W stays on the side `side` of the line C_a -> C_b (direction delta); its angle about
     # C_a is delta + side*gamma_a and about C_b delta + pi - side*gamma_b
     return side * (ga0 - ga), side * (gb0 - gb)
+
+
+def _ray_exit(pieces, ux, uy) -> np.ndarray:
+    """``(4, n)``: point and outward normal where the rays from the origin along ``(ux, uy)``
+    leave a convex chain of ``pieces`` (:meth:`PlanOutline._section_pieces`): on each piece the
+    crossing and how far (mm) it lies outside the piece's ends; the least wins."""
+    best = np.full(ux.shape, np.inf)
+    out = np.zeros((4,) + ux.shape)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for p in pieces:
+            if p[0] == "line":
+                _, ax, ay, bx, by, nx, nyy = p
+                un = ux * nx + uy * nyy
+                s = (ax * nx + ay * nyy) / un
+                ex, ey = bx - ax, by - ay
+                length = np.hypot(ex, ey)
+                lam = ((s * ux - ax) * ex + (s * uy - ay) * ey) / (length * length)
+                miss = np.where((un > 0) & (length > 0), np.maximum(np.maximum(-lam, lam - 1.0), 0.0) * length, np.inf)
+                n = (np.broadcast_to(nx, ux.shape), np.broadcast_to(nyy, ux.shape))
+            else:
+                _, cx, cy, rho, a0, a1 = p
+                b = ux * cx + uy * cy
+                disc = b * b - (cx * cx + cy * cy) + rho * rho
+                s = b + np.sqrt(disc)
+                gx, gy = s * ux - cx, s * uy - cy
+                d = (np.arctan2(gy, gx) - a0) % TWO_PI
+                sweep = a1 - a0
+                off = np.where(d <= sweep, 0.0, np.minimum(d - sweep, TWO_PI - d))
+                miss = np.where((disc >= 0) & (rho > 0), off * rho, np.inf)
+                safe = np.where(rho > 0, rho, 1.0)
+                n = (gx / safe, gy / safe)
+            take = miss < best
+            best = np.where(take, miss, best)
+            for j, v in enumerate((s * ux, s * uy, *n)):
+                out[j] = np.where(take, v, out[j])
+    return out
 
 
 def sample_pieces(pieces, chord_tol_mm: float | None = None, max_turn_deg: float = 0.2) -> np.ndarray:

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, field
 
+from .crosssection import cross_section_of
 from .section import Section
 
 SECTION_NAMES = {
@@ -75,6 +76,12 @@ class BottleShape:
             if k == name:
                 return v
         raise KeyError(f"a {self.cross_section} bottle has no section {name!r}")
+
+    @property
+    def xs(self):
+        """The :class:`~engine.geometry.crosssection.CrossSection` to ask about this bottle's
+        horizontal sections (an outline's carries :attr:`plan`)."""
+        return cross_section_of(self)
 
     @property
     def primary(self) -> Section:

@@ -35,7 +35,6 @@ import numpy as np
 
 from ..errors import shown
 from ..limits import MAX_TOL_MM, MIN_TOL_MM
-from . import crosssection
 from .body import BottleBody
 from .chain import locate, param_at_z
 
@@ -147,7 +146,7 @@ def _deciding_heights(body: BottleBody):
     """``{part: heights (mm)}`` at which the walls' boundaries decide the angles: 9 per segment
     of every section (where radii and corners change); ``None`` for a round bottle, whose rings
     are circles (its widest one decides)."""
-    if body.kind == "round":
+    if body.xs.revolved:
         return None
     out = {}
     for part in ("outer", "inner"):
@@ -163,12 +162,12 @@ def _boundary_blocks(body: BottleBody, angles, heights):
     if heights is None:
         widest = max(float(np.max(s.point(np.linspace(0, 1, 9))[:, 0]))
                      for s in body.profile.sections[0].outer_wall)
-        yield crosssection.boundary("round", [np.array([[widest]])], angles[None, :])
+        yield body.xs.boundary([np.array([[widest]])], angles[None, :])
         return
     for part, z in heights.items():
         for lo in range(0, len(z), _HEIGHTS_PER_BLOCK):
             radii = [st[0][:, None] for st in body.wall_radii(part, z[lo:lo + _HEIGHTS_PER_BLOCK])]
-            yield crosssection.boundary(body.kind, radii, angles[None, :])
+            yield body.xs.boundary(radii, angles[None, :])
 
 
 def _split_sagging(body: BottleBody, theta, fine, limit_mm: float, heights):
@@ -326,7 +325,7 @@ def refine_heights(body: BottleBody, part: str, z, theta, tol_mm: float) -> np.n
     ``_MAX_REFINE_ROUNDS`` rounds, and :func:`_check_size` refuses a wall growing past
     ``MAX_WALL_TRIANGLES``.
     """
-    if body.kind == "round":
+    if body.xs.revolved:
         return z
     limit = SAG_SHARE * tol_mm
     # the band's triangles meet along the diagonal (k, j) - (k + 1, j + 1): check its middle too
@@ -422,7 +421,7 @@ def _wall(b, body, part, label, theta, tol, z_lo, z_hi, flip=1.0):
     """
     faces_in = (part == "inner") == (flip > 0)  # the glass's inner wall faces against n
     chains = [sp.outer_wall if part == "outer" else sp.inner_wall for sp in body.profile.sections]
-    if body.kind == "round":
+    if body.xs.revolved:
         r, z, tr, tz = section_stations(chains[0], tol, z_hi, z_lo)
         _check_size(2 * (len(z) - 1) * len(theta), tol)
         sign = flip * (1.0 if part == "outer" else -1.0)  # the inner wall faces the cavity
@@ -532,6 +531,7 @@ def tessellate_body(shape, tol_mm: float = 0.05) -> Mesh:
         For a tolerance that is not a positive number.
     """
     tol = _check_tol(tol_mm)
+    shape.xs.require("mesh")  # why: the angles below mirror one quarter (fixed kinds are symmetric)
     body = BottleBody(shape)
     prof = body.profile
     theta = theta_samples(body, tol)
@@ -558,6 +558,7 @@ def tessellate_interfaces(shape, fill_height, tol_mm: float = 0.05) -> dict:
     facing up. Rings on the fill line coincide bit for bit across meshes.
     """
     tol = _check_tol(tol_mm)
+    shape.xs.require("mesh")  # why: the angles below mirror one quarter (fixed kinds are symmetric)
     body = BottleBody(shape)
     prof = body.profile
     theta = theta_samples(body, tol)
@@ -596,6 +597,7 @@ def tessellate_liquid(shape, fill_height: float, tol_mm: float = 0.05) -> Mesh:
     of the liquid. Requires ``z_ib < fill_height <= z_top``.
     """
     tol = _check_tol(tol_mm)
+    shape.xs.require("mesh")  # why: the angles below mirror one quarter (fixed kinds are symmetric)
     body = BottleBody(shape)
     prof = body.profile
     fill = float(fill_height)

@@ -27,7 +27,6 @@ from functools import lru_cache
 
 import numpy as np
 
-from . import crosssection
 from ..errors import SectionError, WallError
 from .offset import BodyProfile, build_body_profile, is_flat_base, locate, radius_at, split_at_ring
 from .segments import Arc, EllipseArc, Line, POINT_TOL_MM
@@ -203,10 +202,10 @@ def validate_shape(shape) -> BodyProfile:
     Returns the :class:`~engine.geometry.offset.BodyProfile` it built (use :func:`body_profile`
     for the cached one).
     """
-    kind = shape.cross_section
+    kind, xs = shape.cross_section, shape.xs
     for name, sec in shape.sections:
         try:
-            validate_section(sec, may_reach_axis=(kind == "outline" and name == "core"))
+            validate_section(sec, may_reach_axis=name in xs.vanishing)
         except SectionError as exc:
             raise _named(name, exc) from None
     w, bt = shape.wall_thickness, shape.base_thickness
@@ -221,13 +220,13 @@ def validate_shape(shape) -> BodyProfile:
     if bt >= shape.z_top:
         raise WallError(f"the base ({bt:g} mm) is as thick as the bottle is high ({shape.z_top:g} mm)")
     if shape.wall_per_segment is not None:
-        if kind != "round":
+        if not xs.revolved:
             raise WallError("a wall thickness per segment is only supported on round bottles")
         if any(not (x > 0 and math.isfinite(x)) for x in shape.wall_per_segment):
             raise WallError("every per-segment wall thickness must be a positive number of mm")
     if kind == "outline":
         return _check_outline(shape)
-    if kind != "round":
+    if not xs.revolved:
         _check_non_round_outer(shape)
     return _check_walls(shape)
 
@@ -261,7 +260,7 @@ def _check_outline(shape) -> BodyProfile:
 
 
 def _check_non_round_outer(shape) -> None:
-    kind, z_top = shape.cross_section, shape.z_top
+    z_top = shape.z_top
     for name, sec in shape.sections:
         if not is_flat_base(sec):
             raise SectionError(0, f"{name} section: a punt is only supported on round bottles")
@@ -269,16 +268,16 @@ def _check_non_round_outer(shape) -> None:
             raise SectionError(len(sec) - 1, f"{name} section ends at z = {sec.z_top:g} mm, "
                                              f"not at the mouth z = {z_top:g} mm")
     walls = [sec.segments[1:] for _, sec in shape.sections]
-    if not crosssection.is_circle(kind, [sec.r_top for _, sec in shape.sections]):
+    if not shape.xs.is_circle([sec.r_top for _, sec in shape.sections]):
         raise SectionError(len(shape.primary) - 1, "the sections must meet in a round finish "
                                                    "(equal radii at the mouth)")
-    _check_cross_sections(kind, walls, 0.0, z_top, "outer")
+    _check_cross_sections(shape.xs, walls, 0.0, z_top, "outer")
 
 
-def _check_cross_sections(kind, chains, z_lo, z_hi, which, err=SectionError) -> None:
+def _check_cross_sections(xs, chains, z_lo, z_hi, which, err=SectionError) -> None:
     z = _sample_heights(chains, z_lo, z_hi)
     radii = [radius_at(c, np.clip(z, c[0].p0[1], c[-1].p1[1])) for c in chains]
-    bad, rule = crosssection.invalid_radii(kind, radii)
+    bad, rule = xs.invalid(radii)
     if np.any(bad):
         j = int(np.argmax(bad))
         vals = ", ".join(f"{r[j]:.4g}" for r in radii)
@@ -331,8 +330,8 @@ def _check_walls(shape) -> BodyProfile:
                             f"(wall too thick for this part of the section)")
         if sp.inner_wall[0].p0[1] >= shape.z_top - POINT_TOL_MM:
             raise WallError(f"{name} section: the inner base reaches the mouth")
-    if shape.cross_section != "round":
-        _check_cross_sections(shape.cross_section, [sp.inner_wall for sp in prof.sections],
+    if not prof.xs.revolved:
+        _check_cross_sections(prof.xs, [sp.inner_wall for sp in prof.sections],
                               prof.z_ib, prof.z_top, "inner", WallError)
     return prof
 

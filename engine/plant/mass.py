@@ -30,7 +30,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..geometry import capacity, crosssection
+from ..geometry import capacity
 from ..geometry.capacity import MM3_PER_ML
 from ..geometry.validate import body_profile
 
@@ -109,10 +109,10 @@ def labels_part(design) -> Part | None:
 # ---------------------------------------------------------------------- the tilted liquid
 @dataclass(frozen=True)
 class _Cavity:
-    """What the tilted liquid needs of the cavity: its kind, profile, joints (mm), height range
+    """What the tilted liquid needs of the cavity: its cross-section, profile, joints (mm), height range
     and reach (mm, the largest distance of its wall from the axis)."""
 
-    kind: str
+    xs: object
     prof: object
     joints: np.ndarray
     z_ib: float
@@ -122,14 +122,15 @@ class _Cavity:
 
 @lru_cache(maxsize=32)
 def _cavity(shape) -> _Cavity:
+    shape.xs.require("stability")
     prof = body_profile(shape)
     chains = [c for sp in prof.sections for c in (sp.inner_wall, sp.inner_base)]
     zs = [prof.z_ib, prof.z_top] + [p for c in chains for s in c for p in (s.p0[1], s.p1[1])]
     joints = np.unique(np.clip(np.asarray(zs, float), prof.z_ib, prof.z_top))
     z = np.linspace(prof.z_ib, prof.z_top, 4097)
     radii, _ = capacity.section_radii_at(prof, z, "inner")
-    reach = float(np.max(crosssection.circumradius(prof.cross_section, radii))) * (1 + 1e-9) + 1e-9
-    return _Cavity(prof.cross_section, prof, joints, prof.z_ib, prof.z_top, reach)
+    reach = float(np.max(prof.xs.circumradius(radii))) * (1 + 1e-9) + 1e-9
+    return _Cavity(prof.xs, prof, joints, prof.z_ib, prof.z_top, reach)
 
 
 def _nodes(cav: _Cavity, za: float, zb: float):
@@ -237,15 +238,15 @@ def _clipped(cav: _Cavity, z, d, psi: float):
     """Area (mm^2), first moment along ``u`` (mm^3) and the cut's length (mm) of the cavity's
     sections at heights ``z`` where ``p . u >= d``."""
     radii, dome = capacity.section_radii_at(cav.prof, z, "inner")
-    if cav.kind == "round":
+    if cav.xs.revolved:
         a, m, c = _segment(radii[0], d)
         if dome is not None:
             a2, m2, c2 = _segment(dome, d)
             a, m, c = a - a2, m - m2, c - c2
         return a, m, c
-    if cav.kind == "oval":
+    if cav.xs.name == "oval":  # why by name: the clipped areas are this module's closed forms
         return _clip_oval(np.asarray(radii[0], float), np.asarray(radii[1], float), psi, d)
-    a, b, c = (np.asarray(v, float) for v in crosssection._as_rect(cav.kind, radii))
+    a, b, c = (np.asarray(v, float) for v in cav.xs.as_rect(radii))
     return _clip_rounded_rect(a, b, c, psi, d)
 
 

@@ -112,6 +112,7 @@ def membrane_stresses(shape, pressure_mpa: float) -> dict:
     radius of the outer surface (mm), wall ``t_mm``, the two stresses (``None`` where membrane
     theory does not hold) and the reason; the largest stress that holds and where.
     """
+    shape.xs.require("stress")  # why: its first section is a scale, not a radius
     prof = body_profile(shape)
     sp = prof.sections[0]
     base_len = sum(s.length for s in sp.outer_base)
@@ -128,7 +129,7 @@ def membrane_stresses(shape, pressure_mpa: float) -> dict:
     zones = _joint_zones(segs, walls)
     total = sum(x.length for x in segs)
     r_body = max(float(np.max(x.point(np.linspace(0, 1, 65))[:, 0])) for x in segs)
-    non_round = shape.cross_section != "round"
+    non_round = not shape.xs.revolved
     for s_w, p, tan, k, t, _ in _sample(segs, walls):
         n_r = float(tan[1])  # the outward normal (the tangent turned clockwise) leans out by this
         r_mid = float(p[0]) - 0.5 * t * n_r

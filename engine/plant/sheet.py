@@ -43,7 +43,7 @@ from __future__ import annotations
 import contextlib
 import math
 
-from ..errors import GlassbenchError
+from ..errors import GlassbenchError, NotSupportedError
 from ..geometry import capacity
 from ..model import fill
 from . import mass, membrane, rules, stability
@@ -53,18 +53,23 @@ def plant_numbers(design, tolerant: bool = False) -> dict:
     """The plant's numbers of ``design`` (module docstring; mm, g, ml, MPa, deg).
 
     Raises the geometry's errors for an invalid shape unless ``tolerant``: then each part that
-    cannot be computed is ``None`` (``states`` an empty list) and the others still show.
+    cannot be computed is ``None`` (``states`` an empty list) and the others still show. A part
+    the bottle's kind does not support yet (an outline's stability and stress) is ``None`` in
+    either mode, its one-line reason first among the ``warnings``.
     """
     out = {"ring": None, "states": [], "least_tip": None, "weight_to_capacity": None,
            "capacity_band": None, "marking": None, "tolerances": None, "stress": None,
            "warnings": []}
+    refused = []
 
     def put(key, fn):
-        if not tolerant:
+        try:
             out[key] = fn()
-            return
-        with contextlib.suppress(GlassbenchError, ValueError, ArithmeticError):
-            out[key] = fn()  # why: one part that fails must not hide the others
+        except NotSupportedError as exc:  # why in both modes: no fault of this design's values
+            refused.extend([str(exc)] if str(exc) not in refused else [])
+        except (GlassbenchError, ValueError, ArithmeticError):
+            if not tolerant:
+                raise  # why tolerant only: one part that fails must not hide the others
 
     shape, plant = design.shape, design.plant
     fill_h = fill.fill_height_mm(shape, design.liquid) if design.liquid is not None else None
@@ -82,13 +87,13 @@ def plant_numbers(design, tolerant: bool = False) -> dict:
     put("tolerances", lambda: rules.dimension_tolerances(capacity.height_mm(shape),
                                                          capacity.max_diameter_mm(shape), nominal))
     put("stress", lambda: membrane.membrane_stresses(shape, plant.proof_pressure_mpa))
-    out["warnings"] = plant_warnings(design, out)
+    out["warnings"] = refused + plant_warnings(design, out)
     return out
 
 
 def _ring(shape) -> dict:
     psi, reach = stability.least_direction(shape)
-    radius = stability.ring_radii(shape)[0] if shape.cross_section == "round" else None
+    radius = stability.ring_radii(shape)[0] if shape.xs.revolved else None
     return {"kind": "round" if radius is not None else "plan", "radius_mm": radius,
             "least_mm": reach, "least_direction_deg": _world_deg(shape, psi)}
 

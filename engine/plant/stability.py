@@ -24,7 +24,6 @@ import math
 import numpy as np
 from scipy.optimize import brentq
 
-from ..geometry import crosssection
 from ..geometry.chain import Z_TOL_MM
 from ..geometry.segments import Arc, EllipseArc
 from . import mass
@@ -66,7 +65,8 @@ def ring_radii(shape) -> tuple[float, ...]:
 def ring_support(shape, psi):
     """How far (mm) the standing ring reaches from the axis toward plan direction ``psi`` (rad,
     the bottle's own frame): the lever arm of the tipping edge."""
-    return crosssection.support(shape.cross_section, ring_radii(shape), psi)
+    shape.xs.require("stability")  # why: the masses' centres on the axis hold for symmetric plans only
+    return shape.xs.support(ring_radii(shape), psi)
 
 
 def frozen_tip_deg(support_mm: float, cg_z_mm: float) -> float:
@@ -77,7 +77,8 @@ def frozen_tip_deg(support_mm: float, cg_z_mm: float) -> float:
 def least_direction(shape) -> tuple[float, float]:
     """``(psi, R)``: the plan direction (rad, own frame) where the ring reaches least from the
     axis, and that reach (mm): where a bottle with its masses on the axis tips first."""
-    if shape.cross_section == "round":
+    shape.xs.require("stability")
+    if shape.xs.revolved:
         return 0.0, float(ring_radii(shape)[0])
     psi = np.radians(np.arange(0.0, 360.0, DIRECTION_STEP_DEG))
     reach = ring_support(shape, psi)

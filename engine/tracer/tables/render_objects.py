@@ -63,6 +63,8 @@ SWEPT_LEAF = 1e-4
 #: Hits nearer than this fraction of the bottle's size to a ray's start must agree with the
 #: ray's medium (a ray leaving an edge onto the neighbouring surface).
 EDGE_FRACTION = 1e-7
+#: The kernels' integer for each cross-section (by its ``name``): the one table from the geometry's
+#: :class:`~engine.geometry.crosssection.CrossSection` objects to the compiled code.
 _XS = {"rounded_square": RSQUARE, "rounded_rect": RRECT, "oval": OVAL, "round": CIRCLE, "outline": OUTLINE}
 
 
@@ -264,44 +266,25 @@ def _chain_bbox(rows, pad):
             float(r[:, R.S_ZMAX].max()) + pad)
 
 
-def _outline(kind, radii):
-    """``(outline kind, p0, p1, p2)`` of a fixed cross-section with section radii ``radii``."""
-    if kind == "round":
-        return CIRCLE, radii[0], 0.0, 0.0
-    if kind == "oval":
-        return OVAL, radii[0], radii[1], 0.0
-    if kind == "outline":
-        return OUTLINE, radii[0], radii[1], 0.0
-    if kind == "rounded_square":
-        u, v = radii
-        return RRECT, u, u, (math.sqrt(2) + 1.0) * (math.sqrt(2) * u - v)
-    return RRECT, radii[0], radii[1], radii[2]
+def _outline(xs, radii):
+    """``(outline kind, p0, p1, p2)`` of the flat face of cross-section ``xs`` with section radii
+    ``radii``: its canonical section (a rounded square is drawn as the rounded rectangle it is)."""
+    flat, params = xs.canonical(radii)
+    return (_XS[flat.name], *params, *(0.0,) * (3 - len(params)))
 
 
-def _circumradius(kind, radii):
-    if kind in ("round",):
-        return radii[0]
-    if kind == "oval":
-        return max(radii)
-    if kind == "outline":  # the plan's farthest point is at distance 1: core + rounding
-        return max(radii[0], 0.0) + max(radii[1], 0.0)
-    if kind == "rounded_square":
-        return max(radii[1], math.sqrt(2) * radii[0])
-    return math.hypot(radii[0], radii[1])
-
-
-def _plane(tab, name, z, nz, kind, outer, inner=None, rot=(1.0, 0.0), scale=1.0, media=None):
+def _plane(tab, name, z, nz, xs, outer, inner=None, rot=(1.0, 0.0), scale=1.0, media=None):
     """A flat object at height ``z`` (normal ``(0, 0, nz)``): inside the outline of section
     radii ``outer`` and outside that of ``inner`` (if given); ``media`` = ``(front, back)``."""
-    xs, p0, p1, p2 = _outline(kind, outer)
+    kind, p0, p1, p2 = _outline(xs, outer)
     front, back = media
     extra = dict(O_FRONT_LO=front, O_BACK_LO=back, O_FRONT_HI=front, O_BACK_HI=back)
     if inner is not None:
-        xi, q0, q1, q2 = _outline(kind, inner)
+        xi, q0, q1, q2 = _outline(xs, inner)
         extra.update(O_XS_IN=xi, F_IN0=q0, F_IN1=q1, F_IN2=q2)
     pad = 1e-9 * scale
-    tab.add(name, K.PLANE, bbox=(_circumradius(kind, outer) * (1 + 1e-9) + pad, z - pad, z + pad),
-            F_PZ=z, F_PNZ=nz, O_XS=xs, F_OUT0=p0, F_OUT1=p1, F_OUT2=p2, F_COS=rot[0], F_SIN=rot[1],
+    tab.add(name, K.PLANE, bbox=(xs.reach_bound(outer) * (1 + 1e-9) + pad, z - pad, z + pad),
+            F_PZ=z, F_PNZ=nz, O_XS=kind, F_OUT0=p0, F_OUT1=p1, F_OUT2=p2, F_COS=rot[0], F_SIN=rot[1],
             **extra)
 
 
@@ -323,7 +306,7 @@ def _dome_radius(chain, h):
     return float(chain[-1].p1[0])
 
 
-def _slabs(tab, chains, kind, scale):
+def _slabs(tab, chains, xs, scale):
     """Cut the walls ``chains`` (one z-rising chain per section) at every joint height: one
     slab per height interval, ``(z0, z1, rmax)`` and the segment row of each section there."""
     firsts = [tab.chain(c, 0.0, True)[0] for c in chains]
@@ -342,11 +325,10 @@ def _slabs(tab, chains, kind, scale):
             i = next(j for j, sg in enumerate(c) if sg.p0[1] <= zm <= sg.p1[1])
             rows.append(f + i)
             rmaxes.append(tab.seg[f + i][R.S_RMAX])
-        rmax = _circumradius(kind, rmaxes) * (1 + 1e-9) + pad
+        rmax = xs.reach_bound(rmaxes) * (1 + 1e-9) + pad  # each section at its largest in the slab
         rmax_all = max(rmax_all, rmax)
-        ruled = kind in ("rounded_square", "rounded_rect", "outline") and all(tab.seg[r][R.S_KIND] == R.LINE
-                                                                             for r in rows)
-        coeffs = ruled_coefficients(_XS[kind], [tab.seg[r] for r in rows]) if ruled else (0.0,) * (SL_COLS - 4)
+        ruled = _XS[xs.name] in (RSQUARE, RRECT, OUTLINE) and all(tab.seg[r][R.S_KIND] == R.LINE for r in rows)
+        coeffs = ruled_coefficients(_XS[xs.name], [tab.seg[r] for r in rows]) if ruled else (0.0,) * (SL_COLS - 4)
         tab.slab_f.append((za - pad, zb + pad, rmax, 1.0 if ruled else 0.0, *coeffs))
         tab.slab_i.append(rows + [rows[0]] * (3 - len(rows)))
     return first, len(tab.slab_f) - first, (rmax_all, z_lo - pad, z_hi + pad)
@@ -357,7 +339,7 @@ def build_render_geometry(shape, fill_height: float | None) -> RenderGeometry:
     inner base: empty) into render-object tables. Raises ``SectionError`` / ``WallError`` for an
     invalid shape (through :func:`body_profile`)."""
     prof = body_profile(shape)
-    kind = shape.cross_section
+    kind, xs = shape.cross_section, prof.xs
     secs = prof.sections
     r_max = max(max(sg.p0[0], sg.p1[0]) for sp in secs for sg in sp.outer_wall)
     scale = max(prof.z_top, r_max)
@@ -370,13 +352,13 @@ def build_render_geometry(shape, fill_height: float | None) -> RenderGeometry:
     edge = EDGE_FRACTION * scale
     wet = LIQUID if fill_height is not None else AIR
     split = fill_height if fill_height is not None else np.inf
-    a = math.radians(prof.rotation_deg) if kind != "round" else 0.0
+    a = math.radians(prof.rotation_deg) if not xs.revolved else 0.0
     rot = (math.cos(a), math.sin(a))
     common = dict(F_EDGE=edge, F_COS=rot[0], F_SIN=rot[1])
     media_outer = dict(O_FRONT_LO=AIR, O_BACK_LO=GLASS, O_FRONT_HI=AIR, O_BACK_HI=GLASS)
     media_inner = dict(O_FRONT_LO=wet, O_BACK_LO=GLASS, O_FRONT_HI=AIR, O_BACK_HI=GLASS, F_ZSPLIT=split)
     base_len = sum(sg.length for sg in secs[0].outer_base)
-    if kind == "round":
+    if xs.revolved:
         sp = secs[0]
         first, n, _ = tab.chain(sp.outer_wall, base_len, True)
         tab.add("outer wall", K.REVOLVED, first, n, 1.0, _chain_bbox(tab.seg[first:], pad), O_ZSORT=1,
@@ -386,7 +368,7 @@ def build_render_geometry(shape, fill_height: float | None) -> RenderGeometry:
             tab.add("bottom", K.REVOLVED, first, n, 1.0, _chain_bbox(tab.seg[first:first + n], pad),
                     **media_outer, **common)
         else:
-            _plane(tab, "bottom", 0.0, -1.0, kind, [sp.outer_wall[0].p0[0]], scale=scale, media=(AIR, GLASS))
+            _plane(tab, "bottom", 0.0, -1.0, xs, [sp.outer_wall[0].p0[0]], scale=scale, media=(AIR, GLASS))
         ib_len = sum(sg.length for sg in sp.inner_base)
         first, n, _ = tab.chain(sp.inner_wall, ib_len, True)
         tab.add("inner wall", K.REVOLVED, first, n, -1.0, _chain_bbox(tab.seg[first:first + n], pad),
@@ -397,34 +379,34 @@ def build_render_geometry(shape, fill_height: float | None) -> RenderGeometry:
             tab.add("inner base", K.REVOLVED, first, n, -1.0, _chain_bbox(tab.seg[first:first + n], pad),
                     **media_inner, **common)
         else:
-            _plane(tab, "inner base", prof.z_ib, 1.0, kind, [sp.inner_wall[0].p0[0]], scale=scale,
+            _plane(tab, "inner base", prof.z_ib, 1.0, xs, [sp.inner_wall[0].p0[0]], scale=scale,
                    media=(wet, GLASS))
     else:
-        first, n, bbox = _slabs(tab, [sp.outer_wall for sp in secs], kind, scale)
-        tab.add("outer wall", K.SWEPT, first, n, 1.0, bbox, O_XS=_XS[kind], O_NSEC=len(secs), O_ZSORT=1,
+        first, n, bbox = _slabs(tab, [sp.outer_wall for sp in secs], xs, scale)
+        tab.add("outer wall", K.SWEPT, first, n, 1.0, bbox, O_XS=_XS[xs.name], O_NSEC=len(secs), O_ZSORT=1,
                 F_LEAF=SWEPT_LEAF * scale, **media_outer, **common)
-        _plane(tab, "bottom", 0.0, -1.0, kind, [sp.outer_wall[0].p0[0] for sp in secs], rot=rot, scale=scale,
+        _plane(tab, "bottom", 0.0, -1.0, xs, [sp.outer_wall[0].p0[0] for sp in secs], rot=rot, scale=scale,
                media=(AIR, GLASS))
-        first, n, bbox = _slabs(tab, [sp.inner_wall for sp in secs], kind, scale)
-        tab.add("inner wall", K.SWEPT, first, n, -1.0, bbox, O_XS=_XS[kind], O_NSEC=len(secs), O_ZSORT=1,
+        first, n, bbox = _slabs(tab, [sp.inner_wall for sp in secs], xs, scale)
+        tab.add("inner wall", K.SWEPT, first, n, -1.0, bbox, O_XS=_XS[xs.name], O_NSEC=len(secs), O_ZSORT=1,
                 F_LEAF=SWEPT_LEAF * scale, **media_inner, **common)
-        _plane(tab, "inner base", prof.z_ib, 1.0, kind, [sp.inner_wall[0].p0[0] for sp in secs], rot=rot,
+        _plane(tab, "inner base", prof.z_ib, 1.0, xs, [sp.inner_wall[0].p0[0] for sp in secs], rot=rot,
                scale=scale, media=(wet, GLASS))
-    _plane(tab, "rim", prof.z_top, 1.0, kind, [sp.r_top for sp in secs], [sp.r_in_top for sp in secs],
+    _plane(tab, "rim", prof.z_top, 1.0, xs, [sp.r_top for sp in secs], [sp.r_in_top for sp in secs],
            rot=rot, scale=scale, media=(AIR, GLASS))
     if fill_height is not None:
         radii = [float(radius_at(sp.inner_wall, fill_height)) for sp in secs]
         dome = [_dome_radius(secs[0].inner_base, fill_height)] if prof.punt else None
         if dome is not None and dome[0] <= 0.0:
             dome = None
-        _plane(tab, "free surface", fill_height, 1.0, kind, radii, dome, rot=rot, scale=scale, media=(AIR, LIQUID))
+        _plane(tab, "free surface", fill_height, 1.0, xs, radii, dome, rot=rot, scale=scale, media=(AIR, LIQUID))
     for of in tab.obj_f:
         of[K.F_EDGE] = edge
     seg = np.ascontiguousarray(np.array(tab.seg, float).reshape(-1, R.S_COLS))
     table = np.ascontiguousarray(np.concatenate(tab.tables) if tab.tables else np.zeros((1, 4)))
     slab_f = np.ascontiguousarray(np.array(tab.slab_f, float).reshape(-1, SL_COLS))
     slab_i = np.ascontiguousarray(np.array(tab.slab_i, np.int64).reshape(-1, 3))
-    plan = plan_table(shape.plan.to_dicts()) if kind == "outline" else np.zeros((1, PL_COLS))
+    plan = plan_table(xs.plan.to_dicts()) if hasattr(xs, "plan") else np.zeros((1, PL_COLS))
     return RenderGeometry(seg, table, slab_f, slab_i, np.ascontiguousarray(np.array(tab.obj_i)),
                           np.ascontiguousarray(np.array(tab.obj_f)), tuple(tab.names), float(scale),
                           fill_height, kind, float(prof.z_top), float(prof.z_ib), plan)

@@ -86,6 +86,7 @@ LAYERS = (
     ("engine.appearance",),
     ("engine.operations", "engine.plant"),
     ("engine.files", "engine.tracer"),
+    ("engine.finals",),
     ("engine.batch", "engine.export"),
     ("engine.cli",),
     ("widgets",),

@@ -3,7 +3,7 @@
 Design rule: every path written is ``job.output`` joined with a checked relative name and is
 refused if, once symbolic links are resolved, it would land outside the output folder. Frames
 are written atomically by the client the moment each arrives (a denoised frame with its raw
-film beside it, ``NAME.raw.EXT``: :func:`engine.batch.still.save_final`), and the manifest is updated
+film beside it, ``NAME.raw.EXT``: :func:`engine.finals.save_final`), and the manifest is updated
 right after, so an interruption at any point loses at most the frames still rendering; a re-run
 renders only frames whose input hash is not in the manifest (or whose file changed). The
 contact sheet and summary are made last, from the output folder, covering every frame.
@@ -19,7 +19,7 @@ from .manifest import Manifest, asset_digests, frame_hash
 from .progress import BatchProgress
 from .report import CONTACT_SHEET, contact_sheet, write_summary
 from .source import JobError
-from .still import save_final
+from ..finals import save_final
 from ..tracer.denoise import raw_path
 
 

@@ -45,13 +45,13 @@ def render_frame(payload, camera, render, alpha: bool, threads: int, topic: str 
     Returns
     -------
     dict
-        ``images``: :func:`engine.batch.still.final_images`' ``(rgb, alpha)`` pairs, the raw
+        ``images``: :func:`engine.finals.final_images`' ``(rgb, alpha)`` pairs, the raw
         frame first and with ``denoise`` its denoised estimate (``rgb`` ``(H, W, 3)`` float32
         linear radiance, ``alpha`` ``(H, W)`` float32 or ``None``); ``seconds`` of rendering
         and denoising, ``worker`` address (``"local"`` outside Dask).
     """
     from ..tracer.job import RenderJob
-    from .still import final_images
+    from ..finals import final_images
     design, assets = payload
     design = dataclasses.replace(design, camera=camera, render=render)
     worker = _current_worker()

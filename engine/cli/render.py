@@ -16,7 +16,7 @@ from .. import limits
 from ..errors import CliError, shown
 from ..files.images import IMAGE_SUFFIXES
 from ..limits import check_image_size
-from ..batch.still import write_final
+from ..finals import write_final
 from ..tracer.job import RenderJob
 
 

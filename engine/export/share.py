@@ -63,9 +63,9 @@ def render_poster(design, assets, path, width: int, height: int, progress=None,
                   denoise: bool = False) -> list[str]:
     """Render ``design`` with the tracer to its noise target and save it as PNG at ``path``;
     with ``denoise`` the PNG at ``path`` is the denoised estimate and the raw render goes beside
-    it (``poster.raw.png``), each saying which it is (:func:`engine.batch.still.write_final`).
+    it (``poster.raw.png``), each saying which it is (:func:`engine.finals.write_final`).
     Returns the paths written, the raw one first."""
-    from ..batch.still import write_final
+    from ..finals import write_final
     from ..tracer.job import RenderJob
     job = RenderJob(design, assets, width=width, height=height, tile=32)
     job.start()

@@ -158,6 +158,12 @@ class SectionPanel(QWidget):
         blockers = [QSignalBlocker(w) for w in (self.kind_combo, self.name_combo, self.wall_spin,
                                                  self.base_spin, self.rotation_spin)]
         words.select_key(self.kind_combo, shape.cross_section)
+        # a plan outline comes from a scene or project that has one: no plan to convert to yet
+        outline = self.kind_combo.model().item(self.kind_combo.findData("outline"))
+        outline.setEnabled(shape.cross_section == "outline")
+        outline.setToolTip(words.CROSS_SECTIONS["outline"][1] if shape.cross_section == "outline"
+                           else "Open a project or SPEC_outline scene with a plan outline; this window "
+                                "cannot draw one yet")
         if words.keys_of(self.name_combo) != names:
             words.fill_combo(self.name_combo, words.SECTIONS, names)
         words.select_key(self.name_combo, self.current_name)

@@ -128,3 +128,7 @@ def test_the_panel_is_disabled_with_a_reason_on_a_round_bottle(make_window):
     assert "round" in panel.reason.text() and not panel.reason.isHidden()
     assert panel.model.rowCount() == 0
     assert not panel.apply_preset("hexagon") and w.undo_stack.count() == 0
+
+
+def test_the_segment_table_is_a_well_behaved_item_model(flacon_window, qtmodeltester):
+    qtmodeltester.check(flacon_window.plan_panel.model)

@@ -1,13 +1,13 @@
 """Where the panes sit: the preview the largest, the window inside the screen, the layout kept.
 
 Design rule: the preview is the central widget and takes what the docks leave: the section
-editor on the left, the 3D view above the design numbers on the right, and the materials, the
-camera, the stage, the labels, the bump tiles and the cap as tabs below them. Every dock's panel
-sits in a scroll area, so no panel's size can push the window past the screen (a 1600 x 1000
-screen fits everything, status bar included). The window opens on the available part of its
-screen; closing it stores its geometry, the docks' state, the section splitter and the tint
-thicknesses in the window's ``QSettings``, and the next window restores them (clamped to the
-screen it opens on).
+editor on the left with the plan editor as a tab beside it, the 3D view above the design numbers
+on the right, and the materials, the camera, the stage, the labels, the bump tiles and the cap as
+tabs below them. Every dock's panel sits in a scroll area, so no panel's size can push the
+window past the screen (a 1600 x 1000 screen fits everything, status bar included). The window
+opens on the available part of its screen; closing it stores its geometry, the docks' state, the
+section splitter and the tint thicknesses in the window's ``QSettings``, and the next window
+restores them (clamped to the screen it opens on).
 """
 from __future__ import annotations
 
@@ -21,6 +21,7 @@ from widgets.camera_panel import CameraPanel
 from widgets.cap_panel import CapPanel
 from widgets.labels import LabelsPanel
 from widgets.materials_panel import MaterialsPanel
+from widgets.plan_editor import PlanPanel
 from widgets.section_panel import SectionPanel
 from widgets.stage_panel import StagePanel
 from widgets.trade_panel import TradeNumbersPanel
@@ -57,6 +58,8 @@ class Panel:
 #: scene, refusals and the derived numbers itself (:func:`widgets.edit_fields.follow`); nobody
 #: routes to it.
 PANELS = (Panel("section_panel", SectionPanel, "section", "Section", Qt.LeftDockWidgetArea),
+          Panel("plan_panel", PlanPanel, "plan", "Plan", Qt.LeftDockWidgetArea,
+                tip="The plan outline of an outline bottle, at its widest core"),
           Panel("trade_panel", TradeNumbersPanel, "design", "Design"),
           Panel("materials_panel", MaterialsPanel, "materials", "Materials"),
           # why the short title: six tabs share the side's width; the name keeps saved layouts
@@ -68,6 +71,8 @@ PANELS = (Panel("section_panel", SectionPanel, "section", "Section", Qt.LeftDock
           Panel("cap_panel", CapPanel, "cap", "Cap"))
 #: The docks that share one tab row below the Design numbers (the first one raised).
 TABBED = ("materials", "camera", "stage", "labels", "bumps", "cap")
+#: The docks that share one tab row on the left (the first one raised).
+TABBED_LEFT = ("section", "plan")
 
 
 def make_panels(window) -> None:
@@ -109,10 +114,11 @@ def build_docks(window) -> dict:
                                     name=panel.name)
         if panel.tip:
             docks[panel.key].setToolTip(panel.tip)
-    first, *rest = TABBED
-    for name in rest:  # one tab row: the side stays uncrowded
-        window.tabifyDockWidget(docks[first], docks[name])
-    docks[first].raise_()
+    for row in (TABBED_LEFT, TABBED):
+        first, *rest = row
+        for name in rest:  # one tab row: the side stays uncrowded
+            window.tabifyDockWidget(docks[first], docks[name])
+        docks[first].raise_()
     return docks
 
 

@@ -19,17 +19,16 @@ import math
 import numpy as np
 from PySide6.QtCore import QPointF, QRectF, Qt, Signal
 from PySide6.QtGui import QColor, QPainter, QPainterPath, QPen, QPolygonF
-from PySide6.QtWidgets import QSizePolicy, QWidget
+from PySide6.QtWidgets import QSizePolicy
 
 from engine.geometry.section import Section
 from engine.geometry.segments import Arc, EllipseArc
 from engine.geometry import editing as edits
 from engine.geometry.editing import Handle, handles_of, propose_drag
+from widgets.mm_canvas import MillimetreCanvas
 
-HANDLE_PX = 7.0
 
-
-class SectionCanvas(QWidget):
+class SectionCanvas(MillimetreCanvas):
     """Draws one section with grid, dimensions, inner wall and fill line; proposes drag edits.
 
     Signals
@@ -50,14 +49,12 @@ class SectionCanvas(QWidget):
 
     sectionProposed = Signal(object, str, str)
     fillProposed = Signal(float, str)
-    selectionChanged = Signal(int)
-    dragging = Signal(bool)
     toolRequested = Signal(str)
     problem = Signal(str)
     _gesture_serial = 0
 
     def __init__(self, parent=None):
-        super().__init__(parent)
+        super().__init__(1.5, QPointF(60.0, 400.0), parent)  # px per mm; pixel of (r, z) = (0, 0)
         self.setSizePolicy(QSizePolicy.Expanding, QSizePolicy.Expanding)
         self.setMinimumSize(240, 240)
         self.setMouseTracking(True)
@@ -66,12 +63,7 @@ class SectionCanvas(QWidget):
         self.inner = None
         self.fill_z: float | None = None
         self.ghosts: list[Section] = []
-        self.selected = -1
         self.snap_mm = 0.5
-        self.scale = 1.5  # pixels per mm
-        self.origin = QPointF(60.0, 400.0)  # pixel position of (r, z) = (0, 0)
-        self._drag = None
-        self._pan_from = None
         self._fitted = False
 
     # ----------------------------------------------------------------- model → view
@@ -91,19 +83,7 @@ class SectionCanvas(QWidget):
         if self.isVisible() and self.width() >= 10:
             self.fit()
 
-    def select(self, index: int):
-        if index != self.selected:
-            self.selected = index
-            self.selectionChanged.emit(index)
-            self.update()
-
     # ----------------------------------------------------------------------- mapping
-    def to_px(self, p) -> QPointF:
-        return QPointF(self.origin.x() + p[0] * self.scale, self.origin.y() - p[1] * self.scale)
-
-    def to_mm(self, q: QPointF) -> tuple[float, float]:
-        return ((q.x() - self.origin.x()) / self.scale, (self.origin.y() - q.y()) / self.scale)
-
     def fit(self):
         """Zoom and pan so the whole section (both halves, the fill line and the dimensions)
         fits the canvas."""
@@ -117,14 +97,6 @@ class SectionCanvas(QWidget):
                          (self.height() - margin_top - margin_bottom) / zmax)
         self.origin = QPointF(self.width() / 2, self.height() - margin_bottom)
         self._fitted = True
-        self.update()
-
-    def zoom(self, factor: float, about: QPointF | None = None):
-        about = about or QPointF(self.width() / 2, self.height() / 2)
-        fixed = self.to_mm(about)
-        self.scale = min(max(self.scale * factor, 0.05), 200.0)
-        p = self.to_px(fixed)
-        self.origin = self.origin + (about - p)
         self.update()
 
     def resizeEvent(self, event):
@@ -257,15 +229,9 @@ class SectionCanvas(QWidget):
         right = self.to_px((self._rmax(), 0.0)).x() + 10
         return abs(pos.y() - y) <= 4 and self.origin.x() <= pos.x() <= right
 
-    def handle_at(self, pos: QPointF) -> Handle | None:
-        if self.section is None:
-            return None
-        best, best_d = None, HANDLE_PX
-        for h in handles_of(self.section):
-            d = math.dist((pos.x(), pos.y()), (self.to_px(h.point).x(), self.to_px(h.point).y()))
-            if d < best_d - 1e-9 or (best is None and d <= best_d):  # why: joints (listed first) win ties
-                best, best_d = h, d
-        return best
+    def handles(self) -> list[Handle]:
+        """The section's handles, joints first (they win ties)."""
+        return [] if self.section is None else handles_of(self.section)
 
     def segment_at(self, pos: QPointF) -> int:
         if self.section is None:
@@ -284,13 +250,7 @@ class SectionCanvas(QWidget):
     def _snap(self, value: float, enabled: bool) -> float:
         return round(value / self.snap_mm) * self.snap_mm if enabled and self.snap_mm > 0 else value
 
-    def mousePressEvent(self, event):
-        pos = event.position()
-        if event.button() in (Qt.MiddleButton, Qt.RightButton):
-            self._pan_from = pos
-            return
-        if event.button() != Qt.LeftButton:
-            return
+    def left_pressed(self, pos: QPointF):
         handle = self.handle_at(pos)
         if handle is None and self.fill_grip_at(pos):
             handle = Handle("fill", -1, (0.0, self.fill_z))
@@ -305,10 +265,7 @@ class SectionCanvas(QWidget):
 
     def mouseMoveEvent(self, event):
         pos = event.position()
-        if self._pan_from is not None:
-            self.origin = self.origin + (pos - self._pan_from)
-            self._pan_from = pos
-            self.update()
+        if self.panned(pos):
             return
         if self._drag is None:
             self.setToolTip(self._hover_text(pos))
@@ -356,15 +313,6 @@ class SectionCanvas(QWidget):
         self._drag = (handle, self.section, key)
         self.dragging.emit(True)
 
-    def end_drag(self):
-        if self._drag is not None:
-            self._drag = None
-            self.dragging.emit(False)
-
-    def mouseReleaseEvent(self, event):
-        self._pan_from = None
-        self.end_drag()
-
     def keyPressEvent(self, event):
         key = event.key()
         if key in (Qt.Key_Delete, Qt.Key_Backspace):
@@ -377,7 +325,3 @@ class SectionCanvas(QWidget):
             self.fit()
         else:
             super().keyPressEvent(event)
-
-    def wheelEvent(self, event):
-        factor = 1.0015 ** event.angleDelta().y()
-        self.zoom(factor, event.position())

@@ -6,7 +6,8 @@ only turn mouse and keyboard input into these calls and draw the result. Validat
 result stays with :mod:`engine.geometry.validate`. Modules: :mod:`.curves` (moved, deformed and
 tangent segments), :mod:`.joints` (joint moves that keep the finish, typed joint positions,
 radii, the editor's handles), :mod:`.tangency` (arcs tangent to their neighbours), :mod:`.tools`
-(split, delete, insert, convert, smoothness).
+(split, delete, insert, convert, smoothness); :mod:`.plan_tools` edits an outline bottle's plan
+outline the same way (``PlanOutline -> PlanOutline``: joints, arcs, corners, symmetry, presets).
 """
 from .curves import (arc_tangent_at, deform_end, deform_start, scaled_radially, section_polyline,
                      translated)

@@ -1,5 +1,6 @@
 """The section panel with outline bottles: the kind shows with its core and rounding sections,
-and no other bottle converts to one (there is no plan to convert to until a plan editor exists)."""
+and no other bottle converts to one yet (the Plan tab edits an outline bottle's plan; nothing
+turns another kind into one)."""
 from __future__ import annotations
 
 import dataclasses
@@ -19,7 +20,7 @@ def test_the_outline_kind_is_offered_only_to_an_outline_bottle(make_window, qtbo
     w = make_window()
     panel = w.section_panel
     assert not _outline_item(panel).isEnabled(), "a round bottle has no plan to become an outline"
-    assert "cannot draw" in _outline_item(panel).toolTip()
+    assert "cannot turn another kind" in _outline_item(panel).toolTip()
     design, assets = spec_to_design(SPEC)
     design = dataclasses.replace(design, render=dataclasses.replace(design.render, width=24, height=24, spp=1))
     w.files.replace_document(design, assets, None)

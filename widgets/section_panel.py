@@ -163,7 +163,7 @@ class SectionPanel(QWidget):
         outline.setEnabled(shape.cross_section == "outline")
         outline.setToolTip(words.CROSS_SECTIONS["outline"][1] if shape.cross_section == "outline"
                            else "Open a project or SPEC_outline scene with a plan outline; this window "
-                                "cannot draw one yet")
+                                "cannot turn another kind into one yet")
         if words.keys_of(self.name_combo) != names:
             words.fill_combo(self.name_combo, words.SECTIONS, names)
         words.select_key(self.name_combo, self.current_name)

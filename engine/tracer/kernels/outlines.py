@@ -1,8 +1,10 @@
 """Horizontal outlines (cross-sections at one height) as the kernels evaluate them.
 
-Design rule: an outline is a circle ``(r)``, an oval ``(a, b)`` or a rounded rectangle
-``(a, b, c)`` (a rounded square ``(u, v)`` is the rounded rectangle ``(u, u, q)``), in the
-bottle's own frame, in mm, as in :mod:`engine.geometry.crosssection`. Three things are asked
+Design rule: an outline is a circle ``(r)``, an oval ``(a, b)``, a rounded rectangle
+``(a, b, c)`` (a rounded square ``(u, v)`` is the rounded rectangle ``(u, u, q)``) or a free
+plan outline's section ``(k, r)`` (``OUTLINE``, evaluated by :mod:`.plans` on the plan's
+table, which every call here takes and the fixed kinds ignore), in the bottle's own frame, in
+mm, as in :mod:`engine.geometry.crosssection`. Three things are asked
 of it: a signed value (negative inside; the exact distance for the rounded shapes, ``S - 1`` for
 the oval) with its derivatives in the radii, the interval along a 2-D line that lies inside it
 (closed form: the rounded rectangle is its bounding box cut at the corners by four discs), and

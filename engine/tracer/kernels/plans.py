@@ -26,7 +26,11 @@ intersection over pieces of ``{max over the piece's u of (...) <= 0}``: a half-p
 ``FLAT`` row, per ``ROUND`` row the two half-planes of its end normals and, where the grown
 radius ``k rho + r`` is positive, the disc of that radius inside the wedge's cone (for a
 negative one the two half-planes alone: the corner stays sharp). A line's interval in the
-section is therefore the intersection of closed-form intervals (:func:`plan_interval`).
+section is therefore the intersection of closed-form intervals (:func:`plan_interval`). Where
+the core and the growth change linearly along a ray (a ruled slab: both profiles straight) every
+piece's condition stays linear in the point and the height, so the slab's solid is convex and
+the ray's trace through it is the same intersection with each disc become one nappe of a
+slanted cone (:func:`plan_trace`, :func:`plan_ruled_roots`).
 Units: mm for ``k``, ``r`` and points; ``P`` is unitless.
 """
 from __future__ import annotations

@@ -117,7 +117,8 @@ def _image(a, what: str) -> np.ndarray:
 #: What a written image says it is (its ``ImageDescription``).
 RAW_NOTE = "glassbench: raw render (the tracer's film, unbiased)"
 DENOISED_NOTE = ("glassbench: denoised estimate of the raw render {raw} (Intel Open Image Denoise 2.5.1, "
-                 "albedo and normal guides; biased, not the converged image)")
+                 "albedo and normal guides; pixels whose own error is under a display level keep the raw "
+                 "value; biased, not the converged image)")
 
 
 def raw_path(path) -> str:

@@ -78,7 +78,7 @@ def _int64s_at(typingctx, address):
 def embree_nearest_hit(geom, ray, medium, last, side, scratch):
     """:func:`~engine.tracer.kernels.intersect.nearest_hit`'s contract by Embree + refinement
     (module doc); the analytic search itself where ``tab`` carries no Embree scene."""
-    seg, tab, slab_f, slab_i, obj_i, obj_f = geom
+    seg, tab, slab_f, slab_i, obj_i, obj_f, plan = geom
     ox, oy, oz, dx, dy, dz = ray
     roots, crit, stack = scratch
     n_tab = tab.shape[0]
@@ -94,7 +94,7 @@ def embree_nearest_hit(geom, ray, medium, last, side, scratch):
             return Hit(np.inf, -1, -1, 0.0, 0.0, 0.0)
     else:
         t, k, j, nx, ny, nz = refine_hit(tri_obj[p], tri_part[p], te, seg, tab, slab_f, slab_i, obj_i, obj_f, ox, oy,
-                                         oz, dx, dy, dz, medium, last, side, bracket, np.inf, roots, crit, stack)
+                                         oz, dx, dy, dz, medium, last, side, bracket, np.inf, roots, crit, stack, plan)
         if k >= 0:
             return Hit(t, k, j, nx, ny, nz)
     return nearest_hit(geom, ray, medium, last, side, scratch)

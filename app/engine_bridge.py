@@ -126,10 +126,10 @@ def import_dxf(path: str, current: Design) -> Design:
     """
     section: Section = dxf_import.section_from_dxf(path)
     shape = current.shape
+    if shape.cross_section == "outline":  # (its core and rounding are two different sections)
+        raise ValueError("a DXF section cannot replace an outline bottle's core and rounding yet")
     sections = tuple((name, section) for name, _ in shape.sections)
-    new = BottleShape(shape.cross_section, sections, shape.wall_thickness, shape.base_thickness,
-                      shape.rotation_deg, None)
-    return dataclasses.replace(current, shape=new)
+    return dataclasses.replace(current, shape=dataclasses.replace(shape, sections=sections, wall_per_segment=None))
 
 
 def export_mesh(shape: BottleShape, path: str) -> None:

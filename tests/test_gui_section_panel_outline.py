@@ -28,3 +28,17 @@ def test_the_outline_kind_is_offered_only_to_an_outline_bottle(make_window, qtbo
     assert _outline_item(panel).isEnabled()
     assert [panel.name_combo.itemData(i) for i in range(panel.name_combo.count())] == ["core", "round"]
     qtbot.waitUntil(w.derived_idle, timeout=60000)
+
+
+def test_the_wall_of_an_outline_bottle_is_edited_and_undone_with_its_plan_kept(make_window, qtbot):
+    design, assets = spec_to_design(SPEC)
+    design = dataclasses.replace(design, render=dataclasses.replace(design.render, width=24, height=24, spp=1))
+    w = make_window(design, assets=assets)
+    panel = w.section_panel
+    plan = w.scene.design.shape.plan
+    panel.wall_spin.setValue(2.5)
+    assert w.scene.design.shape.wall_thickness == 2.5
+    assert w.scene.design.shape.plan == plan
+    w.undo_stack.undo()
+    assert w.scene.design.shape.wall_thickness == 3.0
+    qtbot.waitUntil(w.derived_idle, timeout=60000)

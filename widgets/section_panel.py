@@ -10,6 +10,8 @@ filled with, for as long as that is so.
 """
 from __future__ import annotations
 
+import dataclasses
+
 from PySide6.QtCore import QSignalBlocker, Qt
 from PySide6.QtWidgets import (QComboBox, QDoubleSpinBox, QFormLayout, QGridLayout, QLabel,
                                QSizePolicy, QSplitter, QToolButton, QVBoxLayout, QWidget)
@@ -209,11 +211,7 @@ class SectionPanel(QWidget):
         return self.editor.apply("Fill level", merge_key or None, liquid=liquid)
 
     def _set_shape_number(self, field, value):
-        shape = self.editor.design.shape
-        new = BottleShape(shape.cross_section, shape.sections,
-                          **{**{k: getattr(shape, k) for k in ("wall_thickness", "base_thickness",
-                                                                "rotation_deg", "wall_per_segment")},
-                             field: value})
+        new = dataclasses.replace(self.editor.design.shape, **{field: value})  # (the plan, if any, kept)
         label = {"wall_thickness": "Wall thickness", "base_thickness": "Base thickness"}.get(field, "Rotation")
         if not self.editor.apply(label, f"shape-{field}", shape=new):
             self.refresh(self.editor.design)

@@ -126,3 +126,13 @@ def test_an_outline_bottle_needs_its_plan_and_no_other_kind_has_one():
         dataclasses.replace(shape, plan=None)
     with pytest.raises(ValueError, match="plan outline"):
         dataclasses.replace(_design("public_1").shape, plan=shape.plan)
+
+
+def test_the_mouth_of_an_outline_bottle_is_its_roundings_circle_and_its_bore_is_checked_there():
+    from engine.model.advice import bore_mm, design_warnings
+    design = _design("outline_public_1")
+    shape = design.shape
+    assert shape.r_mouth == pytest.approx(9.0)  # the core has vanished: the rounding's circle
+    assert body_profile(shape).r_top == pytest.approx(9.0)
+    assert bore_mm(shape) == pytest.approx(2 * (9.0 - 3.0))
+    assert not any("bore" in w for w in design_warnings(design))

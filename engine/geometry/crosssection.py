@@ -93,6 +93,11 @@ class CrossSection:
         r = [np.asarray(x, float) for x in radii]
         return np.abs(r[0] - r[1]) <= tol
 
+    def round_radius(self, radii) -> float:
+        """Radius (mm) of the section at ``radii`` where it is a circle (:meth:`is_circle`: the
+        finish every kind meets in)."""
+        return float(radii[0])
+
     def __repr__(self) -> str:
         return f"<{self.name} cross-section>"
 
@@ -370,6 +375,10 @@ class Outline(CrossSection):
 
     def reach_bound(self, radii) -> float:
         return max(radii[0], 0.0) + max(radii[1], 0.0)
+
+    def round_radius(self, radii) -> float:
+        """The rounding where the core has vanished (``k + c``, ``k`` about 0)."""
+        return max(float(radii[0]), 0.0) + float(radii[1])
 
     def support(self, radii, psi):
         return self.plan.section_support(psi, *self._kr(radii))

@@ -243,7 +243,8 @@ class BodyProfile:
 
     @property
     def r_top(self) -> float:  # outer radius of the (round) mouth, mm
-        return self.sections[0].r_top
+        radii = [s.r_top for s in self.sections]
+        return self.xs.round_radius(radii) if self.xs is not None else radii[0]
 
 
 def is_flat_base(section) -> bool:

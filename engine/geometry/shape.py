@@ -84,6 +84,11 @@ class BottleShape:
         return cross_section_of(self)
 
     @property
+    def r_mouth(self) -> float:
+        """Outer radius of the (round) mouth, mm: every kind's sections meet in a circle there."""
+        return self.xs.round_radius([sec.r_top for _, sec in self.sections])
+
+    @property
     def primary(self) -> Section:
         """The first section (``profile`` or ``u`` or ``half_width``): height, mouth."""
         return self.sections[0][1]

@@ -34,7 +34,7 @@ def bore_mm(shape) -> float:
     wall = shape.wall_thickness
     if shape.wall_per_segment:
         wall = shape.wall_per_segment[-1]
-    return 2.0 * (shape.primary.r_top - wall)
+    return 2.0 * (shape.r_mouth - wall)
 
 
 def design_warnings(design, fill_height_mm: float | None = None) -> list[str]:
@@ -53,7 +53,7 @@ def design_warnings(design, fill_height_mm: float | None = None) -> list[str]:
     bore = bore_mm(shape)
     if bore < MIN_BORE_MM:
         wall = shape.wall_per_segment[-1] if shape.wall_per_segment else shape.wall_thickness
-        out.append(f"The neck's bore is {max(bore, 0.0):.2f} mm across (a {shape.primary.r_top:.2f} mm "
+        out.append(f"The neck's bore is {max(bore, 0.0):.2f} mm across (a {shape.r_mouth:.2f} mm "
                    f"mouth radius less the {wall:g} mm wall, twice): at least {MIN_BORE_MM:g} mm are "
                    f"needed to form the bore and to fill through it.")
     walls = list(shape.wall_per_segment or ()) + [shape.wall_thickness]

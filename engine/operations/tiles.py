@@ -54,7 +54,7 @@ def band_radius(design, z0: float, z1: float, on: str = "bottle") -> float:
         band = cap_band(design, 0.0, 1e9)
         return band[3] if band is not None else closure_geometry(design).r_max
     band = band_coordinates(design, z0, z1)
-    return band[2] if band is not None else float(design.shape.primary.r_top)
+    return band[2] if band is not None else float(design.shape.r_mouth)
 
 
 def new_tile(design, kind: str, z0: float, z1: float, **given) -> BumpTile:
@@ -76,7 +76,7 @@ def new_tile(design, kind: str, z0: float, z1: float, **given) -> BumpTile:
     if kind == "thread":
         finish = given.get("finish", "")
         spec = parse_finish(finish, "--finish") if finish else nearest_finish(
-            2.0 * float(design.shape.primary.r_top))
+            2.0 * float(design.shape.r_mouth))
         fields.update(depth=round(spec.depth_mm, 3), finish=spec.name)
     fields.update(given)
     return BumpTile(**fields)

@@ -11,7 +11,6 @@ from hypothesis import assume, example, given, settings, strategies as st
 from scipy.spatial import cKDTree
 
 from engine.geometry import capacity as cap
-from engine.geometry import crosssection
 from engine.geometry.body import BottleBody
 from engine.errors import SectionError, WallError
 from engine.geometry.validate import body_profile
@@ -96,7 +95,7 @@ def _non_round_wall_deviation(shape, mesh, part: str) -> float:
     y = -math.sin(rot) * q[:, 0] + math.cos(rot) * q[:, 1]
     states = body.wall_radii(part, q[:, 2])
     radii = [s[0] for s in states]
-    sd, gx, gy, d = crosssection.signed_distance(shape.cross_section, radii, x, y)
+    sd, gx, gy, d = shape.xs.signed_distance(radii, x, y)
     steep = np.min([s[2] for s in states], axis=0) > 0.2  # first-order distance is reliable
     gz = sum(d[j] * states[j][1] / np.maximum(states[j][2], 1e-9) for j in range(len(states)))
     return float((np.abs(sd) / np.sqrt(gx ** 2 + gy ** 2 + gz ** 2))[steep].max())

@@ -42,8 +42,7 @@ HALF_PI = 0.5 * math.pi
 #: What a kind may not offer yet (:meth:`CrossSection.require`), in the words of its refusal.
 FEATURES = {"labels": "labels", "relief": "relief (bump tiles, bands and embossing)",
             "cad": "CAD export", "drawing": "technical drawings", "stability": "the stability check",
-            "stress": "the membrane stress estimate",
-            "mesh": "meshes (viewport and exports)"}
+            "stress": "the membrane stress estimate"}
 
 
 def square_corner(u, v):
@@ -77,6 +76,8 @@ class CrossSection:
     area_breaks: tuple[tuple[int, float], ...] = ()
     #: The sections whose radius may reach 0 (the axis) on the wall.
     vanishing: tuple[str, ...] = ()
+    #: Symmetric about both axes of its own frame, so a quarter turn mirrored is the whole (meshes).
+    mirror_quarters: bool = True
 
     def require(self, feature: str) -> None:
         """Raise ``NotSupportedError`` (a ``DesignError``, one line) if this kind cannot offer
@@ -338,7 +339,8 @@ class Outline(CrossSection):
     plan: object
     name = "outline"
     sections = ("core", "round")
-    unsupported = frozenset({"labels", "relief", "cad", "drawing", "stability", "stress", "mesh"})
+    unsupported = frozenset({"labels", "relief", "cad", "drawing", "stability", "stress"})
+    mirror_quarters = False  # a flask or a shield is not; a hexagon is, and is meshed whole anyway
     #: Steiner's polynomial for r >= 0, the inner parallel set's area below: equal in value and
     #: slope at r = 0 but not in curvature, which would cost Gauss-Legendre its exactness.
     area_breaks = ((1, 0.0),)

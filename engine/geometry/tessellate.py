@@ -47,7 +47,7 @@ MAX_DTHETA = math.radians(15.0)
 #: Heights whose boundaries are sampled at once when choosing the polar angles (bounds memory).
 _HEIGHTS_PER_BLOCK = 64
 #: Angles of the fine grid (per turn, 0.125 degree steps) on which the chord sag around a ring is
-#: measured; only the first quarter is used, as every cross-section is symmetric about both axes.
+#: measured; only the first quarter where the cross-section is symmetric about both axes.
 _FINE_ANGLES = 2880
 #: Rounds of halving sagging angle intervals: log2(MAX_DTHETA / two fine steps) < 6.
 _MAX_SPLIT_ROUNDS = 8
@@ -119,10 +119,14 @@ def theta_samples(body: BottleBody, tol_mm: float) -> np.ndarray:
     assumes the turning is spread over a chord, and underestimates a corner much smaller than
     the chord. The halving adds at most ``_FINE_ANGLES`` angles, whatever the shape; the sag is
     measured at the heights of :func:`_deciding_heights` and between them
-    (:func:`_split_between_heights`). All this is done on the first quarter turn and mirrored
-    (:func:`_four_quarters`): a quarter of the work, and rings exactly four-fold symmetric.
+    (:func:`_split_between_heights`). A cross-section symmetric about both axes (every fixed
+    kind) is sampled on its first quarter turn and mirrored (:func:`_four_quarters`): a quarter
+    of the work, and rings exactly four-fold symmetric; any other (a free plan outline) on the
+    whole turn.
     """
-    fine = np.linspace(0.0, 0.5 * math.pi, _FINE_ANGLES // 4 + 1)
+    quarters = body.xs.mirror_quarters
+    span = 0.5 * math.pi if quarters else 2.0 * math.pi
+    fine = np.linspace(0.0, span, (_FINE_ANGLES // 4 if quarters else _FINE_ANGLES) + 1)
     heights = _deciding_heights(body)
     step = math.sqrt(8.0 * SAG_SHARE * tol_mm)
     dens = step * np.diff(fine) / MAX_DTHETA  # the floor: no band wider than MAX_DTHETA
@@ -130,14 +134,15 @@ def theta_samples(body: BottleBody, tol_mm: float) -> np.ndarray:
         pts, nrm = np.stack(np.broadcast_arrays(x, y), -1), np.stack(np.broadcast_arrays(nx, ny), -1)
         dens = np.maximum(dens, np.max([_sag_density(p, n) for p, n in zip(pts, nrm)], axis=0))
     n = max(int(math.ceil(dens.sum() / step)), 2)
-    quarter = _equidistribute(dens, n) * 0.5 * math.pi  # 0 and pi / 2 included
-    quarter = _split_sagging(body, quarter, fine, SAG_SHARE * tol_mm, heights)[0]
-    return _four_quarters(_split_between_heights(body, quarter, fine, SAG_SHARE * tol_mm, heights))
+    angles = _equidistribute(dens, n) * span  # both ends included
+    angles = _split_sagging(body, angles, fine, SAG_SHARE * tol_mm, heights)[0]
+    angles = _split_between_heights(body, angles, fine, SAG_SHARE * tol_mm, heights)
+    return _four_quarters(angles) if quarters else angles[:-1]
 
 
 def _four_quarters(quarter) -> np.ndarray:
     """All angles in [0, 2 pi) from those of the first quarter (``0`` and ``pi / 2`` included),
-    mirrored about both axes, as every cross-section is symmetric about them."""
+    mirrored about both axes (a cross-section symmetric about them)."""
     back = quarter[::-1][:-1]  # from pi / 2 down to the first angle after 0
     return np.concatenate([quarter[:-1], math.pi - back, math.pi + quarter[:-1], 2 * math.pi - back])
 
@@ -531,7 +536,6 @@ def tessellate_body(shape, tol_mm: float = 0.05) -> Mesh:
         For a tolerance that is not a positive number.
     """
     tol = _check_tol(tol_mm)
-    shape.xs.require("mesh")  # why: the angles below mirror one quarter (fixed kinds are symmetric)
     body = BottleBody(shape)
     prof = body.profile
     theta = theta_samples(body, tol)
@@ -558,7 +562,6 @@ def tessellate_interfaces(shape, fill_height, tol_mm: float = 0.05) -> dict:
     facing up. Rings on the fill line coincide bit for bit across meshes.
     """
     tol = _check_tol(tol_mm)
-    shape.xs.require("mesh")  # why: the angles below mirror one quarter (fixed kinds are symmetric)
     body = BottleBody(shape)
     prof = body.profile
     theta = theta_samples(body, tol)
@@ -597,7 +600,6 @@ def tessellate_liquid(shape, fill_height: float, tol_mm: float = 0.05) -> Mesh:
     of the liquid. Requires ``z_ib < fill_height <= z_top``.
     """
     tol = _check_tol(tol_mm)
-    shape.xs.require("mesh")  # why: the angles below mirror one quarter (fixed kinds are symmetric)
     body = BottleBody(shape)
     prof = body.profile
     fill = float(fill_height)

@@ -21,12 +21,12 @@ from ..operations.trade import format_table, trade_numbers
 NEW_HELP = (
     "Without --plan: a round bottle revolved from SECTION.dxf. With --plan: an outline bottle "
     "whose front view is SECTION.dxf and whose body's plan is PLAN.dxf. Draw both in one frame: "
-    "the plan's x is the front view's x and its origin the bottle's axis; the plan's reach along "
-    "+x must equal the section's widest radius (1 %%). At every height the plan is scaled so that "
-    "the bottle reaches the section's radius along +x; its corners are rounded by --round where "
-    "the body is widest, the rounding growing in proportion as the section narrows to the mouth, "
-    "where the plan has shrunk to nothing and the neck is round. The section may not be narrower "
-    "than its mouth below it; a punt is stood on a flat base (outline bottles have one).")
+    "the plan's x is the front view's x and its origin the bottle's axis, and the plan's reach "
+    "along +x equals the section's widest radius (within 1 percent). At every height the bottle "
+    "reaches the section's radius along +x; the plan's corners are rounded by --round where the "
+    "body is widest, the rounding changing linearly with the radius to the mouth's radius at the "
+    "mouth, where the plan has shrunk to nothing and the neck is round. The section may not be "
+    "narrower than its mouth below it; a punt is stood on a flat base (outline bottles have one).")
 
 
 def add_parsers(sub) -> None:

@@ -1,5 +1,5 @@
 """``glassbench info | export-mesh | new``: a project's trade numbers, its glass as a mesh, a
-project from a DXF section.
+project from a DXF section (round, or an outline bottle with a DXF plan).
 
 Design rule: small functions over the engine's public API (:mod:`engine.cli` rule); units mm.
 """
@@ -10,10 +10,23 @@ import math
 from pathlib import Path
 
 from .. import limits
-from ..errors import CliError, ProjectError, shown
+from ..errors import CliError, GlassbenchError, shown
+from ..geometry.outline_from_section import DEFAULT_ROUND_MM
 from ..geometry.shape import BottleShape
 from ..model.design import Camera, Design, RenderSettings
 from ..operations.trade import format_table, trade_numbers
+
+
+#: ``glassbench new --help``: the rule that makes an outline bottle of a section and a plan.
+NEW_HELP = (
+    "Without --plan: a round bottle revolved from SECTION.dxf. With --plan: an outline bottle "
+    "whose front view is SECTION.dxf and whose body's plan is PLAN.dxf. Draw both in one frame: "
+    "the plan's x is the front view's x and its origin the bottle's axis, and the plan's reach "
+    "along +x equals the section's widest radius (within 1 percent). At every height the bottle "
+    "reaches the section's radius along +x; the plan's corners are rounded by --round where the "
+    "body is widest, the rounding changing linearly with the radius to the mouth's radius at the "
+    "mouth, where the plan has shrunk to nothing and the neck is round. The section may not be "
+    "narrower than its mouth below it; a punt is stood on a flat base (outline bottles have one).")
 
 
 def add_parsers(sub) -> None:
@@ -25,9 +38,17 @@ def add_parsers(sub) -> None:
     mesh.add_argument("project")
     mesh.add_argument("out")
     mesh.add_argument("--tol", type=float, default=0.05, help="chordal tolerance (mm)")
-    new = sub.add_parser("new", help="create a project from a DXF section")
-    new.add_argument("--from-dxf", required=True, metavar="FILE.dxf")
+    new = sub.add_parser("new", help="create a project from a DXF section (and a DXF plan outline)",
+                         description=NEW_HELP)
+    new.add_argument("--from-dxf", required=True, metavar="SECTION.dxf",
+                     help="the right half of the bottle's front view (x: radius, y: height; mm)")
     new.add_argument("out", metavar="OUT.glassbench")
+    new.add_argument("--plan", default=None, metavar="PLAN.dxf",
+                     help="the body's plan (top view) at its widest section, axis at the origin: "
+                          "one closed convex loop of lines and arcs (mm); makes an outline bottle")
+    new.add_argument("--round", type=float, default=None, metavar="MM",
+                     help=f"with --plan: the rounding of the plan's corners where the body is widest "
+                          f"(mm, default {DEFAULT_ROUND_MM:g})")
     new.add_argument("--wall", type=float, default=3.0, help="wall thickness (mm)")
     new.add_argument("--base", type=float, default=6.0, help="base thickness (mm)")
     new.add_argument("--name", default=None)
@@ -89,8 +110,10 @@ def max_radius(shape: BottleShape) -> float:
 
 
 def cmd_new(args) -> int:
-    """``new --from-dxf FILE.dxf OUT.glassbench``: a round bottle (wall/base in mm) from a DXF
-    section, framed by a camera; refuses to write an invalid design."""
+    """``new --from-dxf SECTION.dxf [--plan PLAN.dxf [--round MM]] OUT.glassbench``: a round bottle
+    (wall/base in mm) from a DXF section, or with ``--plan`` an outline bottle of that section and
+    a DXF plan outline (:data:`NEW_HELP`, :mod:`engine.geometry.outline_from_section`), framed by a
+    camera; refuses, naming the file, to write an invalid design."""
     from ..files.dxf_import import section_from_dxf
     from ..files.project import SUFFIX, save_project
     from ..operations.check import check_design
@@ -98,16 +121,40 @@ def cmd_new(args) -> int:
         raise CliError(f"the project file name must end in {SUFFIX}: {shown(args.out, 200)}")
     for flag in ("wall", "base"):
         limits.check_range(f"--{flag}", getattr(args, flag), (0.0, limits.MAX_EXTENT_MM), "mm")
+    if args.round is not None and args.plan is None:
+        raise CliError("--round rounds a plan outline's corners: give the plan with --plan PLAN.dxf")
     section = section_from_dxf(args.from_dxf)
-    shape = BottleShape("round", (("profile", section),), args.wall, args.base)
+    source = args.from_dxf
+    if args.plan is None:
+        shape = BottleShape("round", (("profile", section),), args.wall, args.base)
+    else:
+        source = f"{args.from_dxf} with plan {args.plan}"
+        shape = _outline_shape(section, args, source)
     render = RenderSettings(width=360, height=480)
     name = args.name or Path(args.from_dxf).stem
-    design = Design(shape=shape, camera=framing_camera(shape, render.width, render.height),
-                    render=render, name=name)
-    try:
+    try:  # (the framing measures the bottle, so an invalid one fails there first)
+        design = Design(shape=shape, camera=framing_camera(shape, render.width, render.height),
+                        render=render, name=name)
         check_design(design, {})
-    except ProjectError as exc:
-        raise CliError(f"{args.from_dxf}: {exc}") from None
+    except GlassbenchError as exc:
+        raise CliError(f"{source}: {exc}") from None
     save_project(args.out, design, {})
     print(f"wrote {args.out}")
     return 0
+
+
+def _outline_shape(section, args, source: str) -> BottleShape:
+    """The outline bottle of ``section`` and the plan in ``args.plan`` (``--round`` mm); errors
+    name both files (``source``)."""
+    from ..files.dxf_plan import plan_from_dxf
+    from ..geometry.outline_from_section import outline_from_section, size_mismatch
+    rounding = DEFAULT_ROUND_MM if args.round is None else args.round
+    limits.check_range("--round", rounding, (0.0, limits.MAX_EXTENT_MM), "mm")
+    plan = plan_from_dxf(args.plan)
+    mismatch = size_mismatch(section, plan)
+    if mismatch:
+        raise CliError(f"{source}: {mismatch}")
+    try:
+        return outline_from_section(section, plan, args.wall, args.base, rounding)
+    except GlassbenchError as exc:
+        raise CliError(f"{source}: {exc}") from None

@@ -20,9 +20,13 @@ than :data:`engine.geometry.validate.ANGLE_TOL_RAD` is smooth, any other is a co
 keeps. Input is bounded before work starts: the file's size, :data:`engine.limits.MAX_SEGMENTS`
 curves, and coordinates within :data:`engine.limits.MAX_EXTENT_MM`. Whether the section is a
 valid bottle is :mod:`engine.geometry.validate`'s business.
+
+The reading, the pieces, the joints and the walk are public for :mod:`engine.files.dxf_plan`,
+which reads a closed plan outline with them.
 """
 from __future__ import annotations
 
+import contextlib
 import math
 import os
 
@@ -54,15 +58,25 @@ def section_from_dxf(path: str | os.PathLike) -> Section:
     """Read ``path`` and return its section (mm), walked from the axis to the mouth.
 
     Raises ``DxfImportError`` for unreadable, truncated or oversized files, unsupported entities
-    or units, rotated ellipses, gaps, branches, loops or a drawing too large for a bottle.
+    or units, rotated ellipses, gaps, branches, loops or a drawing too large for a bottle; a
+    fault of the drawing is named after the file (``"PATH: the drawing has gaps ..."``).
     """
+    doc, declares_units = read_document(path, "a bottle section")
+    with named_after(path):
+        return section_from_document(doc, declares_units)
+
+
+def read_document(path: str | os.PathLike, what: str):
+    """``(doc, declares_units)``: the ``ezdxf`` document of ``path`` (at most ``MAX_DXF_BYTES``)
+    and whether it holds ``$INSUNITS``. ``DxfImportError`` naming the file for a file that is
+    missing, not regular, too large, truncated or damaged (``what`` the file should have been)."""
     import ezdxf
     path = os.fspath(path)
     try:
         try:
             declares_units = b"$INSUNITS" in read_bounded(path, MAX_DXF_BYTES, "DXF")
         except InputFileError as exc:
-            raise DxfImportError(f"{exc}: not a bottle section") from None
+            raise DxfImportError(f"{exc}: not {what}") from None
         doc = ezdxf.readfile(path)
     except DxfImportError:
         raise
@@ -72,7 +86,34 @@ def section_from_dxf(path: str | os.PathLike) -> Section:
     except Exception as exc:  # why: ezdxf raises anything on a damaged file
         detail = getattr(exc, "strerror", None) or str(exc) or type(exc).__name__
         raise DxfImportError(f"cannot read DXF {path}: {detail}") from None
-    return section_from_document(doc, declares_units)
+    return doc, declares_units
+
+
+@contextlib.contextmanager
+def named_after(path: str | os.PathLike):
+    """Prefix the message of a ``DxfImportError`` raised inside with the file's path: a command
+    reading two drawings must say which one is wrong."""
+    try:
+        yield
+    except DxfImportError as exc:
+        raise DxfImportError(f"{os.fspath(path)}: {exc}") from None
+
+
+def drawing_scale(doc, declares_units: bool = True) -> float:
+    """mm per drawing unit from ``$INSUNITS`` (a file without it, or unitless, is in mm)."""
+    units = doc.header.get("$INSUNITS", 0) if declares_units else 0
+    if units not in UNIT_SCALE:
+        raise DxfImportError(f"unsupported drawing units ($INSUNITS = {bounded(str(units), 40)}); "
+                             f"use mm, cm, m or in")
+    return UNIT_SCALE[units]
+
+
+def check_reach(pieces) -> None:
+    """Refuse pieces (mm) reaching beyond ``MAX_EXTENT_MM`` from the origin (wrong units?)."""
+    reach = max(max(abs(v) for v in p.p0 + p.p1) for p in pieces)
+    if reach > MAX_EXTENT_MM:
+        raise DxfImportError(f"the drawing reaches {reach:.6g} mm from its origin; a bottle fits "
+                             f"within {MAX_EXTENT_MM:g} mm (are the drawing's units right?)")
 
 
 def section_from_document(doc, declares_units: bool = True) -> Section:
@@ -81,18 +122,11 @@ def section_from_document(doc, declares_units: bool = True) -> Section:
     ``declares_units`` says whether the file held ``$INSUNITS`` (ezdxf fills in metres for a
     file without a HEADER); without it the drawing is in mm.
     """
-    units = doc.header.get("$INSUNITS", 0) if declares_units else 0
-    if units not in UNIT_SCALE:
-        raise DxfImportError(f"unsupported drawing units ($INSUNITS = {bounded(str(units), 40)}); "
-                             f"use mm, cm, m or in")
-    pieces = _pieces(doc)
-    scale = UNIT_SCALE[units]
+    scale = drawing_scale(doc, declares_units)
+    pieces = drawn_pieces(doc)
     mirror = -1.0 if all(max(p.p0[0], p.p1[0]) <= JOIN_TOL_MM / scale for p in pieces) else 1.0
     pieces = [p.transformed(scale, mirror, 0.0) for p in pieces]
-    reach = max(max(abs(v) for v in p.p0 + p.p1) for p in pieces)
-    if reach > MAX_EXTENT_MM:
-        raise DxfImportError(f"the drawing reaches {reach:.6g} mm from its origin; a bottle fits "
-                             f"within {MAX_EXTENT_MM:g} mm (are the drawing's units right?)")
+    check_reach(pieces)
     chain = _snap_joints(_chain(pieces))
     # Stand the bottle on z = 0: its lowest point (the axis end, or the ring of a punt).
     z_low = min(_lowest_z(p.segment()) for p in chain)
@@ -100,17 +134,21 @@ def section_from_document(doc, declares_units: bool = True) -> Section:
     return Section(tuple(segs), _drawn_smoothness(segs))
 
 
-def _pieces(doc) -> list:
-    """Every curve of the model space as a ``_Piece``; at most ``MAX_SEGMENTS`` of them."""
+def drawn_pieces(doc, kinds=("LINE", "ARC", "ELLIPSE", "LWPOLYLINE"), what: str = "a section",
+                 most: int = MAX_SEGMENTS) -> list:
+    """Every curve of the model space as a ``Piece`` (drawing units); at most ``most``.
+
+    ``kinds`` are the entity types ``what`` may be drawn with (text and dimensions are ignored,
+    anything else is refused naming its handle)."""
     pieces = []
     for entity in doc.modelspace():
         kind = entity.dxftype()
         if kind in IGNORED:
             continue
-        maker = _MAKERS.get(kind)
+        maker = _MAKERS.get(kind) if kind in kinds else None
         if maker is None:
-            raise DxfImportError(f"unsupported DXF entity {kind} (handle {entity.dxf.handle}); "
-                                 f"use LINE, ARC, ELLIPSE or LWPOLYLINE")
+            raise DxfImportError(f"unsupported DXF entity {kind} (handle {entity.dxf.handle}) in "
+                                 f"{what}; use {', '.join(kinds[:-1])} or {kinds[-1]}")
         try:
             made = maker(entity)
         except DxfImportError:
@@ -122,11 +160,12 @@ def _pieces(doc) -> list:
             if not all(math.isfinite(v) for v in piece.numbers()):
                 raise DxfImportError(f"entity {piece.handle} has a coordinate that is not a finite number")
         pieces.extend(made)
-        if len(pieces) > MAX_SEGMENTS:
-            raise DxfImportError(f"the drawing holds more than {MAX_SEGMENTS} curves; a section "
-                                 f"holds at most {MAX_SEGMENTS} segments (join short lines into arcs)")
+        if len(pieces) > most:
+            raise DxfImportError(f"the drawing holds more than {most} curves; {what} "
+                                 f"holds at most {most} segments (join short lines into arcs)")
     if not pieces:
-        raise DxfImportError("the drawing holds no lines, arcs, ellipses or polylines")
+        names = [_PLURAL[k] for k in kinds]
+        raise DxfImportError(f"the drawing holds no {', '.join(names[:-1])} or {names[-1]}")
     return pieces
 
 
@@ -185,7 +224,7 @@ def section_to_dxf(section: Section, path: str | os.PathLike) -> None:
         raise DxfImportError(f"cannot write {os.fspath(path)}: {exc.strerror}") from None
 
 
-class _Piece:
+class Piece:
     """One drawn curve with its two ends; ``segment()`` builds it walked from p0 to p1."""
 
     def __init__(self, kind, p0, p1, center=None, radii=None, direction="ccw", handle="?"):
@@ -196,21 +235,21 @@ class _Piece:
         """Every coordinate and radius of the piece (for the finiteness check)."""
         return self.p0 + self.p1 + tuple(self.center or ()) + tuple(self.radii or ())
 
-    def with_ends(self, p0, p1) -> "_Piece":
+    def with_ends(self, p0, p1) -> "Piece":
         """The same curve between other end points (lines at snapped joints)."""
-        return _Piece(self.kind, p0, p1, self.center, self.radii, self.direction, self.handle)
+        return Piece(self.kind, p0, p1, self.center, self.radii, self.direction, self.handle)
 
-    def reversed(self) -> "_Piece":
+    def reversed(self) -> "Piece":
         flip = {"ccw": "cw", "cw": "ccw"}[self.direction]
-        return _Piece(self.kind, self.p1, self.p0, self.center, self.radii, flip, self.handle)
+        return Piece(self.kind, self.p1, self.p0, self.center, self.radii, flip, self.handle)
 
-    def transformed(self, scale: float, mirror: float, dz: float) -> "_Piece":
+    def transformed(self, scale: float, mirror: float, dz: float) -> "Piece":
         """Scale about the origin, mirror r by ``mirror`` (+-1), then shift z by ``dz`` (mm)."""
         def f(p):
             return None if p is None else (mirror * scale * p[0], scale * p[1] + dz)
         radii = None if self.radii is None else tuple(scale * r for r in self.radii)
         direction = self.direction if mirror > 0 else {"ccw": "cw", "cw": "ccw"}[self.direction]
-        return _Piece(self.kind, f(self.p0), f(self.p1), f(self.center), radii, direction, self.handle)
+        return Piece(self.kind, f(self.p0), f(self.p1), f(self.center), radii, direction, self.handle)
 
     def segment(self):
         try:
@@ -240,14 +279,14 @@ def _line(entity):
     s, e = _xy(entity.dxf.start), _xy(entity.dxf.end)
     if math.dist(s, e) <= JOIN_TOL_MM:
         return []  # a zero-length line joins nothing
-    return [_Piece("line", s, e, handle=entity.dxf.handle)]
+    return [Piece("line", s, e, handle=entity.dxf.handle)]
 
 
 def _arc(entity):
     sign = _orientation(entity)
     # start_point / end_point are in world coordinates; the OCS centre needs mapping.
     c = _xy(entity.ocs().to_wcs(entity.dxf.center))
-    piece = _Piece("arc", _xy(entity.start_point), _xy(entity.end_point), c,
+    piece = Piece("arc", _xy(entity.start_point), _xy(entity.end_point), c,
                    (float(entity.dxf.radius),), "ccw" if sign > 0 else "cw", entity.dxf.handle)
     return [piece]
 
@@ -268,7 +307,7 @@ def _ellipse(entity):
     span = (entity.dxf.end_param - entity.dxf.start_param) % (2 * math.pi)
     if span < 1e-12:
         raise DxfImportError(f"ELLIPSE {entity.dxf.handle} is a full ellipse, not an arc")
-    return [_Piece("ellipse", _xy(entity.start_point), _xy(entity.end_point),
+    return [Piece("ellipse", _xy(entity.start_point), _xy(entity.end_point),
                    _xy(entity.dxf.center), radii, "ccw" if sign > 0 else "cw", entity.dxf.handle)]
 
 
@@ -286,7 +325,7 @@ def _lwpolyline(entity):
             continue
         wa, wb = _xy(ocs.to_wcs((x0, y0, 0.0))), _xy(ocs.to_wcs((x1, y1, 0.0)))
         if abs(bulge) < 1e-12:
-            out.append(_Piece("line", wa, wb, handle=entity.dxf.handle))
+            out.append(Piece("line", wa, wb, handle=entity.dxf.handle))
             continue
         theta = 4.0 * math.atan(bulge)  # signed included angle, > 0 counter-clockwise (OCS)
         radius = chord / (2.0 * abs(math.sin(theta / 2.0)))
@@ -295,17 +334,20 @@ def _lwpolyline(entity):
         c = ((a[0] + b[0]) / 2 + nx * off, (a[1] + b[1]) / 2 + ny * off)
         wc = _xy(ocs.to_wcs((c[0], c[1], 0.0)))
         ccw = (theta > 0) == (sign > 0)
-        out.append(_Piece("arc", wa, wb, wc, (radius,), "ccw" if ccw else "cw", entity.dxf.handle))
+        out.append(Piece("arc", wa, wb, wc, (radius,), "ccw" if ccw else "cw", entity.dxf.handle))
     return out
 
 
 _MAKERS = {"LINE": _line, "ARC": _arc, "ELLIPSE": _ellipse, "LWPOLYLINE": _lwpolyline}
+_PLURAL = {"LINE": "lines", "ARC": "arcs", "ELLIPSE": "ellipses", "LWPOLYLINE": "polylines"}
 
 
-def _chain(pieces: list[_Piece]) -> list[_Piece]:
-    """Order and orient the pieces into one open chain starting on the axis."""
-    # Cluster ends into joints (tolerance JOIN_TOL_MM) through a grid of that cell size: each
-    # end looks at its own and the 8 neighbouring cells only, so this is linear in the ends.
+def joints_of(pieces: list[Piece]) -> tuple[list, list, dict]:
+    """``(joints, ends, touching)``: the pieces' ends clustered into joints (ends closer than
+    ``JOIN_TOL_MM`` are one), each piece's two joint numbers, and per joint the pieces touching
+    it. Refuses a piece closed on itself and a joint where more than two pieces meet."""
+    # A grid of cell size JOIN_TOL_MM: each end looks at its own and the 8 neighbouring cells
+    # only, so this is linear in the ends.
     joints: list[tuple[float, float]] = []
     grid: dict[tuple[int, int], list[int]] = {}
 
@@ -331,6 +373,28 @@ def _chain(pieces: list[_Piece]) -> list[_Piece]:
             x, y = joints[j]
             raise DxfImportError(f"the drawing branches at ({x:.4g}, {y:.4g}): "
                                  f"{len(ks)} curves meet there")
+    return joints, ends, touching
+
+
+def walk(pieces: list[Piece], ends: list, touching: dict, start: int) -> list[Piece]:
+    """The pieces connected to joint ``start`` (of :func:`joints_of`), walked from it along the
+    lowest-numbered piece there, each oriented to the walking direction; it stops at a loose end
+    or back at ``start``. (So from the start of piece 0 the walk runs along piece 0 first.)"""
+    chain, used, current = [], set(), start
+    while True:
+        nxt = [k for k in touching[current] if k not in used]
+        if not nxt:
+            return chain
+        k = nxt[0]
+        used.add(k)
+        forward = ends[k][0] == current
+        chain.append(pieces[k] if forward else pieces[k].reversed())
+        current = ends[k][1] if forward else ends[k][0]
+
+
+def _chain(pieces: list[Piece]) -> list[Piece]:
+    """Order and orient the pieces into one open chain starting on the axis."""
+    joints, ends, touching = joints_of(pieces)
     free = [j for j, ks in touching.items() if len(ks) == 1]
     if not free:
         raise DxfImportError("the drawing is a closed loop; draw only the outer half-section "
@@ -343,39 +407,34 @@ def _chain(pieces: list[_Piece]) -> list[_Piece]:
         shown = " and ".join(f"({joints[j][0]:.4g}, {joints[j][1]:.4g})" for j in free)
         raise DxfImportError(f"neither end of the section lies on the axis x = 0 (ends at {shown})")
     # If both ends are on the axis (unlikely), start from the lower one.
-    current = min(on_axis, key=lambda j: joints[j][1])
-    chain, used = [], set()
-    while True:
-        nxt = [k for k in touching[current] if k not in used]
-        if not nxt:
-            break
-        k = nxt[0]
-        used.add(k)
-        forward = ends[k][0] == current
-        chain.append(pieces[k] if forward else pieces[k].reversed())
-        current = ends[k][1] if forward else ends[k][0]
-    if len(used) != len(pieces):  # a separate closed loop elsewhere in the drawing
-        raise DxfImportError(f"{len(pieces) - len(used)} curve(s) are not connected to the section")
+    chain = walk(pieces, ends, touching, min(on_axis, key=lambda j: joints[j][1]))
+    if len(chain) != len(pieces):  # a separate closed loop elsewhere in the drawing
+        raise DxfImportError(f"{len(pieces) - len(chain)} curve(s) are not connected to the section")
     return chain
 
 
-def _snap_joints(chain: list[_Piece]) -> list[_Piece]:
+def meeting_point(before: Piece | None, after: Piece | None) -> tuple[tuple[float, float], bool]:
+    """``(point, fixed)``: the one point (mm) of the joint where ``before`` ends and ``after``
+    starts (``None`` past a chain's end). A curve keeps its exact end and fixes the joint (the
+    curve before wins where two meet: validation judges their gap); between lines the mean."""
+    if before is not None and before.kind != "line":
+        return before.p1, True
+    if after is not None and after.kind != "line":
+        return after.p0, True
+    if after is None:
+        return before.p1, False
+    if before is None:
+        return after.p0, False
+    return ((before.p1[0] + after.p0[0]) / 2.0, (before.p1[1] + after.p0[1]) / 2.0), False
+
+
+def _snap_joints(chain: list[Piece]) -> list[Piece]:
     """One exact point per joint: a curve's own end where a curve meets it, else the lines'
     mean; lines within ``JOIN_TOL_MM`` of horizontal or vertical made exactly so; the axis end
     at r = 0. Where two curves meet each keeps its end (validation judges the gap)."""
     n = len(chain)
-    pts = [list(chain[0].p0)] + [None] * n
-    fixed = [chain[0].kind != "line"] + [False] * n
-    for k in range(1, n + 1):
-        before, after = chain[k - 1], chain[k] if k < n else None
-        if before.kind != "line":
-            pts[k], fixed[k] = list(before.p1), True
-        elif after is not None and after.kind != "line":
-            pts[k], fixed[k] = list(after.p0), True
-        elif after is not None:
-            pts[k] = [(a + b) / 2.0 for a, b in zip(before.p1, after.p0)]
-        else:
-            pts[k] = list(before.p1)
+    met = [meeting_point(chain[k - 1] if k > 0 else None, chain[k] if k < n else None) for k in range(n + 1)]
+    pts, fixed = [list(p) for p, _ in met], [f for _, f in met]
     if not fixed[0]:
         pts[0][0] = 0.0
     locked = [[f, f] for f in fixed]  # per joint: r, z may no longer move

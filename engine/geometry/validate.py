@@ -67,13 +67,21 @@ def _check_segment(i: int, seg) -> None:
                 raise SectionError(i, f"ellipse arc {name} point {p} is about {off:.3g} mm off its ellipse")
 
 
-def _r_min(seg) -> float:
+def r_min(seg) -> float:
     """Smallest r (mm) on a segment (exact)."""
     r = min(seg.p0[0], seg.p1[0])
     if isinstance(seg, Arc) and _angle_inside(seg, [math.pi]):
         r = seg.center[0] - seg.radius
     if isinstance(seg, EllipseArc) and _angle_inside(seg, [math.pi]):
         r = seg.center[0] - seg.radius_r
+    return r
+
+
+def r_max(seg) -> float:
+    """Largest r (mm) on a segment (exact)."""
+    r = max(seg.p0[0], seg.p1[0])
+    if isinstance(seg, (Arc, EllipseArc)) and _angle_inside(seg, [0.0]):
+        r = seg.center[0] + (seg.radius if isinstance(seg, Arc) else seg.radius_r)
     return r
 
 
@@ -109,8 +117,8 @@ def validate_section(section, may_reach_axis: bool = False) -> None:
         raise SectionError(0, f"the section must start on the axis (r = 0), starts at r = {segs[0].p0[0]:g} mm")
     for i, seg in enumerate(segs):
         _check_segment(i, seg)
-        if _r_min(seg) < -POINT_TOL_MM:  # why first: a crossing also breaks tangents and joints
-            raise SectionError(i, f"the section crosses the axis (it reaches r = {_r_min(seg):.4g} mm; "
+        if r_min(seg) < -POINT_TOL_MM:  # why first: a crossing also breaks tangents and joints
+            raise SectionError(i, f"the section crosses the axis (it reaches r = {r_min(seg):.4g} mm; "
                                   f"every point must stay at r >= 0)")
     for i in range(len(segs) - 1):
         a, b = segs[i].p1, segs[i + 1].p0
@@ -129,7 +137,7 @@ def validate_section(section, may_reach_axis: bool = False) -> None:
         if not (seg.p1[1] > seg.p0[1] + POINT_TOL_MM) or not _monotone(seg, 1):
             raise SectionError(i, "the wall must rise: z has to increase strictly along it "
                                   "(no overhang or horizontal part)")
-        if _r_min(seg) <= POINT_TOL_MM and not may_reach_axis:
+        if r_min(seg) <= POINT_TOL_MM and not may_reach_axis:
             raise SectionError(i, "the wall touches or crosses the axis (r must stay > 0)")
     last = segs[-1]
     if not isinstance(last, Line) or abs(last.p1[0] - last.p0[0]) > POINT_TOL_MM:
@@ -244,7 +252,7 @@ def _check_outline(shape) -> BodyProfile:
                                              f"not at the mouth z = {shape.z_top:g} mm")
     round_wall = split_at_ring(shape.section("round"))[1]
     for i, seg in enumerate(round_wall, start=1):
-        if _r_min(seg) <= POINT_TOL_MM:
+        if r_min(seg) <= POINT_TOL_MM:
             raise SectionError(i, "round profile: the rounding must stay above 0 mm")
     prof = build_body_profile(shape)
     core, rnd = (sp.inner_wall for sp in prof.sections)

@@ -136,17 +136,29 @@ def section_polyline(section_or_segments, samples: int = 24) -> np.ndarray:
 
 
 def scaled_radially(section: Section, factor: float) -> Section:
-    """``section`` with every radius multiplied by ``factor`` (arcs become ellipses)."""
+    """``section`` with every radius multiplied by ``factor`` > 0 (arcs become ellipses)."""
+    return Section(mapped_radially(section.segments, factor), section.smooth)
+
+
+def mapped_radially(segments, factor: float, about: float = 0.0, to: float = 0.0) -> tuple:
+    """``segments`` with every radius ``r`` mapped to ``to + factor (r - about)`` (mm), heights
+    kept. The map is affine, so tangent joints stay tangent and corners stay corners; an arc
+    becomes an ellipse arc unless ``|factor| = 1``, and a negative factor mirrors each segment
+    (``ccw`` <-> ``cw``). ``ValueError`` for a zero factor (every segment would be flattened)."""
+    if not (math.isfinite(factor) and factor != 0.0):
+        raise ValueError(f"a radial map needs a finite non-zero factor, got {factor!r}")
+    flip = {"ccw": "cw", "cw": "ccw"} if factor < 0 else {"ccw": "ccw", "cw": "cw"}
+
     def sp(p):
-        return (p[0] * factor, p[1])
+        return (to + factor * (p[0] - about), p[1])
     segs = []
-    for seg in section.segments:
+    for seg in segments:
         if isinstance(seg, Line):
             segs.append(Line(sp(seg.p0), sp(seg.p1)))
-        elif isinstance(seg, Arc):
-            segs.append(EllipseArc(sp(seg.center), seg.radius * factor, seg.radius, sp(seg.p0),
-                                   sp(seg.p1), seg.direction))
+        elif isinstance(seg, Arc) and abs(factor) == 1.0:
+            segs.append(Arc(sp(seg.center), seg.radius, sp(seg.p0), sp(seg.p1), flip[seg.direction]))
         else:
-            segs.append(EllipseArc(sp(seg.center), seg.radius_r * factor, seg.radius_z, sp(seg.p0),
-                                   sp(seg.p1), seg.direction))
-    return Section(tuple(segs), section.smooth)
+            rr, rz = (seg.radius, seg.radius) if isinstance(seg, Arc) else (seg.radius_r, seg.radius_z)
+            segs.append(EllipseArc(sp(seg.center), rr * abs(factor), rz, sp(seg.p0), sp(seg.p1),
+                                   flip[seg.direction]))
+    return tuple(segs)

@@ -338,7 +338,7 @@ class Outline(CrossSection):
     plan: object
     name = "outline"
     sections = ("core", "round")
-    unsupported = frozenset({"labels", "relief", "cad", "drawing", "stability", "stress", "mesh"})
+    unsupported = frozenset({"labels", "relief", "drawing", "stability", "stress", "mesh"})
     #: Steiner's polynomial for r >= 0, the inner parallel set's area below: equal in value and
     #: slope at r = 0 but not in curvature, which would cost Gauss-Legendre its exactness.
     area_breaks = ((1, 0.0),)

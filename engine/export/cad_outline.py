@@ -100,7 +100,9 @@ def bands(chains, z_lo: float, z_hi: float, crossings=()) -> list[Band]:
     inside = [z for z in crossings if z_lo < z < z_hi]
     zs = z_breaks(chains, z_lo, z_hi, inside)
     for z in inside:  # why: z_breaks rounds; the rounding must be 0 exactly where a band ends
-        zs[np.argmin(np.abs(zs - z))] = z
+        j = int(np.argmin(np.abs(zs - z)))
+        if 0 < j < len(zs) - 1:  # (a crossing merged into the wall's end leaves the end be)
+            zs[j] = z
     out = []
     for za, zb in zip(zs[:-1], zs[1:]):
         k, r = (_band_segment(c, float(za), float(zb)) for c in chains)

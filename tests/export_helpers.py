@@ -6,6 +6,8 @@ import dataclasses
 import math
 from pathlib import Path
 
+import numpy as np
+
 from engine.geometry.section import Section
 from engine.geometry.segments import Arc, EllipseArc, Line
 from engine.model.design import Cap, Label, LabelSide
@@ -114,3 +116,41 @@ def cap_prints():
               Label(name="skirt print", front=LabelSide(None, (0.1, 0.1, 0.8)), surface="cap-skirt",
                     z_mm=0.5 * skirt.height_mm, width_mm=20.0, height_mm=8.0, angle_deg=-90.0))
     return dataclasses.replace(d, labels=labels), a
+
+
+def bspline_face_points(solid, per_side: int = 11):
+    """Points on every B-spline face of ``solid``: a grid over each face's parameters at cell
+    centres of ``per_side`` cells, away from the interpolation nodes (``j / 2^k``)."""
+    from OCP.BRepAdaptor import BRepAdaptor_Surface
+    from OCP.GeomAbs import GeomAbs_SurfaceType as T
+    from OCP.TopAbs import TopAbs_ShapeEnum
+    from OCP.TopExp import TopExp_Explorer
+    from OCP.TopoDS import TopoDS
+    pts = []
+    it = TopExp_Explorer(solid, TopAbs_ShapeEnum.TopAbs_FACE)
+    while it.More():
+        s = BRepAdaptor_Surface(TopoDS.Face(it.Current()))
+        if s.GetType() == T.GeomAbs_BSplineSurface:
+            f = (np.arange(per_side) + 0.5) / per_side
+            u0, u1, v0, v1 = (s.FirstUParameter(), s.LastUParameter(), s.FirstVParameter(),
+                              s.LastVParameter())
+            for u in u0 + (u1 - u0) * f:
+                for v in v0 + (v1 - v0) * f:
+                    p = s.Value(u, v)
+                    pts.append((p.X(), p.Y(), p.Z()))
+        it.Next()
+    return np.array(pts)
+
+
+def wall_distance(shape, pts) -> np.ndarray:
+    """Distance (mm) of each world point ``(n, 3)`` from the nearer exact wall of ``shape``, by
+    the wall's implicit function to first order (``|g| / |grad g|``)."""
+    from engine.geometry.body import BottleBody
+    body = BottleBody(shape)
+    dist = np.full(len(pts), np.inf)
+    for part in ("outer", "inner"):
+        lo, hi = body.wall_range(part)
+        on = (pts[:, 2] >= lo - 1e-9) & (pts[:, 2] <= hi + 1e-9)
+        g, grad = body.wall_implicit(part, pts[on])
+        dist[on] = np.minimum(dist[on], np.abs(g) / np.linalg.norm(grad, axis=-1))
+    return dist

@@ -5,13 +5,12 @@ from __future__ import annotations
 
 import json
 
-import numpy as np
 import pytest
 
 from engine import cli
 from engine.export.cad import VOLUME_RTOL, export_cad
 from engine.export.cad_check import is_closed, read_solids, volume_mm3
-from tests.export_helpers import SAMPLES, load
+from tests.export_helpers import SAMPLES, bspline_face_points, load, wall_distance
 
 
 def info_json(capsys, project) -> dict:
@@ -80,49 +79,17 @@ def test_round_bottles_are_exact_surfaces(tmp_path):
     assert T.GeomAbs_Torus in kinds and T.GeomAbs_Cylinder in kinds
 
 
-def _face_points(solid, per_side: int = 11):
-    """Points on every B-spline face of ``solid``: a grid over each face's parameters at cell
-    centres of ``per_side`` cells, away from the interpolation nodes (``j / 2^k``)."""
-    from OCP.BRepAdaptor import BRepAdaptor_Surface
-    from OCP.GeomAbs import GeomAbs_SurfaceType as T
-    from OCP.TopAbs import TopAbs_ShapeEnum
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
-    pts = []
-    it = TopExp_Explorer(solid, TopAbs_ShapeEnum.TopAbs_FACE)
-    while it.More():
-        s = BRepAdaptor_Surface(TopoDS.Face(it.Current()))
-        if s.GetType() == T.GeomAbs_BSplineSurface:
-            f = (np.arange(per_side) + 0.5) / per_side
-            u0, u1, v0, v1 = (s.FirstUParameter(), s.LastUParameter(), s.FirstVParameter(),
-                              s.LastVParameter())
-            for u in u0 + (u1 - u0) * f:
-                for v in v0 + (v1 - v0) * f:
-                    p = s.Value(u, v)
-                    pts.append((p.X(), p.Y(), p.Z()))
-        it.Next()
-    return np.array(pts)
-
-
 def test_rounded_square_within_its_tolerance(tmp_path):
     """Every point of the read-back walls lies within the stated tolerance of an exact wall
     (distance by the wall's implicit function, first order: |g| / |grad g|)."""
-    from engine.geometry.body import BottleBody
     design, _ = load("square.glassbench")
     tol = 0.001
     report = export_cad(design, tmp_path / "sq.step", tol)
     assert 0 < report["bodies"][0]["deviation_mm"] <= tol
     glass = dict(read_solids(tmp_path / "sq.step"))["glass"]
-    pts = _face_points(glass)
+    pts = bspline_face_points(glass)
     assert len(pts) > 1000
-    body = BottleBody(design.shape)
-    dist = np.full(len(pts), np.inf)
-    for part in ("outer", "inner"):
-        lo, hi = body.wall_range(part)
-        on = (pts[:, 2] >= lo - 1e-9) & (pts[:, 2] <= hi + 1e-9)
-        g, grad = body.wall_implicit(part, pts[on])
-        dist[on] = np.minimum(dist[on], np.abs(g) / np.linalg.norm(grad, axis=-1))
-    assert float(dist.max()) <= tol
+    assert float(wall_distance(design.shape, pts).max()) <= tol
 
 
 def test_no_liquid_option_and_bad_names(tmp_path, capsys):

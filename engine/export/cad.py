@@ -5,7 +5,9 @@ and the tracer read (:func:`engine.geometry.validate.body_profile`), never from 
 bottle is its meridian (outer base, outer wall, rim, inner wall and inner base walked back, the
 axis) revolved a full turn (:mod:`engine.export.occ_profile`: exact planes, cones, tori and
 ellipses; the offset of an ellipse arc a B-spline within ``tol_mm``); a non-round body is sewn
-from B-spline patches (:mod:`engine.export.cad_nonround`). The liquid is its own solid (the
+from B-spline patches (:mod:`engine.export.cad_nonround`), an outline (free plan) body from
+planes, cylinders, cones, tori and B-spline patches, one per piece of its plan per height band
+(:mod:`engine.export.cad_outline`). The liquid is its own solid (the
 cavity up to the fill line), each closure part another, and every body carries its name
 (``glass``, ``liquid``, ``closure <part>``) in STEP and IGES. A file is written to a temporary
 name, read back by OpenCascade and checked (:mod:`engine.export.cad_check`: valid, closed,
@@ -101,7 +103,7 @@ def liquid_meridian(prof, height: float) -> list:
 def glass_bodies(design, tol_mm: float = DEFAULT_TOL_MM, liquid: bool = True) -> list[CadBody]:
     """The design's solids: ``glass``, ``liquid`` (with ``liquid`` and a liquid in the design)
     and one ``closure <part>`` per closure part. Raises ``CadError`` where the kernel cannot and
-    ``DesignError`` for a bottle CAD export does not support yet (an outline)."""
+    ``DesignError`` for a kind that refuses CAD export (:meth:`CrossSection.require`)."""
     shape = design.shape
     shape.xs.require("cad")
     prof = body_profile(shape)
@@ -117,17 +119,27 @@ def glass_bodies(design, tol_mm: float = DEFAULT_TOL_MM, liquid: bool = True) ->
             solid, dev = revolved_solid(liquid_meridian(prof, height), tol_mm, "liquid")
             bodies.append(CadBody("liquid", "liquid", solid, liquid_mm3, dev))
     else:
-        from .cad_nonround import nonround_glass, nonround_liquid
-        solid, dev = nonround_glass(shape, tol_mm)
+        glass_solid, liquid_solid = _swept_builders(shape)
+        solid, dev = glass_solid(shape, tol_mm)
         bodies.append(CadBody("glass", "glass", solid, glass_mm3, dev))
         if height is not None and height > prof.z_ib:
-            solid, dev = nonround_liquid(shape, height, tol_mm)
+            solid, dev = liquid_solid(shape, height, tol_mm)
             bodies.append(CadBody("liquid", "liquid", solid, liquid_mm3, dev))
     geom = closure_geometry(design)
     for part in (geom.parts if geom is not None else ()):
         solid, dev = revolved_solid(part.chain, tol_mm, f"closure's {part.name}")
         bodies.append(CadBody(f"closure {part.name}", "closure", solid, None, dev))
     return bodies
+
+
+def _swept_builders(shape):
+    """``(glass, liquid)`` solid builders of a bottle that is not revolved: an outline's pieces
+    (:mod:`engine.export.cad_outline`) or a fixed kind's patches (:mod:`engine.export.cad_nonround`)."""
+    if shape.cross_section == "outline":
+        from .cad_outline import outline_glass, outline_liquid
+        return outline_glass, outline_liquid
+    from .cad_nonround import nonround_glass, nonround_liquid
+    return nonround_glass, nonround_liquid
 
 
 def check_tolerance(tol_mm: float) -> float:

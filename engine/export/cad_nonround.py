@@ -91,7 +91,8 @@ def side_width(kind, part, radii) -> np.ndarray:
     return (b - c) if part[1] % 2 == 0 else (a - c)
 
 
-def _knots(t):
+def occ_knots(t):
+    """OpenCascade's ``(knots, multiplicities)`` arrays of the full knot vector ``t``."""
     vals, mults = np.unique(np.round(t, 14), return_counts=True)
     kn, mu = Array1_double(1, len(vals)), Array1_int(1, len(vals))
     for i, (v, m) in enumerate(zip(vals, mults)):
@@ -115,48 +116,56 @@ def bspline_surface(sw, sx):
     for i in range(poles.shape[0]):
         for j in range(poles.shape[1]):
             arr.SetValue(i + 1, j + 1, gp_Pnt(*map(float, poles[i, j])))
-    (uk, um), (vk, vm) = _knots(sw.t), _knots(sx.t)
+    (uk, um), (vk, vm) = occ_knots(sw.t), occ_knots(sx.t)
     return Geom_BSplineSurface(arr, uk, vk, um, vm, 3, 3)
 
 
-def _heights(za, zb, x):
+def band_heights(za, zb, x):
+    """Heights (mm) at parameters ``x`` in [0, 1] between ``za`` and ``zb``: the cosine spacing
+    (``(1 - cos(pi x)) / 2``) that keeps a section turning horizontal at an end smooth in ``x``."""
     return za + (zb - za) * (1.0 - np.cos(math.pi * x)) / 2.0
 
 
 def _grid_points(kind, part, chains, za, zb, w, x):
     """Exact points ``(len(w), len(x), 3)`` of a patch at parameters ``w`` and ``x``."""
-    z = _heights(za, zb, x)
+    z = band_heights(za, zb, x)
     xy = patch_points(kind, part, [r[None, :] for r in radii_at(chains, z)], w[:, None])
     return np.concatenate([xy, np.broadcast_to(z[None, :, None], xy.shape[:2] + (1,))], -1)
 
 
 def fitted_patch(kind, part, chains, za, zb, tol_mm):
-    """``(surface, deviation_mm)`` of one patch between heights ``za`` and ``zb`` (mm): the
-    grid grows along whichever parameter's midpoints are off by more than half the limit."""
+    """``(surface, deviation_mm)`` of one patch between heights ``za`` and ``zb`` (mm)."""
+    return fitted_surface(lambda w, x: _grid_points(kind, part, chains, za, zb, w, x), tol_mm,
+                          f"a {kind.replace('_', ' ')} wall patch between z {za:.6g} and {zb:.6g} mm")
+
+
+def fitted_surface(grid, tol_mm, what: str):
+    """``(surface, deviation_mm)``: the tensor interpolant of the exact points ``grid(w, x)``
+    (``(len(w), len(x), 3)`` mm at parameters in [0, 1]) within a tenth of ``tol_mm``; the
+    grid grows along whichever parameter's midpoints are off by more than half the limit.
+    ``CadError`` naming ``what`` past :data:`MAX_NODES`."""
     nw = nx = START_NODES
     limit = 0.1 * tol_mm
     while True:
         w, x = np.linspace(0.0, 1.0, nw), np.linspace(0.0, 1.0, nx)
-        sw, sx = interpolant(w, x, _grid_points(kind, part, chains, za, zb, w, x))
-        e_w, e_x, e_c = _deviations(kind, part, chains, za, zb, sw, sx, w, x)
+        sw, sx = interpolant(w, x, grid(w, x))
+        e_w, e_x, e_c = _deviations(grid, sw, sx, w, x)
         either = e_c > limit and e_w <= limit / 2 and e_x <= limit / 2
         grow_w, grow_x = e_w > limit / 2 or either, e_x > limit / 2 or either
         if not (grow_w or grow_x):
             return bspline_surface(sw, sx), max(e_w, e_x, e_c)
         if (grow_w and nw >= MAX_NODES) or (grow_x and nx >= MAX_NODES):
-            raise CadError(f"a {kind.replace('_', ' ')} wall patch cannot be fitted within "
-                           f"{tol_mm:g} mm between z {za:.6g} and {zb:.6g} mm; choose a coarser "
-                           "tolerance")
+            raise CadError(f"{what} cannot be fitted within {tol_mm:g} mm; choose a coarser tolerance")
         nw, nx = (2 * nw - 1 if grow_w else nw), (2 * nx - 1 if grow_x else nx)
 
 
-def _deviations(kind, part, chains, za, zb, sw, sx, w, x):
+def _deviations(grid, sw, sx, w, x):
     """Largest distances (mm) between the interpolant and the exact surface at the midpoints
     along ``w``, along ``x`` and at the cells' centres."""
     wm, xm = 0.5 * (w[1:] + w[:-1]), 0.5 * (x[1:] + x[:-1])
     out = []
     for wq, xq in ((wm, x), (w, xm), (wm, xm)):
-        exact = _grid_points(kind, part, chains, za, zb, wq, xq)
+        exact = grid(wq, xq)
         coef = sx(xq)  # the tensor interpolant: the w-basis times the x-interpolated coefficients
         basis = BSpline(sw.t, np.eye(coef.shape[0]), 3)(wq)
         fit = (basis @ coef.reshape(coef.shape[0], -1)).reshape(len(wq), len(xq), 3)
@@ -164,9 +173,10 @@ def _deviations(kind, part, chains, za, zb, sw, sx, w, x):
     return out
 
 
-def z_breaks(chains, z_lo, z_hi) -> np.ndarray:
-    """Heights (mm) where any chain has a joint, within ``z_lo .. z_hi`` (both included)."""
-    zs = [z_lo, z_hi] + [p[1] for c in chains for s in c for p in (s.p0, s.p1)]
+def z_breaks(chains, z_lo, z_hi, extra=()) -> np.ndarray:
+    """Heights (mm) where any chain has a joint, and the ``extra`` heights, within
+    ``z_lo .. z_hi`` (both included)."""
+    zs = [z_lo, z_hi, *extra] + [p[1] for c in chains for s in c for p in (s.p0, s.p1)]
     z = np.unique(np.clip(np.round(zs, 9), z_lo, z_hi))
     return z[np.concatenate([[True], np.diff(z) > 1e-6])]
 

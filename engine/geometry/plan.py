@@ -642,14 +642,20 @@ class PlanOutline:
         return total
 
     # ------------------------------------------------------------------ vectorised section queries
-    def _section_pieces(self, k, r):
+    def section_pieces(self, k, r, grown: bool | None = None):
         """The boundary pieces of the section ``{q : sd(q, k P) <= r}`` (mm) as arrays over the
         1-d arrays ``k >= 0`` and ``r`` (one sign throughout: all ``r >= 0`` or all ``r < 0``):
         ``("line", ax, ay, bx, by, nx, ny)`` and ``("arc", cx, cy, rho, a0, a1)`` in chain order,
         as :meth:`outer_pieces` / :meth:`inner_pieces` but without their per-height loop (a
-        corner arc or line may have zero size; at ``k = 0`` the arcs about the origin cover it)."""
+        corner arc or line may have zero size; at ``k = 0`` the arcs about the origin cover it).
+        ``grown`` says which list to give where ``r`` is 0: ``True`` the grown set's (a corner arc
+        of radius ``r`` at each sharp corner of ``P``, then its segment), ``False`` the inner
+        parallel set's (one piece per segment); ``None`` takes it from the sign of ``r``."""
+        return self._section_pieces(np.asarray(k, float), np.asarray(r, float), grown)
+
+    def _section_pieces(self, k, r, grown: bool | None = None):
         out = []
-        if np.all(r >= 0):
+        if np.all(r >= 0) if grown is None else grown:
             for i, s in enumerate(self.segments):
                 if self._joint_turns[i] > 0:
                     n_in = _end_normals(self.segments[i - 1])[1]

@@ -35,6 +35,7 @@ from scipy.interpolate import BSpline, make_interp_spline
 
 from ..geometry import crosssection
 from ..geometry.body import chain_state
+from ..geometry.chain import z_breaks
 from ..geometry.validate import body_profile
 from .occ_profile import CadError
 
@@ -171,14 +172,6 @@ def _deviations(grid, sw, sx, w, x):
         fit = (basis @ coef.reshape(coef.shape[0], -1)).reshape(len(wq), len(xq), 3)
         out.append(float(np.max(np.linalg.norm(fit - exact, axis=-1))))
     return out
-
-
-def z_breaks(chains, z_lo, z_hi, extra=()) -> np.ndarray:
-    """Heights (mm) where any chain has a joint, and the ``extra`` heights, within
-    ``z_lo .. z_hi`` (both included)."""
-    zs = [z_lo, z_hi, *extra] + [p[1] for c in chains for s in c for p in (s.p0, s.p1)]
-    z = np.unique(np.clip(np.round(zs, 9), z_lo, z_hi))
-    return z[np.concatenate([[True], np.diff(z) > 1e-6])]
 
 
 # ------------------------------------------------------------------------ faces and solid

@@ -45,11 +45,11 @@ from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
 
 from ..geometry.capacity import _area_breaks as area_breaks  # the heights the capacity cuts at too
-from ..geometry.chain import locate, param_at_z, subsegment
 from ..geometry.offset import shifted
+from ..geometry.outline_bands import Band, band_radii, bands
 from ..geometry.segments import Line
 from ..geometry.validate import body_profile
-from .cad_nonround import band_heights, fitted_surface, occ_knots, radii_at, sewn_solid, z_breaks
+from .cad_nonround import band_heights, fitted_surface, occ_knots, radii_at, sewn_solid
 from .occ_profile import CadError, pnt, segment_edge
 
 #: A piece no wider than this (mm) anywhere in a band has vanished from it (the neck's lines).
@@ -58,19 +58,6 @@ WIDTH_EPS_MM = 1e-9
 #: line by less than this (mm) moves on it.
 STRAIGHT_MM = 1e-9
 _UP = gp_Dir(0.0, 0.0, 1.0)
-
-
-@dataclass(frozen=True)
-class Band:
-    """One height band of a wall: ``za < zb`` (mm), the core's and the rounding's profile
-    segments over it (``k``, ``r``: exact segments in (radius, z), mm) and whether its sections
-    are grown (``r >= 0``: corner arcs) or eroded (``r < 0``: sharp creases)."""
-
-    za: float
-    zb: float
-    k: object
-    r: object
-    grown: bool
 
 
 @dataclass(frozen=True)
@@ -86,31 +73,6 @@ class Part:
     rho: float = 0.0
 
 
-def _band_segment(chain, za: float, zb: float):
-    """The part of the z-rising ``chain`` between ``za`` and ``zb`` (mm): one segment of it,
-    since bands are cut at its joints."""
-    seg = chain[int(locate(chain, np.array([0.5 * (za + zb)]))[0][0])]
-    t0, t1 = (float(param_at_z(seg, z)) for z in (za, zb))
-    return seg if (t0 <= 1e-12 and t1 >= 1.0 - 1e-12) else subsegment(seg, t0, t1)
-
-
-def bands(chains, z_lo: float, z_hi: float, crossings=()) -> list[Band]:
-    """The bands of the wall whose core and rounding are ``chains`` from ``z_lo`` to ``z_hi``
-    (mm), cut at their joints and at the heights ``crossings`` where the rounding passes 0."""
-    inside = [z for z in crossings if z_lo < z < z_hi]
-    zs = z_breaks(chains, z_lo, z_hi, inside)
-    for z in inside:  # why: z_breaks rounds; the rounding must be 0 exactly where a band ends
-        j = int(np.argmin(np.abs(zs - z)))
-        if 0 < j < len(zs) - 1:  # (a crossing merged into the wall's end leaves the end be)
-            zs[j] = z
-    out = []
-    for za, zb in zip(zs[:-1], zs[1:]):
-        k, r = (_band_segment(c, float(za), float(zb)) for c in chains)
-        mid = float(r.point(param_at_z(r, 0.5 * (za + zb)))[0])
-        out.append(Band(float(za), float(zb), k, r, mid >= 0.0))
-    return out
-
-
 def parts(plan, grown: bool) -> list[Part]:
     """The pieces of a section of ``plan``, in the order ``section_pieces`` lists them."""
     corners = {c.index: c.vertex for c in plan.corners}
@@ -121,12 +83,6 @@ def parts(plan, grown: bool) -> list[Part]:
         out.append(Part(len(out), "line") if s.kind == "line"
                    else Part(len(out), "arc", s.center, s.radius))
     return out
-
-
-def band_radii(band: Band, z):
-    """``(k, r)`` (mm) at heights ``z`` in the band, ``r`` kept on the band's side of 0."""
-    k, r = (s.point(param_at_z(s, z))[..., 0] for s in (band.k, band.r))
-    return np.maximum(k, 0.0), (np.maximum(r, 0.0) if band.grown else np.minimum(r, 0.0))
 
 
 def _along(piece, w):

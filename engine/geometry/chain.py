@@ -132,3 +132,19 @@ def radius_at(segments, z) -> np.ndarray:
         if i >= 0:
             r_flat[part] = segments[i].point(t_flat[part])[..., 0]
     return r
+
+
+def z_breaks(chains, z_lo, z_hi, extra=()) -> np.ndarray:
+    """Heights (mm) where any chain has a joint, and the ``extra`` heights, within
+    ``z_lo .. z_hi`` (both included; heights closer than 1e-6 mm merge)."""
+    zs = [z_lo, z_hi, *extra] + [p[1] for c in chains for s in c for p in (s.p0, s.p1)]
+    z = np.unique(np.clip(np.round(zs, 9), z_lo, z_hi))
+    return z[np.concatenate([[True], np.diff(z) > 1e-6])]
+
+
+def segment_between(chain, za: float, zb: float) -> Segment:
+    """The part of the z-rising ``chain`` between heights ``za < zb`` (mm), which must lie
+    within one of its segments (cut the chain at its joints first: :func:`z_breaks`)."""
+    seg = chain[int(locate(chain, np.array([0.5 * (za + zb)]))[0][0])]
+    t0, t1 = (float(param_at_z(seg, z)) for z in (za, zb))
+    return seg if (t0 <= 1e-12 and t1 >= 1.0 - 1e-12) else subsegment(seg, t0, t1)

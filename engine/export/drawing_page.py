@@ -112,9 +112,10 @@ class Dim:
     """A linear dimension between model points ``p1`` and ``p2`` (mm).
 
     ``axis`` ``"x"`` measures the horizontal distance, ``"y"`` the vertical one, ``"aligned"``
-    the straight distance. The dimension line stands ``offset_mm`` (paper mm, signed) from
-    ``p1`` along the normal: +y for ``"x"``, +x for ``"y"``, the left normal of ``p1 -> p2``
-    for ``"aligned"``. ``tag`` names it for readers (tests, the README): ``"height"``,
+    the straight distance, ``"radius"`` an arc's radius from its centre ``p1`` to the point
+    ``p2`` on it (drawn as a leader from outside the arc; ``offset_mm`` unused). The dimension
+    line stands ``offset_mm`` (paper mm, signed) from ``p1`` along the normal: +y for ``"x"``,
+    +x for ``"y"``, the left normal of ``p1 -> p2`` for ``"aligned"``. ``tag`` names it for readers (tests, the README): ``"height"``,
     ``"body"``, ``"finish"``, ... The text reads along the dimension line (ISO 129 method 1).
     """
 

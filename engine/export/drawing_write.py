@@ -96,10 +96,40 @@ def dim_geometry(page: Page, dim: Dim) -> dict:
     return {"a": a, "b": b, "l1": l1, "l2": l2, "d": d, "up": up}
 
 
+def _arrow(ax, tip, point) -> None:
+    """A closed, filled arrowhead (paper mm) with its tip at ``tip``, pointing along the unit
+    vector ``point``."""
+    from matplotlib.patches import Polygon
+    base = tip - point * ARROW_MM
+    side = np.array([-point[1], point[0]]) * ARROW_HALF_MM
+    ax.add_patch(Polygon([tip, base + side, base - side], closed=True, facecolor="black",
+                         edgecolor="none", snap=False, clip_on=False, zorder=3.0))
+
+
+def _draw_radius(ax, page: Page, dim: Dim) -> None:
+    """A radius (``dim.p1`` the centre, ``dim.p2`` on the arc): a leader along the radius from
+    outside, its arrowhead on the arc pointing at the centre, the text along the leader and
+    reading from the left (ISO 129's form for a radius too small to hold its text; a large
+    radius's far centre needs no line either)."""
+    a, b = page.to_paper(dim.p1), page.to_paper(dim.p2)
+    out = (b - a) / float(np.hypot(*(b - a)))
+    width = text_width_mm(dim.text)
+    _arrow(ax, b, -out)
+    _line(ax, [b, b + out * (ARROW_MM + 3.0 + width)], THIN_MM)
+    forward = out[0] >= 0.0
+    read = out if forward else -out
+    at = b + out * (ARROW_MM + 1.5) + np.array([-read[1], read[0]]) * TEXT_GAP_MM
+    _text(ax, at[0], at[1], dim.text, TEXT_MM, "left" if forward else "right", "baseline",
+          math.degrees(math.atan2(read[1], read[0])))
+
+
 def _draw_dim(ax, page: Page, dim: Dim) -> None:
     """Extension lines, the dimension line (one straight piece between the extension lines),
-    closed arrowheads (inside when they fit, else outside) and the text along the line."""
-    from matplotlib.patches import Polygon
+    closed arrowheads (inside when they fit, else outside) and the text along the line; a
+    radius as :func:`_draw_radius`."""
+    if dim.axis == "radius":
+        _draw_radius(ax, page, dim)
+        return
     g = dim_geometry(page, dim)
     l1, l2, d, up = g["l1"], g["l2"], g["d"], g["up"]
     for p in (g["a"], g["b"]):
@@ -113,10 +143,7 @@ def _draw_dim(ax, page: Page, dim: Dim) -> None:
     inside = span >= 2.0 * ARROW_MM + 1.0
     for tip, way in ((l1, -d), (l2, d)):
         point = way if inside else -way   # the direction the arrow points
-        base = tip - point * ARROW_MM
-        side = np.array([-point[1], point[0]]) * ARROW_HALF_MM
-        ax.add_patch(Polygon([tip, base + side, base - side], closed=True, facecolor="black",
-                             edgecolor="none", snap=False, clip_on=False, zorder=3.0))
+        _arrow(ax, tip, point)
         if not inside:
             _line(ax, [tip, tip - point * (ARROW_MM + 2.0)], THIN_MM)
     angle = math.degrees(math.atan2(d[1], d[0]))
@@ -228,9 +255,15 @@ def _dxf_segment(msp, c: SegmentCurve, attribs: dict) -> None:
 
 
 def _dxf_dim(msp, page: Page, dim: Dim) -> None:
+    attribs = {"layer": "DIMENSIONS"}
+    if dim.axis == "radius":  # the text outside the arc, where the PDF's leader has it
+        out = np.subtract(dim.p2, dim.p1) / float(np.hypot(*np.subtract(dim.p2, dim.p1)))
+        where = np.add(dim.p2, out * (ARROW_MM + 1.5 + text_width_mm(dim.text) / 2) / page.scale)
+        msp.add_radius_dim(center=tuple(dim.p1), radius=dim.measured_mm(), location=tuple(where),
+                           text=dim.text, dimstyle="GLASSBENCH", dxfattribs=attribs).render()
+        return
     g = dim_geometry(page, dim)
     base = tuple(page.to_model(g["l1"]))
-    attribs = {"layer": "DIMENSIONS"}
     if dim.axis == "aligned":
         dist = dim.offset_mm / page.scale
         msp.add_aligned_dim(p1=tuple(dim.p1), p2=tuple(dim.p2), distance=dist, text=dim.text,

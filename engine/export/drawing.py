@@ -20,8 +20,10 @@ The scale is the largest of :data:`SCALES` at which the views and their dimensio
 drawing area, the plan beside the elevations or, for a squat bottle, above the front view (or
 the scale asked for, refused with the sizes when it does not fit). Paper sizes,
 margins and lanes are millimetres on paper; geometry is millimetres of the bottle
-(``paper = origin + scale * model``). The side view appears only for a non-round plan. A file is
-written whole or not at all (:func:`engine.io.atomic.replacing`).
+(``paper = origin + scale * model``). The side view appears only for a non-round plan; an
+outline's plan is also measured across flats and corners and by its radii, whose geometry is
+:mod:`.drawing_outline`'s. A file is written whole or not at all
+(:func:`engine.io.atomic.replacing`).
 """
 from __future__ import annotations
 
@@ -34,6 +36,7 @@ import numpy as np
 
 from ..errors import GlassbenchError
 from ..io.atomic import replacing
+from . import drawing_outline as outline
 from . import drawing_table as table
 from . import drawing_views as views
 from .drawing_page import (EXT_GAP_MM, SHEETS, THICK_MM, TITLE_MM, Dim, Page, Polyline, Rule, Text,
@@ -82,7 +85,8 @@ def write_drawing(design, path, sheet: str = "A3", scale=None, date: str | None 
     ``scale_factor``, ``size_mm``, ``views`` (name -> paper bounding box ``[x0, y0, x1, y1]`` mm),
     ``dimensions`` (``tag``, ``text``, ``measured_mm``). Raises :class:`DrawingError` for an
     unknown suffix or sheet or a scale that does not fit, the geometry's errors for an invalid
-    design, ``DesignError`` for a bottle drawings do not support yet (an outline), ``OSError`` when the file cannot be written (an existing file is then untouched).
+    design, ``DesignError`` for a bottle drawings do not support yet, ``OSError`` when the file
+    cannot be written (an existing file is then untouched).
     """
     path = Path(path)
     suffix = path.suffix.lower()
@@ -115,7 +119,8 @@ def layout(design, sheet: str = "A3", scale=None, date: str | None = None) -> tu
     rows = table.table_rows(trade, plant)
     panel = bool(zones) and zones[0].panel   # no label: the clear label panel is shown
     # why: the notes' wording depends on the scale only through "1:N"; size them with the widest
-    note_lines = table.notes(trade, plant, "1:20", panel)
+    cut = views.section_words(shape)
+    note_lines = table.notes(trade, plant, "1:20", panel, cut)
     in_column = _column_fits(rows, note_lines, col_x0, w, h)
     area_y0 = FRAME_MM + 4.0
     if not in_column:  # the notes go under the views, across the drawing area
@@ -129,7 +134,7 @@ def layout(design, sheet: str = "A3", scale=None, date: str | None = None) -> tu
     _frame(page, col_x0)
     boxes = _views(page, design, fig, placed, zones, fill_h, plant)
     label = scale_text(page.scale)
-    note_lines = table.notes(trade, plant, label, panel)
+    note_lines = table.notes(trade, plant, label, panel, cut)
     title = {"name": design.name or "Untitled bottle", "date": date or _dt.date.today().isoformat(),
              "scale": label, "sheet": sheet, "bottom": FRAME_MM}
     col = table.column(rows, note_lines if in_column else [], col_x0 + 4.0, w - FRAME_MM,
@@ -271,7 +276,7 @@ def _front(page: Page, design, fig, zones, fill_h, tols) -> list[float]:
     for z in zones:
         page.curves.append(views.band(shape, z.z0, z.z1, 0.0))
     if fill_h is not None:
-        r_in = float(views.inner_x(shape, np.array([fill_h]))[0])
+        r_in = float(views.reach(shape, np.array([fill_h]), 0.0, "inner")[0])
         page.curves.append(Polyline(((0.0, fill_h), (r_in, fill_h)), "SECTION", "hidden"))
     page.curves += curves
     page.curves.append(views.axis_line(0.0, -3.0 / s, fig.height + 3.0 / s))
@@ -280,9 +285,10 @@ def _front(page: Page, design, fig, zones, fill_h, tols) -> list[float]:
     dia = "Ø" if round_ else ""
     page.dims.append(Dim((-fig.ring_x, 0.0), (-top, H), "y", -((rx - fig.ring_x) * s + FIRST_LANE_MM),
                          f"{H:.1f}{table.tol(tols.get('height_mm'))}", "height"))
-    body_tol = tols.get("diameter_mm") if round_ else _width_tol(H, 2 * rx)
-    page.dims.append(Dim((-rx, fig.z_x), (rx, fig.z_x), "x", -(fig.z_x * s + FIRST_LANE_MM),
-                         f"{dia}{2 * rx:.1f}{table.tol(body_tol)}", "body" if round_ else "width"))
+    lo, hi = fig.span("x")
+    body_tol = tols.get("diameter_mm") if round_ else _width_tol(H, lo + hi)
+    page.dims.append(Dim((-lo, fig.z_x), (hi, fig.z_x), "x", -(fig.z_x * s + FIRST_LANE_MM),
+                         f"{dia}{lo + hi:.1f}{table.tol(body_tol)}", "body" if round_ else "width"))
     page.dims.append(Dim((-top, H), (top, H), "x", FIRST_LANE_MM + LANE_MM, f"{dia}{2 * top:.1f}", "finish"))
     page.dims.append(Dim((-fig.r_in_top, H), (fig.r_in_top, H), "x", FIRST_LANE_MM - 2.0,
                          f"{dia}{2 * fig.r_in_top:.1f}", "bore"))
@@ -290,8 +296,7 @@ def _front(page: Page, design, fig, zones, fill_h, tols) -> list[float]:
     for k, z in enumerate(zones):
         x = lane_x + k * LANE_MM / s
         name = "clear label panel" if z.panel else z.name
-        r0 = float(views.outline_x(shape, np.array([z.z0]))[0])
-        r1 = float(views.outline_x(shape, np.array([z.z1]))[0])
+        r0, r1 = (float(r) for r in views.reach(shape, np.array([z.z0, z.z1]), 0.0))
         page.dims.append(Dim((r0, 0.0), (r0, z.z0), "y", (x - r0) * s, f"{z.z0:.1f}", f"zone-{k}-bottom"))
         page.dims.append(Dim((r0, z.z0), (r1, z.z1), "y", (x - r0) * s,
                              _named(z.z1 - z.z0, name, s), f"zone-{k}"))
@@ -322,20 +327,24 @@ def _side(page: Page, shape, fig, dx: float) -> list[float]:
     curves = views.outside_view(shape, "side", dx)
     page.curves += curves
     page.curves.append(views.axis_line(dx, -3.0 / s, fig.height + 3.0 / s))
-    ry = fig.half_y
-    page.dims.append(Dim((dx - ry, fig.z_y), (dx + ry, fig.z_y), "x", -(fig.z_y * s + FIRST_LANE_MM),
-                         f"{2 * ry:.1f}{table.tol(_width_tol(fig.height, 2 * ry))}", "depth"))
+    lo, hi = fig.span("y")
+    page.dims.append(Dim((dx - lo, fig.z_y), (dx + hi, fig.z_y), "x", -(fig.z_y * s + FIRST_LANE_MM),
+                         f"{lo + hi:.1f}{table.tol(_width_tol(fig.height, lo + hi))}", "depth"))
     return _box(page, curves)
 
 
 def _plan(page: Page, shape, fig, center) -> list[float]:
     """The plan from above at ``center``; a round plan dimensions its standing ring, a
-    non-round one its width and depth (and, with corners, the width across them)."""
+    non-round one its width and depth (and, with corners, the width across them); an outline
+    (:func:`_plan_outline`) also across flats and corners and its radii."""
     s = page.scale
     curves = views.plan_view(shape, center)
     page.curves += curves
     cx, cy = center
-    box = _box(page, curves[:1])
+    box = _box(page, [c for c in curves if c.layer == "OUTLINE" and c.style == "thick"])
+    if shape.cross_section == "outline":
+        _plan_outline(page, shape, fig, center)
+        return box
     if shape.xs.revolved:
         r = fig.ring_x
         page.dims.append(Dim((cx - r, cy), (cx + r, cy), "x", -((fig.half_x + 4.0) * s + FIRST_LANE_MM),
@@ -354,6 +363,37 @@ def _plan(page: Page, shape, fig, center) -> list[float]:
                              -(fig.half_corner * s + EXT_GAP_MM + 4.0),
                              f"{2 * fig.half_corner:.1f} across corners", "corners"))
     return box
+
+
+def _plan_outline(page: Page, shape, fig, center) -> None:
+    """An outline's plan dimensions (:mod:`.drawing_outline`): width below and depth left, as
+    the other kinds', each saying whether it is across flats or corners; across flats or corners
+    along their own direction off the upper right; one radius per distinct arc radius."""
+    s, (cx, cy) = page.scale, center
+    reach = fig.half_corner
+    k, c = outline.section_at(shape, fig.z_widest)
+    lanes = 0
+    for w in outline.plan_widths(shape.plan, k, c):
+        lo, hi = (cx + w.lo[0], cy + w.lo[1]), (cx + w.hi[0], cy + w.hi[1])
+        text = f"{w.mm:.1f}" + (f" across {w.across}" if w.across else "")
+        if w.tag == "plan-width":   # why: on the lane of a fixed kind's, whatever the points' y
+            line = cy - reach - 4.0 - FIRST_LANE_MM / s
+            page.dims.append(Dim(lo, hi, "x", (line - lo[1]) * s, text, w.tag))
+        elif w.tag == "plan-depth":
+            line = cx - reach - 4.0 - FIRST_LANE_MM / s
+            page.dims.append(Dim(lo, hi, "y", (line - lo[0]) * s, text, w.tag))
+        else:  # left to right, its line off the upper right beyond the plan's reach
+            p1, p2 = (lo, hi) if w.hi[0] - w.lo[0] >= 0 else (hi, lo)
+            d = np.subtract(p2, p1) / np.hypot(*np.subtract(p2, p1))
+            n = np.array([-d[1], d[0]])
+            side = 1.0 if n[0] + n[1] > 0 else -1.0
+            stand = reach * s + EXT_GAP_MM + 4.0 + lanes * LANE_MM
+            page.dims.append(Dim(p1, p2, "aligned", side * stand - float(np.subtract(p1, center) @ n) * s,
+                                 text, w.tag))
+            lanes += 1
+    for j, r in enumerate(outline.plan_radii(shape.plan, k, c)):
+        page.dims.append(Dim((cx + r.centre[0], cy + r.centre[1]), (cx + r.point[0], cy + r.point[1]),
+                             "radius", 0.0, f"R{r.radius:.1f}", f"radius-{j}"))
 
 
 __all__ = ["DrawingError", "SCALES", "layout", "write_drawing"]

@@ -92,15 +92,16 @@ def table_rows(trade: dict, plant: dict | None) -> list:
     return rows
 
 
-def notes(trade: dict, plant: dict | None, scale_label: str, panel: bool) -> list[str]:
-    """The drawing's notes, in order: units and views, each tolerance with its rule, the
-    stress figures' note, what the band shown is (``panel``: the clear label panel of a design
-    without labels), the plant numbers' warnings."""
+def notes(trade: dict, plant: dict | None, scale_label: str, panel: bool,
+          cut: str = "cut through the axis") -> list[str]:
+    """The drawing's notes, in order: units and views (``cut``: how the section's right half
+    is cut), each tolerance with its rule, the stress figures' note, what the band shown is
+    (``panel``: the clear label panel of a design without labels), the plant numbers' warnings."""
     p = plant or {}
     tols = p.get("tolerances") or {}
     rules = tols.get("rules") or {}
     out = [f"Dimensions in mm, scale {scale_label}. Section: left half outside view, right half "
-           "cut through the axis, the glass wall filled.",
+           f"{cut}, the glass wall filled.",
            f"Height tolerance{tol(tols.get('height_mm')) or ' ' + DASH} mm: {rules.get('height', DASH)}.",
            f"Diameter tolerance{tol(tols.get('diameter_mm')) or ' ' + DASH} mm: {rules.get('diameter', DASH)}."]
     band = p.get("capacity_band")

@@ -6,11 +6,15 @@ profile's chains (:func:`engine.geometry.validate.body_profile`), drawn segment 
 line stays a line, an arc an arc, so the DXF carries them exactly); heights and radii come from
 :func:`~engine.geometry.chain.radius_at`, plan outlines from
 the cross-section's ``boundary``, a label's edges from its
-:func:`~engine.appearance.frame.label_frame`. Views are drawn in the bottle's own frame
+:func:`~engine.appearance.frame.label_frame`; an outline bottle's silhouettes and plan are
+:mod:`.drawing_outline`'s exact curves. Views are drawn in the bottle's own frame
 (``rotation_deg`` turns the bottle in a scene, not on a drawing): the front view looks along
-its y axis (the x-z silhouette: the ``profile``, ``u`` or ``half_width`` section), the side view
-along its x axis (``profile``, ``u`` or ``half_depth``). Units: mm; a view's origin is the
-foot of its axis on the standing plane (the plan's: the axis).
+its +y axis (the x-z silhouette: the ``profile``, ``u`` or ``half_width`` section; +x to the
+right), the side view along its -x axis (``profile``, ``u`` or ``half_depth``; +y to the
+right). Each half of an elevation shows what the bottle shows towards one plan direction
+(:data:`HALVES`, :func:`elevation`): the same section on both sides for the fixed kinds, the
+support function on each side for an outline. Units: mm; a view's origin is the foot of its
+axis on the standing plane (the plan's: the axis).
 """
 from __future__ import annotations
 
@@ -19,9 +23,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..geometry.chain import radius_at
+from ..geometry.chain import radius_at, z_breaks
 from ..geometry.segments import Line
 from ..geometry.validate import body_profile
+from . import drawing_outline as outline
 from .drawing_page import Circle, Polyline, SegmentCurve
 
 #: The section seen in the front (x-z) and side (y-z) views, and across the corners, per kind.
@@ -29,6 +34,8 @@ VIEW_SECTIONS = {"round": ("profile", "profile", None),
                  "rounded_square": ("u", "u", "v"),
                  "rounded_rect": ("half_width", "half_depth", None),
                  "oval": ("half_width", "half_depth", None)}
+#: Plan directions (rad) each elevation's right and left half look out to.
+HALVES = {"front": (0.0, math.pi), "side": (0.5 * math.pi, 1.5 * math.pi)}
 #: Fill of the glass wall in section and of a label band (grey levels print on any plotter).
 WALL_FILL, LABEL_FILL = "#6b6b6b", "#dcdcdc"
 #: Samples of a height range (label bands, the widest height's search).
@@ -44,7 +51,11 @@ class Figures:
     """What the views are dimensioned with (mm): ``height``; the largest half-width along x,
     along y and across the corners (``None`` for round and oval bottles) with the height each
     is reached at; the mouth's outer and inner radius; the standing ring's radius along x
-    (round: its radius); the height of the widest cross-section."""
+    (round: its radius); the height of the widest cross-section. An outline's halves differ:
+    ``half_x`` and ``half_y`` are then the largest reach to either side (what the layout makes
+    room for), ``span_x`` and ``span_y`` the reach to the negative and the positive side at the
+    height of the largest width, ``half_corner`` the largest reach in any direction and
+    ``ring_x`` the standing line's reach to -x."""
 
     kind: str
     height: float
@@ -58,6 +69,14 @@ class Figures:
     r_in_top: float
     ring_x: float
     z_widest: float
+    span_x: tuple[float, float] | None = None
+    span_y: tuple[float, float] | None = None
+
+    def span(self, axis: str) -> tuple[float, float]:
+        """``(to the negative side, to the positive side)`` (mm) of the largest width along
+        ``axis`` (``"x"`` or ``"y"``), at ``z_x`` or ``z_y``."""
+        half, span = (self.half_x, self.span_x) if axis == "x" else (self.half_y, self.span_y)
+        return span if span is not None else (half, half)
 
 
 def _chain(prof, name: str, which: str = "outer"):
@@ -84,6 +103,8 @@ def figures(shape) -> Figures:
     shape.xs.require("drawing")
     prof = body_profile(shape)
     kind, xs = shape.cross_section, shape.xs
+    if kind not in VIEW_SECTIONS:
+        return _outline_figures(shape, prof)
     sx, sy, sc = VIEW_SECTIONS[kind]
     (rx, zx), (ry, zy) = _widest(_chain(prof, sx)), _widest(_chain(prof, sy))
     corner = _widest(_chain(prof, sc)) if sc else None
@@ -100,6 +121,23 @@ def figures(shape) -> Figures:
                    float(sp.r_top), float(sp.r_in_top), float(_chain(prof, sx)[0].p0[0]), z_widest)
 
 
+def _outline_figures(shape, prof) -> Figures:
+    """An outline's :class:`Figures`: its reach to +x, +y, -x, -y (the support function) and
+    in any direction (the circumradius) at every joint of its profiles and densely between."""
+    walls = [sp.outer_wall for sp in prof.sections]
+    top = float(prof.z_top)
+    z = np.unique(np.concatenate([np.linspace(0.0, top, Z_SAMPLES), z_breaks(walls, 0.0, top)]))
+    (right, left), (up, down) = ((outline.reach(shape, z, psi) for psi in HALVES[v]) for v in ("front", "side"))
+    jx, jy = int(np.argmax(left + right)), int(np.argmax(down + up))
+    far = shape.xs.circumradius(_radii(prof, z))
+    jc = int(np.argmax(far))
+    front = outline.elevation(shape, 0.0)
+    return Figures("outline", top, float(max(right.max(), left.max())), float(z[jx]),
+                   float(max(up.max(), down.max())), float(z[jy]), float(far[jc]), float(z[jc]),
+                   float(front.r_top), float(front.r_in_top), float(left[0]), float(z[jc]),
+                   (float(left[jx]), float(right[jx])), (float(down[jy]), float(up[jy])))
+
+
 def _radii(prof, z, which: str = "outer"):
     """The section radii (mm) at heights ``z``, in ``SECTION_NAMES`` order (chain ends held)."""
     out = []
@@ -114,19 +152,47 @@ def _curves(segs, layer: str, style: str, sx: float, dx: float) -> list:
     return [SegmentCurve(s, layer, style, sx, dx) for s in segs]
 
 
+def elevation(shape, psi: float):
+    """What the bottle shows towards plan direction ``psi`` (rad, one of :data:`HALVES`) as a
+    :class:`~engine.geometry.offset.SectionProfile` in (reach, z) mm: a fixed kind's own section
+    along x or y, an outline's silhouettes (:func:`.drawing_outline.elevation`)."""
+    kind = shape.cross_section
+    if kind not in VIEW_SECTIONS:
+        return outline.elevation(shape, psi)
+    return body_profile(shape).section(VIEW_SECTIONS[kind][0 if abs(math.cos(psi)) > 0.5 else 1])
+
+
+def reach(shape, z, psi: float, which: str = "outer") -> np.ndarray:
+    """The outer (or the cavity's, ``which="inner"``) reach (mm) towards ``psi`` at heights
+    ``z`` (mm; a wall's ends held beyond it)."""
+    if shape.cross_section not in VIEW_SECTIONS:
+        return outline.reach(shape, z, psi, which)
+    sp = elevation(shape, psi)
+    chain = sp.outer_wall if which == "outer" else sp.inner_wall
+    return radius_at(chain, np.clip(np.asarray(z, float), chain[0].p0[1], chain[-1].p1[1]))
+
+
+def section_words(shape) -> str:
+    """How the front view's right half is cut, in the notes' words: through the axis, or (an
+    outline not symmetric about its x axis) where the outline reaches farthest to the right."""
+    if shape.cross_section in VIEW_SECTIONS or outline.symmetric_about_x(shape.plan):
+        return "cut through the axis"
+    return "cut where the outline reaches farthest to the right"
+
+
 def half_section(shape, dx: float) -> list:
     """The front view as half view / half section about the axis at ``x = dx``: the left half the
-    outer outline, the right half cut through the axis with the glass wall filled."""
+    outer outline, the right half cut with the glass wall filled (:func:`section_words`)."""
     prof = body_profile(shape)
-    sp = prof.section(VIEW_SECTIONS[shape.cross_section][0])
-    out = _curves(sp.outer_wall, "OUTLINE", "thick", -1.0, dx)
-    ring, top = sp.outer_wall[0].p0[0], prof.z_top
+    right, left = (elevation(shape, psi) for psi in HALVES["front"])
+    out = _curves(left.outer_wall, "OUTLINE", "thick", -1.0, dx)
+    ring, top = left.outer_wall[0].p0[0], prof.z_top
     out.append(Polyline(((dx - ring, 0.0), (dx, 0.0)), "OUTLINE"))          # standing line
-    out.append(Polyline(((dx - sp.r_top, top), (dx, top)), "OUTLINE"))       # the mouth's face
-    out.append(Polyline(tuple(map(tuple, _wall_polygon(sp, dx))), "HATCH", "fill", True, WALL_FILL))
-    out += _curves(sp.outer_base + sp.outer_wall, "OUTLINE", "thick", 1.0, dx)
-    out += _curves(sp.inner_base + sp.inner_wall, "SECTION", "thick", 1.0, dx)
-    out.append(Polyline(((dx + sp.r_in_top, top), (dx + sp.r_top, top)), "OUTLINE"))
+    out.append(Polyline(((dx - left.r_top, top), (dx, top)), "OUTLINE"))     # the mouth's face
+    out.append(Polyline(tuple(map(tuple, _wall_polygon(right, dx))), "HATCH", "fill", True, WALL_FILL))
+    out += _curves(right.outer_base + right.outer_wall, "OUTLINE", "thick", 1.0, dx)
+    out += _curves(right.inner_base + right.inner_wall, "SECTION", "thick", 1.0, dx)
+    out.append(Polyline(((dx + right.r_in_top, top), (dx + right.r_top, top)), "OUTLINE"))
     return out
 
 
@@ -142,13 +208,11 @@ def _wall_polygon(sp, dx: float) -> np.ndarray:
 def outside_view(shape, which: str, dx: float) -> list:
     """An elevation's outer outline about the axis at ``x = dx``: ``which`` ``"front"`` (x-z)
     or ``"side"`` (y-z)."""
-    prof = body_profile(shape)
-    name = VIEW_SECTIONS[shape.cross_section][0 if which == "front" else 1]
-    sp = prof.section(name)
-    out = _curves(sp.outer_wall, "OUTLINE", "thick", -1.0, dx) + _curves(sp.outer_wall, "OUTLINE", "thick", 1.0, dx)
-    ring, top = sp.outer_wall[0].p0[0], prof.z_top
-    out.append(Polyline(((dx - ring, 0.0), (dx + ring, 0.0)), "OUTLINE"))
-    out.append(Polyline(((dx - sp.r_top, top), (dx + sp.r_top, top)), "OUTLINE"))
+    top = body_profile(shape).z_top
+    right, left = (elevation(shape, psi) for psi in HALVES[which])
+    out = _curves(left.outer_wall, "OUTLINE", "thick", -1.0, dx) + _curves(right.outer_wall, "OUTLINE", "thick", 1.0, dx)
+    out.append(Polyline(((dx - left.outer_wall[0].p0[0], 0.0), (dx + right.outer_wall[0].p0[0], 0.0)), "OUTLINE"))
+    out.append(Polyline(((dx - left.r_top, top), (dx + right.r_top, top)), "OUTLINE"))
     return out
 
 
@@ -157,25 +221,11 @@ def axis_line(dx: float, z0: float, z1: float) -> Polyline:
     return Polyline(((dx, z0), (dx, z1)), "CENTRE", "centre")
 
 
-def outline_x(shape, z, which: str = "front") -> np.ndarray:
-    """Half-width (mm) of the front (or side) silhouette at heights ``z`` (chain ends held)."""
-    prof = body_profile(shape)
-    chain = _chain(prof, VIEW_SECTIONS[shape.cross_section][0 if which == "front" else 1])
-    return radius_at(chain, np.clip(np.asarray(z, float), chain[0].p0[1], chain[-1].p1[1]))
-
-
-def inner_x(shape, z) -> np.ndarray:
-    """Half-width (mm) of the cavity in the front section at heights ``z``."""
-    prof = body_profile(shape)
-    chain = _chain(prof, VIEW_SECTIONS[shape.cross_section][0], "inner")
-    return radius_at(chain, np.clip(np.asarray(z, float), chain[0].p0[1], chain[-1].p1[1]))
-
-
 def band(shape, z0: float, z1: float, dx: float) -> Polyline:
     """A label band on the front view: the silhouette between heights ``z0 < z1`` (mm), filled."""
     z = np.linspace(z0, z1, 97)
-    r = outline_x(shape, z)
-    pts = np.concatenate([np.column_stack([dx + r, z]), np.column_stack([dx - r, z])[::-1]])
+    r, ell = (reach(shape, z, psi) for psi in HALVES["front"])
+    pts = np.concatenate([np.column_stack([dx + r, z]), np.column_stack([dx - ell, z])[::-1]])
     return Polyline(tuple(map(tuple, pts)), "LABELS", "band", True, LABEL_FILL)
 
 
@@ -187,8 +237,8 @@ def plan_view(shape, center: tuple[float, float]) -> list:
     prof = body_profile(shape)
     fig = figures(shape)
     cx, cy = center
-    out = [_outline(shape, prof, fig.z_widest, center, "OUTLINE", "thick"),
-           _outline(shape, prof, 0.0, center, "OUTLINE", "hidden"),
+    out = [*_outline(shape, prof, fig.z_widest, center, "OUTLINE", "thick"),
+           *_outline(shape, prof, 0.0, center, "OUTLINE", "hidden"),
            Circle(center, fig.r_top, "OUTLINE"), Circle(center, fig.r_in_top, "SECTION")]
     reach = (fig.half_corner or max(fig.half_x, fig.half_y)) + 4.0
     out.append(Polyline(((cx - reach, cy), (cx + reach, cy)), "CENTRE", "centre"))
@@ -196,17 +246,20 @@ def plan_view(shape, center: tuple[float, float]) -> list:
     return out
 
 
-def _outline(shape, prof, z: float, center, layer: str, style: str):
-    """The cross-section at height ``z`` (mm) as a circle (round) or a closed polyline."""
+def _outline(shape, prof, z: float, center, layer: str, style: str) -> list:
+    """The cross-section at height ``z`` (mm): a circle (round), an outline's exact pieces or
+    a closed polyline."""
     radii = [np.array(float(r)) for r in _radii(prof, np.array(z))]
     if z <= 0.0:  # the standing ring: where each section's wall starts
         radii = [np.array(sp.outer_wall[0].p0[0]) for sp in prof.sections]
     if shape.xs.revolved:
-        return Circle(center, float(radii[0]), layer, style)
+        return [Circle(center, float(radii[0]), layer, style)]
+    if shape.cross_section not in VIEW_SECTIONS:
+        return outline.section_curves(shape.plan, max(float(radii[0]), 0.0), float(radii[1]), center, layer, style)
     theta = np.linspace(0.0, 2.0 * math.pi, PLAN_SAMPLES, endpoint=False)
     x, y, _, _ = shape.xs.boundary(radii, theta)
     pts = np.column_stack([center[0] + x, center[1] + y])
-    return Polyline(tuple(map(tuple, pts)), layer, style, closed=True)
+    return [Polyline(tuple(map(tuple, pts)), layer, style, closed=True)]
 
 
 # ------------------------------------------------------------------------- label areas

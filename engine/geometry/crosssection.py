@@ -339,7 +339,7 @@ class Outline(CrossSection):
     plan: object
     name = "outline"
     sections = ("core", "round")
-    unsupported = frozenset({"labels", "relief", "drawing", "stability", "stress"})
+    unsupported = frozenset({"labels", "relief", "stability", "stress"})
     mirror_quarters = False  # a flask or a shield is not; a hexagon is, and is meshed whole anyway
     #: Steiner's polynomial for r >= 0, the inner parallel set's area below: equal in value and
     #: slope at r = 0 but not in curvature, which would cost Gauss-Legendre its exactness.

@@ -249,8 +249,21 @@ class EllipseArc:
                 "direction": self.direction}
 
 
+class EndsFromPoint:
+    """``p0`` and ``p1`` (mm) of a segment whose ends are its ``point(0)`` and ``point(1)``
+    (one that stores no end points of its own)."""
+
+    @property
+    def p0(self) -> tuple[float, float]:
+        return tuple(float(v) for v in self.point(0.0))
+
+    @property
+    def p1(self) -> tuple[float, float]:
+        return tuple(float(v) for v in self.point(1.0))
+
+
 @dataclass(frozen=True)
-class OffsetEllipseArc:
+class OffsetEllipseArc(EndsFromPoint):
     """The exact inward offset of an ``EllipseArc`` by ``w`` mm: ``P(t) - w n(t)``.
 
     Not an ellipse. It shares the base arc's parameter ``t`` and tangent direction; it is
@@ -261,14 +274,6 @@ class OffsetEllipseArc:
     base: EllipseArc
     w: float
     kind = "ellipse_offset"
-
-    @property
-    def p0(self) -> tuple[float, float]:
-        return tuple(float(v) for v in self.point(0.0))
-
-    @property
-    def p1(self) -> tuple[float, float]:
-        return tuple(float(v) for v in self.point(1.0))
 
     @property
     def direction(self) -> str:

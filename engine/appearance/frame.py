@@ -189,9 +189,9 @@ class NonRoundFrame(LabelFrame):
 def label_frame(shape, placement: Placement, where: str = "label") -> LabelFrame:
     """The :class:`LabelFrame` of a label with ``placement`` on ``shape`` (cached by value).
 
-    Raises ``DesignError`` when its centre is not on the wall or the bottle cannot carry labels
-    yet (an outline); whether the whole patch is,
-    :func:`engine.appearance.placement.check_label_placement` says.
+    Raises ``DesignError`` when its centre is not on the wall or the bottle's cross-section
+    cannot carry labels (:meth:`~engine.geometry.crosssection.CrossSection.require`; every kind
+    can today); whether the whole patch is, :func:`engine.appearance.placement.check_label_placement` says.
     """
     shape.xs.require("labels")
     cls = LabelFrame if shape.xs.revolved else NonRoundFrame

@@ -1,15 +1,17 @@
 """Arc length around a horizontal cross-section: how far a label's width reaches.
 
 Design rule: closed forms, vectorised, for every cross-section a label can wrap (a
-:class:`~engine.geometry.crosssection.CrossSection`; an outline refuses labels before it gets
-here, and the partial arc lengths are this module's own closed forms, not the protocol's, which
-knows only whole perimeters). The *girth length* ``l(theta)`` is the arc length of the
+:class:`~engine.geometry.crosssection.CrossSection`; the partial arc lengths are this module's
+own closed forms, and an outline's those of :mod:`engine.geometry.plan_girth`, not the
+protocol's, which knows only whole perimeters). The *girth length* ``l(theta)`` is the arc length of the
 boundary from polar angle 0 to ``theta`` (rad, the bottle's own frame), counter-clockwise seen
 from above; ``theta`` may be any real number (``l(theta + 2 pi) = l(theta) + P``, ``P`` the
 perimeter), so a label straddling ``theta = 0`` has a continuous coordinate. Circle: ``r
 theta``. Rounded rectangle (and square, the rectangle ``(u, u, q)``): per quadrant a side
 ``a tan(theta)``, a corner arc ``c phi`` about ``(a - c, b - c)``, a top side. Oval: the
-incomplete elliptic integral of the second kind of the eccentric anomaly. Radii are the
+incomplete elliptic integral of the second kind of the eccentric anomaly. Outline: the
+plan's pieces, ``k len`` per line, ``(k rho + c) sweep`` per arc, ``c alpha`` per sharp
+corner (:mod:`engine.geometry.plan_girth`). Radii are the
 kind's section values at one height (mm), broadcast against ``theta``; ``xs`` is the bottle's
 cross-section object.
 """
@@ -20,6 +22,7 @@ import math
 import numpy as np
 from scipy.special import ellipe, ellipeinc
 
+from ..geometry import plan_girth
 from ..geometry.crosssection import RECT
 
 HALF_PI = 0.5 * math.pi
@@ -74,6 +77,8 @@ def girth_length(xs, radii, theta) -> np.ndarray:
     theta = np.asarray(theta, float)
     if xs.revolved:
         return np.asarray(radii[0], float) * theta
+    if xs.name == "outline":
+        return plan_girth.girth_length(xs.plan, radii[0], radii[1], theta)
     turns = np.floor(theta / (2.0 * math.pi))
     rest = theta - 2.0 * math.pi * turns
     quadrant = np.minimum(np.floor(rest / HALF_PI), 3.0)
@@ -91,6 +96,8 @@ def theta_at_length(xs, radii, length) -> np.ndarray:
     length = np.asarray(length, float)
     if xs.revolved:
         return length / np.asarray(radii[0], float)
+    if xs.name == "outline":  # exact: the piece at that length, the point on it
+        return plan_girth.theta_at_length(xs.plan, radii[0], radii[1], length)
     p = perimeter(xs, radii)
     turns = np.floor(length / p)
     lo = np.broadcast_to(2.0 * math.pi * turns, np.broadcast(length, p).shape).copy()

@@ -22,6 +22,10 @@ from .frame import Placement, label_frame
 _GL_X, _GL_W = np.polynomial.legendre.leggauss(32)
 #: Points up the label's centre line at which the wall's slope is sampled.
 SLOPE_SAMPLES = 257
+#: Heights across a label at which an outline bottle's tight corners are looked for.
+CORNER_ROWS = 17
+#: An outline's plan corner rounded less than this (mm) is a crease for paper.
+CREASE_MM = 0.05
 
 
 def area_mm2(shape, p: Placement, flat: FlatShape) -> float:
@@ -113,8 +117,10 @@ def _joints(frame):
 
 def _cross_section_corners(shape, frame, flat):
     """Warnings for corners of a rounded square / rectangle tighter than :data:`MIN_CORNER_MM`
-    that the label wraps at its centre height."""
+    that the label wraps at its centre height (an outline's: :func:`_plan_corners`)."""
     xs = shape.xs
+    if xs.name == "outline":
+        return _plan_corners(shape, frame, flat)
     if not hasattr(xs, "as_rect"):  # why: only rounded squares and rectangles have such corners
         return []
     a, b, c = (float(v) for v in xs.as_rect(frame.wall.radii(frame.h_c)))
@@ -128,4 +134,32 @@ def _cross_section_corners(shape, frame, flat):
         if 0.0 <= s[0] <= 1.0:
             out.append(_place(shape, frame, flat, "corner", f"wraps a corner of {c:.1f} mm radius "
                               f"(tighter than {MIN_CORNER_MM:g} mm)", float(s[0]), 0.5))
+    return out
+
+
+def _plan_corners(shape, frame, flat):
+    """Warnings for the arcs of an outline bottle's outer section tighter than
+    :data:`MIN_CORNER_MM` that the label wraps, one per arc at the height under the label where
+    it is tightest (the centre height first, where it is as tight): a sharp corner of the plan
+    is an arc of the rounding's radius ``c``, a crease where ``c`` is below :data:`CREASE_MM`."""
+    t_rows = np.concatenate([[0.5], np.linspace(0.0, 1.0, CORNER_ROWS)])
+    _, z_rows = frame.surface(np.full(t_rows.shape, 0.5), t_rows)
+    tightest = {}
+    for t, z in zip(t_rows, z_rows):
+        k, c = (float(r) for r in frame.wall.radii(z))
+        if k <= 0.0:
+            continue  # the round neck: no corners
+        for i, piece in enumerate(shape.plan.outer_pieces(k, c)):
+            if piece.kind != "arc" or piece.radius >= min(MIN_CORNER_MM, tightest.get(i, (math.inf,))[0]):
+                continue
+            x, y = piece.point(0.5 * (piece.theta0 + piece.theta1))
+            theta = frame.theta0 + (math.atan2(y, x) - frame.theta0) % (2 * math.pi)
+            s, _ = frame.st(np.array([theta]), np.array([z]))
+            if 0.0 <= s[0] <= 1.0:
+                tightest[i] = (piece.radius, math.degrees(piece.theta1 - piece.theta0), float(s[0]), float(t))
+    out = []
+    for radius, degrees, s, t in tightest.values():
+        words = (f"crosses a sharp corner of the plan ({degrees:.0f} deg, a crease)" if radius < CREASE_MM else
+                 f"wraps a corner of {radius:.1f} mm radius (tighter than {MIN_CORNER_MM:g} mm)")
+        out.append(_place(shape, frame, flat, "corner", words, s, t))
     return out

@@ -21,7 +21,7 @@ name) instead of switching on the kind's name: each kind's closed forms live in 
 rounded square is the rounded rectangle ``(u, u, q)``, so both share one implementation. Every
 method takes the radii as a tuple of arrays that broadcast against the other arguments, and the
 polar angle ``theta`` (rad) is measured in the bottle's own frame (before ``rotation_deg``).
-What a kind cannot do yet (labels, relief, CAD, ...) it refuses by :meth:`CrossSection.require`,
+What a kind cannot do yet (relief, CAD, ...) it refuses by :meth:`CrossSection.require`,
 with one line naming the feature. The module-level functions taking a kind's name are thin
 wrappers for the fixed kinds, kept for the tests and scripts written against them.
 """
@@ -339,7 +339,7 @@ class Outline(CrossSection):
     plan: object
     name = "outline"
     sections = ("core", "round")
-    unsupported = frozenset({"labels", "relief", "stability", "stress"})
+    unsupported = frozenset({"relief", "stability", "stress"})
     mirror_quarters = False  # a flask or a shield is not; a hexagon is, and is meshed whole anyway
     #: Steiner's polynomial for r >= 0, the inner parallel set's area below: equal in value and
     #: slope at r = 0 but not in curvature, which would cost Gauss-Legendre its exactness.

@@ -701,7 +701,7 @@ class PlanOutline:
         out = np.empty((4, kf.size))
 
         def each(mask):
-            out[:, mask] = _ray_exit(self._section_pieces(kf[mask], rf[mask]), ux[mask], uy[mask])
+            out[:, mask] = _ray_exit(self._section_pieces(kf[mask], rf[mask]), ux[mask], uy[mask])[:4]
 
         self._by_sign(rf, each)
         return tuple(v.reshape(th.shape) for v in out)
@@ -825,13 +825,15 @@ def _circle_trims(a: PlanArc, b: PlanArc, k, t):
 
 
 def _ray_exit(pieces, ux, uy) -> np.ndarray:
-    """``(4, n)``: point and outward normal where the rays from the origin along ``(ux, uy)``
-    leave a convex chain of ``pieces`` (:meth:`PlanOutline._section_pieces`): on each piece the
-    crossing and how far (mm) it lies outside the piece's ends; the least wins."""
+    """``(6, n)``: point and outward normal where the rays from the origin along ``(ux, uy)``
+    leave a convex chain of ``pieces`` (:meth:`PlanOutline._section_pieces`), then the index of
+    the piece left through and the length (mm) along it from its start (what the girth of
+    :mod:`engine.geometry.plan_girth` adds up): on each piece the crossing and how far (mm) it
+    lies outside the piece's ends; the least wins."""
     best = np.full(ux.shape, np.inf)
-    out = np.zeros((4,) + ux.shape)
+    out = np.zeros((6,) + ux.shape)
     with np.errstate(divide="ignore", invalid="ignore"):
-        for p in pieces:
+        for i, p in enumerate(pieces):
             if p[0] == "line":
                 _, ax, ay, bx, by, nx, nyy = p
                 un = ux * nx + uy * nyy
@@ -841,6 +843,7 @@ def _ray_exit(pieces, ux, uy) -> np.ndarray:
                 lam = ((s * ux - ax) * ex + (s * uy - ay) * ey) / (length * length)
                 miss = np.where((un > 0) & (length > 0), np.maximum(np.maximum(-lam, lam - 1.0), 0.0) * length, np.inf)
                 n = (np.broadcast_to(nx, ux.shape), np.broadcast_to(nyy, ux.shape))
+                along = np.clip(lam, 0.0, 1.0) * length
             else:
                 _, cx, cy, rho, a0, a1 = p
                 b = ux * cx + uy * cy
@@ -853,9 +856,10 @@ def _ray_exit(pieces, ux, uy) -> np.ndarray:
                 miss = np.where((disc >= 0) & (rho > 0), off * rho, np.inf)
                 safe = np.where(rho > 0, rho, 1.0)
                 n = (gx / safe, gy / safe)
+                along = rho * np.where(d <= sweep, d, np.where(d - sweep < TWO_PI - d, sweep, 0.0))
             take = miss < best
             best = np.where(take, miss, best)
-            for j, v in enumerate((s * ux, s * uy, *n)):
+            for j, v in enumerate((s * ux, s * uy, *n, i, along)):
                 out[j] = np.where(take, v, out[j])
     return out
 

@@ -6,6 +6,7 @@ converted flacon, a flask and a shield go through the command line to a PDF that
 trade numbers, and the DXF keeps the plan's arcs and radii as entities."""
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import ezdxf
@@ -226,3 +227,17 @@ def test_the_dxf_keeps_the_plans_arcs_and_dimensions_its_radii(tmp_path):
     found = [a for a in msp.query('ARC[layer=="OUTLINE"]')
              if any(abs(a.dxf.radius - p.radius) < 1e-9 for p in arcs)]
     assert len(found) >= len(arcs)
+
+
+def test_a_labelled_flacon_dimensions_its_labels_band_on_the_silhouette(tmp_path):
+    from tests.test_outline_labels import _flacon, _label
+    design = _flacon()
+    design = dataclasses.replace(design, labels=(_label(design.shape, 30.0),))  # on the flat at 30 deg
+    dims = _dims(design, tmp_path)
+    assert dims["zone-0"]["measured_mm"] == pytest.approx(40.0, abs=1e-9)
+    assert dims["zone-0-bottom"]["measured_mm"] == pytest.approx(20.0, abs=1e-9)
+    band = np.array(views.band(design.shape, 20.0, 60.0, 0.0).points)   # right side up, left side down
+    right, left = band[:97], band[97:]
+    for side, pts, psi in ((1.0, right, 0.0), (-1.0, left, math.pi)):
+        k, r = _radii(design.shape, pts[:, 1])
+        assert np.max(np.abs(side * pts[:, 0] - design.shape.plan.section_support(psi, k, r))) < EXACT_MM

@@ -19,11 +19,12 @@ from benchmarks.oracle_spec import spec_to_design
 from benchmarks.paths import ORACLE_SPECS
 from engine import cli
 from engine.export import drawing_views as views
-from engine.export.drawing import write_drawing
+from engine.export.drawing import layout, write_drawing
 from engine.export.drawing_page import Circle, SegmentCurve
 from engine.files.project import load_project, save_project
 from engine.geometry import plan as P
 from engine.geometry.chain import radius_at
+from engine.geometry.plan_widths import plan_widths, widest_core
 from engine.geometry.validate import body_profile
 from engine.model.design import Design
 from engine.operations.trade import trade_numbers
@@ -241,3 +242,37 @@ def test_a_labelled_flacon_dimensions_its_labels_band_on_the_silhouette(tmp_path
     for side, pts, psi in ((1.0, right, 0.0), (-1.0, left, math.pi)):
         k, r = _radii(design.shape, pts[:, 1])
         assert np.max(np.abs(side * pts[:, 0] - design.shape.plan.section_support(psi, k, r))) < EXACT_MM
+
+
+@pytest.mark.parametrize("name", ["hexagon", "octagon", "shield", "turned-triangle", "sharp-cavity", "flacon"])
+def test_the_plan_quotes_the_plan_tabs_widths_between_points_of_the_section(name, tmp_path):
+    design = _design(name)
+    shape, plan = design.shape, design.shape.plan
+    core = widest_core(shape)
+    quoted = plan_widths(plan, core.k, core.c)     # what the Plan tab shows the designer
+    report = write_drawing(design, tmp_path / "d.svg")
+    across = {}
+    for d in report["dimensions"]:
+        for kind in ("flats", "corners"):
+            if d["text"].endswith(f"across {kind}"):
+                across.setdefault(kind, []).append(d["measured_mm"])
+    assert across["flats"] and across["corners"]
+    assert across["flats"] == pytest.approx([quoted.flats] * len(across["flats"]), abs=EXACT_MM)
+    assert across["corners"] == pytest.approx([quoted.corners] * len(across["corners"]), abs=EXACT_MM)
+    # every measured point of the plan lies on the section drawn there
+    page, boxes = layout(design)
+    fig = views.figures(shape)
+    assert fig.z_widest == core.z
+    plan_dims = [d for d in page.dims if d.tag.startswith(("plan-", "corners", "flats", "radius-"))]
+    centre = _plan_centre(page, shape)
+    for d in plan_dims:
+        ends = (d.p2,) if d.axis == "radius" else (d.p1, d.p2)
+        p = np.array(ends) - centre
+        assert np.max(np.abs(plan.signed_distance(p[:, 0], p[:, 1], core.k, core.c)[0])) < EXACT_MM, d.tag
+
+
+def _plan_centre(page, shape) -> np.ndarray:
+    """The plan view's centre (model mm): the centre of its finish circle."""
+    [finish] = [c for c in page.curves if isinstance(c, Circle) and c.layer == "OUTLINE"
+                and c.radius == pytest.approx(views.figures(shape).r_top)]
+    return np.array(finish.center)

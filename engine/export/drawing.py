@@ -288,7 +288,7 @@ def _front(page: Page, design, fig, zones, fill_h, tols) -> list[float]:
     lo, hi = fig.span("x")
     body_tol = tols.get("diameter_mm") if round_ else _width_tol(H, lo + hi)
     page.dims.append(Dim((-lo, fig.z_x), (hi, fig.z_x), "x", -(fig.z_x * s + FIRST_LANE_MM),
-                         f"{dia}{lo + hi:.1f}{table.tol(body_tol)}", "body" if round_ else "width"))
+                         f"{dia}{_mm(lo + hi)}{table.tol(body_tol)}", "body" if round_ else "width"))
     page.dims.append(Dim((-top, H), (top, H), "x", FIRST_LANE_MM + LANE_MM, f"{dia}{2 * top:.1f}", "finish"))
     page.dims.append(Dim((-fig.r_in_top, H), (fig.r_in_top, H), "x", FIRST_LANE_MM - 2.0,
                          f"{dia}{2 * fig.r_in_top:.1f}", "bore"))
@@ -315,6 +315,12 @@ def _named(length_mm: float, name: str, scale: float) -> str:
     return text if text_width_mm(text) + 8.0 <= length_mm * scale else f"{length_mm:.1f}"
 
 
+def _mm(length_mm: float) -> str:
+    """A length (mm) to 0.1 mm, its last bits of rounding dropped first: one length found two
+    ways (a side view's depth, the plan's) prints alike even on a half."""
+    return f"{round(length_mm, 9):.1f}"
+
+
 def _width_tol(height_mm: float, width_mm: float) -> float:
     """The ISO 9058 tolerance (mm) of a body width or depth, as of a diameter of that size."""
     from ..plant.rules import dimension_tolerances
@@ -329,7 +335,7 @@ def _side(page: Page, shape, fig, dx: float) -> list[float]:
     page.curves.append(views.axis_line(dx, -3.0 / s, fig.height + 3.0 / s))
     lo, hi = fig.span("y")
     page.dims.append(Dim((dx - lo, fig.z_y), (dx + hi, fig.z_y), "x", -(fig.z_y * s + FIRST_LANE_MM),
-                         f"{lo + hi:.1f}{table.tol(_width_tol(fig.height, lo + hi))}", "depth"))
+                         f"{_mm(lo + hi)}{table.tol(_width_tol(fig.height, lo + hi))}", "depth"))
     return _box(page, curves)
 
 
@@ -375,7 +381,7 @@ def _plan_outline(page: Page, shape, fig, center) -> None:
     lanes = 0
     for w in outline.plan_widths(shape.plan, k, c):
         lo, hi = (cx + w.lo[0], cy + w.lo[1]), (cx + w.hi[0], cy + w.hi[1])
-        text = f"{w.mm:.1f}" + (f" across {w.across}" if w.across else "")
+        text = _mm(w.mm) + (f" across {w.across}" if w.across else "")
         if w.tag == "plan-width":   # why: on the lane of a fixed kind's, whatever the points' y
             line = cy - reach - 4.0 - FIRST_LANE_MM / s
             page.dims.append(Dim(lo, hi, "x", (line - lo[1]) * s, text, w.tag))
@@ -393,7 +399,7 @@ def _plan_outline(page: Page, shape, fig, center) -> None:
             lanes += 1
     for j, r in enumerate(outline.plan_radii(shape.plan, k, c)):
         page.dims.append(Dim((cx + r.centre[0], cy + r.centre[1]), (cx + r.point[0], cy + r.point[1]),
-                             "radius", 0.0, f"R{r.radius:.1f}", f"radius-{j}"))
+                             "radius", 0.0, f"R{_mm(r.radius)}", f"radius-{j}"))
 
 
 __all__ = ["DrawingError", "SCALES", "layout", "write_drawing"]

@@ -20,7 +20,7 @@ Directions ``psi`` are radians counter-clockwise from the bottle's own +x axis (
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import lru_cache
 
 import numpy as np
@@ -29,6 +29,7 @@ from ..geometry.capacity import _area_breaks as area_breaks  # where the cavity'
 from ..geometry.capacity import section_radii_at
 from ..geometry.offset import SectionProfile, shifted
 from ..geometry.outline_bands import Band, band_radii, bands
+from ..geometry.plan_widths import plan_widths as quoted_widths
 from ..geometry.segments import Arc, EllipseArc, EndsFromPoint, Line
 from ..geometry.validate import body_profile
 from .drawing_page import Circle, SegmentCurve
@@ -171,19 +172,19 @@ def section_curves(plan, k: float, c: float, center, layer: str, style: str) -> 
 @dataclass(frozen=True)
 class Across:
     """A width of a section (mm) measured along plan direction ``psi`` between its points
-    ``lo`` (towards ``psi + pi``) and ``hi`` (towards ``psi``); ``across`` says what it spans:
-    ``"flats"`` (two parallel lines of ``P``), ``"corners"`` (two opposite sharp corners) or
-    ``""``. ``tag`` names it on the drawing."""
+    ``lo`` (farthest towards ``psi + pi``) and ``hi`` (towards ``psi``); ``across`` is
+    ``"flats"`` or ``"corners"`` where it is the width the Plan tab quotes so, else ``""``.
+    ``tag`` names it on the drawing."""
 
     tag: str
     psi: float
     lo: tuple
     hi: tuple
-    across: str
+    across: str = ""
 
     @property
     def mm(self) -> float:
-        return float(np.subtract(self.hi, self.lo) @ np.array([math.cos(self.psi), math.sin(self.psi)]))
+        return float(np.subtract(self.hi, self.lo) @ _unit(self.psi))
 
 
 @dataclass(frozen=True)
@@ -205,59 +206,36 @@ def _flat(plan, psi: float):
     return next((s for s in plan.segments if s.kind == "line" and np.dot(s.normal, u) >= 1.0 - SAME), None)
 
 
-def _corner(plan, psi: float):
-    """The sharp corner of ``P`` whose normal cone holds ``psi`` strictly, or ``None``."""
-    for c in plan.corners:
-        turn = (psi - math.atan2(c.n_in[1], c.n_in[0])) % TWO_PI
-        if SAME < turn < c.alpha - SAME:
-            return c
-    return None
-
-
-def _point(plan, k: float, c: float, psi: float) -> np.ndarray:
-    """A point of the section farthest along ``psi`` (mm): ``k V + c u`` for the farthest point
-    ``V`` of ``P``, the middle of the line where a line of ``P`` faces ``psi``."""
-    u = _unit(psi)
+def _farthest(plan, psi: float) -> list[np.ndarray]:
+    """The points of ``P`` farthest along ``psi`` (normalised): a line's two ends where it faces
+    ``psi``, else the one joint or arc point."""
     flat = _flat(plan, psi)
     if flat is not None:
-        v = 0.5 * (np.array(flat.p0) + np.array(flat.p1))
-    else:
-        cands = [np.array(s.p0) for s in plan.segments]
-        cands += [np.array(s.center) + s.radius * u for s in plan.segments
-                  if s.kind == "arc" and (psi - s.theta0) % TWO_PI <= s.sweep]
-        v = max(cands, key=lambda p: float(p @ u))
-    return k * v + c * u
+        return [np.array(flat.p0), np.array(flat.p1)]
+    u = _unit(psi)
+    cands = [np.array(s.p0) for s in plan.segments]
+    cands += [np.array(s.center) + s.radius * u for s in plan.segments
+              if s.kind == "arc" and (psi - s.theta0) % TWO_PI <= s.sweep]
+    return [max(cands, key=lambda p: float(p @ u))]
 
 
-def _what(plan, psi: float) -> str:
-    """What the width along ``psi`` spans: ``"flats"``, ``"corners"`` or ``""``."""
-    for kind, find in (("flats", _flat), ("corners", _corner)):
-        if find(plan, psi) is not None and find(plan, psi + math.pi) is not None:
-            return kind
-    return ""
-
-
-def _width(plan, k: float, c: float, psi: float, tag: str) -> Across:
-    lo, hi = (_point(plan, k, c, a) for a in (psi + math.pi, psi))
-    return Across(tag, psi, tuple(lo), tuple(hi), _what(plan, psi) if k > 0 else "")  # (k = 0: a circle)
-
-
-def _across_flats(plan, k: float, c: float, psi: float) -> Across | None:
-    """The width between the lines facing ``psi`` and ``psi + pi``, between points of both on
-    one line along ``psi`` (the middle of their overlap); ``None`` where ``P`` has no such pair
-    or the lines do not overlap."""
+def _across(plan, k: float, c: float, psi: float, tag: str, aligned: bool = False) -> Across | None:
+    """The width along ``psi`` between points of the section farthest each way: the middles of
+    the farthest parts (a line's middle where one faces that way) or, ``aligned``, points on one
+    line along ``psi`` (the middle of where the two farthest parts overlap across it); ``None``
+    where they do not overlap."""
     u = _unit(psi)
     t = np.array([-u[1], u[0]])
-    hi, lo = _flat(plan, psi), _flat(plan, psi + math.pi)
-    if hi is None or lo is None:
-        return None
-    spans = [sorted(k * float(np.dot(p, t)) for p in (s.p0, s.p1)) for s in (hi, lo)]
-    a, b = max(spans[0][0], spans[1][0]), min(spans[0][1], spans[1][1])
-    if b < a:
-        return None
-    m = 0.5 * (a + b)
-    h_hi, h_lo = (k * float(np.dot(s.normal, s.p0)) + c for s in (hi, lo))
-    return Across("flats", psi, tuple(m * t - h_lo * u), tuple(m * t + h_hi * u), "flats")
+    (lo_t, lo_h), (hi_t, hi_h) = (
+        (sorted(k * float(p @ t) for p in far), k * float(far[0] @ _unit(a)) + c)
+        for a, far in ((psi + math.pi, _farthest(plan, psi + math.pi)), (psi, _farthest(plan, psi))))
+    if aligned:
+        a, b = max(lo_t[0], hi_t[0]), min(lo_t[-1], hi_t[-1])
+        if b < a - SAME * max(1.0, k):
+            return None
+        lo_t = hi_t = [0.5 * (a + b)]
+    mid = (0.5 * (lo_t[0] + lo_t[-1]), 0.5 * (hi_t[0] + hi_t[-1]))
+    return Across(tag, psi, tuple(mid[0] * t - lo_h * u), tuple(mid[1] * t + hi_h * u))
 
 
 def _off(a: float, b: float) -> float:
@@ -266,32 +244,40 @@ def _off(a: float, b: float) -> float:
     return min(d, math.pi - d)
 
 
-def _along_itself(w: Across) -> bool:
-    """Whether ``w``'s two points lie on one line along its direction (an aligned dimension
-    between them then measures the width)."""
-    d, u = np.subtract(w.hi, w.lo), _unit(w.psi)
-    return abs(d[0] * u[1] - d[1] * u[0]) <= SAME * max(1.0, w.mm)
+def _directions(plan, kind: str, quoted_deg: float) -> np.ndarray:
+    """Where a width the Plan tab quotes may lie besides its own direction (rad): along a
+    line's normal (flats), along the line through two joints (corners)."""
+    if kind == "flats":
+        dirs = [math.atan2(s.normal[1], s.normal[0]) for s in plan.segments if s.kind == "line"]
+    else:
+        pts = np.array([s.p0 for s in plan.segments])
+        d = pts[:, None, :] - pts[None, :, :]
+        dirs = list(np.arctan2(d[..., 1], d[..., 0]).ravel())
+    return np.unique(np.round(np.mod([math.radians(quoted_deg), *dirs], math.pi), 12))
 
 
 def plan_widths(plan, k: float, c: float) -> list[Across]:
-    """The widths the plan of the section ``(k, c)`` is dimensioned with: overall width (x) and
-    depth (y); across flats and across corners along their own direction (the one nearest
-    :data:`OBLIQUE`) where ``P`` has parallel lines or opposite sharp corners and neither width
-    already spans them."""
-    out = [_width(plan, k, c, 0.0, "plan-width"), _width(plan, k, c, 0.5 * math.pi, "plan-depth")]
-    spans = {w.across for w in out}
-    dirs = {"flats": [math.atan2(s.normal[1], s.normal[0]) for s in plan.segments if s.kind == "line"],
-            "corners": [math.atan2(cn.vertex[1], cn.vertex[0]) for cn in plan.corners]}
-    make = {"flats": lambda psi: _across_flats(plan, k, c, psi),
-            "corners": lambda psi: _width(plan, k, c, psi, "corners")}
-    for kind in ("flats", "corners"):
-        if kind in spans:
+    """The widths the plan of the section ``(k, c)`` is dimensioned with: the overall width (x)
+    and depth (y); where ``P`` has straight sides, the Plan tab's across flats (the least width)
+    and across corners (the largest, :func:`engine.geometry.plan_widths.plan_widths`), each the
+    width or the depth where it is one, else along its own direction (of those with the same
+    width, the one nearest :data:`OBLIQUE`) between points of the section on one line."""
+    out = [_across(plan, k, c, 0.0, "plan-width"), _across(plan, k, c, 0.5 * math.pi, "plan-depth")]
+    if k <= 0 or not any(s.kind == "line" for s in plan.segments):
+        return out   # (a circle, or a flask of arcs: its width and depth say it all)
+    quoted = quoted_widths(plan, k, c)
+    for kind, value, deg in (("flats", quoted.flats, quoted.flats_deg), ("corners", quoted.corners, quoted.corners_deg)):
+        tol = SAME * max(1.0, value)
+        same = [j for j, w in enumerate(out[:2]) if abs(w.mm - value) <= tol]
+        for j in same:
+            out[j] = replace(out[j], across=kind)
+        if same:
             continue
-        free = {a % math.pi for a in dirs[kind] if min(_off(a, 0.0), _off(a, 0.5 * math.pi)) > SAME}
-        cands = [w for w in map(make[kind], sorted(free))
-                 if w is not None and w.across == kind and _along_itself(w)]
+        dirs = _directions(plan, kind, deg)
+        dirs = dirs[np.abs(k * (plan.support(dirs) + plan.support(dirs + math.pi)) + 2 * c - value) <= tol]
+        cands = [w for w in (_across(plan, k, c, float(a), kind, aligned=True) for a in dirs) if w is not None]
         if cands:
-            out.append(min(cands, key=lambda w: _off(w.psi, OBLIQUE)))
+            out.append(replace(min(cands, key=lambda w: _off(w.psi, OBLIQUE)), across=kind))
     return out
 
 

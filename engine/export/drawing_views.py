@@ -24,6 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..geometry.chain import radius_at, z_breaks
+from ..geometry.plan_widths import widest_core
 from ..geometry.segments import Line
 from ..geometry.validate import body_profile
 from . import drawing_outline as outline
@@ -123,7 +124,9 @@ def figures(shape) -> Figures:
 
 def _outline_figures(shape, prof) -> Figures:
     """An outline's :class:`Figures`: its reach to +x, +y, -x, -y (the support function) and
-    in any direction (the circumradius) at every joint of its profiles and densely between."""
+    in any direction (the circumradius) at every joint of its profiles and densely between; its
+    plan is drawn at the widest core, where the Plan tab quotes its widths
+    (:func:`engine.geometry.plan_widths.widest_core`)."""
     walls = [sp.outer_wall for sp in prof.sections]
     top = float(prof.z_top)
     z = np.unique(np.concatenate([np.linspace(0.0, top, Z_SAMPLES), z_breaks(walls, 0.0, top)]))
@@ -134,7 +137,7 @@ def _outline_figures(shape, prof) -> Figures:
     front = outline.elevation(shape, 0.0)
     return Figures("outline", top, float(max(right.max(), left.max())), float(z[jx]),
                    float(max(up.max(), down.max())), float(z[jy]), float(far[jc]), float(z[jc]),
-                   float(front.r_top), float(front.r_in_top), float(left[0]), float(z[jc]),
+                   float(front.r_top), float(front.r_in_top), float(left[0]), widest_core(shape).z,
                    (float(left[jx]), float(right[jx])), (float(down[jy]), float(up[jy])))
 
 

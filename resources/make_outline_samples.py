@@ -21,10 +21,11 @@ from pathlib import Path
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
-from make_samples import report, solve  # noqa: E402
+from resources.make_samples import report, solve  # noqa: E402
 
 from engine.geometry import capacity  # noqa: E402
 
+from engine.appearance.sample import png_bytes, sample_artwork, sample_label  # noqa: E402
 from engine.cli.project import framing_camera  # noqa: E402
 from engine.files.project import save_project  # noqa: E402
 from engine.geometry.plan import flask, hexagon  # noqa: E402
@@ -79,21 +80,31 @@ def outline_shape(plan, k, c, z_s, shoulder, neck_r, top, wall, base) -> BottleS
     return BottleShape("outline", (("core", core), ("round", rounding)), wall, base, plan=plan)
 
 
-def flacon() -> Design:
-    """Hexagonal flacon: flats facing the camera (the plan's vertex at +x, flats along y)."""
+#: The flacon's label artwork (asset name): the sample artwork, portrait, 7.5 texels per mm.
+FLACON_ART = "flacon_label.png"
+
+
+def flacon() -> tuple[Design, dict]:
+    """Hexagonal flacon: flats facing the camera (the plan's vertex at +x, flats along y), a
+    24 x 30 mm label on the front panel (its flat is ``k`` = 27.7 mm wide: a plain rectangle)."""
     across_flats, c = 56.0, 4.0
     k = (0.5 * across_flats - c) / math.cos(math.pi / 6)  # flats at k cos 30 + c from the axis
 
     def bottle(z_s):
         return outline_shape(hexagon(), k, c, z_s, (12.0, 75.0, 8.0), 9.0, z_s + 38.0, 3.5, 10.0)
     shape = bottle(solve(lambda z: capacity.brimful_ml(bottle(z)), 110.0, 30.0, 90.0))  # 100 ml nominal
-    return Design(shape=shape, glass=Glass(1.52, (0.0005, 0.0004, 0.0006)),
-                  liquid=Liquid(1.36, (0.002, 0.006, 0.03), "volume", 100.0),
-                  camera=framing_camera(shape, RENDER.width, RENDER.height), render=RENDER,
-                  name="Hexagonal flacon", notes="Perfume flacon, 56 mm across the flats, pale gold perfume.")
+    body_top = shape.sections[0][1].segments[1].p1[1]
+    label = sample_label(FLACON_ART, z_mm=0.5 * (shape.base_thickness + body_top), angle_deg=-90.0,
+                         height_mm=30.0, width_mm=24.0)
+    design = Design(shape=shape, glass=Glass(1.52, (0.0005, 0.0004, 0.0006)),
+                    liquid=Liquid(1.36, (0.002, 0.006, 0.03), "volume", 100.0), labels=(label,),
+                    camera=framing_camera(shape, RENDER.width, RENDER.height), render=RENDER,
+                    name="Hexagonal flacon",
+                    notes="Perfume flacon, 56 mm across the flats, pale gold perfume, a label on the front panel.")
+    return design, {FLACON_ART: png_bytes(sample_artwork(1, (225, 180)))}
 
 
-def hip_flask() -> Design:
+def hip_flask() -> tuple[Design, dict]:
     """Hip flask: four arcs, 100 mm wide and 36 mm deep, amber spirit."""
     width, depth, c = 100.0, 36.0, 4.0
     plan = flask(width, depth)
@@ -105,17 +116,17 @@ def hip_flask() -> Design:
     return Design(shape=shape, glass=Glass(1.52, (0.0, 0.0, 0.0)),
                   liquid=Liquid(1.36, (0.003, 0.012, 0.045), "volume", 200.0),
                   camera=framing_camera(shape, RENDER.width, RENDER.height), render=RENDER,
-                  name="Hip flask", notes="Hip flask of four arcs, 100 x 36 mm, amber spirit.")
+                  name="Hip flask", notes="Hip flask of four arcs, 100 x 36 mm, amber spirit."), {}
 
 
 def build_all(folder: Path = HERE) -> dict[str, Design]:
     """Build, check and save both samples into ``folder``; returns them by file name."""
     samples = {"flacon.glassbench": flacon(), "hip_flask.glassbench": hip_flask()}
-    for name, design in samples.items():
-        check_design(design, {})
-        save_project(folder / name, design, {}, keep_backup=False)
+    for name, (design, assets) in samples.items():
+        check_design(design, assets)
+        save_project(folder / name, design, assets, keep_backup=False)
         print(report(design))
-    return samples
+    return {name: design for name, (design, _) in samples.items()}
 
 
 if __name__ == "__main__":

@@ -1,5 +1,5 @@
-"""Swept walls (rounded square, rounded rectangle): the monotonicity certificate that ends a
-band's contraction, and the crossings it leads to, checked against the geometry engine's own
+"""Swept walls (rounded square, rounded rectangle, free plan outlines): the monotonicity
+certificate that ends a band's contraction, and the crossings it leads to, checked against the geometry engine's own
 numpy implicit function (:meth:`engine.geometry.body.BottleBody.wall_implicit`) sampled densely
 along the rays."""
 from __future__ import annotations
@@ -14,7 +14,9 @@ from engine.geometry.segments import Arc, Line
 from engine.geometry.shape import BottleShape
 from engine.model.design import Design
 from engine.tracer.kernels import intersect as K
-from engine.tracer.kernels.bands import monotone_sign
+from engine.geometry.plan import shield
+from engine.tracer.kernels.bands import monotone_sign, outline_monotone_sign
+from engine.tracer.kernels.outlines import OUTLINE
 from engine.tracer.kernels.profile import wall_range
 from engine.tracer.kernels.revolved import ray_box
 from engine.tracer.kernels.records import Ray, Wall
@@ -46,7 +48,23 @@ def _geometry(shape):
     return render_geometry_for(Design(shape=shape)), BottleBody(shape)
 
 
-SHAPES = {"rounded square sample": _square_sample, "curved rounded rectangle": _curved_rounded_rect}
+def _flacon_sample():
+    """The bundled hexagonal flacon: a curved shoulder where the core vanishes into the neck."""
+    return load_project("resources/flacon.glassbench")[0].shape
+
+
+def _sharp_shield():
+    """A shield plan whose cavity has sharp corners (rounding 1 mm against a 3 mm wall) under a
+    curved shoulder: near its inner wall the footprint lies inside the scaled plan, where the
+    maximising direction jumps between pieces across the medial axis."""
+    from resources.make_outline_samples import outline_shape
+    return outline_shape(shield(), 30.0, 1.0, 60.0, (12.0, 70.0, 8.0), 9.0, 110.0, 3.0, 6.0)
+
+
+#: Shapes whose ruled slabs use the rounded rectangle's cones (:func:`ruled_roots`); an
+#: outline's are :func:`engine.tracer.kernels.plans.plan_ruled_roots` (tests/test_plan_kernels.py).
+FIXED = {"rounded square sample": _square_sample, "curved rounded rectangle": _curved_rounded_rect}
+SHAPES = {**FIXED, "flacon sample": _flacon_sample, "shield with sharp inner corners": _sharp_shield}
 WALLS = ((OUTER_WALL, "outer"), (INNER_WALL, "inner"))
 
 
@@ -100,7 +118,11 @@ def test_certified_windows_are_monotone(name):
         px, py = c * o[0] + s * o[1], -s * o[0] + c * o[1]
         qx, qy = c * d[0] + s * d[1], -s * d[0] + c * d[1]
         wall = Wall(geom.seg, geom.tab, rows[0], rows[1], rows[2], nsec, kind, c, s, geom.plan)
-        sign = monotone_sign(wall, (px, py, qx, qy, d[2]), (a, b, z_lo, z_hi), (*ranges[0], *ranges[1], *ranges[2]))
+        foot, window = (px, py, qx, qy, d[2]), (a, b, z_lo, z_hi)
+        if kind == OUTLINE:
+            sign = outline_monotone_sign(wall, foot, window, (*ranges[0], *ranges[1]))
+        else:
+            sign = monotone_sign(wall, foot, window, (*ranges[0], *ranges[1], *ranges[2]))
         tried += 1
         if sign == 0:
             continue
@@ -136,7 +158,7 @@ def test_swept_roots_find_every_crossing_a_dense_sampling_finds(name):
     assert found > 200
 
 
-@pytest.mark.parametrize("name", SHAPES)
+@pytest.mark.parametrize("name", FIXED)
 def test_ruled_slabs_normals_are_the_walls_gradients(name):
     """In a ruled slab the normal comes from the slab's linear outline coefficients
     (:func:`~engine.tracer.kernels.swept.ruled_normal`), not from the sections: it is the
@@ -160,7 +182,7 @@ def test_ruled_slabs_normals_are_the_walls_gradients(name):
         assert slanted > 10, slanted
 
 
-@pytest.mark.parametrize("name", SHAPES)
+@pytest.mark.parametrize("name", FIXED)
 def test_ruled_slabs_cross_where_the_certified_bands_do(name):
     """:func:`~engine.tracer.kernels.swept.ruled_roots` solves at most the cones of the corners
     where a ray enters and leaves the outline's box (the slab's solid is convex): its crossings

@@ -10,7 +10,7 @@ range, hence the radii, hence the bands: the iteration contracts onto the crossi
 stalls the interval is halved. A band narrower than the leaf length is solved on the exact
 surface: a sign change at its ends gives one crossing (safeguarded Newton). This is a proof, not a sampling: no crossing outside the bands is possible.
 
-Rounded squares and rectangles stop contracting earlier, as soon as the residual is *certified
+Rounded squares, rectangles and free plan outlines stop contracting earlier, as soon as the residual is *certified
 monotone* on a band: then the band holds at most one crossing, found by the same Newton. Along
 the ray, the residual's change is the outline's share, ``g . q`` (``g`` the unit gradient at
 the footprint point, ``q`` the footprint direction), plus the radii's share,
@@ -33,6 +33,7 @@ from numba import njit
 
 from .outlines import (CIRCLE, OUTLINE, OVAL, RRECT, RSQUARE, SQRT2, disc_interval, gradient_span,
                        outline_interval, rrect_directions, square_corner, xs_eval)
+from .plans import arc_dot_range, plan_support_low, plan_value
 from .profile import wall_r, wall_range, wall_slopes, wall_state
 from .jit import INLINE, JIT
 
@@ -227,6 +228,60 @@ def monotone_sign(wall, foot, window, radii):
     return 0
 
 
+@njit(**INLINE)
+def _plan_gradient_span(plan, qx, qy, x, y, k_lo, k_hi):
+    """Range of the outline's share ``g . q`` at the footprint point ``(x, y)`` over cores
+    ``[k_lo, k_hi]`` (mm): ``g`` is the maximising direction of ``sd(., k P)``, which depends
+    on ``(x, y) / k`` alone, so the cores move the point along a line through the axis. Along
+    such a line the maximising direction turns one way only (outside ``P`` the nearest-point
+    map is monotone; inside, the lower envelope of the pieces' distances is taken in order),
+    so the directions between the two ends' form an arc. A third direction half-way checks
+    that: off the arc, ``(-inf, inf)`` (no certificate)."""
+    _, ax, ay, _ = plan_value(plan, k_lo, 0.0, x, y)
+    _, bx, by, _ = plan_value(plan, k_hi, 0.0, x, y)
+    lo, hi = arc_dot_range(qx, qy, ax, ay, bx, by)
+    if k_hi > k_lo and ax * by - ay * bx != 0.0:
+        _, mx, my, _ = plan_value(plan, 0.5 * (k_lo + k_hi), 0.0, x, y)
+        turn = ax * by - ay * bx
+        if (ax * my - ay * mx) * turn < 0.0 or (mx * by - my * bx) * turn < 0.0:
+            return -np.inf, np.inf
+    return lo, hi
+
+
+@njit(**JIT)
+def outline_monotone_sign(wall, foot, window, radii):
+    """:func:`monotone_sign` for a free plan outline (kind ``OUTLINE``, :mod:`.plans`).
+
+    The residual ``sd(x, k P) - r`` changes along the ray by ``g . q - h(g) dk - dr``, ``h``
+    the plan's support (in ``[h_low, 1]``: the plan reaches 1). At a fixed core the outline's
+    share grows along the ray (``sd`` is convex), so it is bounded by its span over the cores
+    at the window's ends (:func:`_plan_gradient_span`); the radii's share by the core's and
+    rounding's slope ranges. ``radii`` = ``(k_lo, k_hi, r_lo, r_hi)`` (mm)."""
+    seg, _, s0, s1, _, _, _, _, _, plan = wall
+    px, py, qx, qy, dz = foot
+    a, b, z_lo, z_hi = window
+    k_lo, k_hi, _, _ = radii
+    if k_lo < 0.0:
+        return 0
+    u_lo, u_hi = wall_slopes(seg, s0, z_lo, z_hi)
+    u_lo, u_hi = _product(dz, dz, u_lo, u_hi)  # dk along the ray, per mm
+    v_lo, v_hi = wall_slopes(seg, s1, z_lo, z_hi)
+    v_lo, v_hi = _product(dz, dz, v_lo, v_hi)  # dr along the ray, per mm
+    lo, hi = _product(-1.0, -plan_support_low(plan), u_lo, u_hi)
+    lo, hi = lo - v_hi, hi - v_lo
+    if lo != lo or hi != hi:
+        return 0  # opposite infinities
+    margin = 1e-9 * math.sqrt(qx * qx + qy * qy)
+    lo, hi = lo - margin, hi + margin
+    g_lo, g_hi = _plan_gradient_span(plan, qx, qy, px + b * qx, py + b * qy, k_lo, k_hi)
+    if g_hi + hi < 0.0:
+        return -1
+    g_lo, g_hi = _plan_gradient_span(plan, qx, qy, px + a * qx, py + a * qy, k_lo, k_hi)
+    if g_lo + lo > 0.0:
+        return 1
+    return 0
+
+
 @njit(**JIT)
 def band_roots(wall, ray, lo, hi, leaf, out, n, stack):
     """Crossings (ascending, appended to ``out`` from index ``n``) of the ray with a wall in
@@ -243,7 +298,7 @@ def band_roots(wall, ray, lo, hi, leaf, out, n, stack):
     # the ray's footprint in the bottle frame (outlines are not turned)
     px, py = c * ox + s * oy, -s * ox + c * oy
     qx, qy = c * dx + s * dy, -s * dx + c * dy
-    certify = kind == RSQUARE or kind == RRECT
+    certify = kind == RSQUARE or kind == RRECT or kind == OUTLINE
     stack[0, 0], stack[0, 1] = lo, hi
     top = 1
     budget = BUDGET
@@ -270,12 +325,15 @@ def band_roots(wall, ray, lo, hi, leaf, out, n, stack):
                 b_lo, b_hi = wall_range(seg, tab, r1, z_lo, z_hi)
             if nsec > 2:
                 c_lo, c_hi = wall_range(seg, tab, r2, z_lo, z_hi)
-            if certify and not fresh:
+            if certify and not fresh and kind == OUTLINE:
+                monotone = outline_monotone_sign(wall, (px, py, qx, qy, dz), (wa, wb, z_lo, z_hi),
+                                                 (a_lo, a_hi, b_lo, b_hi))
+            elif certify and not fresh:
                 monotone = monotone_sign(wall, (px, py, qx, qy, dz), (wa, wb, z_lo, z_hi),
                                          (a_lo, a_hi, b_lo, b_hi, c_lo, c_hi))
-                if monotone != 0:  # at most one crossing in [wa, wb]: no more contraction
-                    a, b = wa, wb
-                    break
+            if monotone != 0:  # at most one crossing in [wa, wb]: no more contraction
+                a, b = wa, wb
+                break
             fresh = False
             if kind == CIRCLE:
                 l0, h0, l1, h1 = annulus_bands(ox, oy, dx, dy, a_lo, a_hi, a, b)

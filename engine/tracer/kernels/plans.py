@@ -86,6 +86,42 @@ def plan_value(plan, k, r, x, y):
 
 
 @njit(**INLINE)
+def plan_support_low(plan):
+    """A lower bound of the support function ``h(u)`` of ``P`` over every direction (unitless,
+    positive: the origin is inside ``P``): a line's value, an arc's least ``C . u + rho`` over
+    its wedge (at an end, or ``rho - |C|`` where the wedge holds ``-C``)."""
+    low = np.inf
+    for i in range(plan.shape[0]):
+        row = plan[i]
+        if row[PL_KIND] == FLAT:
+            low = min(low, row[PL_H])
+            continue
+        cx, cy, rho = row[PL_CX], row[PL_CY], row[PL_RHO]
+        low = min(low, cx * row[PL_U0X] + cy * row[PL_U0Y] + rho, cx * row[PL_U1X] + cy * row[PL_U1Y] + rho)
+        if (cx != 0.0 or cy != 0.0) and _in_wedge(row, -cx, -cy):
+            low = min(low, rho - math.sqrt(cx * cx + cy * cy))
+    return max(low, 0.0)
+
+
+@njit(**INLINE)
+def arc_dot_range(qx, qy, ax, ay, bx, by):
+    """Range of ``q . u`` (mm) over the unit directions ``u`` on the shorter arc from ``a`` to
+    ``b`` (unit; ``(-inf, inf)`` where they are half a turn apart or more: no shorter arc)."""
+    if ax * bx + ay * by <= 0.0:
+        return -np.inf, np.inf
+    da, db = qx * ax + qy * ay, qx * bx + qy * by
+    lo, hi = min(da, db), max(da, db)
+    turn = ax * by - ay * bx  # the arc's sense: q (or -q) is on it if a -> q -> b turn that way
+    if turn != 0.0:
+        n = math.sqrt(qx * qx + qy * qy)
+        if (ax * qy - ay * qx) * turn >= 0.0 and (qx * by - qy * bx) * turn >= 0.0:
+            hi = n
+        if (ay * qx - ax * qy) * turn >= 0.0 and (qy * bx - qx * by) * turn >= 0.0:
+            lo = -n
+    return lo, hi
+
+
+@njit(**INLINE)
 def _half_plane(g0, g1, lo, hi):
     """``[lo, hi]`` cut to where ``g0 + g1 t <= 0`` (empty: ``lo > hi``)."""
     if g1 > 0.0:

@@ -57,10 +57,12 @@ def test_outline_validity_circle_and_refusals():
     assert bad.tolist() == [False, True, True, True] and "core >= 0" in rule
     assert xs.is_circle((np.array([0.0, 1.0]), np.array([5.0, 5.0]))).tolist() == [True, False]
     assert xs.canonical((3.0, 1.0)) == (xs, (3.0, 1.0)) and xs.reach_bound((3.0, -1.0)) == 3.0
-    for feature in ("labels", "relief", "drawing", "stability", "stress"):
+    for feature in ("labels", "relief", "drawing"):
         with pytest.raises(DesignError, match=r"^[^\n]*: not supported on outline bottles yet$"):
             xs.require(feature)
     xs.require("cad")  # CAD export builds an outline's faces from its plan's pieces
+    xs.require("stability")  # exact plan moments and clips (engine.plant)
+    xs.require("stress")  # every point marked with the plan's reason, as on a rounded square
     cs.OVAL.require("labels")  # the fixed kinds offer everything
 
 

@@ -14,11 +14,14 @@ Keys::
                 (the standing ring: the outermost points of the base on the plane z = 0;
                  radius_mm for a round plan, least_mm the nearest its edge comes to the axis)
     states:     [{"state": "empty" | "filled" | "brimful", "mass_g": float, "cg_z_mm": float,
-                  "tip_deg": float, "tip_direction_deg": float, "tip_frozen_deg": float}, ...]
-                (empty always; filled when the design has a liquid; brimful always. tip_deg with
-                 the liquid's surface level as the bottle tilts (capped: nothing spills),
-                 tip_frozen_deg with the liquid frozen in place; direction in the plan, deg from
-                 +x counter-clockwise, the bottle's turn included)
+                  "cg_plan_mm": [x, y], "tip_deg": float, "tip_direction_deg": float,
+                  "tip_frozen_deg": float}, ...]
+                (empty always; filled when the design has a liquid; brimful always. cg_plan_mm
+                 the centre's foot in the plan, the bottle's turn included ([0, 0] but for an
+                 outline that is not centrally symmetric); tip_deg with the liquid's surface
+                 level as the bottle tilts (capped: nothing spills), tip_frozen_deg with the
+                 liquid frozen in place; direction in the plan, deg from +x counter-clockwise,
+                 the bottle's turn included: where the ring's edge is nearest the centre's foot)
     least_tip:  {"deg": float, "state": str, "direction_deg": float}
     weight_to_capacity: {"ratio_g_per_ml": float, "capacity_ml": float, "basis": "fill" | "brimful"}
     capacity_band: None (no liquid) | {"nominal_ml", "tolerance_ml", "rule",
@@ -103,27 +106,38 @@ def _world_deg(shape, psi: float) -> float:
     return (math.degrees(psi) + shape.rotation_deg) % 360.0
 
 
+def _world_xy(shape, x: float, y: float) -> list[float]:
+    """A plan point (mm, the bottle's own frame) with the bottle's turn."""
+    a = math.radians(shape.rotation_deg)
+    return [x * math.cos(a) - y * math.sin(a), x * math.sin(a) + y * math.cos(a)]
+
+
 def _states(design, fill_h) -> list[dict]:
-    """Empty, filled (with a liquid) and brimful: mass, centre of gravity, tip angles."""
+    """Empty, filled (with a liquid) and brimful: mass, centre of gravity, tip angles; each
+    state tips where the ring's edge is nearest to its centre's foot (the axis, unless an
+    outline's plan puts the centre off it)."""
     shape, plant = design.shape, design.plant
-    psi, reach = stability.least_direction(shape)
     fixed = mass.combined([mass.glass_part(shape, design.glass.density_g_cm3),
                            mass.closure_part(design), mass.labels_part(design)])
-    rows = [_row("empty", fixed, reach, psi, shape, None)]
+    rows = [_row("empty", fixed, shape)]
     if fill_h is not None:
         liquid = mass.liquid_part(shape, fill_h, plant.liquid_density_g_ml)
         upright = mass.combined([fixed, liquid])
+        psi, _ = stability.least_direction(shape, (upright.cg_x_mm, upright.cg_y_mm))
         moving = stability.moving_tip(shape, fixed, mass.liquid_volume_mm3(shape, fill_h),
-                                      plant.liquid_density_g_ml, psi, reach)
-        rows.append(_row("filled", upright, reach, psi, shape, math.degrees(moving)))
+                                      plant.liquid_density_g_ml, psi,
+                                      float(stability.ring_support(shape, psi)))
+        rows.append(_row("filled", upright, shape, math.degrees(moving)))
     brim = mass.liquid_part(shape, shape.z_top, plant.liquid_density_g_ml)
-    rows.append(_row("brimful", mass.combined([fixed, brim]), reach, psi, shape, None))
+    rows.append(_row("brimful", mass.combined([fixed, brim]), shape))
     return rows
 
 
-def _row(state, part, reach, psi, shape, moving_deg) -> dict:
-    frozen = stability.frozen_tip_deg(reach, part.cg_z_mm)
+def _row(state, part, shape, moving_deg=None) -> dict:
+    psi, margin = stability.least_direction(shape, (part.cg_x_mm, part.cg_y_mm))
+    frozen = stability.frozen_tip_deg(margin, part.cg_z_mm)
     return {"state": state, "mass_g": part.mass_g, "cg_z_mm": part.cg_z_mm,
+            "cg_plan_mm": _world_xy(shape, part.cg_x_mm, part.cg_y_mm),
             "tip_deg": frozen if moving_deg is None else moving_deg,
             "tip_direction_deg": _world_deg(shape, psi), "tip_frozen_deg": frozen}
 

@@ -13,20 +13,28 @@ import dataclasses
 import json
 import math
 import warnings
+from pathlib import Path
 
 import numpy as np
 import pytest
 from scipy.integrate import IntegrationWarning, quad, quad_vec
 from scipy.optimize import brentq
+from scipy.spatial import cKDTree
 
+from benchmarks.oracle_spec import spec_to_design
+from benchmarks.plant_cases import cylinder
 from engine.geometry import plan as P
+from engine.geometry.body import BottleBody
 from engine.geometry.chain import radius_at
 from engine.geometry.offset import split_at_ring
+from engine.geometry.section import Section
+from engine.geometry.shape import BottleShape
 from engine.model.design import Design, Liquid
-from engine.plant import clip, mass, membrane, stability
+from engine.plant import clip, mass, membrane, stability, thickness
 from engine.plant.sheet import plant_numbers
 from tests.test_outline_hard_places import _bottle
 
+SPECS = Path(__file__).resolve().parents[2] / "shared" / "oracle" / "specs"
 TURN_DEG = 0.005  # the reference polygons' facets: a relative area error of 1e-9 at most
 
 
@@ -267,3 +275,87 @@ def test_an_outline_has_no_membrane_figure_and_every_point_says_why(name, says):
     assert all("round here" in p["reason"] for p in wall if p["z_mm"] > 96.0 + 1e-9)  # the neck: k = 0
     assert [p["s_mm"] for p in stress["points"]] == sorted(p["s_mm"] for p in stress["points"])
     assert not any("stress" in w for w in numbers["warnings"])
+
+
+# ------------------------------------------------------------------------------ thin sloped walls
+def _sloped(plan, slope_deg, k=20.0, w=3.0):
+    """A bottle whose rounding narrows from 15 to 5 mm between z = 30 and 40 + ... at
+    ``slope_deg`` from the vertical (a cone all round: the core keeps 20 mm there), then whose
+    core shrinks to the round neck from z = 50 to 120 (at most 16 deg from the vertical)."""
+    rise = 10.0 / math.tan(math.radians(slope_deg))
+    z2 = 30.0 + rise
+    core = Section.from_dicts([{"type": "line", "p0": a, "p1": b} for a, b in
+                               zip([(0, 0), (k, 0), (k, z2 + 10), (0, z2 + 80)],
+                                   [(k, 0), (k, z2 + 10), (0, z2 + 80), (0, z2 + 100)])], smooth=[False] * 3)
+    rnd = Section.from_dicts([{"type": "line", "p0": a, "p1": b} for a, b in
+                              zip([(0, 0), (15, 0), (15, 30), (5, z2)], [(15, 0), (15, 30), (5, z2), (5, z2 + 100)])],
+                             smooth=[False] * 3)
+    return BottleShape("outline", (("core", core), ("round", rnd)), w, 6.0, plan=plan), z2
+
+
+@pytest.mark.parametrize("name", ["hexagon", "flask", "shield"])
+def test_a_45_degree_shoulder_is_the_wall_over_root_2_thick_and_warns_where(name):
+    """A cone at 45 deg all round the plan: w / sqrt2 along its normal wherever the nearest
+    inner point lies on the inner cone too; the run starts where the nearest point is the inner
+    knee, sqrt((w - a)^2 + a^2) = 0.9 w at a above the lower knee, and ends where a neck point
+    b above the upper knee is (w + b) / sqrt2 = 0.9 w from the inner cone."""
+    plan = {"hexagon": P.hexagon(), "flask": PLANS["flask"], "shield": PLANS["shield"]}[name]
+    shape, z2 = _sloped(plan, 45.0)
+    w = shape.wall_thickness
+    (run,) = thickness.thin_walls(shape)
+    assert run["least_mm"] == pytest.approx(w / math.sqrt(2.0), rel=1e-9)
+    assert run["z_from_mm"] == pytest.approx(30.0 + w * (1.0 - math.sqrt(1.0 - 2 * 0.19)) / 2.0, abs=2e-3)
+    assert run["z_to_mm"] == pytest.approx(z2 + (0.9 * math.sqrt(2.0) - 1.0) * w, abs=2e-3)
+    assert run["z_from_mm"] < run["at_z_mm"] < run["z_to_mm"]
+    (text,) = thickness.warnings([run], w)
+    assert f"{run['z_from_mm']:.1f} to {run['z_to_mm']:.1f} mm" in text and "2.12 mm" in text and "71%" in text
+
+
+@pytest.mark.parametrize("slope, warns", [(30.0, True), (20.0, False)])
+def test_a_shoulder_warns_only_below_nine_tenths_of_the_wall(slope, warns):
+    """cos 30 deg = 0.87 of the wall warns, cos 20 deg = 0.94 does not (the core's gentle
+    narrowing to the neck never does); through the sheet, which quotes it among its warnings."""
+    shape, _ = _sloped(P.octagon(0.2), slope)
+    runs = thickness.thin_walls(shape)
+    numbers = plant_numbers(Design(shape=shape))
+    assert numbers["thin_wall"] == [{**r, "direction_deg": pytest.approx(r["direction_deg"])} for r in runs]
+    if warns:
+        (run,) = runs
+        assert run["least_mm"] == pytest.approx(3.0 * math.cos(math.radians(slope)), rel=1e-9)
+        assert any(w.startswith("Sloped wall from z = ") for w in numbers["warnings"])
+    else:
+        assert runs == () and not any("Sloped" in w for w in numbers["warnings"])
+
+
+def test_a_straight_walled_flask_and_a_round_bottle_have_no_thin_wall():
+    """Vertical walls, and a core narrowing to the neck at 18 deg from the vertical at most
+    (the plan's farthest point): nowhere under nine tenths; a round bottle's cavity is its 3-D
+    offset."""
+    line = [{"type": "line", "p0": a, "p1": b} for a, b in zip([(0, 0), (20, 0), (20, 40), (0, 100)],
+                                                              [(20, 0), (20, 40), (0, 100), (0, 120)])]
+    core = Section.from_dicts(line, smooth=[False] * 3)
+    rnd = Section.from_dicts([{"type": "line", "p0": [0, 0], "p1": [5, 0]},
+                              {"type": "line", "p0": [5, 0], "p1": [5, 120]}], smooth=[False])
+    flask = Design(shape=BottleShape("outline", (("core", core), ("round", rnd)), 3.0, 6.0, plan=PLANS["flask"]))
+    numbers = plant_numbers(flask)
+    assert numbers["thin_wall"] == [] and not any("Sloped" in w for w in numbers["warnings"])
+    assert plant_numbers(cylinder())["thin_wall"] == []
+
+
+def test_the_converted_flacons_shoulder_is_as_thin_as_a_dense_point_cloud_says():
+    """outline_public_1's shoulder slopes far from the vertical: the glass there is a fifth of
+    the wall. The reference: the distance from outer wall points to a dense cloud of inner
+    wall points (every 0.05 deg and 0.01 mm), never nearer than the engine's least, and within
+    the cloud's spacing of it."""
+    design = spec_to_design(SPECS / "outline_public_1.json")[0]
+    (run,) = plant_numbers(design)["thin_wall"]
+    assert 75.0 < run["z_from_mm"] < run["at_z_mm"] < run["z_to_mm"] < 89.0 and run["share"] < 0.25
+    body = BottleBody(design.shape)
+    at, turn = run["at_z_mm"], math.radians(run["direction_deg"] - design.shape.rotation_deg)
+    zs = np.arange(at - 3.0, at + 3.0, 0.01)
+    theta = turn + np.radians(np.arange(-10.0, 10.0, 0.05))
+    inner, _ = body.wall("inner", theta[:, None], zs[None, :])
+    tree = cKDTree(inner.reshape(-1, 3))
+    outer, _ = body.wall("outer", theta[:, None], np.arange(at - 1.0, at + 1.0, 0.02)[None, :])
+    brute = float(tree.query(outer.reshape(-1, 3))[0].min())
+    assert run["least_mm"] <= brute + 1e-9 and brute < run["least_mm"] * (1.0 + 1e-3)

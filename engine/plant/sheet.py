@@ -39,7 +39,12 @@ Keys::
                 (points along the outer profile from the standing ring to the mouth; where
                  membrane theory does not hold hoop_mpa and meridional_mpa are None and reason
                  says why; a non-round plan has every point marked)
-    warnings:   [str]   (the designer's limits of Design.plant that a figure passes)
+    thin_wall:  [{"z_from_mm", "z_to_mm", "least_mm", "at_z_mm", "direction_deg", "share"}, ...]
+                (an outline bottle's sloped walls where the glass is thinner along its normal
+                 than 90 % of the wall: engine.plant.thickness; empty for every other kind, and
+                 where the wall keeps it; direction in the plan with the bottle's turn)
+    warnings:   [str]   (a part the kind does not support yet, the thin walls, then the
+                 designer's limits of Design.plant that a figure passes)
 """
 from __future__ import annotations
 
@@ -49,7 +54,7 @@ import math
 from ..errors import GlassbenchError, NotSupportedError
 from ..geometry import capacity
 from ..model import fill
-from . import mass, membrane, rules, stability
+from . import mass, membrane, rules, stability, thickness
 
 
 def plant_numbers(design, tolerant: bool = False) -> dict:
@@ -62,7 +67,7 @@ def plant_numbers(design, tolerant: bool = False) -> dict:
     """
     out = {"ring": None, "states": [], "least_tip": None, "weight_to_capacity": None,
            "capacity_band": None, "marking": None, "tolerances": None, "stress": None,
-           "warnings": []}
+           "thin_wall": None, "warnings": []}
     refused = []
 
     def put(key, fn):
@@ -90,8 +95,17 @@ def plant_numbers(design, tolerant: bool = False) -> dict:
     put("tolerances", lambda: rules.dimension_tolerances(capacity.height_mm(shape),
                                                          capacity.max_diameter_mm(shape), nominal))
     put("stress", lambda: membrane.membrane_stresses(shape, plant.proof_pressure_mpa))
-    out["warnings"] = refused + plant_warnings(design, out)
+    put("thin_wall", lambda: _thin_wall(shape))
+    out["warnings"] = refused + thickness.warnings(out["thin_wall"] or (), shape.wall_thickness) \
+        + plant_warnings(design, out)
     return out
+
+
+def _thin_wall(shape) -> list[dict]:
+    """The thin runs of an outline's sloped walls (:func:`.thickness.thin_walls`), their
+    direction with the bottle's turn."""
+    return [{**run, "direction_deg": _world_deg(shape, math.radians(run["direction_deg"]))}
+            for run in thickness.thin_walls(shape)]
 
 
 def _ring(shape) -> dict:

@@ -19,9 +19,11 @@ have closed forms on a circle (a circular segment: ``A = rho^2 acos(d/rho) - d s
 ``diag(a, b)``), a rounded rectangle (Green's theorem along its four sides and four quarter
 arcs, each arc's integrals in closed form over the angles it keeps) and an outline (the same
 along its section's own lines and arcs, :meth:`engine.geometry.plan.PlanOutline.section_pieces`,
-of any sign of the rounding). Only the band of heights the
-surface plane crosses is clipped, on Gauss nodes of its own (the integrands are C^1 there:
-their kinks, where the surface meets the wall, go as a 3/2 power); below it the upright
+of any sign of the rounding): :mod:`.clip`. Only the band of heights the surface plane crosses
+is clipped, on Gauss nodes of its own (the integrands are C^1 there: their kinks, where the
+surface meets the wall, go as a 3/2 power); an outline's band is split where the plane passes
+a joint of its section or touches an arc (:func:`_events`: a corner crossing the cut is a kink
+of the cut's length, which would cost the quadrature its order). Below the band the upright
 integrals apply. The level ``L`` that holds a volume is found by Newton's method (the volume's
 derivative in ``L`` is the area of the surface, the cut's lengths integrated), bracketed.
 Units: mm, g, g/ml.
@@ -200,7 +202,7 @@ def _illinois(values, col, lo, hi, flo, fhi) -> np.ndarray:
             break
         with np.errstate(divide="ignore", invalid="ignore"):
             new = np.where(fhi != flo, hi - fhi * (hi - lo) / (fhi - flo), 0.5 * (lo + hi))
-        new = np.clip(np.nan_to_num(new, nan=0.5 * (lo[0] + hi[0])), lo, hi)
+        new = np.clip(np.where(np.isnan(new), 0.5 * (lo + hi), new), lo, hi)
         done = np.abs(new - z) <= EVENT_TOL_MM
         z = new
         if done.all():

@@ -112,8 +112,8 @@ class _Wall:
         self.inner = [sp.inner_wall for sp in prof.sections]
         self.z_ib, self.z_top = prof.z_ib, prof.z_top
         self.p, self.u = _probes(shape.plan)
-        h = shape.plan.support(np.radians(np.arange(0.0, 360.0, 0.25)))
-        self.h_range = (float(h.min()), 1.0)  # P's farthest point is at 1
+        # P's least support is the origin's distance to its edge; its farthest point is at 1
+        self.h_range = (-float(shape.plan.signed_distance(0.0, 0.0, 1.0, 0.0)[0]), 1.0)
 
     def heights(self) -> np.ndarray:
         """:data:`NODES` heights (mm) a piece between the outer walls' joints, ends included."""

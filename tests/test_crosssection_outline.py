@@ -57,12 +57,10 @@ def test_outline_validity_circle_and_refusals():
     assert bad.tolist() == [False, True, True, True] and "core >= 0" in rule
     assert xs.is_circle((np.array([0.0, 1.0]), np.array([5.0, 5.0]))).tolist() == [True, False]
     assert xs.canonical((3.0, 1.0)) == (xs, (3.0, 1.0)) and xs.reach_bound((3.0, -1.0)) == 3.0
-    for feature in ("relief", "stability", "stress"):
-        with pytest.raises(DesignError, match=r"^[^\n]*: not supported on outline bottles yet$"):
-            xs.require(feature)
-    xs.require("cad")  # CAD export builds an outline's faces from its plan's pieces
-    xs.require("labels")  # an outline carries labels (tests/test_outline_labels.py)
-    xs.require("drawing")  # the drawing's silhouettes are its support function (tests/test_drawing_outline.py)
+    with pytest.raises(DesignError, match=r"^[^\n]*: not supported on outline bottles yet$"):
+        xs.require("relief")
+    for feature in ("cad", "labels", "drawing", "stability", "stress"):
+        xs.require(feature)  # tests/test_export_cad_outline, _outline_labels, _drawing_outline, _plant_outline
     cs.OVAL.require("labels")  # the fixed kinds offer everything
 
 

@@ -8,6 +8,7 @@ import dataclasses
 
 import pytest
 
+from benchmarks.oracle_spec import spec_to_design
 from engine.files.project import load_project
 from engine.plant.sheet import plant_numbers
 from tests.export_helpers import RESOURCES
@@ -15,6 +16,7 @@ from tests.test_gui_export import FakeOptions  # the export options dialog, answ
 from widgets.trade_panel import AMBER, DASH, STATES, plant_texts
 
 pytestmark = pytest.mark.usefixtures("no_leaks")
+SPECS = RESOURCES.parents[1] / "shared" / "oracle" / "specs"
 
 #: Longest the drawing export may take here (ms).
 EXPORT_MS = 120_000
@@ -119,6 +121,24 @@ def test_a_non_round_plan_has_no_stress_figure_and_says_why(make_window, qtbot):
     assert panel.plant_text("max_stress") == DASH
     assert panel.plant_labels["max_stress"].toolTip() == stress["note"]
     assert panel.plant_text("least_tip") != DASH, "its stability is still given"
+
+
+def test_an_outline_flacons_thin_shoulder_warns_where_and_how_thin(make_window, qtbot):
+    """outline_public_1: its stability is given, its stress a dash with the outline's reason,
+    and its shoulder's glass, thinner along its normal than the wall, one amber line."""
+    design, assets = spec_to_design(SPECS / "outline_public_1.json")
+    design = dataclasses.replace(design, render=dataclasses.replace(design.render, width=24, height=32, spp=1))
+    w = make_window(design, assets=assets)
+    panel = _shown(w, qtbot)
+    plant = w.plant_numbers
+    assert plant == plant_numbers(w.scene.design, tolerant=True)
+    _assert_panel_shows(panel, plant)
+    (run,) = plant["thin_wall"]
+    assert panel.plant_warnings.text() == "\n".join(f"\u26a0 {t}" for t in plant["warnings"])
+    assert f"from z = {run['z_from_mm']:.1f} to {run['z_to_mm']:.1f} mm" in panel.plant_warnings.text()
+    assert f"{run['least_mm']:.2f} mm thick along its normal" in panel.plant_warnings.text()
+    assert panel.plant_text("least_tip") != DASH and panel.plant_text("max_stress") == DASH
+    assert panel.plant_labels["max_stress"].toolTip() == plant["stress"]["note"]
 
 
 def test_a_design_with_no_plant_numbers_shows_dashes(make_window, qtbot):

@@ -18,6 +18,7 @@ from engine.files.project import load_project, load_project_bytes, save_project
 from engine.files.serialize import CURRENT_FORMAT, design_from_dict, design_from_document, design_to_dict
 from engine.geometry.plan import MAX_SEGMENTS, PlanOutline, hexagon
 from engine.operations.trade import trade_numbers
+from engine.plant.sheet import plant_numbers
 
 ROOT = Path(__file__).resolve().parents[1]
 SPECS = ROOT.parent / "shared" / "oracle" / "specs"
@@ -118,7 +119,9 @@ def test_the_command_line_reads_an_outline_project_and_refuses_a_hostile_one_unt
     numbers = trade_numbers(design)
     assert f"Brimful capacity      {numbers['brimful_ml']:10.1f} ml" in run.stdout
     assert f"Glass volume          {numbers['glass_volume_cm3']:10.1f} cm3" in run.stdout
-    assert "the stability check: not supported on outline bottles yet" in run.stdout
+    least = plant_numbers(design)["least_tip"]["deg"]
+    assert f"{'Least tip angle':<22}{least:10.2f} deg" in run.stdout  # an outline's plant sheet too
+    assert "not supported" not in run.stdout
     bad = tmp_path / "open.glassbench"
     bad.write_bytes(_archive({"format_version": CURRENT_FORMAT, "generator": "test",
                               "design": _with_plan(design, _open_chain(design))}, assets))

@@ -19,7 +19,7 @@ from engine.geometry.section import Section
 from engine.geometry.segments import Arc, Line
 from engine.geometry.shape import BottleShape
 from engine.model.design import Design, Liquid, Plant
-from engine.plant import mass, membrane, rules, stability
+from engine.plant import clip, mass, membrane, rules, stability
 from engine.plant.sheet import plant_numbers, summary_figures
 from benchmarks.plant_cases import closed_form_cases, cone_design, cylinder, cylinder_section, sphere_flask
 
@@ -77,7 +77,7 @@ def test_tilted_liquid_in_a_cylinder_a_round_cornered_square_and_a_round_oval_ag
 def clip_polygon(xi, eta, d):
     """Area, first moment along xi and the cut's length of polygons (counter-clockwise) where
     ``xi >= d``: the engine's edge integrals closed around each polygon (the oracle's clip)."""
-    area, m2, chord = mass._clip_edges(xi, eta, np.roll(xi, -1, axis=1), np.roll(eta, -1, axis=1), d)
+    area, m2, chord = clip.edges(xi, eta, np.roll(xi, -1, axis=1), np.roll(eta, -1, axis=1), d)
     return area, m2 + d * area, np.abs(chord)
 
 
@@ -105,7 +105,7 @@ def test_a_rounded_rectangles_exact_clip_matches_ever_finer_polygons():
     reach = np.hypot(a, b)
     for psi in (0.0, 0.3, math.pi / 4, 1.2, math.pi / 2, 2.5, -0.7, math.pi):
         d = rng.uniform(-1.1, 1.1, 400) * reach
-        got = mass._clip_rounded_rect(a, b, r, psi, d)
+        got = clip.rounded_rect(a, b, r, psi, d)
         fine, coarse = fine_polygon_clip(a, b, r, psi, d, 2000), fine_polygon_clip(a, b, r, psi, d, 1000)
         for k, scale in ((0, reach ** 2), (1, reach ** 3)):
             ref = (4.0 * fine[k] - coarse[k]) / 3.0

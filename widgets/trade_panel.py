@@ -11,7 +11,8 @@ rename) or keeps the old one; nothing is renamed unasked.
 
 Under them the Plant group shows the plant's figures (:func:`engine.plant.sheet.plant_numbers`,
 derived with the trade numbers: ``show_plant(plant)``, a part that cannot be computed a dash)
-and the warnings of the designer's limits, in the amber of the section's warnings. The plant's
+and its warnings (the designer's limits a figure passes, an outline's thin sloped walls), in the
+amber of the section's warnings. The plant's
 settings and limits (``design.plant``) are edited here too, one undoable
 ``editor.apply(..., plant=...)`` per finished edit, and the panel follows the scene for that
 field and the name (``refresh(design)``), so an undo shows here.
@@ -221,7 +222,8 @@ class TradeNumbersPanel(QWidget):
         self.plant_warnings = QLabel("")
         self.plant_warnings.setWordWrap(True)
         self.plant_warnings.setStyleSheet(f"color: {AMBER}")
-        self.plant_warnings.setToolTip("The plant's limits (below) that a figure passes")
+        self.plant_warnings.setToolTip("The plant's limits (below) that a figure passes, and where an "
+                                       "outline's sloped wall leaves the glass thinner than its wall")
         self.plant_warnings.hide()
         form.addRow(self.plant_warnings)
         return box

@@ -99,14 +99,21 @@ def _chains(prof: BodyProfile, which: str):
     return [c for sp in prof.sections for c in (sp.outer_wall, sp.outer_base)]
 
 
+def _nodes(prof: BodyProfile, which: str, z_lo: float, z_hi: float):
+    """``(joints, z, dz)``: the joints from ``z_lo`` to ``z_hi`` (mm) and, per piece between
+    them, the quadrature's heights ``z`` (mm, ``(pieces, 24)``) and the piece's height ``dz``
+    (mm): ``dz * (f(z) @ _SUB_W)`` is each piece's ``int f dz``."""
+    joints = _joints(_chains(prof, which), z_lo, z_hi, _area_breaks(prof, which))
+    za, zb = joints[:-1, None], joints[1:, None]
+    return joints, za + (zb - za) * _SUB_Z, zb[:, 0] - za[:, 0]
+
+
 def _integrate(prof: BodyProfile, which: str, z_lo: float, z_hi: float, power: int = 0) -> np.ndarray:
     """Volumes (mm^3) of each piece between joints from ``z_lo`` to ``z_hi``, and the joints;
     with ``power`` 1 the pieces' moments ``int z A(z) dz`` (mm^4) instead."""
-    joints = _joints(_chains(prof, which), z_lo, z_hi, _area_breaks(prof, which))
-    za, zb = joints[:-1, None], joints[1:, None]
-    z = za + (zb - za) * _SUB_Z
+    joints, z, dz = _nodes(prof, which, z_lo, z_hi)
     a = _area_at(prof, z.ravel(), which).reshape(z.shape) * z ** power
-    return joints, (zb[:, 0] - za[:, 0]) * (a @ _SUB_W)
+    return joints, dz * (a @ _SUB_W)
 
 
 def volume_and_moment_mm(shape, which: str, z_lo: float, z_hi: float) -> tuple[float, float]:
@@ -119,6 +126,22 @@ def volume_and_moment_mm(shape, which: str, z_lo: float, z_hi: float) -> tuple[f
         return 0.0, 0.0
     return (float(_integrate(prof, which, z_lo, z_hi)[1].sum()),
             float(_integrate(prof, which, z_lo, z_hi, power=1)[1].sum()))
+
+
+def plan_moment_mm(shape, which: str, z_lo: float, z_hi: float) -> tuple[float, float]:
+    """``(M_x, M_y)``: the first moments (mm^4) in the plan (the bottle's own frame, before
+    ``rotation_deg``) of the cavity (``which="inner"``) or the outer solid between heights
+    ``z_lo`` and ``z_hi`` (mm): ``int M(z) dz`` of the sections' moments
+    (:meth:`~engine.geometry.crosssection.CrossSection.moment`) by the same quadrature as the
+    volume, so ``M / V`` is the piece's centre of gravity in the plan (mm). 0 for a
+    :attr:`~engine.geometry.crosssection.CrossSection.centred` kind, without integrating."""
+    prof = body_profile(shape)
+    if prof.xs.centred or z_hi <= z_lo:
+        return 0.0, 0.0
+    _, z, dz = _nodes(prof, which, z_lo, z_hi)
+    radii, _ = section_radii_at(prof, z.ravel(), which)  # a punt's dome is round: centred
+    mx, my = (float(np.sum(dz * (np.reshape(m, z.shape) @ _SUB_W))) for m in prof.xs.moment(radii))
+    return mx, my
 
 
 @lru_cache(maxsize=64)

@@ -78,12 +78,25 @@ class CrossSection:
     vanishing: tuple[str, ...] = ()
     #: Symmetric about both axes of its own frame, so a quarter turn mirrored is the whole (meshes).
     mirror_quarters: bool = True
+    #: Centrally symmetric at every height: each section's centroid is on the axis, so its
+    #: :meth:`moment` is 0 and the masses' centres lie on the axis without integrating.
+    centred: bool = True
+    #: The cavity's section is the outer one's plan offset at the same height (not the 3-D
+    #: offset of the outer surface): where the wall slopes, the glass is thinner along its
+    #: normal than the wall thickness (:mod:`engine.plant.thickness`).
+    plan_offset_wall: bool = False
 
     def require(self, feature: str) -> None:
         """Raise ``NotSupportedError`` (a ``DesignError``, one line) if this kind cannot offer
         ``feature`` (a key of :data:`FEATURES`) yet; nothing otherwise."""
         if feature in self.unsupported:
             raise NotSupportedError(f"{FEATURES[feature]}: not supported on {self.name} bottles yet")
+
+    def moment(self, radii):
+        """First moments ``(M_x, M_y)`` (mm^3, the integrals of ``x`` and ``y`` over the section):
+        0 for a :attr:`centred` kind."""
+        shape = np.broadcast(*(np.asarray(x, float) for x in radii)).shape
+        return np.zeros(shape), np.zeros(shape)
 
     def canonical(self, radii):
         """``(cross-section, radii)``: the same section as round, rounded_rect, oval or outline."""
@@ -339,8 +352,10 @@ class Outline(CrossSection):
     plan: object
     name = "outline"
     sections = ("core", "round")
-    unsupported = frozenset({"relief", "stability", "stress"})
+    unsupported = frozenset({"relief"})
     mirror_quarters = False  # a flask or a shield is not; a hexagon is, and is meshed whole anyway
+    centred = False  # nor centrally symmetric: a shield's centroid is off the axis
+    plan_offset_wall = True  # SPEC_outline 5: the cavity is the plan offset at the same height
     #: Steiner's polynomial for r >= 0, the inner parallel set's area below: equal in value and
     #: slope at r = 0 but not in curvature, which would cost Gauss-Legendre its exactness.
     area_breaks = ((1, 0.0),)
@@ -355,6 +370,10 @@ class Outline(CrossSection):
         set's exact area (0 where it is empty, NaN where a piece of ``P`` has vanished from it:
         :meth:`engine.geometry.plan.PlanOutline.inner_area`)."""
         return self.plan.inner_area(*self._kr(radii))
+
+    def moment(self, radii):
+        """Exact, from the section's pieces (:meth:`engine.geometry.plan.PlanOutline.section_moment`)."""
+        return self.plan.section_moment(*self._kr(radii))
 
     def girth(self, radii):
         """Perimeter (mm): ``k L + 2 pi r`` for ``r >= 0``, the inner parallel set's for ``r < 0``."""

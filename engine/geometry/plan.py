@@ -732,6 +732,25 @@ class PlanOutline:
         self._by_sign(rf, each)
         return out.reshape(k.shape)
 
+    def section_moment(self, k, r):
+        """First moments ``(M_x, M_y)`` (mm^3: the integrals of ``x`` and ``y`` over the section
+        ``{q : sd(q, k P) <= r}``), broadcast over ``k >= 0`` and ``r`` of either sign; the
+        centroid is ``M / area``. Exact: Green's theorem along the section's own pieces
+        (:meth:`section_pieces`), each line's and arc's integral in closed form
+        (:func:`_pieces_moment`); 0 where the section is empty, NaN where a piece of ``P`` has
+        vanished from it (as :meth:`inner_area`)."""
+        k, r = np.broadcast_arrays(np.asarray(k, float), np.asarray(r, float))
+        out = np.zeros((2, k.size))
+        kf, rf = k.ravel(), r.ravel()
+
+        def each(mask):
+            out[:, mask] = _pieces_moment(self._section_pieces(kf[mask], rf[mask]))
+
+        self._by_sign(rf, each)
+        area = self.inner_area(kf, rf)
+        out = np.where(area > 0, out, np.where(np.isnan(area), np.nan, 0.0))
+        return out[0].reshape(k.shape), out[1].reshape(k.shape)
+
     def section_reach(self, k, r):
         """Largest distance (mm) of the section ``{q : sd(q, k P) <= r}`` from the origin,
         vectorised: ``k + r`` for ``r >= 0`` (``P``'s farthest point is at 1); for ``r < 0`` the
@@ -822,6 +841,29 @@ def _circle_trims(a: PlanArc, b: PlanArc, k, t):
     # why: W stays on the side `side` of the line C_a -> C_b (direction delta); its angle about
     # C_a is delta + side*gamma_a and about C_b delta + pi - side*gamma_b
     return side * (ga0 - ga), side * (gb0 - gb)
+
+
+def _pieces_moment(pieces) -> np.ndarray:
+    """``(2, n)``: ``(M_x, M_y)`` (mm^3) of the regions bounded counter-clockwise by the chains of
+    :meth:`PlanOutline._section_pieces`, by Green's theorem, ``M_x = closed int x^2/2 dy`` and
+    ``M_y = -closed int y^2/2 dx``: on a line ``a -> b`` the integrands are quadratic in its
+    parameter, on an arc ``C + rho (cos t, sin t)`` trigonometric polynomials in ``t``."""
+    mx = my = 0.0
+    for p in pieces:
+        if p[0] == "line":
+            _, ax, ay, bx, by, _, _ = p
+            mx = mx + (by - ay) * (ax * ax + ax * bx + bx * bx) / 6.0
+            my = my - (bx - ax) * (ay * ay + ay * by + by * by) / 6.0
+            continue
+        _, cx, cy, rho, a0, a1 = p
+        s0, s1, c0, c1 = np.sin(a0), np.sin(a1), np.cos(a0), np.cos(a1)
+        dt = a1 - a0
+        # int cos t, cos^2 t, cos^3 t dt and int sin t, sin^2 t, sin^3 t dt from a0 to a1
+        ic, icc, iccc = s1 - s0, 0.5 * (dt + s1 * c1 - s0 * c0), (s1 - s1 ** 3 / 3.0) - (s0 - s0 ** 3 / 3.0)
+        i_s, iss, isss = c0 - c1, 0.5 * (dt - s1 * c1 + s0 * c0), (c0 - c0 ** 3 / 3.0) - (c1 - c1 ** 3 / 3.0)
+        mx = mx + 0.5 * rho * (cx * cx * ic + 2.0 * cx * rho * icc + rho * rho * iccc)
+        my = my + 0.5 * rho * (cy * cy * i_s + 2.0 * cy * rho * iss + rho * rho * isss)
+    return np.array(np.broadcast_arrays(mx, my), float)
 
 
 def _ray_exit(pieces, ux, uy) -> np.ndarray:

@@ -3,10 +3,12 @@
 Design rule: every mass is a density times an exact volume of :mod:`engine.geometry.capacity`
 (the integral over height of a cross-section's area), and every centre of gravity the same
 integral's first moment. A :class:`Part` is a mass (g) at a point (mm) of the bottle's own frame:
-``z`` above the standing plane and ``u`` along a plan direction (the tilt's). The glass, the
-closure and the labels are symmetric about the axis to the figures the plant quotes, so their
-``u`` is 0 (a label's own offset from the axis moves the centre by under a thousandth of a mm
-for any label stock: it is not modelled).
+``z`` above the standing plane and ``(x, y)`` in the plan (before ``rotation_deg``). The
+sections' plan moments are exact too (:func:`engine.geometry.capacity.plan_moment_mm`): 0 on
+a centrally symmetric plan (every fixed kind), off the axis on an outline that is not (a shield,
+a flask with unequal ends). The closure and the labels are taken on the axis (a label's own
+offset from the axis moves the centre by under a thousandth of a mm for any label stock: it is
+not modelled).
 
 The liquid in a tilted bottle keeps its surface level (:func:`tilted_liquid`). In the bottle's
 frame, tilted by ``phi`` toward the plan direction ``u``, the liquid fills the cavity below the
@@ -14,10 +16,14 @@ plane ``z cos(phi) - (p . u) sin(phi) = L``; at each height that is the part of 
 cross-section with ``p . u >= d(z) = (z cos(phi) - L) / sin(phi)``. Its area and first moment
 have closed forms on a circle (a circular segment: ``A = rho^2 acos(d/rho) - d sqrt(rho^2 - d^2)``,
 ``M_u = 2/3 (rho^2 - d^2)^(3/2)``); so has an oval (the unit disc's segment mapped by
-``diag(a, b)``) and a rounded rectangle (Green's theorem along its four sides and four quarter
-arcs, each arc's integrals in closed form over the angles it keeps). Only the band of heights the
-surface plane crosses is clipped, on Gauss nodes of its own (the integrands are C^1 there:
-their kinks, where the surface meets the wall, go as a 3/2 power); below it the upright
+``diag(a, b)``), a rounded rectangle (Green's theorem along its four sides and four quarter
+arcs, each arc's integrals in closed form over the angles it keeps) and an outline (the same
+along its section's own lines and arcs, :meth:`engine.geometry.plan.PlanOutline.section_pieces`,
+of any sign of the rounding): :mod:`.clip`. Only the band of heights the surface plane crosses
+is clipped, on Gauss nodes of its own (the integrands are C^1 there: their kinks, where the
+surface meets the wall, go as a 3/2 power); an outline's band is split where the plane passes
+a joint of its section or touches an arc (:func:`_events`: a corner crossing the cut is a kink
+of the cut's length, which would cost the quadrature its order). Below the band the upright
 integrals apply. The level ``L`` that holds a volume is found by Newton's method (the volume's
 derivative in ``L`` is the area of the surface, the cut's lengths integrated), bracketed.
 Units: mm, g, g/ml.
@@ -32,10 +38,16 @@ import numpy as np
 
 from ..geometry import capacity
 from ..geometry.capacity import MM3_PER_ML
+from ..geometry.capacity import _area_breaks as area_breaks  # the heights the capacity cuts at too
 from ..geometry.validate import body_profile
+from . import clip
 
 #: Gauss panels per piece between joints for the tilted liquid (each 24 nodes, cosine-spaced).
 SUB_PANELS = 2
+#: Samples (at least, and one more a mm) per piece between joints where an outline's cut events
+#: are looked for (each then solved to :data:`EVENT_TOL_MM`).
+EVENT_SAMPLES = 17
+EVENT_TOL_MM = 1e-10
 #: g/mm^3 per g/cm^3 (and per g/ml).
 G_PER_MM3 = 1e-3
 
@@ -47,12 +59,17 @@ _SUB_W = _W * (math.pi / 2.0) * np.sin(math.pi * _X)
 
 @dataclass(frozen=True)
 class Part:
-    """A mass (g) whose centre of gravity is ``cg_z_mm`` above the standing plane and
-    ``cg_u_mm`` along the tilt's plan direction (mm)."""
+    """A mass (g) whose centre of gravity is ``cg_z_mm`` above the standing plane and at
+    ``(cg_x_mm, cg_y_mm)`` in the plan (mm, the bottle's own frame)."""
 
     mass_g: float
     cg_z_mm: float
-    cg_u_mm: float = 0.0
+    cg_x_mm: float = 0.0
+    cg_y_mm: float = 0.0
+
+    def along(self, psi: float) -> float:
+        """The centre's reach (mm) along the plan direction ``psi`` (rad, own frame)."""
+        return self.cg_x_mm * math.cos(psi) + self.cg_y_mm * math.sin(psi)
 
 
 def combined(parts) -> Part:
@@ -61,24 +78,29 @@ def combined(parts) -> Part:
     m = sum(p.mass_g for p in parts)
     if m <= 0:
         return Part(0.0, 0.0)
-    return Part(m, sum(p.mass_g * p.cg_z_mm for p in parts) / m,
-                sum(p.mass_g * p.cg_u_mm for p in parts) / m)
+    return Part(m, *(sum(p.mass_g * getattr(p, f) for p in parts) / m
+                     for f in ("cg_z_mm", "cg_x_mm", "cg_y_mm")))
 
 
 def glass_part(shape, density_g_cm3: float) -> Part:
     """The glass: the outer solid from the standing plane to the mouth less the cavity."""
-    v_out, m_out = capacity.volume_and_moment_mm(shape, "outer", 0.0, shape.z_top)
     prof = body_profile(shape)
-    v_in, m_in = capacity.volume_and_moment_mm(shape, "inner", prof.z_ib, prof.z_top)
+    solids = (("outer", 0.0, shape.z_top), ("inner", prof.z_ib, prof.z_top))
+    (v_out, m_out), (v_in, m_in) = (capacity.volume_and_moment_mm(shape, *s) for s in solids)
+    (x_out, y_out), (x_in, y_in) = (capacity.plan_moment_mm(shape, *s) for s in solids)
     v = v_out - v_in
-    return Part(v * density_g_cm3 * G_PER_MM3, (m_out - m_in) / v)
+    return Part(v * density_g_cm3 * G_PER_MM3, (m_out - m_in) / v, (x_out - x_in) / v, (y_out - y_in) / v)
 
 
 def liquid_part(shape, height_mm: float, density_g_ml: float) -> Part:
     """The liquid standing upright up to ``height_mm`` above the standing plane."""
     prof = body_profile(shape)
-    v, m = capacity.volume_and_moment_mm(shape, "inner", prof.z_ib, min(height_mm, prof.z_top))
-    return Part(v * density_g_ml * G_PER_MM3, m / v if v > 0 else prof.z_ib)
+    top = min(height_mm, prof.z_top)
+    v, m = capacity.volume_and_moment_mm(shape, "inner", prof.z_ib, top)
+    if v <= 0:
+        return Part(0.0, prof.z_ib)
+    mx, my = capacity.plan_moment_mm(shape, "inner", prof.z_ib, top)
+    return Part(v * density_g_ml * G_PER_MM3, m / v, mx / v, my / v)
 
 
 def closure_part(design) -> Part | None:
@@ -122,10 +144,10 @@ class _Cavity:
 
 @lru_cache(maxsize=32)
 def _cavity(shape) -> _Cavity:
-    shape.xs.require("stability")
     prof = body_profile(shape)
     chains = [c for sp in prof.sections for c in (sp.inner_wall, sp.inner_base)]
-    zs = [prof.z_ib, prof.z_top] + [p for c in chains for s in c for p in (s.p0[1], s.p1[1])]
+    zs = [prof.z_ib, prof.z_top, *area_breaks(prof, "inner")] + \
+        [p for c in chains for s in c for p in (s.p0[1], s.p1[1])]
     joints = np.unique(np.clip(np.asarray(zs, float), prof.z_ib, prof.z_top))
     z = np.linspace(prof.z_ib, prof.z_top, 4097)
     radii, _ = capacity.section_radii_at(prof, z, "inner")
@@ -133,105 +155,67 @@ def _cavity(shape) -> _Cavity:
     return _Cavity(prof.xs, prof, joints, prof.z_ib, prof.z_top, reach)
 
 
-def _nodes(cav: _Cavity, za: float, zb: float):
-    """Gauss nodes and weights (mm) on ``[za, zb]``: split at the cavity's joints, each piece
-    into :data:`SUB_PANELS` panels, 24 cosine-spaced nodes a panel."""
-    inner = cav.joints[(cav.joints > za) & (cav.joints < zb)]
-    cuts = np.concatenate([[za], inner, [zb]])
+def _nodes(cav: _Cavity, za: float, zb: float, events=()):
+    """Gauss nodes and weights (mm) on ``[za, zb]``: split at the cavity's joints and at the
+    heights ``events`` (mm), each piece into :data:`SUB_PANELS` panels, 24 cosine-spaced nodes a
+    panel."""
+    inner = np.union1d(cav.joints, np.asarray(events, float))
+    cuts = np.concatenate([[za], inner[(inner > za) & (inner < zb)], [zb]])
     edges = np.concatenate([np.linspace(a, b, SUB_PANELS + 1)[:-1] for a, b in zip(cuts[:-1], cuts[1:])]
                            + [cuts[-1:]])
     lo, hi = edges[:-1, None], edges[1:, None]
     return (lo + (hi - lo) * _SUB_Z).ravel(), ((hi - lo) * _SUB_W).ravel()
 
 
-def _segment(rho, d):
-    """Area (mm^2), first moment along u (mm^3) and the cut's length (mm) of the disk of radius
-    ``rho`` where ``p.u >= d``."""
-    x = np.clip(d / np.where(rho > 0, rho, 1.0), -1.0, 1.0)
-    h2 = np.maximum(rho * rho - d * d, 0.0)
-    h = np.sqrt(h2)
-    area = rho * rho * np.arccos(x) - np.where(np.abs(d) < rho, d * h, 0.0)
-    return area, (2.0 / 3.0) * h2 * h, 2.0 * h
+def _events(cav: _Cavity, za: float, zb: float, psi: float, cut) -> np.ndarray:
+    """Heights (mm) in ``[za, zb]`` where the cut ``p . u >= cut(z)`` (mm) passes a joint of an
+    outline cavity's section or touches one of its arcs (:func:`.clip.outline_events`): there the
+    clipped area changes formula, and a quadrature that does not split there loses its order
+    (a corner crossing the cut is a kink of the cut's length). Per piece between joints, every
+    sign change on :data:`EVENT_SAMPLES` samples is solved by the Illinois method. None for
+    the other kinds (their arcs' ends are the band's ends, or quarter arcs: left as they were)."""
+    if cav.xs.name != "outline":
+        return np.empty(0)
+    bounds = np.concatenate([[za], cav.joints[(cav.joints > za) & (cav.joints < zb)], [zb]])
+    out = []
+    for a, b in zip(bounds[:-1], bounds[1:]):
+        grown = bool(capacity.section_radii_at(cav.prof, np.array([0.5 * (a + b)]), "inner")[0][1][0] >= 0)
+
+        def values(z):
+            radii, _ = capacity.section_radii_at(cav.prof, z, "inner")
+            return clip.outline_events(cav.xs.plan, radii[0], radii[1], grown, psi, cut(z))
+        z = np.linspace(a, b, EVENT_SAMPLES + int(b - a))
+        f = values(z)
+        i, j = np.nonzero(np.isfinite(f[:-1]) & np.isfinite(f[1:]) & (np.signbit(f[:-1]) != np.signbit(f[1:])))
+        out.append(_illinois(values, j, z[i], z[i + 1], f[i, j], f[i + 1, j]))
+    return np.concatenate(out) if out else np.empty(0)
 
 
-def _clip_edges(xa, ea, xb, eb, d):
-    """Per row, the sums over straight edges ``(xa, ea) -> (xb, eb)`` (counter-clockwise along
-    the outline, mm) of the kept parts' Green integrals where ``xi >= d``: ``(xi - d) d eta``
-    (area), ``(xi - d)^2 / 2 d eta`` (first moment about the cut) and the signed ``eta`` of the
-    points where an edge crosses the cut (leaving: +, entering: -)."""
-    f, f1 = xa - d[:, None], xb - d[:, None]
-    de = eb - ea
-    with np.errstate(divide="ignore", invalid="ignore"):  # the kept part: f0 + t (f1 - f0) >= 0
-        tc = np.clip(f / (f - f1), 0.0, 1.0)
-    ta = np.where(f >= 0, 0.0, np.where(f1 >= 0, tc, 1.0))
-    tb = np.where(f1 >= 0, 1.0, np.where(f >= 0, tc, 0.0))
-    fa, fb = f + ta * (f1 - f), f + tb * (f1 - f)
-    dt = np.maximum(tb - ta, 0.0)  # an edge wholly cut away keeps nothing
-    area = np.sum(de * dt * 0.5 * (fa + fb), axis=1)
-    m2 = np.sum(de * dt * (fa * fa + fa * fb + fb * fb) / 6.0, axis=1)  # int f^2/2, f linear
-    crossing = (f >= 0) != (f1 >= 0)
-    chord = np.sum(np.where(crossing, (ea + tc * de) * np.where(f >= 0, 1.0, -1.0), 0.0), axis=1)
-    return area, m2, chord
-
-
-def _clip_arcs(cxi, ceta, r, t0, d):
-    """The sums of :func:`_clip_edges` over quarter arcs of radius ``r`` (mm) about ``(cxi,
-    ceta)``, running counter-clockwise from the angle ``t0`` (rad) through ``t0 + pi/2``; every
-    array ``(rows, arcs)``, ``d`` per row. On the arc ``xi = cxi + r cos t``, ``d eta = r cos t
-    dt``: the integrals are closed forms over the angles where ``cos t >= k = (d - cxi) / r``,
-    the interval ``[-beta, beta]`` (mod 2 pi), ``beta = acos k``."""
-    K = cxi - d[:, None]
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k = np.where(r > 0, -K / np.where(r > 0, r, 1.0), np.where(K >= 0, -2.0, 2.0))
-    beta = np.arccos(np.clip(k, -1.0, 1.0))
-    t0 = np.mod(t0 + math.pi, 2 * math.pi) - math.pi       # in [-pi, pi): one turn is enough
-    t1 = t0 + 0.5 * math.pi
-    area = m2 = chord = 0.0
-    for shift in (0.0, 2 * math.pi):
-        lo = np.maximum(t0, shift - beta)
-        hi = np.minimum(t1, shift + beta)
-        hi = np.maximum(hi, lo)
-
-        def F(t):
-            s, c = np.sin(t), np.cos(t)
-            a = K * r * s + r * r * (0.5 * t + 0.5 * s * c)
-            m = 0.5 * r * (K * K * s + K * r * (t + s * c) + r * r * (s - s ** 3 / 3.0))
-            return a, m
-        (a1, m1), (a0, m0) = F(hi), F(lo)
-        area, m2 = area + a1 - a0, m2 + m1 - m0
-        # the cut's ends on the arc: leaving at +beta, entering at -beta (inside the arc's span)
-        full = (k <= -1.0) | (k >= 1.0)
-        for at, sign in ((shift + beta, 1.0), (shift - beta, -1.0)):
-            inside = (at >= t0) & (at < t1) & ~full
-            chord = chord + np.where(inside, sign * (ceta + r * np.sin(at)), 0.0)
-    return np.sum(area, axis=1), np.sum(m2, axis=1), np.sum(chord, axis=1)
-
-
-def _clip_rounded_rect(a, b, r, psi: float, d):
-    """Area (mm^2), first moment along ``u`` (mm^3) and the cut's length (mm) where ``p . u >= d``
-    of the rounded rectangles of half-width ``a``, half-depth ``b`` and corner radius ``r``
-    (arrays per row, mm), ``u`` at the angle ``psi``: four sides and four quarter arcs, exact."""
-    c, s = math.cos(psi), math.sin(psi)
-    A, B = a - r, b - r
-    # the sides, counter-clockwise: right, top, left, bottom
-    x0 = np.column_stack([a, A, -a, -A]); y0 = np.column_stack([-B, b, B, -b])
-    x1 = np.column_stack([a, -A, -a, A]); y1 = np.column_stack([B, b, -B, -b])
-    la, lm, lc = _clip_edges(x0 * c + y0 * s, -x0 * s + y0 * c, x1 * c + y1 * s, -x1 * s + y1 * c, d)
-    cx = np.column_stack([A, -A, -A, A]); cy = np.column_stack([B, B, -B, -B])
-    t0 = np.array([0.0, 0.5, 1.0, 1.5]) * math.pi - psi
-    aa, am, ac = _clip_arcs(cx * c + cy * s, -cx * s + cy * c, r[:, None] + 0 * cx,
-                            np.broadcast_to(t0, cx.shape), d)
-    area = la + aa
-    return area, lm + am + d * area, np.abs(lc + ac)
-
-
-def _clip_oval(a, b, psi: float, d):
-    """Area, first moment along ``u`` and the cut's length of the ellipses of half axes ``a``,
-    ``b`` (mm) where ``p . u >= d``: the ellipse is the unit disc mapped by ``diag(a, b)``, so it
-    is the unit disc's segment at ``d / w``, ``w = |(a cos psi, b sin psi)|``, scaled (exact)."""
-    w = np.hypot(a * math.cos(psi), b * math.sin(psi))
-    area, m, chord = _segment(np.ones_like(w), d / w)
-    return a * b * area, a * b * w * m, chord * a * b / w
+def _illinois(values, col, lo, hi, flo, fhi) -> np.ndarray:
+    """Roots (mm) of the columns ``col`` of ``values(z)`` bracketed by ``[lo, hi]`` (their values
+    ``flo``, ``fhi`` of opposite signs), vectorised regula falsi with the Illinois halving, to
+    :data:`EVENT_TOL_MM`. A root that cannot be refined (NaN met) stays where it got: a split
+    anywhere is harmless, it only helps where it lies on the event."""
+    rows, side, z = np.arange(len(col)), np.zeros(len(col)), 0.5 * (lo + hi)
+    for _ in range(60):
+        if not len(col):
+            break
+        with np.errstate(divide="ignore", invalid="ignore"):
+            new = np.where(fhi != flo, hi - fhi * (hi - lo) / (fhi - flo), 0.5 * (lo + hi))
+        new = np.clip(np.where(np.isnan(new), 0.5 * (lo + hi), new), lo, hi)
+        done = np.abs(new - z) <= EVENT_TOL_MM
+        z = new
+        if done.all():
+            break
+        fm = values(z)[rows, col]
+        fm = np.where(np.isfinite(fm), fm, 0.0)
+        right = np.signbit(fm) == np.signbit(flo)  # the root lies in [z, hi]
+        fhi = np.where(right & (side == 1), 0.5 * fhi, fhi)
+        flo = np.where(~right & (side == -1), 0.5 * flo, flo)
+        lo, flo = np.where(right, z, lo), np.where(right, fm, flo)
+        hi, fhi = np.where(right, hi, z), np.where(right, fhi, fm)
+        side = np.where(right, 1, -1)
+    return z
 
 
 def _clipped(cav: _Cavity, z, d, psi: float):
@@ -239,15 +223,17 @@ def _clipped(cav: _Cavity, z, d, psi: float):
     sections at heights ``z`` where ``p . u >= d``."""
     radii, dome = capacity.section_radii_at(cav.prof, z, "inner")
     if cav.xs.revolved:
-        a, m, c = _segment(radii[0], d)
+        a, m, c = clip.segment(radii[0], d)
         if dome is not None:
-            a2, m2, c2 = _segment(dome, d)
+            a2, m2, c2 = clip.segment(dome, d)
             a, m, c = a - a2, m - m2, c - c2
         return a, m, c
     if cav.xs.name == "oval":  # why by name: the clipped areas are this module's closed forms
-        return _clip_oval(np.asarray(radii[0], float), np.asarray(radii[1], float), psi, d)
+        return clip.oval(np.asarray(radii[0], float), np.asarray(radii[1], float), psi, d)
+    if cav.xs.name == "outline":
+        return clip.outline(cav.xs.plan, np.asarray(radii[0], float), np.asarray(radii[1], float), psi, d)
     a, b, c = (np.asarray(v, float) for v in cav.xs.as_rect(radii))
-    return _clip_rounded_rect(a, b, c, psi, d)
+    return clip.rounded_rect(a, b, c, psi, d)
 
 
 def tilted_liquid(shape, volume_mm3: float, phi: float, psi: float = 0.0) -> tuple[float, float, float]:
@@ -256,8 +242,8 @@ def tilted_liquid(shape, volume_mm3: float, phi: float, psi: float = 0.0) -> tup
     level (module rule); its volume (mm^3) and first moments along ``u`` and ``z`` (mm^4).
 
     Below the height where the surface plane leaves the cavity's reach every section is whole
-    (its volume and moment are the upright ones of :mod:`engine.geometry.capacity`, and its
-    moment along ``u`` is 0: the plans are centrally symmetric); only the band the plane crosses,
+    (its volume and moments are the upright ones of :mod:`engine.geometry.capacity`; its moment
+    along ``u`` is 0 on a centrally symmetric plan); only the band the plane crosses,
     ``2 reach tan(phi)`` high, is clipped. The bottle is closed (capped): a liquid that reaches
     the mouth stays in."""
     cav = _cavity(shape)
@@ -268,11 +254,15 @@ def tilted_liquid(shape, volume_mm3: float, phi: float, psi: float = 0.0) -> tup
         za = min(max((level - cav.reach * sphi) / cphi, cav.z_ib), cav.z_top)
         zb = min(max((level + cav.reach * sphi) / cphi, cav.z_ib), cav.z_top)
         v0, mz0 = capacity.volume_and_moment_mm(shape, "inner", cav.z_ib, za)
+        mx0, my0 = capacity.plan_moment_mm(shape, "inner", cav.z_ib, za)
+        mu0 = mx0 * math.cos(psi) + my0 * math.sin(psi)
         if zb <= za:
-            return v0, 0.0, mz0, 0.0
-        z, w = _nodes(cav, za, zb)
-        a, m, c = _clipped(cav, z, (z * cphi - level) / sphi, psi)
-        return v0 + float(np.dot(w, a)), float(np.dot(w, m)), mz0 + float(np.dot(w, a * z)), \
+            return v0, mu0, mz0, 0.0
+        def cut(z):
+            return (z * cphi - level) / sphi
+        z, w = _nodes(cav, za, zb, _events(cav, za, zb, psi, cut))
+        a, m, c = _clipped(cav, z, cut(z), psi)
+        return v0 + float(np.dot(w, a)), mu0 + float(np.dot(w, m)), mz0 + float(np.dot(w, a * z)), \
             float(np.dot(w, c)) / sphi
 
     lo = cav.z_ib * cphi - cav.reach * sphi

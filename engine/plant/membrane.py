@@ -23,6 +23,15 @@ closure loads the rim), a corner (a joint where the meridian turns by more than
 nearly flat wall (``r2`` over :data:`FLAT_FACTOR` times the body's radius), a wall too thick
 for a thin shell (``t`` over :data:`THICK_RATIO` of the smaller principal radius), and any
 point of a non-round plan (its flat sides carry pressure by bending).
+
+An outline bottle (:mod:`engine.geometry.plan`) is no shell of revolution either: a flat panel
+of its plan has no plan curvature (an infinite radius: ``N_theta = p R`` has no finite value,
+the panel bends), and where two arcs of different radii meet the hoop force ``p R`` would jump,
+which only bending can carry; the meridional force is not ``p r2 / 2`` off a circle. So every
+point is marked, as on a rounded square, and its reason quotes the plan's radii of curvature
+of the middle surface at that height (each arc's ``k rho + c - t/2``, each corner's ``c - t/2``)
+and whether it has flat panels. Its points follow the meridian through the plan's farthest
+point (distance ``k + c`` from the axis), their arc length summed along those points.
 """
 from __future__ import annotations
 
@@ -30,6 +39,7 @@ import math
 
 import numpy as np
 
+from ..geometry.chain import radius_at
 from ..geometry.validate import body_profile
 
 #: Points per segment of the profile (plus its ends).
@@ -55,6 +65,8 @@ REASONS = {
     "curvature": "change of curvature: bending at the joint",
     "flat": "nearly flat wall: carries pressure by bending",
     "thick": "wall too thick for membrane theory (R/t < 10)",
+    "outline": "outline plan: not a shell of revolution; its flat panels and the joints of its "
+               "arcs carry pressure by bending (each point quotes the plan's radii there)",
 }
 
 
@@ -112,8 +124,10 @@ def membrane_stresses(shape, pressure_mpa: float) -> dict:
     radius of the outer surface (mm), wall ``t_mm``, the two stresses (``None`` where membrane
     theory does not hold) and the reason; the largest stress that holds and where.
     """
-    shape.xs.require("stress")  # why: its first section is a scale, not a radius
+    shape.xs.require("stress")
     prof = body_profile(shape)
+    if getattr(shape.xs, "plan", None) is not None:  # why: an outline's first section is a scale
+        return _summary(_outline_points(shape, prof), pressure_mpa, REASONS["outline"])
     sp = prof.sections[0]
     base_len = sum(s.length for s in sp.outer_base)
     points = []
@@ -145,7 +159,7 @@ def membrane_stresses(shape, pressure_mpa: float) -> dict:
         else:
             row["reason"] = REASONS[reason]
         points.append(row)
-    return _summary(points, pressure_mpa, non_round)
+    return _summary(points, pressure_mpa, REASONS["plan"] if non_round else None)
 
 
 def _why_not(s, total, t, r_mid, n_r, k_mid, r_body, zones, non_round) -> str | None:
@@ -171,14 +185,57 @@ def _why_not(s, total, t, r_mid, n_r, k_mid, r_body, zones, non_round) -> str | 
     return None
 
 
-def _summary(points, pressure_mpa, non_round) -> dict:
+def _outline_points(shape, prof) -> list[dict]:
+    """The points of an outline bottle (module rule): the base from the axis to the standing
+    ring, then the outer wall at :data:`POINTS_PER_SEGMENT` heights a piece between the joints
+    of its core and rounding, each marked with its plan's reason."""
+    walls = [sp.outer_wall for sp in prof.sections]
+    joints = np.unique([p[1] for w in walls for s in w for p in (s.p0, s.p1)])
+    u = np.linspace(0.0, 1.0, POINTS_PER_SEGMENT + 1)[:-1]
+    z = np.append((joints[:-1, None] + (joints[1:] - joints[:-1])[:, None] * u).ravel(), joints[-1])
+    k, c = (radius_at(w, np.clip(z, w[0].p0[1], w[-1].p1[1])) for w in walls)
+    t = shape.wall_thickness
+    ring = float(k[0] + c[0])
+    points = [{"s_mm": f * ring, "z_mm": 0.0, "r_mm": f * ring, "t_mm": shape.base_thickness,
+               "hoop_mpa": None, "meridional_mpa": None, "reason": REASONS["base"]}
+              for f in (0.0, 0.25, 0.5, 0.75, 1.0)]
+    r = k + c
+    s = ring + np.concatenate([[0.0], np.cumsum(np.hypot(np.diff(r), np.diff(z)))])
+    for i in range(len(z)):
+        points.append({"s_mm": float(s[i]), "z_mm": float(z[i]), "r_mm": float(r[i]), "t_mm": t,
+                       "hoop_mpa": None, "meridional_mpa": None,
+                       "reason": _plan_reason(shape.plan, float(k[i]), float(c[i]) - 0.5 * t)})
+    return points
+
+
+def _plan_reason(plan, k: float, c_mid: float) -> str:
+    """Why membrane theory does not hold on an outline's middle surface at core ``k`` and
+    rounding ``c_mid`` (mm), with its plan's radii of curvature (mm)."""
+    if k <= 1e-9:
+        return (f"outline plan, round here (radius {c_mid:.1f} mm) but joined to a non-round "
+                "body: not a shell of revolution")
+    radii = [k * s.radius + c_mid for s in plan.segments if s.kind == "arc"]
+    radii += [c_mid] * len(plan.corners) if c_mid > 0 else []
+    flats = any(s.kind == "line" for s in plan.segments)
+    what = ("flat panels (no plan curvature) bend between the corners" if flats else
+            "the plan radius jumps where its arcs meet: the wall bends there")
+    sharp = "; sharp corners" if plan.corners and c_mid <= 0 else ""
+    lo, hi = (f"{min(radii):.1f}", f"{max(radii):.1f}") if radii else ("", "")
+    curved = "" if not radii else f"; curved parts of plan radius {lo} mm" if lo == hi else \
+        f"; curved parts of plan radii {lo}\u2013{hi} mm"
+    return f"outline plan: {what}{curved}{sharp}"
+
+
+def _summary(points, pressure_mpa, plan_note: str | None) -> dict:
+    """The stress dict of ``points``; ``plan_note`` the reason every point of a non-round plan
+    has (``None``: a round one)."""
     valid = [p for p in points if p["hoop_mpa"] is not None]
     out = {"pressure_mpa": float(pressure_mpa), "max_hoop_mpa": None, "max_meridional_mpa": None,
            "max_mpa": None, "max_at_z_mm": None, "max_kind": None, "points": points,
-           "note": REASONS["plan"] if non_round else
+           "note": plan_note or
            "membrane theory; bending zones (base, heel, finish, joints) marked, not computed"}
     if not valid:
-        if not non_round:
+        if plan_note is None:
             out["note"] = "no point of the wall is a membrane (every point is in a bending zone)"
         return out
     out["max_hoop_mpa"] = max(abs(p["hoop_mpa"]) for p in valid)

@@ -14,11 +14,14 @@ Keys::
                 (the standing ring: the outermost points of the base on the plane z = 0;
                  radius_mm for a round plan, least_mm the nearest its edge comes to the axis)
     states:     [{"state": "empty" | "filled" | "brimful", "mass_g": float, "cg_z_mm": float,
-                  "tip_deg": float, "tip_direction_deg": float, "tip_frozen_deg": float}, ...]
-                (empty always; filled when the design has a liquid; brimful always. tip_deg with
-                 the liquid's surface level as the bottle tilts (capped: nothing spills),
-                 tip_frozen_deg with the liquid frozen in place; direction in the plan, deg from
-                 +x counter-clockwise, the bottle's turn included)
+                  "cg_plan_mm": [x, y], "tip_deg": float, "tip_direction_deg": float,
+                  "tip_frozen_deg": float}, ...]
+                (empty always; filled when the design has a liquid; brimful always. cg_plan_mm
+                 the centre's foot in the plan, the bottle's turn included ([0, 0] but for an
+                 outline that is not centrally symmetric); tip_deg with the liquid's surface
+                 level as the bottle tilts (capped: nothing spills), tip_frozen_deg with the
+                 liquid frozen in place; direction in the plan, deg from +x counter-clockwise,
+                 the bottle's turn included: where the ring's edge is nearest the centre's foot)
     least_tip:  {"deg": float, "state": str, "direction_deg": float}
     weight_to_capacity: {"ratio_g_per_ml": float, "capacity_ml": float, "basis": "fill" | "brimful"}
     capacity_band: None (no liquid) | {"nominal_ml", "tolerance_ml", "rule",
@@ -36,7 +39,12 @@ Keys::
                 (points along the outer profile from the standing ring to the mouth; where
                  membrane theory does not hold hoop_mpa and meridional_mpa are None and reason
                  says why; a non-round plan has every point marked)
-    warnings:   [str]   (the designer's limits of Design.plant that a figure passes)
+    thin_wall:  [{"z_from_mm", "z_to_mm", "least_mm", "at_z_mm", "direction_deg", "share"}, ...]
+                (an outline bottle's sloped walls where the glass is thinner along its normal
+                 than 90 % of the wall: engine.plant.thickness; empty for every other kind, and
+                 where the wall keeps it; direction in the plan with the bottle's turn)
+    warnings:   [str]   (a part the kind does not support yet, the thin walls, then the
+                 designer's limits of Design.plant that a figure passes)
 """
 from __future__ import annotations
 
@@ -46,7 +54,7 @@ import math
 from ..errors import GlassbenchError, NotSupportedError
 from ..geometry import capacity
 from ..model import fill
-from . import mass, membrane, rules, stability
+from . import mass, membrane, rules, stability, thickness
 
 
 def plant_numbers(design, tolerant: bool = False) -> dict:
@@ -59,7 +67,7 @@ def plant_numbers(design, tolerant: bool = False) -> dict:
     """
     out = {"ring": None, "states": [], "least_tip": None, "weight_to_capacity": None,
            "capacity_band": None, "marking": None, "tolerances": None, "stress": None,
-           "warnings": []}
+           "thin_wall": None, "warnings": []}
     refused = []
 
     def put(key, fn):
@@ -87,8 +95,17 @@ def plant_numbers(design, tolerant: bool = False) -> dict:
     put("tolerances", lambda: rules.dimension_tolerances(capacity.height_mm(shape),
                                                          capacity.max_diameter_mm(shape), nominal))
     put("stress", lambda: membrane.membrane_stresses(shape, plant.proof_pressure_mpa))
-    out["warnings"] = refused + plant_warnings(design, out)
+    put("thin_wall", lambda: _thin_wall(shape))
+    out["warnings"] = refused + thickness.warnings(out["thin_wall"] or (), shape.wall_thickness) \
+        + plant_warnings(design, out)
     return out
+
+
+def _thin_wall(shape) -> list[dict]:
+    """The thin runs of an outline's sloped walls (:func:`.thickness.thin_walls`), their
+    direction with the bottle's turn."""
+    return [{**run, "direction_deg": _world_deg(shape, math.radians(run["direction_deg"]))}
+            for run in thickness.thin_walls(shape)]
 
 
 def _ring(shape) -> dict:
@@ -103,27 +120,38 @@ def _world_deg(shape, psi: float) -> float:
     return (math.degrees(psi) + shape.rotation_deg) % 360.0
 
 
+def _world_xy(shape, x: float, y: float) -> list[float]:
+    """A plan point (mm, the bottle's own frame) with the bottle's turn."""
+    a = math.radians(shape.rotation_deg)
+    return [x * math.cos(a) - y * math.sin(a), x * math.sin(a) + y * math.cos(a)]
+
+
 def _states(design, fill_h) -> list[dict]:
-    """Empty, filled (with a liquid) and brimful: mass, centre of gravity, tip angles."""
+    """Empty, filled (with a liquid) and brimful: mass, centre of gravity, tip angles; each
+    state tips where the ring's edge is nearest to its centre's foot (the axis, unless an
+    outline's plan puts the centre off it)."""
     shape, plant = design.shape, design.plant
-    psi, reach = stability.least_direction(shape)
     fixed = mass.combined([mass.glass_part(shape, design.glass.density_g_cm3),
                            mass.closure_part(design), mass.labels_part(design)])
-    rows = [_row("empty", fixed, reach, psi, shape, None)]
+    rows = [_row("empty", fixed, shape)]
     if fill_h is not None:
         liquid = mass.liquid_part(shape, fill_h, plant.liquid_density_g_ml)
         upright = mass.combined([fixed, liquid])
+        psi, _ = stability.least_direction(shape, (upright.cg_x_mm, upright.cg_y_mm))
         moving = stability.moving_tip(shape, fixed, mass.liquid_volume_mm3(shape, fill_h),
-                                      plant.liquid_density_g_ml, psi, reach)
-        rows.append(_row("filled", upright, reach, psi, shape, math.degrees(moving)))
+                                      plant.liquid_density_g_ml, psi,
+                                      float(stability.ring_support(shape, psi)))
+        rows.append(_row("filled", upright, shape, math.degrees(moving)))
     brim = mass.liquid_part(shape, shape.z_top, plant.liquid_density_g_ml)
-    rows.append(_row("brimful", mass.combined([fixed, brim]), reach, psi, shape, None))
+    rows.append(_row("brimful", mass.combined([fixed, brim]), shape))
     return rows
 
 
-def _row(state, part, reach, psi, shape, moving_deg) -> dict:
-    frozen = stability.frozen_tip_deg(reach, part.cg_z_mm)
+def _row(state, part, shape, moving_deg=None) -> dict:
+    psi, margin = stability.least_direction(shape, (part.cg_x_mm, part.cg_y_mm))
+    frozen = stability.frozen_tip_deg(margin, part.cg_z_mm)
     return {"state": state, "mass_g": part.mass_g, "cg_z_mm": part.cg_z_mm,
+            "cg_plan_mm": _world_xy(shape, part.cg_x_mm, part.cg_y_mm),
             "tip_deg": frozen if moving_deg is None else moving_deg,
             "tip_direction_deg": _world_deg(shape, psi), "tip_frozen_deg": frozen}
 

@@ -11,11 +11,14 @@ edge at distance ``R(u)`` from the axis (the ring's support function) and the ce
 
 (negative: it falls back), and the **tip angle** is its first zero. With every mass fixed
 (the empty bottle; a brimful one, which is capped and has no room for its liquid to move; the
-"frozen liquid" figure) ``c_u = 0`` and ``tan(phi) = R / c_z``. A partly filled bottle's liquid
-keeps its surface level as it tilts (:func:`engine.plant.mass.tilted_liquid`): it runs toward
-the edge, ``c_u > 0``, and the bottle tips sooner. The least angle over directions is found on
-the frozen figure (a 0.25-degree sweep of ``R(u)``, closed form), and the moving liquid is
-solved in that direction. See ``docs/PLANT.md`` for the derivation and its assumptions.
+"frozen liquid" figure) ``c_u`` is the centre's reach along ``u`` and ``tan(phi) = (R - c_u) /
+c_z``: least where the ring's edge comes nearest to the centre's foot in the plan. On a
+centrally symmetric plan the centre is on the axis (``c_u = 0``) and that direction is found by
+a 0.25-degree sweep of ``R(u)`` (closed form); an outline's centre may be off the axis, and its
+ring's exact signed distance gives the nearest edge and its direction in closed form. A partly
+filled bottle's liquid keeps its surface level as it tilts (:func:`engine.plant.mass.tilted_liquid`):
+it runs toward the edge, ``c_u`` grows, and the bottle tips sooner; it is solved in the frozen
+figure's least direction. See ``docs/PLANT.md`` for the derivation and its assumptions.
 """
 from __future__ import annotations
 
@@ -32,6 +35,9 @@ from . import mass
 DIRECTION_STEP_DEG = 0.25
 #: Tilts sampled beyond the frozen angle when the margin is still negative there.
 TILT_SAMPLES = 4
+#: A centre of gravity this near the axis (mm) is on it: a centrally symmetric outline's
+#: moments are 0 to rounding, and the tie between its equal edges must not follow the noise.
+ON_AXIS_MM = 1e-9
 
 
 def _contact_radius(section) -> float | None:
@@ -65,45 +71,56 @@ def ring_radii(shape) -> tuple[float, ...]:
 def ring_support(shape, psi):
     """How far (mm) the standing ring reaches from the axis toward plan direction ``psi`` (rad,
     the bottle's own frame): the lever arm of the tipping edge."""
-    shape.xs.require("stability")  # why: the masses' centres on the axis hold for symmetric plans only
     return shape.xs.support(ring_radii(shape), psi)
 
 
-def frozen_tip_deg(support_mm: float, cg_z_mm: float) -> float:
-    """The tip angle (deg) of fixed masses: ``atan(R / z_cg)``."""
-    return math.degrees(math.atan2(support_mm, cg_z_mm))
+def frozen_tip_deg(margin_mm: float, cg_z_mm: float) -> float:
+    """The tip angle (deg) of fixed masses: ``atan((R - c_u) / z_cg)``, ``margin_mm = R - c_u``
+    the ring's edge beyond the centre's foot (:func:`least_direction`)."""
+    return math.degrees(math.atan2(margin_mm, cg_z_mm))
 
 
-def least_direction(shape) -> tuple[float, float]:
-    """``(psi, R)``: the plan direction (rad, own frame) where the ring reaches least from the
-    axis, and that reach (mm): where a bottle with its masses on the axis tips first."""
-    shape.xs.require("stability")
+def least_direction(shape, at=(0.0, 0.0)) -> tuple[float, float]:
+    """``(psi, margin)``: the plan direction (rad, own frame) in which the ring's edge comes
+    nearest to the plan point ``at`` (mm, own frame: a centre of gravity's foot), and how near
+    (mm, ``R(psi) - at . u(psi)``; negative: the point is outside the ring). With ``at`` on the
+    axis: where the ring reaches least from the axis, and that reach."""
+    x, y = (0.0, 0.0) if math.hypot(*at) <= ON_AXIS_MM else (float(at[0]), float(at[1]))
+    radii = ring_radii(shape)
     if shape.xs.revolved:
-        return 0.0, float(ring_radii(shape)[0])
+        off = math.hypot(x, y)
+        return (math.atan2(y, x) if off else 0.0), float(radii[0]) - off
+    if not shape.xs.centred:  # an outline: its signed distance is exact (Euclidean, c >= 0)
+        sd, gx, gy, _ = shape.xs.signed_distance(radii, x, y)
+        return math.atan2(float(gy), float(gx)), -float(sd)
     psi = np.radians(np.arange(0.0, 360.0, DIRECTION_STEP_DEG))
-    reach = ring_support(shape, psi)
-    i = int(np.argmin(reach))
-    return float(psi[i]), float(reach[i])
+    margin = ring_support(shape, psi) - (x * np.cos(psi) + y * np.sin(psi))
+    i = int(np.argmin(margin))
+    return float(psi[i]), float(margin[i])
 
 
 def moving_tip(shape, fixed: mass.Part, liquid_mm3: float, density_g_ml: float,
                psi: float, reach_mm: float) -> float:
     """The tip angle (rad) of the bottle toward ``psi`` (rad, own frame) with the fixed parts
-    ``fixed`` (their centre on the axis) and ``liquid_mm3`` of liquid keeping its surface level;
-    ``reach_mm`` is the ring's support in that direction."""
+    ``fixed`` and ``liquid_mm3`` of liquid keeping its surface level; ``reach_mm`` is the ring's
+    support in that direction."""
     liquid_g = liquid_mm3 * density_g_ml * mass.G_PER_MM3
+    m = fixed.mass_g + liquid_g
+
+    def centre(phi):
+        """``(c_u, c_z)`` (mm) of the whole at the tilt ``phi``."""
+        v, mu, mz = mass.tilted_liquid(shape, liquid_mm3, phi, psi)
+        return ((fixed.mass_g * fixed.along(psi) + liquid_g * mu / v) / m,
+                (fixed.mass_g * fixed.cg_z_mm + liquid_g * mz / v) / m)
 
     def margin(phi):
-        v, mu, mz = mass.tilted_liquid(shape, liquid_mm3, phi, psi)
-        m = fixed.mass_g + liquid_g
-        cu = (fixed.mass_g * fixed.cg_u_mm + liquid_g * mu / v) / m
-        cz = (fixed.mass_g * fixed.cg_z_mm + liquid_g * mz / v) / m
+        cu, cz = centre(phi)
         return (cu - reach_mm) * math.cos(phi) + cz * math.sin(phi)
 
-    frozen_cz = (fixed.mass_g * fixed.cg_z_mm
-                 + liquid_g * mass.tilted_liquid(shape, liquid_mm3, 1e-6, psi)[2] / liquid_mm3) \
-        / (fixed.mass_g + liquid_g)
-    top = math.atan2(reach_mm, frozen_cz)  # the liquid runs toward the edge: no later than frozen
+    frozen_cu, frozen_cz = centre(1e-6)
+    if frozen_cu >= reach_mm:
+        return 0.0  # the centre stands beyond the edge: the bottle does not stand that way
+    top = math.atan2(reach_mm - frozen_cu, frozen_cz)  # the liquid runs toward the edge: no later than frozen
     if margin(top) >= 0.0:  # the usual case: one bracket, refined (the margin rises with the tilt)
         return brentq(margin, 1e-6, top, xtol=1e-10, rtol=1e-12)
     lo = top  # the liquid's centre fell as it ran: look further, upward, for the first zero

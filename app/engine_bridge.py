@@ -122,12 +122,19 @@ def import_dxf(path: str, current: Design) -> Design:
     """``current`` with its shape taken from the section in the DXF file at ``path``.
 
     A round bottle keeps its wall and base; for a non-round bottle the DXF section replaces
-    every section (equal sections: the designer then edits the others). Raises on a bad file.
+    every section (equal sections: the designer then edits the others). An outline bottle keeps
+    its plan, wall, base and the rounding at its widest core, and the section becomes its front
+    view (:func:`engine.geometry.outline_from_section.outline_from_section`, as ``glassbench new
+    --from-dxf SECTION.dxf --plan PLAN.dxf``). Raises on a bad file or an unfitting section.
     """
     section: Section = dxf_import.section_from_dxf(path)
     shape = current.shape
-    if shape.cross_section == "outline":  # (its core and rounding are two different sections)
-        raise ValueError("a DXF section cannot replace an outline bottle's core and rounding yet")
+    if shape.cross_section == "outline":  # its core and rounding are two sections: the rule makes both
+        from engine.geometry.outline_from_section import outline_from_section
+        from engine.geometry.plan_widths import widest_core
+        rounding = widest_core(shape).c
+        return dataclasses.replace(current, shape=outline_from_section(
+            section, shape.plan, shape.wall_thickness, shape.base_thickness, rounding))
     sections = tuple((name, section) for name, _ in shape.sections)
     return dataclasses.replace(current, shape=dataclasses.replace(shape, sections=sections, wall_per_segment=None))
 

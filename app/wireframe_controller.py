@@ -62,7 +62,11 @@ class LatestOnlyWorker(QObject):
             self._cond.notify()
 
     def is_idle(self) -> bool:
+        """Whether no work is queued or running and the newest result is shown; a stopped
+        worker (:meth:`shutdown`) is idle once its last computation ended (nothing more comes)."""
         with self._cond:
+            if self._stop:
+                return not self._busy
             return self._pending is None and not self._busy and self._shown_serial == self._serial
 
     def _work(self):

@@ -108,6 +108,23 @@ def test_import_dxf_is_one_undoable_step(make_window):
     assert w.scene.design == before
 
 
+def test_import_dxf_into_an_outline_bottle_keeps_its_plan_and_makes_the_section_its_front_view(make_window):
+    """The flacon takes the Bordeaux section as its front view (reach along +x = r(z)), keeps
+    its hexagon, wall and base and its 4 mm rounding at the widest core; one undo restores it."""
+    from engine.geometry.plan_widths import widest_core
+    design, assets = load_project(os.path.join(RESOURCES, "flacon.glassbench"))
+    w = make_window(design, assets=assets)
+    before = w.scene.design
+    assert w.files.import_dxf(os.path.join(RESOURCES, "bordeaux_profile.dxf"))
+    shape = w.scene.design.shape
+    assert shape.cross_section == "outline" and shape.plan.segments == before.shape.plan.segments
+    assert (shape.wall_thickness, shape.base_thickness) == (before.shape.wall_thickness, before.shape.base_thickness)
+    assert widest_core(shape).c == pytest.approx(4.0, abs=1e-9)
+    assert shape.z_top == pytest.approx(300.0)  # the Bordeaux's height
+    w.undo_stack.undo()
+    assert w.scene.design == before
+
+
 def test_import_of_a_bad_dxf_is_reported(make_window, tmp_path):
     w = make_window()
     bad = tmp_path / "bad.dxf"

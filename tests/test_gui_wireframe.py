@@ -133,3 +133,29 @@ def test_a_closed_wireframe_keeps_no_wrapper_of_its_gl_surface(make_window, qtbo
     qtbot.waitUntil(w.wireframe_controller.is_idle, timeout=30_000)
     w.wireframe.shutdown()
     assert not [o for o in gc.get_objects() if type(o) is QSurface]
+
+
+def test_a_stopped_worker_with_a_request_left_is_idle(qtbot):
+    """A window closed while a request waits (pytest-qt closes widgets before fixtures end,
+    and the derived numbers of an outline take a few tenths of a second): the stopped worker
+    computes nothing more, so it is idle once its last computation ended, not never."""
+    import threading
+
+    from app.wireframe_controller import LatestOnlyWorker
+
+    gate, started = threading.Event(), threading.Event()
+
+    class Slow(LatestOnlyWorker):
+        def compute(self, value):
+            started.set()
+            gate.wait(30)
+            return value
+
+    worker = Slow()
+    worker.request(1)
+    qtbot.waitUntil(started.is_set, timeout=10_000)
+    worker.request(2)  # waits behind the first
+    assert not worker.is_idle()
+    gate.set()
+    worker.shutdown()
+    assert worker.is_idle()

@@ -109,7 +109,8 @@ def test_an_outline_bottle_asks_its_plan_and_refuses_what_it_cannot_do_yet():
     assert xs == Outline(shape.plan) and shape.xs == xs and body_profile(shape).xs == xs
     assert not xs.revolved and xs.sections == ("core", "round")
     from engine.errors import DesignError
-    with pytest.raises(DesignError, match=r"^the membrane stress estimate: not supported on outline bottles yet$"):
-        xs.require("stress")
+    with pytest.raises(DesignError, match=r"^relief \(bump tiles, bands and embossing\): not supported on outline bottles yet$"):
+        xs.require("relief")
+    xs.require("stress")  # (tests/test_plant_outline.py)
     xs.require("cad")  # (tests/test_export_cad_outline.py)
     xs.require("drawing")  # (tests/test_drawing_outline.py)

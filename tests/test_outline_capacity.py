@@ -17,7 +17,7 @@ from scipy.integrate import quad
 
 from benchmarks.oracle_spec import spec_to_design
 from engine.geometry import capacity
-from engine.geometry.capacity import _area_breaks
+from engine.geometry.capacity import area_breaks
 from engine.geometry.chain import radius_at
 from engine.geometry.crosssection import Outline, cross_section_of
 from engine.geometry.offset import split_at_ring
@@ -87,7 +87,7 @@ def test_a_wall_past_the_rounding_gives_sharp_inner_corners_and_exact_volumes():
     is a joint of the integration, so the volumes stay exact."""
     shape = dataclasses.replace(_design("outline_public_1").shape, wall_thickness=4.0)
     prof = body_profile(shape)
-    breaks = _area_breaks(prof, "inner")
+    breaks = area_breaks(prof, "inner")
     assert len(breaks) == 1 and prof.z_ib < breaks[0] < prof.z_top
     k = radius_at(prof.sections[1].inner_wall, np.array(breaks))
     assert abs(float(k[0])) < 1e-9  # the cavity's rounding is 0 there

@@ -44,7 +44,7 @@ from OCP.TopAbs import TopAbs_ShapeEnum
 from OCP.TopExp import TopExp_Explorer
 from OCP.TopoDS import TopoDS
 
-from ..geometry.capacity import _area_breaks as area_breaks  # the heights the capacity cuts at too
+from ..geometry.capacity import area_breaks  # the heights the capacity cuts at too
 from ..geometry.offset import shifted
 from ..geometry.outline_bands import Band, band_radii, bands
 from ..geometry.segments import Line

@@ -25,7 +25,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..geometry.capacity import _area_breaks as area_breaks  # where the cavity's rounding passes 0
+from ..geometry.capacity import area_breaks  # where the cavity's rounding passes 0
 from ..geometry.capacity import section_radii_at
 from ..geometry.offset import SectionProfile, shifted
 from ..geometry.outline_bands import Band, band_radii, bands

@@ -65,7 +65,7 @@ def _crossings(chain, value: float) -> list[float]:
 
 
 @lru_cache(maxsize=64)  # why: a fill height's Newton steps integrate the same cavity again and again
-def _area_breaks(prof: BodyProfile, which: str) -> tuple[float, ...]:
+def area_breaks(prof: BodyProfile, which: str) -> tuple[float, ...]:
     """Heights (mm) where the cross-section's area changes formula (its ``area_breaks``)."""
     walls = [sp.inner_wall if which == "inner" else sp.outer_wall for sp in prof.sections]
     return tuple(z for i, value in prof.xs.area_breaks for z in _crossings(walls[i], value))
@@ -103,7 +103,7 @@ def _nodes(prof: BodyProfile, which: str, z_lo: float, z_hi: float):
     """``(joints, z, dz)``: the joints from ``z_lo`` to ``z_hi`` (mm) and, per piece between
     them, the quadrature's heights ``z`` (mm, ``(pieces, 24)``) and the piece's height ``dz``
     (mm): ``dz * (f(z) @ _SUB_W)`` is each piece's ``int f dz``."""
-    joints = _joints(_chains(prof, which), z_lo, z_hi, _area_breaks(prof, which))
+    joints = _joints(_chains(prof, which), z_lo, z_hi, area_breaks(prof, which))
     za, zb = joints[:-1, None], joints[1:, None]
     return joints, za + (zb - za) * _SUB_Z, zb[:, 0] - za[:, 0]
 

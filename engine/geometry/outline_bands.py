@@ -32,7 +32,7 @@ class Band:
 def bands(chains, z_lo: float, z_hi: float, crossings=()) -> list[Band]:
     """The bands of the wall whose core and rounding are ``chains`` from ``z_lo`` to ``z_hi``
     (mm), cut at their joints and at the heights ``crossings`` where the rounding passes 0
-    (:func:`engine.geometry.capacity._area_breaks` finds them)."""
+    (:func:`engine.geometry.capacity.area_breaks` finds them)."""
     inside = [z for z in crossings if z_lo < z < z_hi]
     zs = z_breaks(chains, z_lo, z_hi, inside)
     joints = [p[1] for c in chains for s in c for p in (s.p0, s.p1) if z_lo < p[1] < z_hi]

@@ -38,7 +38,7 @@ import numpy as np
 
 from ..geometry import capacity
 from ..geometry.capacity import MM3_PER_ML
-from ..geometry.capacity import _area_breaks as area_breaks  # the heights the capacity cuts at too
+from ..geometry.capacity import area_breaks  # the heights the capacity cuts at too
 from ..geometry.validate import body_profile
 from . import clip
 

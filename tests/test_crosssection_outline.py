@@ -57,10 +57,13 @@ def test_outline_validity_circle_and_refusals():
     assert bad.tolist() == [False, True, True, True] and "core >= 0" in rule
     assert xs.is_circle((np.array([0.0, 1.0]), np.array([5.0, 5.0]))).tolist() == [True, False]
     assert xs.canonical((3.0, 1.0)) == (xs, (3.0, 1.0)) and xs.reach_bound((3.0, -1.0)) == 3.0
-    with pytest.raises(DesignError, match=r"^[^\n]*: not supported on outline bottles yet$"):
-        xs.require("relief")
-    for feature in ("cad", "labels", "drawing", "stability", "stress"):
-        xs.require(feature)  # tests/test_export_cad_outline, _outline_labels, _drawing_outline, _plant_outline
+    for feature in ("cad", "labels", "drawing", "stability", "stress", "relief"):
+        xs.require(feature)  # tests/test_export_cad_outline, _outline_labels, _drawing_outline, _plant_outline, _outline_relief
+
+    class Limited(cs.Outline):  # the refusal a kind that lacks a feature gives
+        unsupported = frozenset({"relief"})
+    with pytest.raises(DesignError, match=r"^relief \(bump tiles, bands and embossing\): not supported on outline bottles yet$"):
+        Limited(hexagon()).require("relief")
     cs.OVAL.require("labels")  # the fixed kinds offer everything
 
 

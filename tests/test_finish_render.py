@@ -54,7 +54,7 @@ def _wall_normals(design, thetas, z, assets=None):
     t, k, part, n = nearest_hits(ctx.geometry, o, d)
     assert np.all(k == OUTER_WALL)
     p = o + t[:, None] * d
-    s = np.array([shading_frame(ctx.finish, ctx.scene.geom.seg, ctx.scene.geom.obj_i, int(k[i]), int(part[i]), *p[i], *n[i])
+    s = np.array([shading_frame(ctx.finish, ctx.scene.geom, int(k[i]), int(part[i]), *p[i], *n[i])
                   for i in range(len(t))])
     return s[:, :3], n
 

@@ -103,14 +103,13 @@ def test_the_fill_height_of_an_outline_bottle_inverts_its_capacity():
     assert _cavity_ml(shape, h) == pytest.approx(150.0, rel=REL)
 
 
-def test_an_outline_bottle_asks_its_plan_and_refuses_what_it_cannot_do_yet():
+def test_an_outline_bottle_asks_its_plan_and_offers_every_feature():
     shape = _design("outline_public_1").shape
     xs = cross_section_of(shape)
     assert xs == Outline(shape.plan) and shape.xs == xs and body_profile(shape).xs == xs
     assert not xs.revolved and xs.sections == ("core", "round")
-    from engine.errors import DesignError
-    with pytest.raises(DesignError, match=r"^relief \(bump tiles, bands and embossing\): not supported on outline bottles yet$"):
-        xs.require("relief")
+    assert not xs.unsupported
+    xs.require("relief")  # (tests/test_outline_relief.py)
     xs.require("stress")  # (tests/test_plant_outline.py)
     xs.require("cad")  # (tests/test_export_cad_outline.py)
     xs.require("drawing")  # (tests/test_drawing_outline.py)

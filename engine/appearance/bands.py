@@ -23,16 +23,19 @@ from .threads import thread_layout, thread_rendering
 def band_coordinates(design, z0: float, z1: float):
     """``(v0, v1, radius)`` of the band of heights ``z0..z1`` on the outer wall: ``v`` as the
     tracer measures it (round bottles: arc length from the axis along the outer section;
-    otherwise the height) and the reference radius (the wall's radius at mid-band, of the
-    first section). ``None`` for a band outside the wall (clipped to it otherwise); ``DesignError``
-    on a bottle that cannot carry relief yet (an outline)."""
-    design.shape.xs.require("relief")
+    otherwise the height) and the tile's reference radius at mid-band
+    (:meth:`~engine.geometry.crosssection.CrossSection.tile_radius`: the first section's radius,
+    an outline's girth over 2 pi). ``None`` for a band outside the wall (clipped to it
+    otherwise); ``DesignError`` on a bottle whose kind cannot carry relief."""
+    xs = design.shape.xs
+    xs.require("relief")
     prof = body_profile(design.shape)
     wall = prof.sections[0].outer_wall
     lo, hi = max(z0, wall[0].p0[1]), min(z1, wall[-1].p1[1])
     if not hi - lo > 1e-6:
         return None
-    radius = float(radius_at(wall, 0.5 * (lo + hi)))
+    mid = 0.5 * (lo + hi)
+    radius = xs.tile_radius([radius_at(sp.outer_wall, mid) for sp in prof.sections])
     if not design.shape.xs.revolved:
         return float(lo), float(hi), radius
     base = sum(sg.length for sg in prof.sections[0].outer_base)

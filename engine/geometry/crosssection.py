@@ -112,6 +112,13 @@ class CrossSection:
         finish every kind meets in)."""
         return float(radii[0])
 
+    def tile_radius(self, radii) -> float:
+        """Reference radius ``R`` (mm) of a bump tile whose band is centred where the section
+        has ``radii``: the tracer measures a tile's ``u`` as ``theta R`` around the girth
+        (:mod:`engine.tracer.kernels.bumps`), ``theta`` the polar angle here (so the first
+        radius); an outline overrides it (arc length)."""
+        return float(radii[0])
+
     def __repr__(self) -> str:
         return f"<{self.name} cross-section>"
 
@@ -352,7 +359,6 @@ class Outline(CrossSection):
     plan: object
     name = "outline"
     sections = ("core", "round")
-    unsupported = frozenset({"relief"})
     mirror_quarters = False  # a flask or a shield is not; a hexagon is, and is meshed whole anyway
     centred = False  # nor centrally symmetric: a shield's centroid is off the axis
     plan_offset_wall = True  # SPEC_outline 5: the cavity is the plan offset at the same height
@@ -378,6 +384,12 @@ class Outline(CrossSection):
     def girth(self, radii):
         """Perimeter (mm): ``k L + 2 pi r`` for ``r >= 0``, the inner parallel set's for ``r < 0``."""
         return self.plan.inner_girth(*self._kr(radii))
+
+    def tile_radius(self, radii) -> float:
+        """``girth / 2 pi`` (mm): around an outline the tracer's ``theta`` is the girth fraction
+        as an angle (:func:`engine.tracer.kernels.finish.shading_frame`), so a tile of ``n``
+        repeats spans ``girth / n`` of arc length at its band's middle."""
+        return float(self.girth(radii)) / (2.0 * math.pi)
 
     def invalid(self, radii, tol: float = 1e-9):
         k, r = self._kr(radii)

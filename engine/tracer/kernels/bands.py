@@ -31,10 +31,11 @@ import math
 import numpy as np
 from numba import njit
 
-from .outlines import (CIRCLE, OUTLINE, OVAL, RRECT, RSQUARE, SQRT2, disc_interval, gradient_span,
-                       outline_interval, rrect_directions, square_corner, xs_eval)
+from .outlines import (CIRCLE, OUTLINE, OVAL, RRECT, RSQUARE, SQRT2, gradient_span, outline_interval,
+                       rrect_directions, square_corner, xs_eval)
 from .plans import arc_dot_range, plan_support_low, plan_value
 from .profile import wall_r, wall_range, wall_slopes, wall_state
+from .roots import disc_interval
 from .jit import INLINE, JIT
 
 

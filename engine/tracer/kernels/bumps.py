@@ -12,6 +12,9 @@ Conventions (units mm):
 * ``u`` is arc length around the girth *at the tile's reference radius* ``R = p[P_RADIUS]``:
   ``u = theta R``, ``theta`` the polar angle (rad, counter-clockwise seen from above);
   :func:`surface_slope` takes ``theta`` and the point's true radius and does the conversion.
+  On an outline bottle's wall ``theta`` is the girth fraction ``2 pi l / L`` and the radius
+  ``L / 2 pi`` (arc length ``l`` of the perimeter ``L``: :func:`.finish._girth_frame`), so the
+  tile runs along the outline's arc length.
 * ``v`` is arc length along the section from its start on the axis, rising with it (round
   bottles and closures: the tracer's ``si[I_V]``), or the height z on a non-round wall.
 * ``h`` is the relief's displacement along the geometric normal, out of the glass; slopes are

@@ -38,10 +38,13 @@ from numba import njit
 import numpy as np
 
 from .bumps import FROSTED, P_ALPHA, P_V0, P_V1, perturb_normal, surface_slope
-from .intersect import O_KIND, PLANE, REVOLVED
+from .intersect import F_COS, F_SIN, O_KIND, O_XS, PLANE, REVOLVED, SWEPT
 from .labels import shadow
+from .outlines import OUTLINE
+from .plans import TWO_PI, plan_girth
+from .profile import wall_r
 from .revolved import segment_v
-from .jit import JIT
+from .jit import INLINE, JIT
 from .roots import hypot2
 
 #: Streams of a branch's seed the frosted microfacet draws from (the integrator's Russian
@@ -49,22 +52,44 @@ from .roots import hypot2
 FROST_STREAM = 7
 
 
+@njit(**INLINE)
+def _girth_frame(geom, k, part, px, py, pz):
+    """``(theta, rho, ex, ey)`` of a point on the wall of an outline bottle (swept object ``k``,
+    slab row ``part``): the girth fraction as an angle ``2 pi l / L`` (rad) and the equivalent
+    radius ``L / 2 pi`` (mm) of :func:`~.plans.plan_girth`, so a tile's ``u = theta R`` runs
+    along the outline's arc length (``du/ds = R / rho`` as on a round wall), and the section's
+    outward unit normal ``(ex, ey)`` (world), across which ``t_u`` runs."""
+    cos_r, sin_r = geom.obj_f[k, F_COS], geom.obj_f[k, F_SIN]
+    rows = geom.slab_i[part]
+    core, grow = wall_r(geom.seg, rows[0], pz), wall_r(geom.seg, rows[1], pz)
+    x, y = cos_r * px + sin_r * py, -sin_r * px + cos_r * py
+    length, total, gx, gy = plan_girth(geom.plan, core, grow, x, y)
+    if not total > 0.0:
+        return 0.0, 0.0, cos_r * gx - sin_r * gy, sin_r * gx + cos_r * gy
+    return TWO_PI * length / total, total / TWO_PI, cos_r * gx - sin_r * gy, sin_r * gx + cos_r * gy
+
+
 @njit(**JIT)
-def shading_frame(fin, seg, obj_i, k, part, px, py, pz, nx, ny, nz):
+def shading_frame(fin, geom, k, part, px, py, pz, nx, ny, nz):
     """``(sx, sy, sz, alpha)``: the relief-bent unit shading normal (same orientation as the
     object's oriented normal ``n``) and the largest frosted roughness whose band holds the hit
-    (0: smooth) at point ``p`` of object ``k`` (its segment row ``part``)."""
+    (0: smooth) at point ``p`` of object ``k`` of ``geom`` (its segment or slab row ``part``).
+    Around a round wall ``u`` follows the polar angle; around an outline its arc length
+    (:func:`_girth_frame`)."""
     obj_rows, kinds, params, atlas = fin.obj_rows, fin.kinds, fin.params, fin.atlas
     first, count = obj_rows[k, 0], obj_rows[k, 1]
     rho = hypot2(px, py)
-    okind = obj_i[k, O_KIND]
+    ex, ey = (px / rho, py / rho) if rho > 0.0 else (1.0, 0.0)
+    okind = geom.obj_i[k, O_KIND]
+    theta = math.atan2(py, px)
     if okind == REVOLVED:
-        v = segment_v(seg, part, px, py, pz)
+        v = segment_v(geom.seg, part, px, py, pz)
     elif okind == PLANE:
         v = rho
     else:
         v = pz
-    theta = math.atan2(py, px)
+        if okind == SWEPT and geom.obj_i[k, O_XS] == OUTLINE:
+            theta, rho, ex, ey = _girth_frame(geom, k, part, px, py, pz)
     su = sv = 0.0
     alpha = 0.0
     for j in range(first, first + count):
@@ -78,8 +103,7 @@ def shading_frame(fin, seg, obj_i, k, part, px, py, pz, nx, ny, nz):
         sv += b
     if su == 0.0 and sv == 0.0:
         return nx, ny, nz, alpha
-    ex, ey = (px / rho, py / rho) if rho > 0.0 else (1.0, 0.0)
-    # t_u = dp/dtheta / rho, t_v along the meridian towards increasing v (n = (T_z, -T_r))
+    # t_u across the section's outward normal e, t_v along the meridian towards increasing v
     tvx, tvy, tvz = -nz * ex, -nz * ey, nx * ex + ny * ey
     sx, sy, sz = perturb_normal(nx, ny, nz, -ey, ex, 0.0, tvx, tvy, tvz, su, sv)
     return sx, sy, sz, alpha

@@ -20,6 +20,7 @@ from numba import njit
 
 from .jit import INLINE, JIT
 from .plans import plan_interval, plan_value
+from .roots import disc_interval, interval_hull
 
 #: ``OUTLINE``: a free plan outline (:mod:`.plans`), radii ``(k, r)``: its core scale and growth
 CIRCLE, RRECT, RSQUARE, OVAL, OUTLINE = 0, 1, 2, 3, 4
@@ -150,43 +151,18 @@ def _box_interval(px, py, qx, qy, hx, hy):
     return lo, hi
 
 
-@njit(**INLINE)
-def disc_interval(px, py, qx, qy, cx, cy, r):
-    """Parameters ``t`` where ``p + t q`` lies in the disc of radius ``r`` about ``c``."""
-    ux, uy = px - cx, py - cy
-    A = qx * qx + qy * qy
-    if A == 0.0:
-        return (-np.inf, np.inf) if ux * ux + uy * uy <= r * r else (1.0, -1.0)
-    s = -(ux * qx + uy * qy) / A  # closest approach first: no cancellation far away
-    mx, my = ux + s * qx, uy + s * qy
-    h2 = r * r - (mx * mx + my * my)
-    if h2 < 0.0:
-        return 1.0, -1.0
-    h = math.sqrt(h2 / A)
-    return s - h, s + h
-
-
-@njit(**INLINE)
-def _union(lo, hi, l2, h2):
-    if l2 > h2:
-        return lo, hi
-    if lo > hi:
-        return l2, h2
-    return min(lo, l2), max(hi, h2)
-
-
 @njit(**JIT)
-def _rrect_union(a, b, c, px, py, qx, qy):
+def _rrectinterval_hull(a, b, c, px, py, qx, qy):
     """:func:`outline_interval` of the rounded rectangle as the union of its two boxes and
     four corner discs."""
     lo, hi = _box_interval(px, py, qx, qy, a, b - c)
     l2, h2 = _box_interval(px, py, qx, qy, a - c, b)
-    lo, hi = _union(lo, hi, l2, h2)
+    lo, hi = interval_hull(lo, hi, l2, h2)
     for k in range(4):
         sx = 1.0 if k & 1 else -1.0
         sy = 1.0 if k & 2 else -1.0
         l3, h3 = disc_interval(px, py, qx, qy, sx * (a - c), sy * (b - c), c)
-        lo, hi = _union(lo, hi, l3, h3)
+        lo, hi = interval_hull(lo, hi, l3, h3)
     return lo, hi
 
 
@@ -211,7 +187,7 @@ def _rrect_interval(a, b, c, px, py, qx, qy):
     (it could only leave it through the box's faces); that rare case, and a point (``q = 0``),
     take the union of the pieces."""
     if qx == 0.0 and qy == 0.0:  # a point: no ends to look at
-        return _rrect_union(a, b, c, px, py, qx, qy)
+        return _rrectinterval_hull(a, b, c, px, py, qx, qy)
     lo, hi = _box_interval(px, py, qx, qy, a, b)
     if lo > hi or c <= 0.0:
         return lo, hi
@@ -219,12 +195,12 @@ def _rrect_interval(a, b, c, px, py, qx, qy):
     corner, l2, h2 = _corner_disc(px, py, qx, qy, lo, hx, hy, c)
     if corner:
         if l2 > h2:
-            return _rrect_union(a, b, c, px, py, qx, qy)
+            return _rrectinterval_hull(a, b, c, px, py, qx, qy)
         lo = max(lo, l2)
     corner, l2, h2 = _corner_disc(px, py, qx, qy, hi, hx, hy, c)
     if corner:
         if l2 > h2:
-            return _rrect_union(a, b, c, px, py, qx, qy)
+            return _rrectinterval_hull(a, b, c, px, py, qx, qy)
         hi = min(hi, h2)
     return lo, hi
 

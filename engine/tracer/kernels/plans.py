@@ -41,12 +41,18 @@ import numpy as np
 from numba import njit
 
 from .jit import INLINE, JIT
+from .roots import disc_interval, interval_hull
 
 FLAT, ROUND = 0, 1
 #: Columns of a plan row: kind, then ``FLAT``: normal, support value; ``ROUND``: centre,
-#: radius, the wedge's end normals ``u0`` and ``u1``.
-PL_KIND, PL_NX, PL_NY, PL_H, PL_CX, PL_CY, PL_RHO, PL_U0X, PL_U0Y, PL_U1X, PL_U1Y = range(11)
-PL_COLS = 11
+#: radius, the wedge's end normals ``u0`` and ``u1``; then every row's girth terms
+#: (:func:`plan_girth`): ``PL_GK`` and ``PL_GR``, the section's arc length at the row's start
+#: is ``k GK + r GR`` (a ``FLAT`` row's ``GK`` already less its start's tangent coordinate), and
+#: ``PL_PERIM``, the perimeter of ``P`` (the same in every row).
+(PL_KIND, PL_NX, PL_NY, PL_H, PL_CX, PL_CY, PL_RHO, PL_U0X, PL_U0Y, PL_U1X, PL_U1Y,
+ PL_GK, PL_GR, PL_PERIM) = range(14)
+PL_COLS = 14
+TWO_PI = 2.0 * math.pi
 
 
 @njit(**INLINE)
@@ -83,6 +89,43 @@ def plan_value(plan, k, r, x, y):
             if v > best:
                 best, gx, gy, dk = v, ux, uy, -(cx * ux + cy * uy + rho)
     return best, gx, gy, dk
+
+
+@njit(**JIT)
+def plan_girth(plan, k, r, x, y):
+    """``(l, L, gx, gy)``: the girth length ``l`` (mm, in ``[0, L)``) of the point ``(x, y)`` on
+    the boundary of the section ``k P (+) disc(r)`` (``r >= 0``: the outer wall), ``L`` its
+    perimeter (Steiner: ``k perim(P) + 2 pi r``) and its outward unit normal ``g``. ``l`` is
+    the arc length counter-clockwise from the boundary point whose normal points along +x
+    (a flat facing +x: the foot of the perpendicular from the axis), so it is exact and
+    continuous along the boundary and the same formula at every height. A point off the
+    boundary takes the length of its nearest boundary point's piece (its projection)."""
+    best, row_i, ux, uy = -np.inf, 0, 1.0, 0.0
+    for i in range(plan.shape[0]):
+        row = plan[i]
+        if row[PL_KIND] == FLAT:
+            v = x * row[PL_NX] + y * row[PL_NY] - k * row[PL_H]
+            if v > best:
+                best, row_i, ux, uy = v, i, row[PL_NX], row[PL_NY]
+            continue
+        vx, vy = x - k * row[PL_CX], y - k * row[PL_CY]
+        d = math.sqrt(vx * vx + vy * vy)
+        if d > 0.0 and _in_wedge(row, vx, vy):
+            v = d - k * row[PL_RHO]
+            if v > best:
+                best, row_i, ux, uy = v, i, vx / d, vy / d
+    row = plan[row_i]
+    length = k * row[PL_GK] + r * row[PL_GR]
+    if row[PL_KIND] == FLAT:   # the tangent coordinate along the line (ccw tangent (-n_y, n_x))
+        length += y * row[PL_NX] - x * row[PL_NY]
+    else:                      # the angle turned from the wedge's first normal
+        c = row[PL_U0X] * ux + row[PL_U0Y] * uy
+        s = row[PL_U0X] * uy - row[PL_U0Y] * ux
+        length += (k * row[PL_RHO] + r) * math.atan2(s, c)
+    total = k * row[PL_PERIM] + TWO_PI * r
+    if total > 0.0:
+        length -= total * math.floor(length / total)
+    return length, total, ux, uy
 
 
 @njit(**INLINE)
@@ -134,32 +177,6 @@ def _half_plane(g0, g1, lo, hi):
 
 
 @njit(**INLINE)
-def _disc(px, py, qx, qy, cx, cy, rad):
-    """Parameters ``t`` where ``p + t q`` lies in the disc of radius ``rad`` about ``c``."""
-    ux, uy = px - cx, py - cy
-    a = qx * qx + qy * qy
-    if a == 0.0:
-        return (-np.inf, np.inf) if ux * ux + uy * uy <= rad * rad else (1.0, -1.0)
-    s = -(ux * qx + uy * qy) / a  # closest approach first: no cancellation far away
-    mx, my = ux + s * qx, uy + s * qy
-    h2 = rad * rad - (mx * mx + my * my)
-    if h2 < 0.0:
-        return 1.0, -1.0
-    h = math.sqrt(h2 / a)
-    return s - h, s + h
-
-
-@njit(**INLINE)
-def _hull(lo, hi, l2, h2):
-    """The smallest interval holding ``[lo, hi]`` and ``[l2, h2]`` (either may be empty)."""
-    if l2 > h2:
-        return lo, hi
-    if lo > hi:
-        return l2, h2
-    return min(lo, l2), max(hi, h2)
-
-
-@njit(**INLINE)
 def _cone(v0x, v0y, wx, wy, r0, r1):
     """``(t0, t1)``: where ``|v0 + t w| <= r0 + r1 t`` (mm): a disc's trace for ``r1 = 0``, else
     one nappe of a cone's (the side where the radius is not negative). A convex set of ``t``:
@@ -167,7 +184,7 @@ def _cone(v0x, v0y, wx, wy, r0, r1):
     if r1 == 0.0:
         if r0 < 0.0:
             return 1.0, -1.0
-        return _disc(v0x, v0y, wx, wy, 0.0, 0.0, r0)
+        return disc_interval(v0x, v0y, wx, wy, 0.0, 0.0, r0)
     a = wx * wx + wy * wy - r1 * r1
     b = v0x * wx + v0y * wy - r0 * r1
     c = v0x * v0x + v0y * v0y - r0 * r0
@@ -223,8 +240,8 @@ def _round_interval(row, core, grow, foot, lo, hi):
     if lo < c0:
         a0, a1 = lo, c0
     if c1 < hi:
-        a0, a1 = _hull(a0, a1, c1, hi)
-    a0, a1 = _hull(a0, a1, max(c0, d0), min(c1, d1))
+        a0, a1 = interval_hull(a0, a1, c1, hi)
+    a0, a1 = interval_hull(a0, a1, max(c0, d0), min(c1, d1))
     return a0, a1
 
 

@@ -25,14 +25,13 @@ import numpy as np
 from numba import njit
 
 from .bands import annulus_bands, subtract
-from .outlines import disc_interval
 from .helix import MAX_ROOTS, helix_normal, helix_roots, helix_v
 from .profile import (HELIX, LINE, OFFSET, S_A0, S_AR, S_AXIS, S_AZ, S_CR, S_CZ, S_DIR, S_KIND, S_LEN, S_R0,
                       S_R1, S_RMAX, S_RMIN, S_SIDE, S_SWEEP, S_ZMAX, S_ZMIN, S_TAB0, S_TABN, S_V0, S_Z0, S_Z1,
                       TWO_PI, _offset_at, in_sweep, offset_at_between, offset_point, offset_rz)
 from .records import OffsetPiece, Ray
 from .jit import INLINE, JIT
-from .roots import (HOLE_POLE, SHEET_SLACK, cone_roots, convex_sheet_roots, hole_sheet_roots, hypot2,
+from .roots import (HOLE_POLE, SHEET_SLACK, cone_roots, convex_sheet_roots, disc_interval, hole_sheet_roots, hypot2,
                     illinois_done, illinois_point, illinois_update, sort_small, torus_roots)
 
 #: Band contraction on an offset arc stops at this fraction of the segment's length: only a

@@ -27,6 +27,33 @@ _SQRT3_2 = 0.5 * math.sqrt(3.0)
 
 
 @njit(**INLINE)
+def disc_interval(px, py, qx, qy, cx, cy, r):
+    """Parameters ``t`` where ``p + t q`` lies in the disc of radius ``r`` about ``c``."""
+    ux, uy = px - cx, py - cy
+    A = qx * qx + qy * qy
+    if A == 0.0:
+        return (-np.inf, np.inf) if ux * ux + uy * uy <= r * r else (1.0, -1.0)
+    s = -(ux * qx + uy * qy) / A  # closest approach first: no cancellation far away
+    mx, my = ux + s * qx, uy + s * qy
+    h2 = r * r - (mx * mx + my * my)
+    if h2 < 0.0:
+        return 1.0, -1.0
+    h = math.sqrt(h2 / A)
+    return s - h, s + h
+
+
+@njit(**INLINE)
+def interval_hull(lo, hi, l2, h2):
+    """The smallest interval holding ``[lo, hi]`` and ``[l2, h2]`` (either may be empty:
+    ``lo > hi``)."""
+    if l2 > h2:
+        return lo, hi
+    if lo > hi:
+        return l2, h2
+    return min(lo, l2), max(hi, h2)
+
+
+@njit(**INLINE)
 def hypot2(x, y):
     """``sqrt(x^2 + y^2)`` without libm's overflow guard (bottle-scale numbers, 4x faster)."""
     return math.sqrt(x * x + y * y)

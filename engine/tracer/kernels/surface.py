@@ -89,7 +89,7 @@ def interaction(tables, ray, hit, sidx, pseed):
     inc, trn = (front, back) if nx * dx + ny * dy + nz * dz < 0.0 else (back, front)
     sx, sy, sz, rough = nx, ny, nz, 0.0
     if fin.obj_rows[k, 1] > 0:
-        sx, sy, sz, rough = shading_frame(fin, sc.geom.seg, sc.geom.obj_i, k, part, px, py, pz, nx, ny, nz)
+        sx, sy, sz, rough = shading_frame(fin, sc.geom, k, part, px, py, pz, nx, ny, nz)
     return Interaction(px, py, pz, nx, ny, nz, dx, dy, dz, k, part, sc.geom.obj_i[k, O_MAT], inc, trn, sidx,
                        pseed, sx, sy, sz, rough)
 

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 from engine.tracer.kernels.outlines import rrect_sd
-from engine.tracer.kernels.plans import plan_interval, plan_value
+from engine.tracer.kernels.plans import PL_ENDS, PL_KIND, ROUND, plan_interval, plan_trace, plan_value
 from engine.tracer.tables.plans import plan_table
 
 ORACLE = os.path.join(os.path.dirname(__file__), "..", "..", "shared", "oracle", "specs")
@@ -205,3 +205,27 @@ def test_a_rays_trace_through_a_ruled_slab_is_where_the_section_at_its_height_ho
             if ts[0] < t < ts[-1]:
                 assert abs(plan_value(plan, k0 + k1 * t, r0 + r1 * t, *(p + t * q))[0]) < 1e-8
     assert hits > 30 and misses > 30
+
+
+@pytest.mark.parametrize("name", sorted(OUTLINES))
+def test_skipping_a_wedges_end_normals_between_two_lines_changes_nothing(name):
+    """``PL_ENDS = 0`` lets the kernels skip a corner's end normals (its lines' own): the value,
+    gradient and traces equal those of the same table with every end evaluated."""
+    plan = plan_table(OUTLINES[name]())
+    full = plan.copy()
+    full[:, PL_ENDS] = np.where(full[:, PL_KIND] == ROUND, 1.0, 0.0)
+    rng = np.random.default_rng(11)
+    for _ in range(300):
+        k, r = rng.uniform(0.5, 40.0), rng.uniform(-3.0, 5.0)
+        x, y, qx, qy = rng.uniform(-60.0, 60.0, 4)
+        assert plan_value(plan, k, r, x, y) == pytest.approx(plan_value(full, k, r, x, y), abs=1e-12)
+        core, grow, foot = (k, rng.uniform(-0.2, 0.2)), (r, rng.uniform(-0.1, 0.1)), (x, y, qx, qy)
+        assert plan_trace(plan, core, grow, foot) == pytest.approx(plan_trace(full, core, grow, foot), abs=1e-9)
+
+
+def test_a_corner_between_two_lines_skips_its_end_normals_and_an_arc_after_an_arc_does_not():
+    hexagon = plan_table(OUTLINES["hexagon"]())
+    assert np.all(hexagon[hexagon[:, PL_KIND] == ROUND, PL_ENDS] == 0.0)
+    flask = plan_table(OUTLINES["flask"]())
+    rows = flask[flask[:, PL_KIND] == ROUND]
+    assert np.any(rows[:, PL_ENDS] == 1.0)

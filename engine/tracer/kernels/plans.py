@@ -48,10 +48,13 @@ FLAT, ROUND = 0, 1
 #: radius, the wedge's end normals ``u0`` and ``u1``; then every row's girth terms
 #: (:func:`plan_girth`): ``PL_GK`` and ``PL_GR``, the section's arc length at the row's start
 #: is ``k GK + r GR`` (a ``FLAT`` row's ``GK`` already less its start's tangent coordinate), and
-#: ``PL_PERIM``, the perimeter of ``P`` (the same in every row).
+#: ``PL_PERIM``, the perimeter of ``P`` (the same in every row); ``PL_ENDS`` (``ROUND`` rows): 1
+#: where an end normal of the wedge is not a neighbouring ``FLAT`` row's normal, 0 where both
+#: are (a corner or an arc between two lines): then the end normals' conditions are the lines'
+#: own, and :func:`plan_value` and :func:`plan_trace` skip them.
 (PL_KIND, PL_NX, PL_NY, PL_H, PL_CX, PL_CY, PL_RHO, PL_U0X, PL_U0Y, PL_U1X, PL_U1Y,
- PL_GK, PL_GR, PL_PERIM) = range(14)
-PL_COLS = 14
+ PL_GK, PL_GR, PL_PERIM, PL_ENDS) = range(15)
+PL_COLS = 15
 TWO_PI = 2.0 * math.pi
 
 
@@ -76,12 +79,14 @@ def plan_value(plan, k, r, x, y):
             continue
         cx, cy, rho = row[PL_CX], row[PL_CY], row[PL_RHO]
         vx, vy = x - k * cx, y - k * cy
-        d = math.sqrt(vx * vx + vy * vy)
-        if d > 0.0 and _in_wedge(row, vx, vy):
+        if (vx != 0.0 or vy != 0.0) and _in_wedge(row, vx, vy):
+            d = math.sqrt(vx * vx + vy * vy)
             v = d - k * rho - r
             if v > best:
                 ux, uy = vx / d, vy / d
                 best, gx, gy, dk = v, ux, uy, -(cx * ux + cy * uy + rho)
+            continue
+        if row[PL_ENDS] == 0.0:  # its end normals are its neighbouring lines'
             continue
         for e in range(2):  # outside the wedge: the largest of its end normals
             ux, uy = (row[PL_U0X], row[PL_U0Y]) if e == 0 else (row[PL_U1X], row[PL_U1Y])
@@ -223,10 +228,11 @@ def _round_interval(row, core, grow, foot, lo, hi):
     wx, wy = qx - k1 * cx, qy - k1 * cy
     rad0, rad1 = k0 * rho + r0, k1 * rho + r1
     ux, uy, zx, zy = row[PL_U0X], row[PL_U0Y], row[PL_U1X], row[PL_U1Y]
-    lo, hi = _half_plane(v0x * ux + v0y * uy - rad0, wx * ux + wy * uy - rad1, lo, hi)
-    lo, hi = _half_plane(v0x * zx + v0y * zy - rad0, wx * zx + wy * zy - rad1, lo, hi)
-    if lo > hi:
-        return lo, hi
+    if row[PL_ENDS] != 0.0:  # (else they are the neighbouring lines' half-planes, cut already)
+        lo, hi = _half_plane(v0x * ux + v0y * uy - rad0, wx * ux + wy * uy - rad1, lo, hi)
+        lo, hi = _half_plane(v0x * zx + v0y * zy - rad0, wx * zx + wy * zy - rad1, lo, hi)
+        if lo > hi:
+            return lo, hi
     # the cone of the wedge from the centre: cross(u0, v) >= 0 and cross(v, u1) >= 0
     c0, c1 = _half_plane(-(ux * v0y - uy * v0x), -(ux * wy - uy * wx), -np.inf, np.inf)
     c0, c1 = _half_plane(-(v0x * zy - v0y * zx), -(wx * zy - wy * zx), c0, c1)
@@ -256,15 +262,19 @@ def plan_trace(plan, core, grow, foot):
     r0, r1 = grow
     px, py, qx, qy = foot
     lo, hi = -np.inf, np.inf
-    for i in range(plan.shape[0]):
+    for i in range(plan.shape[0]):  # the lines first: cheap, and most misses end here
         row = plan[i]
         if row[PL_KIND] == FLAT:
             nx, ny, h = row[PL_NX], row[PL_NY], row[PL_H]
             lo, hi = _half_plane(px * nx + py * ny - k0 * h - r0, qx * nx + qy * ny - k1 * h - r1, lo, hi)
-        else:
+            if lo > hi:
+                return 1.0, -1.0
+    for i in range(plan.shape[0]):
+        row = plan[i]
+        if row[PL_KIND] != FLAT:
             lo, hi = _round_interval(row, core, grow, foot, lo, hi)
-        if lo > hi:
-            return 1.0, -1.0
+            if lo > hi:
+                return 1.0, -1.0
     return lo, hi
 
 

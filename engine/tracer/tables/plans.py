@@ -15,8 +15,8 @@ import math
 
 import numpy as np
 
-from ..kernels.plans import (FLAT, PL_COLS, PL_CX, PL_CY, PL_GK, PL_GR, PL_H, PL_KIND, PL_NX, PL_NY, PL_PERIM,
-                             PL_RHO, PL_U0X, PL_U0Y, PL_U1X, PL_U1Y, ROUND)
+from ..kernels.plans import (FLAT, PL_COLS, PL_CX, PL_CY, PL_ENDS, PL_GK, PL_GR, PL_H, PL_KIND, PL_NX, PL_NY,
+                             PL_PERIM, PL_RHO, PL_U0X, PL_U0Y, PL_U1X, PL_U1Y, ROUND)
 
 #: The widest wedge of normals (rad) one ``ROUND`` row holds.
 MAX_WEDGE = 0.5 * math.pi
@@ -84,7 +84,18 @@ def plan_table(segments) -> np.ndarray:
             rows += _round_rows(float(v[0]), float(v[1]), 0.0, out_end, out_end + turn)
     table = np.array(rows, float).reshape(-1, PL_COLS)
     _girth_columns(table, lines)
+    _end_flags(table)
     return np.ascontiguousarray(table)
+
+
+def _end_flags(table) -> None:
+    """``PL_ENDS`` of each ``ROUND`` row, in place: 0 where the rows before and after it (the
+    chain is closed) are ``FLAT``, whose normals are then its end normals (the chain's normals
+    turn continuously), else 1."""
+    kinds = table[:, PL_KIND]
+    flat_before = np.roll(kinds, 1) == FLAT
+    flat_after = np.roll(kinds, -1) == FLAT
+    table[:, PL_ENDS] = np.where((kinds == ROUND) & ~(flat_before & flat_after), 1.0, 0.0)
 
 
 def _girth_columns(table, lines) -> None:

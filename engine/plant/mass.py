@@ -39,7 +39,6 @@ import numpy as np
 from ..geometry import capacity
 from ..geometry.capacity import MM3_PER_ML
 from ..geometry.capacity import area_breaks  # the heights the capacity cuts at too
-from ..geometry.chain import by_segment, locate, param_at_z
 from ..geometry.validate import body_profile
 from . import clip
 
@@ -135,8 +134,7 @@ def labels_part(design) -> Part | None:
 @dataclass(frozen=True)
 class _Cavity:
     """What the tilted liquid needs of the cavity: its cross-section, profile, joints (mm), height range
-    and reach (mm, the largest distance of its wall from the axis); its inner walls (one chain per
-    named section) and, per piece between joints, the index of each wall's segment there."""
+    and reach (mm, the largest distance of its wall from the axis)."""
 
     xs: object
     prof: object
@@ -144,8 +142,6 @@ class _Cavity:
     z_ib: float
     z_top: float
     reach: float
-    walls: tuple
-    segments: tuple
 
 
 @lru_cache(maxsize=32)
@@ -158,10 +154,7 @@ def _cavity(shape) -> _Cavity:
     z = np.linspace(prof.z_ib, prof.z_top, 4097)
     radii, _ = capacity.section_radii_at(prof, z, "inner")
     reach = float(np.max(prof.xs.circumradius(radii))) * (1 + 1e-9) + 1e-9
-    walls = tuple(sp.inner_wall for sp in prof.sections)
-    mids = 0.5 * (joints[:-1] + joints[1:])
-    segments = tuple(zip(*(locate(w, np.clip(mids, w[0].p0[1], w[-1].p1[1]))[0].tolist() for w in walls)))
-    return _Cavity(prof.xs, prof, joints, prof.z_ib, prof.z_top, reach, walls, segments)
+    return _Cavity(prof.xs, prof, joints, prof.z_ib, prof.z_top, reach)
 
 
 def _nodes(cav: _Cavity, za: float, zb: float, events=()):
@@ -200,8 +193,8 @@ def _event_grid(shape, psi: float) -> _EventGrid:
     counts = np.maximum(EVENT_SAMPLES, np.ceil(EVENT_SAMPLES_PER_MM * (b - a)).astype(int) + 1)
     z = np.concatenate([np.linspace(lo, hi, n) for lo, hi, n in zip(a, b, counts)])
     piece = np.repeat(np.arange(len(a)), counts)
-    grown = _piece_radii(cav, np.arange(len(a)), 0.5 * (a + b))[1] >= 0
-    k, r = _piece_radii(cav, piece, z)
+    grown = capacity.section_radii_at(cav.prof, 0.5 * (a + b), "inner")[0][1] >= 0
+    k, r = capacity.section_radii_at(cav.prof, z, "inner")[0]
     tables = []
     for sign in (True, False):
         rows = grown[piece] == sign
@@ -209,18 +202,6 @@ def _event_grid(shape, psi: float) -> _EventGrid:
             e = clip.outline_events(cav.xs.plan, k[rows], r[rows], sign, psi, np.zeros(int(rows.sum())))
             tables.append((sign, z[rows], piece[rows], e))
     return _EventGrid(cav, psi, tuple(tables))
-
-
-def _piece_radii(cav: _Cavity, piece, z):
-    """The cavity's section radii (mm) at heights ``z`` (mm) of the pieces ``piece`` between its
-    joints: each wall's one segment there (:attr:`_Cavity.segments`), as
-    :func:`engine.geometry.capacity.section_radii_at` gives them but without looking it up."""
-    out = [np.empty(np.shape(z)) for _ in cav.walls]
-    for p, at in by_segment(piece):
-        for wall, chain, seg in zip(out, cav.walls, cav.segments[p]):
-            zz = np.clip(z[at], chain[0].p0[1], chain[-1].p1[1])
-            wall[at] = chain[seg].point(param_at_z(chain[seg], zz))[..., 0]
-    return out
 
 
 def _events(grid: _EventGrid, za: float, zb: float, cut) -> np.ndarray:
@@ -233,21 +214,21 @@ def _events(grid: _EventGrid, za: float, zb: float, cut) -> np.ndarray:
     ends are the band's ends, or quarter arcs: left as they were)."""
     if grid is None:
         return np.empty(0)
-    brackets = []  # (grown, column, piece, lo, hi, f(lo), f(hi)) per table
+    brackets = []  # (grown, column, lo, hi, f(lo), f(hi)) per table
     for grown, z, piece, e in grid.tables:
         i0 = max(int(np.searchsorted(z, za, side="right")) - 1, 0)
         i1 = int(np.searchsorted(z, zb, side="left")) + 1
         zz, f = z[i0:i1], e[i0:i1] - cut(z[i0:i1])[:, None]
         same = (piece[i0:i1][:-1] == piece[i0:i1][1:])[:, None]
         i, j = np.nonzero(same & np.isfinite(f[:-1]) & np.isfinite(f[1:]) & (np.signbit(f[:-1]) != np.signbit(f[1:])))
-        brackets.append((np.full(len(i), grown), j, piece[i0:i1][i], zz[i], zz[i + 1], f[i, j], f[i + 1, j]))
-    grown, col, piece, lo, hi, flo, fhi = (np.concatenate(parts) for parts in zip(*brackets))
+        brackets.append((np.full(len(i), grown), j, zz[i], zz[i + 1], f[i, j], f[i + 1, j]))
+    grown, col, lo, hi, flo, fhi = (np.concatenate(parts) for parts in zip(*brackets))
     if not len(lo):
         return lo
 
     def values(z, which):
         """The bracket ``which``'s functions ``e - cut`` (mm) at heights ``z`` (mm)."""
-        k, r = _piece_radii(grid.cav, piece[which], z)
+        k, r = capacity.section_radii_at(grid.cav.prof, z, "inner")[0]
         out = np.empty(len(z))
         for sign in (True, False):
             rows = grown[which] == sign
@@ -324,8 +305,7 @@ def tilted_liquid(shape, volume_mm3: float, phi: float, psi: float = 0.0) -> tup
         """``(V, M_u, M_z, dV/dlevel)`` of the liquid below the surface at ``level``."""
         za = min(max((level - cav.reach * sphi) / cphi, cav.z_ib), cav.z_top)
         zb = min(max((level + cav.reach * sphi) / cphi, cav.z_ib), cav.z_top)
-        v0, mz0 = capacity.volume_and_moment_mm(shape, "inner", cav.z_ib, za)
-        mx0, my0 = capacity.plan_moment_mm(shape, "inner", cav.z_ib, za)
+        v0, mz0, mx0, my0 = capacity.cavity_moments_below_mm(shape, za)
         mu0 = mx0 * math.cos(psi) + my0 * math.sin(psi)
         if zb <= za:
             return v0, mu0, mz0, 0.0

@@ -271,20 +271,26 @@ def _illinois(values, lo, hi, flo, fhi) -> np.ndarray:
 
 def _clipped(cav: _Cavity, z, d, psi: float):
     """Area (mm^2), first moment along ``u`` (mm^3) and the cut's length (mm) of the cavity's
-    sections at heights ``z`` where ``p . u >= d``."""
+    sections at heights ``z`` where ``p . u >= d``. A section wholly short of the cut (its
+    support along ``u`` at most ``d``) keeps nothing: 0 without clipping it (as its clip is),
+    most of a steep tilt's band above the shoulder."""
     radii, dome = capacity.section_radii_at(cav.prof, z, "inner")
+    out = np.zeros((3, len(z)))
+    keep = d < cav.xs.support(radii, psi)
+    radii, d = [np.asarray(r, float)[keep] for r in radii], d[keep]
     if cav.xs.revolved:
         a, m, c = clip.segment(radii[0], d)
         if dome is not None:
-            a2, m2, c2 = clip.segment(dome, d)
+            a2, m2, c2 = clip.segment(dome[keep], d)
             a, m, c = a - a2, m - m2, c - c2
-        return a, m, c
-    if cav.xs.name == "oval":  # why by name: the clipped areas are this module's closed forms
-        return clip.oval(np.asarray(radii[0], float), np.asarray(radii[1], float), psi, d)
-    if cav.xs.name == "outline":
-        return clip.outline(cav.xs.plan, np.asarray(radii[0], float), np.asarray(radii[1], float), psi, d)
-    a, b, c = (np.asarray(v, float) for v in cav.xs.as_rect(radii))
-    return clip.rounded_rect(a, b, c, psi, d)
+    elif cav.xs.name == "oval":  # why by name: the clipped areas are this module's closed forms
+        a, m, c = clip.oval(radii[0], radii[1], psi, d)
+    elif cav.xs.name == "outline":
+        a, m, c = clip.outline(cav.xs.plan, radii[0], radii[1], psi, d)
+    else:
+        a, m, c = clip.rounded_rect(*(np.asarray(v, float) for v in cav.xs.as_rect(radii)), psi, d)
+    out[:, keep] = a, m, c
+    return out
 
 
 def tilted_liquid(shape, volume_mm3: float, phi: float, psi: float = 0.0) -> tuple[float, float, float]:
@@ -318,9 +324,8 @@ def tilted_liquid(shape, volume_mm3: float, phi: float, psi: float = 0.0) -> tup
 
     lo = cav.z_ib * cphi - cav.reach * sphi
     hi = cav.z_top * cphi + cav.reach * sphi
-    top = parts(hi)
-    if volume_mm3 >= top[0] * (1 - 1e-12):
-        return top[:3]
+    if volume_mm3 >= capacity.cavity_moments_below_mm(shape, cav.z_top)[0] * (1 - 1e-12):
+        return parts(hi)[:3]  # brimful: the whole cavity
     # Newton on the level (dV/dL is the surface's area), kept inside a shrinking bracket
     level = min(max(capacity.fill_height_for_volume(shape, volume_mm3 / MM3_PER_ML) * cphi, lo), hi)
     for _ in range(60):

@@ -149,24 +149,23 @@ def radius_at(segments, z) -> np.ndarray:
     if table is None:
         return _radius_by_segment(segments, z)
     idx = _holding(segments, z)
-    at = np.maximum(idx, 0)
-    line, z0, dz, r0, dr, cz, rz, flip, a0, sign, sweep, cr, rr = (v[at] for v in table)
+    line, z0, dz, r0, dr, cz, rz, flip, a0, sign, sweep, cr, rr = table[:, np.maximum(idx, 0)]
     with np.errstate(divide="ignore", invalid="ignore"):
         t = np.where(dz != 0, np.clip((z - z0) / dz, 0.0, 1.0), 0.0)
         s = np.arcsin(np.clip((z - cz) / rz, -1.0, 1.0))
-        s = np.where(flip, math.pi - s, s)
+        s = np.where(flip != 0, math.pi - s, s)
         d = np.fmod((s - a0) * sign + math.pi, 2 * math.pi)  # then + 2 pi where < 0: np.mod's value
         d = np.where(d < 0, d + 2 * math.pi, d) - math.pi
         ta = np.clip(d / np.abs(sweep), 0.0, 1.0)
-        r = np.where(line, r0 + t * dr, cr + rr * np.cos(a0 + ta * sweep))
+        r = np.where(line != 0, r0 + t * dr, cr + rr * np.cos(a0 + ta * sweep))
     return np.where(idx < 0, np.nan, r)
 
 
 @lru_cache(maxsize=256)
 def _radius_table(segments):
-    """Per segment of a chain of lines, arcs and ellipse arcs, as arrays: whether a line, its
+    """Per segment of a chain of lines, arcs and ellipse arcs, a column: whether a line (1), its
     ``z0``, ``z1 - z0``, ``r0``, ``r1 - r0`` (a line's), and an arc's centre height, radius in z,
-    whether it lies on the half nearer the axis, start angle, direction (+-1), sweep, centre
+    whether it lies on the half nearer the axis (1), start angle, direction (+-1), sweep, centre
     radius and radius in r (:func:`param_at_z`, ``point``); ``None`` for a chain of other kinds."""
     rows = []
     for seg in segments:
@@ -179,7 +178,7 @@ def _radius_table(segments):
                          seg.angle0, math.copysign(1.0, seg.sweep), seg.sweep, seg.center[0], rr))
         else:
             return None
-    return tuple(np.array(col) for col in zip(*rows))
+    return np.array(rows, float).T
 
 
 def _radius_by_segment(segments, z) -> np.ndarray:

@@ -194,3 +194,30 @@ def test_nearly_tangent_joint_offsets_without_a_descent():
             assert b.p0[1] >= a.p0[1]
         z = np.concatenate([s.point(np.linspace(0, 1, 33))[:, 1] for s in inner])
         assert np.all(np.diff(z) >= -1e-12)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3])
+def test_radius_at_from_its_table_is_the_by_segment_radius_bit_for_bit(n):
+    """radius_at evaluates a chain of lines, arcs and ellipse arcs from a table of its segments
+    (every formula at every height, no sort) for up to TABLE_POINTS heights: the same operations
+    as each segment's param_at_z and point, so the same radii bit for bit, at random heights,
+    every joint, just outside the range (within and beyond its tolerance) and NaN, on every wall
+    and base of a public scene, of a stepped section, a punt (an ellipse arc) and a torus foot."""
+    from engine.geometry import chain
+    prof = body_profile(spec_shape(n))
+    chains = [c for sp in prof.sections for c in (sp.inner_wall, sp.outer_wall, sp.inner_base, sp.outer_base) if c]
+    chains += [tuple(stepped_section(30.0, 100.0, 12.0, 130.0, 180.0).segments),
+               *split_at_ring(punt_section())[:2],  # its base: an ellipse arc (the dome), cw
+               *split_at_ring(torus_foot_section(20.0, 6.0, 90.0))[:2]]
+    rng = np.random.default_rng(n)
+    tabled = 0
+    for ch in chains:
+        zs = [p[1] for s in ch for p in (s.p0, s.p1)]
+        lo, hi = min(zs), max(zs)
+        z = np.concatenate([rng.uniform(lo - 1.0, hi + 1.0, 400), zs, [lo - 1e-7, hi + 1e-7, lo - 1e-5, hi + 1e-5, np.nan]])
+        tabled += chain._radius_table(tuple(ch)) is not None
+        np.testing.assert_array_equal(radius_at(ch, z), chain._radius_by_segment(ch, z))
+        grid = z[:400].reshape(20, 20).T  # any shape, any strides
+        np.testing.assert_array_equal(radius_at(ch, grid), chain._radius_by_segment(ch, grid))
+        assert np.array_equal(radius_at(ch, 0.5 * (lo + hi)), chain._radius_by_segment(ch, np.array(0.5 * (lo + hi))))
+    assert tabled == len(chains)  # the tables did answer (offset ellipse arcs would go by segment)

@@ -113,3 +113,30 @@ def test_an_outline_bottle_asks_its_plan_and_offers_every_feature():
     xs.require("stress")  # (tests/test_plant_outline.py)
     xs.require("cad")  # (tests/test_export_cad_outline.py)
     xs.require("drawing")  # (tests/test_drawing_outline.py)
+
+
+@pytest.mark.parametrize("plan", ["public", "shield"])
+def test_the_cavity_below_a_height_is_its_pieces_so_far_and_one_more(plan):
+    """capacity.cavity_moments_below_mm (the tilted liquid's below-the-band part: the whole pieces
+    cached, the last one integrated) against volume_and_moment_mm and plan_moment_mm from the
+    inner base (every piece integrated again), at the joints, the area break, in between and
+    out of range; the volume against adaptive quadrature too. A shield's centre is off the axis:
+    its plan moments are not 0."""
+    from engine.geometry import plan as P
+    shape = dataclasses.replace(_design("outline_public_1").shape, wall_thickness=4.0)
+    if plan == "shield":
+        shape = dataclasses.replace(shape, plan=P.shield(1.0, 0.9, 0.3))
+    prof = body_profile(shape)
+    joints = capacity._cavity_moments_table(shape)[1]
+    heights = [*joints, *area_breaks(prof, "inner"), *np.random.default_rng(5).uniform(prof.z_ib, prof.z_top, 12)]
+    for z in heights:
+        got = capacity.cavity_moments_below_mm(shape, z)
+        want = (*capacity.volume_and_moment_mm(shape, "inner", prof.z_ib, z), *capacity.plan_moment_mm(shape, "inner", prof.z_ib, z))
+        scale = max(abs(want[0]), 1.0), max(abs(want[1]), 1.0)
+        assert all(abs(g - w) <= 1e-13 * s for g, w, s in zip(got, want, (scale[0], scale[1], scale[1], scale[1]))), (z, got, want)
+    assert capacity.cavity_moments_below_mm(shape, prof.z_ib - 5.0) == (0.0, 0.0, 0.0, 0.0)
+    assert capacity.cavity_moments_below_mm(shape, prof.z_top + 5.0) == capacity.cavity_moments_below_mm(shape, prof.z_top)
+    z = 0.5 * (joints[2] + joints[3])
+    assert capacity.cavity_moments_below_mm(shape, z)[0] == pytest.approx(_cavity_ml(shape, z) * 1000.0, rel=REL)
+    mx, my = capacity.cavity_moments_below_mm(shape, prof.z_top)[2:]
+    assert (abs(my) > 1.0) == (plan == "shield") and abs(mx) < 1e-6 * capacity.cavity_moments_below_mm(shape, prof.z_top)[1]

@@ -567,3 +567,23 @@ def test_presets_and_builders_agree():
                 lambda: pl.flask(100, 30, 20), lambda: pl.shield(1.0, 0.4, 0.5), lambda: pl.n_fold(one_side, 0)):
         with pytest.raises(OutlineError):
             bad()
+
+
+@pytest.mark.parametrize("name", sorted(SHAPES))
+def test_the_distance_alone_is_the_signed_distance_bit_for_bit(name):
+    """PlanOutline.distance (the thickness search's) is signed_distance's value without its
+    gradient: equal bit for bit, at points far off, on the axis, on a fan's centre (where its
+    own direction is undefined), NaN (never the largest candidate), scalars and empty arrays."""
+    o = SHAPES[name]()
+    rng = np.random.default_rng(43)
+    x, y = rng.uniform(-45.0, 45.0, size=(2, 300, 4))
+    k, c = rng.uniform(0.0, 30.0, size=(300, 1)), np.array([-2.0, 0.0, 0.5, 4.0])
+    x[0, 0], x[1, :], y[1, :], k[2] = np.nan, 0.0, 0.0, 0.0
+    cx, cy = o.segments[0].p0
+    x[3, :], y[3, :], k[3] = 10.0 * cx, 10.0 * cy, 10.0  # exactly on a joint (a corner fan's centre)
+    for args in ((x, y, k, c), (1.5, -2.0, 7.0, 0.25), (np.empty(0), np.empty(0), 1.0, 0.0)):
+        sd = o.signed_distance(*args)[0]
+        got = o.distance(*args)
+        assert np.shape(got) == np.shape(sd)
+        np.testing.assert_array_equal(got, sd)
+    assert o.distance(np.nan, 0.0, 1.0, 0.0) == o.signed_distance(np.nan, 0.0, 1.0, 0.0)[0] == -np.inf

@@ -163,6 +163,40 @@ def _cavity_below_mm3(shape, z: float) -> float:
     return float(cum[i] + part.sum())
 
 
+@lru_cache(maxsize=64)
+def _cavity_moments_table(shape):
+    """Joints and the cavity's cumulative ``(V, M_z, M_x, M_y)`` (mm^3, mm^4) at each, from the
+    inner base up (the moments of :func:`volume_and_moment_mm` and :func:`plan_moment_mm`)."""
+    prof = body_profile(shape)
+    joints, z, dz = _nodes(prof, "inner", prof.z_ib, prof.z_top)
+    return prof, joints, np.vstack([np.zeros(4), np.cumsum(_piece_moments(prof, z, dz), axis=1).T])
+
+
+def _piece_moments(prof: BodyProfile, z, dz) -> np.ndarray:
+    """``(4, pieces)``: each piece's cavity volume (mm^3) and moments ``int z A``, ``int M_x``,
+    ``int M_y`` (mm^4) on the quadrature heights ``z`` (mm) of :func:`_nodes` (one radii call)."""
+    radii, dome = section_radii_at(prof, z.ravel(), "inner")
+    a = prof.xs.area(radii)
+    a = np.reshape(a if dome is None else a - math.pi * dome ** 2, z.shape)
+    mx, my = (np.reshape(m, z.shape) for m in prof.xs.moment(radii))  # a punt's dome is round: centred
+    return np.array([dz * (f @ _SUB_W) for f in (a, a * z, mx, my)])
+
+
+def cavity_moments_below_mm(shape, z: float) -> tuple[float, float, float, float]:
+    """``(V, M_z, M_x, M_y)``: the cavity's volume (mm^3) from its inner base up to height ``z``
+    (mm, clamped to the cavity) and its first moments about the standing plane and in the plan
+    (mm^4, the bottle's own frame): :func:`volume_and_moment_mm` and :func:`plan_moment_mm` of
+    ``("inner", z_ib, z)`` by the same quadrature, the whole pieces below ``z`` cached per shape
+    (a tilted liquid's level search asks for many heights of one cavity)."""
+    prof, joints, cum = _cavity_moments_table(shape)
+    z = min(max(float(z), prof.z_ib), prof.z_top)
+    i = min(int(np.searchsorted(joints, z, side="right")) - 1, len(joints) - 1)
+    if z <= joints[i]:
+        return tuple(float(v) for v in cum[i])
+    zz = joints[i] + (z - joints[i]) * _SUB_Z
+    return tuple(float(v) for v in cum[i] + _piece_moments(prof, zz[None, :], np.array([z - joints[i]]))[:, 0])
+
+
 def brimful_ml(shape) -> float:
     """Cavity volume (ml) from the inner base up to the mouth ``z_top`` (the brimful capacity)."""
     return float(_cavity_table(shape)[2][-1]) / MM3_PER_ML

@@ -9,6 +9,7 @@ NaN; chains may rise or descend in z.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -16,6 +17,9 @@ from .segments import Arc, EllipseArc, Line, OffsetEllipseArc, Segment
 
 #: Height tolerance (mm) for "at z = 0" and for snapping clip heights onto joints.
 Z_TOL_MM = 1e-6
+#: Up to this many heights :func:`radius_at` evaluates every segment's formula at every height
+#: (no sort: fastest for the many small calls of a root search); beyond, by segment (less work).
+TABLE_POINTS = 8192
 
 
 def subsegment(seg: Segment, t0: float, t1: float) -> Segment:
@@ -106,31 +110,85 @@ def by_segment(idx):
 def locate(segments, z):
     """``(index, t)`` shaped like ``z``: segment holding height ``z`` (mm) and its parameter, on a
     chain rising or descending in z; heights outside its range get index -1 and ``t = nan``."""
-    z, n = np.asarray(z, dtype=float), len(segments)
+    z = np.asarray(z, dtype=float)
+    idx = _holding(segments, z)
+    t = np.full(z.shape, np.nan)
+    t_flat, z_flat = t.reshape(-1), z.reshape(-1)
+    for i, part in by_segment(idx):
+        if i >= 0:
+            t_flat[part] = param_at_z(segments[i], z_flat[part])
+    return idx, t
+
+
+def _holding(segments, z) -> np.ndarray:
+    """The index of the segment holding each height ``z`` (mm; an array), -1 outside the chain's
+    range (beyond :data:`Z_TOL_MM`); at a joint the lower segment of a rising chain."""
+    n = len(segments)
     rising = segments[-1].p1[1] >= segments[0].p0[1]
     order = range(n) if rising else range(n - 1, -1, -1)
     tops = np.array([max(segments[i].p0[1], segments[i].p1[1]) for i in order])
     pos = np.minimum(np.searchsorted(tops, z, side="left"), n - 1)
     idx = pos if rising else n - 1 - pos
-    t = np.full(z.shape, np.nan)
-    t_flat, z_flat = t.reshape(-1), z.reshape(-1)
-    for i, part in by_segment(idx):
-        t_flat[part] = param_at_z(segments[i], z_flat[part])
     z_lo, z_hi = sorted((segments[0].p0[1], segments[-1].p1[1]))
-    outside = (z < z_lo - Z_TOL_MM) | (z > z_hi + Z_TOL_MM)
-    t[outside] = np.nan
-    return np.where(outside, -1, idx), t
+    return np.where((z < z_lo - Z_TOL_MM) | (z > z_hi + Z_TOL_MM), -1, idx)
 
 
 def radius_at(segments, z) -> np.ndarray:
     """Radius r(z) (mm) of a z-monotone chain of segments at heights ``z`` (mm), vectorised;
-    ``nan`` outside the chain's z range. Exact up to rounding (see :func:`param_at_z`)."""
-    idx, t = locate(segments, z)
-    r = np.full(np.shape(t), np.nan)
-    r_flat, t_flat = r.reshape(-1), t.reshape(-1)
-    for i, part in by_segment(idx):
+    ``nan`` outside the chain's z range. Exact up to rounding (see :func:`param_at_z`). A chain
+    of lines, arcs and ellipse arcs is evaluated from a table of its segments
+    (:func:`_radius_table`) with no loop or sort over them: the same operations on the same
+    numbers as :func:`param_at_z` and each segment's ``point``, so the same radii bit for bit."""
+    z = np.asarray(z, dtype=float)
+    table = None
+    if z.size <= TABLE_POINTS:
+        try:
+            table = _radius_table(tuple(segments))
+        except TypeError:  # unhashable segments: none of the kinds here
+            pass
+    if table is None:
+        return _radius_by_segment(segments, z)
+    idx = _holding(segments, z)
+    line, z0, dz, r0, dr, cz, rz, flip, a0, sign, sweep, cr, rr = table[:, np.maximum(idx, 0)]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t = np.where(dz != 0, np.clip((z - z0) / dz, 0.0, 1.0), 0.0)
+        s = np.arcsin(np.clip((z - cz) / rz, -1.0, 1.0))
+        s = np.where(flip != 0, math.pi - s, s)
+        d = np.fmod((s - a0) * sign + math.pi, 2 * math.pi)  # then + 2 pi where < 0: np.mod's value
+        d = np.where(d < 0, d + 2 * math.pi, d) - math.pi
+        ta = np.clip(d / np.abs(sweep), 0.0, 1.0)
+        r = np.where(line != 0, r0 + t * dr, cr + rr * np.cos(a0 + ta * sweep))
+    return np.where(idx < 0, np.nan, r)
+
+
+@lru_cache(maxsize=256)
+def _radius_table(segments):
+    """Per segment of a chain of lines, arcs and ellipse arcs, a column: whether a line (1), its
+    ``z0``, ``z1 - z0``, ``r0``, ``r1 - r0`` (a line's), and an arc's centre height, radius in z,
+    whether it lies on the half nearer the axis (1), start angle, direction (+-1), sweep, centre
+    radius and radius in r (:func:`param_at_z`, ``point``); ``None`` for a chain of other kinds."""
+    rows = []
+    for seg in segments:
+        if isinstance(seg, Line):
+            rows.append((True, seg.p0[1], seg.p1[1] - seg.p0[1], seg.p0[0], seg.p1[0] - seg.p0[0],
+                         0.0, 1.0, False, 0.0, 1.0, 1.0, 0.0, 0.0))
+        elif isinstance(seg, (Arc, EllipseArc)):
+            rz, rr = (seg.radius, seg.radius) if isinstance(seg, Arc) else (seg.radius_z, seg.radius_r)
+            rows.append((False, 0.0, 0.0, 0.0, 0.0, seg.center[1], rz, math.cos(float(seg.angle(0.5))) < 0.0,
+                         seg.angle0, math.copysign(1.0, seg.sweep), seg.sweep, seg.center[0], rr))
+        else:
+            return None
+    return np.array(rows, float).T
+
+
+def _radius_by_segment(segments, z) -> np.ndarray:
+    """:func:`radius_at` for any chain: the heights grouped by segment, each segment's own
+    :func:`param_at_z` and ``point``."""
+    r = np.full(z.shape, np.nan)
+    r_flat, z_flat = r.reshape(-1), z.reshape(-1)
+    for i, part in by_segment(_holding(segments, z)):
         if i >= 0:
-            r_flat[part] = segments[i].point(t_flat[part])[..., 0]
+            r_flat[part] = segments[i].point(param_at_z(segments[i], z_flat[part]))[..., 0]
     return r
 
 

@@ -432,6 +432,25 @@ class PlanOutline:
         return h
 
     # ------------------------------------------------------------------ signed distance
+    @cached_property
+    def _sd_tables(self) -> tuple:
+        """:meth:`signed_distance`'s candidates as arrays: the lines' ``(n_x, n_y, h)``; the fans'
+        ``(c_x, c_y, radius, theta0, sweep)``; the directions ``(u_x, u_y)`` of each fan's range's
+        two ends; and per candidate (:meth:`_candidates`' order) its gradient ``(u_x, u_y, h)``,
+        ``h = C . u + radius`` (0 for a fan's own point: that one is the point's own direction)."""
+        lines = np.array([(n[0], n[1], h) for _, n, h in self._lines], float).reshape(-1, 3).T
+        fans = np.array([(c[0], c[1], rho, th0, sweep) for c, rho, th0, sweep, _ in self._fans],
+                        float).reshape(-1, 5).T
+        ends, grads = ([], []), [(n[0], n[1], h) for _, n, h in self._lines]
+        for (cx, cy), rho, th0, sweep, _ in self._fans:
+            for end, th in enumerate((th0, th0 + sweep)):
+                ux, uy = math.cos(th), math.sin(th)
+                ends[end].append((ux, uy))
+                grads.append((ux, uy, cx * ux + cy * uy + rho))
+            grads.append((0.0, 0.0, 0.0))
+        ends = tuple(tuple(np.array(e, float).reshape(-1, 2).T) for e in ends)
+        return tuple(lines), tuple(fans), ends, tuple(np.array(grads, float).reshape(-1, 3).T)
+
     def signed_distance(self, x, y, k, c):
         """Signed distance (mm) from ``(x, y)`` to ``O = k P (+) disc(c)``: ``sd(q, k P) - c``,
         exact Euclidean for ``c >= 0`` (negative inside), vectorised (all arguments broadcast).
@@ -442,27 +461,52 @@ class PlanOutline:
         sharp corners, where it is the largest distance to the offset pieces' lines).
         """
         x, y, k, c = np.broadcast_arrays(*(np.asarray(v, float) for v in (x, y, k, c)))
-        best, gx, gy, hs = np.full(x.shape, -np.inf), np.zeros(x.shape), np.zeros(x.shape), np.zeros(x.shape)
-
-        def take(val, ux, uy, h):
-            nonlocal best, gx, gy, hs
-            better = val > best
-            best, gx = np.where(better, val, best), np.where(better, ux, gx)
-            gy, hs = np.where(better, uy, gy), np.where(better, h, hs)
-
-        for _, n, h in self._lines:
-            take(x * n[0] + y * n[1] - k * h, n[0], n[1], h)
-        for (cx, cy), rho, th0, sweep, _ in self._fans:
-            dx, dy = x - k * cx, y - k * cy
-            for th in (th0, th0 + sweep):  # why: the range's ends, for a q whose direction is outside it
-                ux, uy = math.cos(th), math.sin(th)
-                take(dx * ux + dy * uy - k * rho, ux, uy, cx * ux + cy * uy + rho)
-            dist = np.hypot(dx, dy)
-            safe = np.where(dist > 0, dist, 1.0)
-            on = (dist > 0) & ((np.arctan2(dy, dx) - th0) % TWO_PI <= sweep)
-            ux, uy = dx / safe, dy / safe
-            take(np.where(on, dist - k * rho, -np.inf), ux, uy, cx * ux + cy * uy + rho)
+        every, dx, dy = self._candidates(x, y, k)
+        (nx, _, _), (cx, cy, rho, _, _), _, grads = self._sd_tables
+        n_lines, m = len(nx), every.shape[0]
+        pick = np.argmax(every, axis=0)  # the first of equals, as a running "val > best" takes
+        at = np.arange(every.shape[1])
+        best = every[pick, at]
+        pick = np.where(best > -np.inf, pick, m)  # none taken: the gradient stays 0
+        gx, gy, hs = (np.append(t, 0.0)[pick] for t in grads)
+        fan = pick - n_lines - 2
+        own = (fan >= 0) & (fan % 3 == 0) & (pick < m)  # a fan's own point: its direction
+        if own.any():
+            f, j = fan[own] // 3, at[own]
+            dist = np.hypot(dx[f, j], dy[f, j])  # > 0 where it was taken
+            ux, uy = dx[f, j] / dist, dy[f, j] / dist
+            gx[own], gy[own], hs[own] = ux, uy, cx[f] * ux + cy[f] * uy + rho[f]
+        best, gx, gy, hs = (v.reshape(x.shape) for v in (best, gx, gy, hs))
         return best - c, gx, gy, (-hs, -np.ones(x.shape))
+
+    def distance(self, x, y, k, c):
+        """The signed distance (mm) of :meth:`signed_distance` alone (the same value, without its
+        gradient: faster where only the distance is asked, as the glass's thickness does)."""
+        x, y, k, c = np.broadcast_arrays(*(np.asarray(v, float) for v in (x, y, k, c)))
+        return np.max(self._candidates(x, y, k)[0], axis=0).reshape(x.shape) - c
+
+    def _candidates(self, x, y, k):
+        """``(every, dx, dy)``: :meth:`signed_distance`'s candidates ``q . u - k h(u)`` (mm) per point
+        of the flattened ``x, y, k`` (arrays of one shape), ``(candidates, points)`` in the order a
+        running "largest so far" would meet them (the lines; then per fan its range's two ends and
+        its own point, ``-inf`` where the point's direction from the fan's centre is outside its
+        range; NaN as ``-inf``: never the largest), and each fan's ``q - k C`` (mm, ``(fans, points)``)."""
+        (nx, ny, nh), (cx, cy, rho, th0, sweep), ends, _ = self._sd_tables
+        xf, yf, kf = (v.reshape(1, -1) for v in (x, y, k))
+        n_lines, col = len(nx), (slice(None), None)
+        every = np.empty((n_lines + 3 * len(cx), xf.shape[1]))
+        every[:n_lines] = xf * nx[col] + yf * ny[col] - kf * nh[col]
+        dx, dy = xf - kf * cx[col], yf - kf * cy[col]
+        for end in (0, 1):  # why: the range's ends, for a q whose direction is outside it
+            every[n_lines + end::3] = dx * ends[end][0][col] + dy * ends[end][1][col] - kf * rho[col]
+        turn = np.fmod(np.arctan2(dy, dx) - th0[col], TWO_PI)  # then + 2 pi where < 0: numpy's %, bit
+        on = ((dx != 0) | (dy != 0)) & (np.where(turn < 0, turn + TWO_PI, turn) <= sweep[col])  # for bit, 4x faster
+        f, j = np.nonzero(on)  # why only there: hypot is the slowest step, and most points are off
+        own = np.full(dx.shape, -np.inf)
+        own[f, j] = np.hypot(dx[f, j], dy[f, j]) - kf[0, j] * rho[f]
+        every[n_lines + 2::3] = own
+        every[np.isnan(every)] = -np.inf
+        return every, dx, dy
 
     # ------------------------------------------------------------------ sections as pieces
     def outer_pieces(self, k: float, c: float) -> tuple[Piece, ...]:

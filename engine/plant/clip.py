@@ -13,6 +13,7 @@ No Qt; float64; mm.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -61,24 +62,28 @@ def arcs(cxi, ceta, r, t0, d, sweep=0.5 * math.pi):
     beta = np.arccos(np.clip(k, -1.0, 1.0))
     t0 = np.mod(t0 + math.pi, 2 * math.pi) - math.pi       # in [-pi, pi): one turn is enough
     t1 = t0 + sweep
+    full = (k <= -1.0) | (k >= 1.0)
+    ends = np.where(full, 0.0, r * np.sin(beta))  # the cut's ends on the arc: eta - ceta = +-r sin(beta)
+    rr, Kr = r * r, K * r
+
+    def F(t):
+        s, c = np.sin(t), np.cos(t)
+        a = Kr * s + rr * (0.5 * t + 0.5 * s * c)
+        m = 0.5 * r * (K * K * s + Kr * (t + s * c) + rr * (s - s * s * s / 3.0))  # why not s**3: pow, 100x slower
+        return a, m
     area = m2 = chord = 0.0
     for shift in (0.0, 2 * math.pi):
+        if shift and np.all(shift - beta >= t1):
+            break  # no arc reaches the interval's copy one turn on: nothing to add
         lo = np.maximum(t0, shift - beta)
         hi = np.minimum(t1, shift + beta)
         hi = np.maximum(hi, lo)
-
-        def F(t):
-            s, c = np.sin(t), np.cos(t)
-            a = K * r * s + r * r * (0.5 * t + 0.5 * s * c)
-            m = 0.5 * r * (K * K * s + K * r * (t + s * c) + r * r * (s - s ** 3 / 3.0))
-            return a, m
         (a1, m1), (a0, m0) = F(hi), F(lo)
         area, m2 = area + a1 - a0, m2 + m1 - m0
         # the cut's ends on the arc: leaving at +beta, entering at -beta (inside the arc's span)
-        full = (k <= -1.0) | (k >= 1.0)
         for at, sign in ((shift + beta, 1.0), (shift - beta, -1.0)):
             inside = (at >= t0) & (at < t1) & ~full
-            chord = chord + np.where(inside, sign * (ceta + r * np.sin(at)), 0.0)
+            chord = chord + np.where(inside, sign * ceta + ends, 0.0)
     return np.sum(area, axis=1), np.sum(m2, axis=1), np.sum(chord, axis=1)
 
 
@@ -137,18 +142,47 @@ def outline_events(plan, k, r, grown: bool, psi: float, d):
     per row; ``grown``: the pieces of ``r >= 0``, as :meth:`~engine.geometry.plan.PlanOutline.section_pieces`)
     changes formula as ``d`` passes it: each piece's start (a joint) and each arc's points whose
     normal is ``+-u`` (where the cut touches it; NaN where the arc's span does not hold that
-    normal). A root in height of a column is where a quadrature should split."""
-    ux, uy = math.cos(psi), math.sin(psi)
+    normal). A root in height of a column is where a quadrature should split.
+
+    A grown section's pieces are linear in ``(k, r)`` and keep their angles, so its columns are
+    ``k A + r B - d`` with ``A``, ``B`` found once per plan and direction (:func:`_grown_events`):
+    no pieces are built per call (the tilted liquid's event search asks again and again)."""
+    k, r, d = (np.asarray(v, float) for v in (k, r, d))
+    if grown:
+        a, b, ra, rb, tangent, held = _grown_events(plan, psi)
+        kk, rr = k[:, None], r[:, None]
+        return np.where(~tangent | (held & (kk * ra + rr * rb > 0)), kk * a + rr * b - d[:, None], np.nan)
     n = np.shape(k)[0]
-    cols = []
-    for p in plan.section_pieces(k, r, grown):
+    cols = [np.where(held & (rho > 0), off - d, np.nan) if rho is not None else off - d
+            for off, rho, held in _event_columns(plan.section_pieces(k, r, False), psi)]
+    return np.column_stack([np.broadcast_to(c, n) for c in cols])
+
+
+def _event_columns(pieces, psi: float):
+    """Per event of ``pieces`` (in :func:`outline_events`' order): its offset along ``u`` (mm,
+    the cut at 0), and for an arc's touching point the arc's radius (mm; it must be > 0) and
+    whether the arc's span holds that normal (else ``None``, ``True``)."""
+    ux, uy = math.cos(psi), math.sin(psi)
+    for p in pieces:
         if p[0] == "line":
-            cols.append(p[1] * ux + p[2] * uy - d)
+            yield p[1] * ux + p[2] * uy, None, True
             continue
         _, cx, cy, rho, a0, a1 = p
-        centre = cx * ux + cy * uy - d
-        cols.append(centre + rho * (np.cos(a0) * ux + np.sin(a0) * uy))
+        centre = cx * ux + cy * uy
+        yield centre + rho * (np.cos(a0) * ux + np.sin(a0) * uy), None, True
         for sign, at in ((1.0, psi), (-1.0, psi + math.pi)):
-            held = ((at - a0) % (2 * math.pi) <= a1 - a0) & (rho > 0)
-            cols.append(np.where(held, centre + sign * rho, np.nan))
-    return np.column_stack([np.broadcast_to(c, n) for c in cols])
+            yield centre + sign * rho, rho, (at - a0) % (2 * math.pi) <= a1 - a0
+
+
+@lru_cache(maxsize=64)
+def _grown_events(plan, psi: float):
+    """``(A, B, RA, RB, tangent, held)`` per column of :func:`outline_events` on grown sections:
+    the offset is ``k A + r B`` (mm); a touching point (``tangent``) counts where its arc's span
+    holds the normal (``held``, fixed: a grown piece keeps its angles) and its radius
+    ``k RA + r RB`` is > 0. Read off the pieces at ``(k, r) = (1, 0)`` and ``(0, 1)``."""
+    cols = list(_event_columns(plan.section_pieces(np.array([1.0, 0.0]), np.array([0.0, 1.0]), True), psi))
+    off = np.array([np.broadcast_to(c[0], 2) for c in cols]).T
+    rho = np.array([np.broadcast_to(c[1] if c[1] is not None else 0.0, 2) for c in cols]).T
+    tangent = np.array([c[1] is not None for c in cols])
+    held = np.array([bool(c[2]) for c in cols])
+    return off[0], off[1], rho[0], rho[1], tangent, held

@@ -44,9 +44,11 @@ from . import clip
 
 #: Gauss panels per piece between joints for the tilted liquid (each 24 nodes, cosine-spaced).
 SUB_PANELS = 2
-#: Samples (at least, and one more a mm) per piece between joints where an outline's cut events
-#: are looked for (each then solved to :data:`EVENT_TOL_MM`).
+#: Samples per piece between joints where an outline's cut events are looked for: at least
+#: :data:`EVENT_SAMPLES`, and :data:`EVENT_SAMPLES_PER_MM` a mm (once per plan direction:
+#: :func:`_event_grid`); each sign change then solved to :data:`EVENT_TOL_MM`.
 EVENT_SAMPLES = 17
+EVENT_SAMPLES_PER_MM = 4
 EVENT_TOL_MM = 1e-10
 #: g/mm^3 per g/cm^3 (and per g/ml).
 G_PER_MM3 = 1e-3
@@ -167,73 +169,128 @@ def _nodes(cav: _Cavity, za: float, zb: float, events=()):
     return (lo + (hi - lo) * _SUB_Z).ravel(), ((hi - lo) * _SUB_W).ravel()
 
 
-def _events(cav: _Cavity, za: float, zb: float, psi: float, cut) -> np.ndarray:
-    """Heights (mm) in ``[za, zb]`` where the cut ``p . u >= cut(z)`` (mm) passes a joint of an
-    outline cavity's section or touches one of its arcs (:func:`.clip.outline_events`): there the
-    clipped area changes formula, and a quadrature that does not split there loses its order
-    (a corner crossing the cut is a kink of the cut's length). Per piece between joints, every
-    sign change on :data:`EVENT_SAMPLES` samples is solved by the Illinois method. None for
-    the other kinds (their arcs' ends are the band's ends, or quarter arcs: left as they were)."""
-    if cav.xs.name != "outline":
+@dataclass(frozen=True)
+class _EventGrid:
+    """An outline cavity's event offsets for one plan direction ``psi`` (rad), sampled once:
+    per sign of the rounding (``grown``, its own list of columns: :func:`.clip.outline_events`)
+    the sample heights ``z`` (mm, rising), the piece between joints each lies in (``piece``) and
+    the offsets ``e`` (mm, ``(samples, columns)``) of the places where the clipped area changes
+    formula, along ``u`` (``outline_events`` at ``d = 0``: a cut ``d`` passes one where
+    ``e - d`` changes sign). The offsets do not depend on the tilt or the level, only on ``u``."""
+
+    cav: _Cavity
+    psi: float
+    tables: tuple  # ((grown, z, piece, e), ...)
+
+
+@lru_cache(maxsize=32)
+def _event_grid(shape, psi: float) -> _EventGrid:
+    """The event offsets of ``shape``'s outline cavity along the plan direction ``psi`` (rad) on
+    :data:`EVENT_SAMPLES` (or :data:`EVENT_SAMPLES_PER_MM` a mm) samples per piece between its
+    joints, ends included (cached: a tip angle's tilts and levels all look along one ``psi``)."""
+    cav = _cavity(shape)
+    a, b = cav.joints[:-1], cav.joints[1:]
+    counts = np.maximum(EVENT_SAMPLES, np.ceil(EVENT_SAMPLES_PER_MM * (b - a)).astype(int) + 1)
+    z = np.concatenate([np.linspace(lo, hi, n) for lo, hi, n in zip(a, b, counts)])
+    piece = np.repeat(np.arange(len(a)), counts)
+    grown = capacity.section_radii_at(cav.prof, 0.5 * (a + b), "inner")[0][1] >= 0
+    k, r = capacity.section_radii_at(cav.prof, z, "inner")[0]
+    tables = []
+    for sign in (True, False):
+        rows = grown[piece] == sign
+        if rows.any():
+            e = clip.outline_events(cav.xs.plan, k[rows], r[rows], sign, psi, np.zeros(int(rows.sum())))
+            tables.append((sign, z[rows], piece[rows], e))
+    return _EventGrid(cav, psi, tuple(tables))
+
+
+def _events(grid: _EventGrid, za: float, zb: float, cut) -> np.ndarray:
+    """Heights (mm) in about ``[za, zb]`` where the cut ``p . u >= cut(z)`` (mm) passes a joint of
+    an outline cavity's section or touches one of its arcs (:func:`.clip.outline_events`): there
+    the clipped area changes formula, and a quadrature that does not split there loses its order
+    (a corner crossing the cut is a kink of the cut's length). Every sign change of ``e - cut``
+    between neighbouring samples of one piece of ``grid`` is solved, all together, by the
+    Illinois method (:func:`_illinois`); ``grid`` is ``None`` for the other kinds (their arcs'
+    ends are the band's ends, or quarter arcs: left as they were)."""
+    if grid is None:
         return np.empty(0)
-    bounds = np.concatenate([[za], cav.joints[(cav.joints > za) & (cav.joints < zb)], [zb]])
-    out = []
-    for a, b in zip(bounds[:-1], bounds[1:]):
-        grown = bool(capacity.section_radii_at(cav.prof, np.array([0.5 * (a + b)]), "inner")[0][1][0] >= 0)
+    brackets = []  # (grown, column, lo, hi, f(lo), f(hi)) per table
+    for grown, z, piece, e in grid.tables:
+        i0 = max(int(np.searchsorted(z, za, side="right")) - 1, 0)
+        i1 = int(np.searchsorted(z, zb, side="left")) + 1
+        zz, f = z[i0:i1], e[i0:i1] - cut(z[i0:i1])[:, None]
+        same = (piece[i0:i1][:-1] == piece[i0:i1][1:])[:, None]
+        i, j = np.nonzero(same & np.isfinite(f[:-1]) & np.isfinite(f[1:]) & (np.signbit(f[:-1]) != np.signbit(f[1:])))
+        brackets.append((np.full(len(i), grown), j, zz[i], zz[i + 1], f[i, j], f[i + 1, j]))
+    grown, col, lo, hi, flo, fhi = (np.concatenate(parts) for parts in zip(*brackets))
+    if not len(lo):
+        return lo
 
-        def values(z):
-            radii, _ = capacity.section_radii_at(cav.prof, z, "inner")
-            return clip.outline_events(cav.xs.plan, radii[0], radii[1], grown, psi, cut(z))
-        z = np.linspace(a, b, EVENT_SAMPLES + int(b - a))
-        f = values(z)
-        i, j = np.nonzero(np.isfinite(f[:-1]) & np.isfinite(f[1:]) & (np.signbit(f[:-1]) != np.signbit(f[1:])))
-        out.append(_illinois(values, j, z[i], z[i + 1], f[i, j], f[i + 1, j]))
-    return np.concatenate(out) if out else np.empty(0)
+    def values(z, which):
+        """The bracket ``which``'s functions ``e - cut`` (mm) at heights ``z`` (mm)."""
+        k, r = capacity.section_radii_at(grid.cav.prof, z, "inner")[0]
+        out = np.empty(len(z))
+        for sign in (True, False):
+            rows = grown[which] == sign
+            if rows.any():
+                e = clip.outline_events(grid.cav.xs.plan, k[rows], r[rows], sign, grid.psi, cut(z[rows]))
+                out[rows] = e[np.arange(len(e)), col[which][rows]]
+        return out
+    return _illinois(values, lo, hi, flo, fhi)
 
 
-def _illinois(values, col, lo, hi, flo, fhi) -> np.ndarray:
-    """Roots (mm) of the columns ``col`` of ``values(z)`` bracketed by ``[lo, hi]`` (their values
-    ``flo``, ``fhi`` of opposite signs), vectorised regula falsi with the Illinois halving, to
-    :data:`EVENT_TOL_MM`. A root that cannot be refined (NaN met) stays where it got: a split
-    anywhere is harmless, it only helps where it lies on the event."""
-    rows, side, z = np.arange(len(col)), np.zeros(len(col)), 0.5 * (lo + hi)
+def _illinois(values, lo, hi, flo, fhi) -> np.ndarray:
+    """Roots (mm) of the functions ``values(z, which)`` (those of the brackets ``which`` at the
+    heights ``z``) bracketed by ``[lo, hi]`` (their values ``flo``, ``fhi`` of opposite signs):
+    regula falsi with the Illinois halving, every bracket at once (one call a step), each to
+    :data:`EVENT_TOL_MM` and then left alone. A root that cannot be refined (NaN met) stays where
+    it got: a split anywhere is harmless, it only helps where it lies on the event."""
+    lo, hi, flo, fhi = (np.array(v, float) for v in (lo, hi, flo, fhi))
+    z, side, live = 0.5 * (lo + hi), np.zeros(len(lo)), np.arange(len(lo))
     for _ in range(60):
-        if not len(col):
-            break
+        a, b, fa, fb = lo[live], hi[live], flo[live], fhi[live]
         with np.errstate(divide="ignore", invalid="ignore"):
-            new = np.where(fhi != flo, hi - fhi * (hi - lo) / (fhi - flo), 0.5 * (lo + hi))
-        new = np.clip(np.where(np.isnan(new), 0.5 * (lo + hi), new), lo, hi)
-        done = np.abs(new - z) <= EVENT_TOL_MM
-        z = new
-        if done.all():
+            new = np.where(fb != fa, b - fb * (b - a) / (fb - fa), 0.5 * (a + b))
+        new = np.clip(np.where(np.isnan(new), 0.5 * (a + b), new), a, b)
+        moving = np.abs(new - z[live]) > EVENT_TOL_MM
+        z[live] = new
+        live = live[moving]
+        if not len(live):
             break
-        fm = values(z)[rows, col]
+        fm = values(z[live], live)
         fm = np.where(np.isfinite(fm), fm, 0.0)
-        right = np.signbit(fm) == np.signbit(flo)  # the root lies in [z, hi]
-        fhi = np.where(right & (side == 1), 0.5 * fhi, fhi)
-        flo = np.where(~right & (side == -1), 0.5 * flo, flo)
-        lo, flo = np.where(right, z, lo), np.where(right, fm, flo)
-        hi, fhi = np.where(right, hi, z), np.where(right, fhi, fm)
-        side = np.where(right, 1, -1)
+        right = np.signbit(fm) == np.signbit(flo[live])  # the root lies in [z, hi]
+        fhi[live] = np.where(right & (side[live] == 1), 0.5 * fhi[live], fhi[live])
+        flo[live] = np.where(~right & (side[live] == -1), 0.5 * flo[live], flo[live])
+        zl = z[live]
+        lo[live], flo[live] = np.where(right, zl, lo[live]), np.where(right, fm, flo[live])
+        hi[live], fhi[live] = np.where(right, hi[live], zl), np.where(right, fhi[live], fm)
+        side[live] = np.where(right, 1, -1)
     return z
 
 
 def _clipped(cav: _Cavity, z, d, psi: float):
     """Area (mm^2), first moment along ``u`` (mm^3) and the cut's length (mm) of the cavity's
-    sections at heights ``z`` where ``p . u >= d``."""
+    sections at heights ``z`` where ``p . u >= d``. A section wholly short of the cut (its
+    support along ``u`` at most ``d``) keeps nothing: 0 without clipping it (as its clip is),
+    most of a steep tilt's band above the shoulder."""
     radii, dome = capacity.section_radii_at(cav.prof, z, "inner")
+    out = np.zeros((3, len(z)))
+    keep = d < cav.xs.support(radii, psi)
+    radii, d = [np.asarray(r, float)[keep] for r in radii], d[keep]
     if cav.xs.revolved:
         a, m, c = clip.segment(radii[0], d)
         if dome is not None:
-            a2, m2, c2 = clip.segment(dome, d)
+            a2, m2, c2 = clip.segment(dome[keep], d)
             a, m, c = a - a2, m - m2, c - c2
-        return a, m, c
-    if cav.xs.name == "oval":  # why by name: the clipped areas are this module's closed forms
-        return clip.oval(np.asarray(radii[0], float), np.asarray(radii[1], float), psi, d)
-    if cav.xs.name == "outline":
-        return clip.outline(cav.xs.plan, np.asarray(radii[0], float), np.asarray(radii[1], float), psi, d)
-    a, b, c = (np.asarray(v, float) for v in cav.xs.as_rect(radii))
-    return clip.rounded_rect(a, b, c, psi, d)
+    elif cav.xs.name == "oval":  # why by name: the clipped areas are this module's closed forms
+        a, m, c = clip.oval(radii[0], radii[1], psi, d)
+    elif cav.xs.name == "outline":
+        a, m, c = clip.outline(cav.xs.plan, radii[0], radii[1], psi, d)
+    else:
+        a, m, c = clip.rounded_rect(*(np.asarray(v, float) for v in cav.xs.as_rect(radii)), psi, d)
+    out[:, keep] = a, m, c
+    return out
 
 
 def tilted_liquid(shape, volume_mm3: float, phi: float, psi: float = 0.0) -> tuple[float, float, float]:
@@ -247,29 +304,28 @@ def tilted_liquid(shape, volume_mm3: float, phi: float, psi: float = 0.0) -> tup
     ``2 reach tan(phi)`` high, is clipped. The bottle is closed (capped): a liquid that reaches
     the mouth stays in."""
     cav = _cavity(shape)
+    grid = _event_grid(shape, psi) if cav.xs.name == "outline" else None
     sphi, cphi = math.sin(phi), math.cos(phi)
 
     def parts(level):
         """``(V, M_u, M_z, dV/dlevel)`` of the liquid below the surface at ``level``."""
         za = min(max((level - cav.reach * sphi) / cphi, cav.z_ib), cav.z_top)
         zb = min(max((level + cav.reach * sphi) / cphi, cav.z_ib), cav.z_top)
-        v0, mz0 = capacity.volume_and_moment_mm(shape, "inner", cav.z_ib, za)
-        mx0, my0 = capacity.plan_moment_mm(shape, "inner", cav.z_ib, za)
+        v0, mz0, mx0, my0 = capacity.cavity_moments_below_mm(shape, za)
         mu0 = mx0 * math.cos(psi) + my0 * math.sin(psi)
         if zb <= za:
             return v0, mu0, mz0, 0.0
         def cut(z):
             return (z * cphi - level) / sphi
-        z, w = _nodes(cav, za, zb, _events(cav, za, zb, psi, cut))
+        z, w = _nodes(cav, za, zb, _events(grid, za, zb, cut))
         a, m, c = _clipped(cav, z, cut(z), psi)
         return v0 + float(np.dot(w, a)), mu0 + float(np.dot(w, m)), mz0 + float(np.dot(w, a * z)), \
             float(np.dot(w, c)) / sphi
 
     lo = cav.z_ib * cphi - cav.reach * sphi
     hi = cav.z_top * cphi + cav.reach * sphi
-    top = parts(hi)
-    if volume_mm3 >= top[0] * (1 - 1e-12):
-        return top[:3]
+    if volume_mm3 >= capacity.cavity_moments_below_mm(shape, cav.z_top)[0] * (1 - 1e-12):
+        return parts(hi)[:3]  # brimful: the whole cavity
     # Newton on the level (dV/dL is the surface's area), kept inside a shrinking bracket
     level = min(max(capacity.fill_height_for_volume(shape, volume_mm3 / MM3_PER_ML) * cphi, lo), hi)
     for _ in range(60):

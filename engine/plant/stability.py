@@ -23,6 +23,7 @@ figure's least direction. See ``docs/PLANT.md`` for the derivation and its assum
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 from scipy.optimize import brentq
@@ -107,6 +108,7 @@ def moving_tip(shape, fixed: mass.Part, liquid_mm3: float, density_g_ml: float,
     liquid_g = liquid_mm3 * density_g_ml * mass.G_PER_MM3
     m = fixed.mass_g + liquid_g
 
+    @lru_cache(maxsize=None)  # why: brentq asks again for the two ends it is given
     def centre(phi):
         """``(c_u, c_z)`` (mm) of the whole at the tilt ``phi``."""
         v, mu, mz = mass.tilted_liquid(shape, liquid_mm3, phi, psi)

@@ -74,7 +74,7 @@ def thin_walls(shape) -> tuple[dict, ...]:
         each[look] = wall.thickness(z[look][:, None], wall.p, wall.u)
     least = each.min(axis=1)
     thin = least < THIN_SHARE * wall.w
-    runs = []
+    found = []  # per run: its ends' and its least's searches, run together (module rule)
     for i, j in _runs(thin):
         def near(a, b):  # the directions thinnest at either height: where the least will be
             return np.unique(np.argsort(each[[a, b]], axis=1)[:, :NEAR].ravel())
@@ -82,7 +82,11 @@ def thin_walls(shape) -> tuple[dict, ...]:
         hi = z[-1] if j == len(z) - 1 else wall.crossing(z[j + 1], z[j], near(j, j + 1))
         m = i + int(np.argmin(least[i:j + 1]))
         a, b = max(m - 1, 0), min(m + 1, len(z) - 1)
-        at, t, psi = wall.refined(z[a], z[b], near(a, b))
+        found.append((lo, hi, wall.refined(z[a], z[b], near(a, b))))
+    results = iter(wall.together([g for f in found for g in f if not isinstance(g, float)]))
+    runs = []
+    for run in found:
+        lo, hi, (at, t, psi) = (g if isinstance(g, float) else next(results) for g in run)
         runs.append({"z_from_mm": float(lo), "z_to_mm": float(hi), "least_mm": t, "at_z_mm": at,
                      "direction_deg": math.degrees(psi) % 360.0, "share": t / wall.w})
     return tuple(runs)
@@ -144,7 +148,7 @@ class _Wall:
     def _f(self, x, y, z, zp):
         """Squared distance (mm^2) from ``(x, y, z)`` to the inner wall's section at ``zp``."""
         k, t = (radius_at(ch, zp) for ch in self.inner)
-        d = np.maximum(self.plan.signed_distance(x, y, k, t)[0], 0.0)
+        d = np.maximum(self.plan.distance(x, y, k, t), 0.0)
         return (z - zp) ** 2 + d * d
 
     def thickness(self, z, p, u):
@@ -173,30 +177,52 @@ class _Wall:
         best = np.minimum(np.minimum(f1, f2), np.min(f, axis=-1))
         return np.sqrt(best)
 
-    def least(self, z, which):
-        """``(T, psi)``: the least thickness (mm) over the directions ``which`` (indices) at each
-        height ``z`` and the plan direction (rad) of its outer normal."""
-        p, u = (tuple(v[which] for v in pair) for pair in (self.p, self.u))
-        t = self.thickness(np.asarray(z, float)[:, None], p, u)
-        j = np.argmin(t, axis=1)
-        return t[np.arange(len(t)), j], np.arctan2(u[1][j], u[0][j])
+    def together(self, searches) -> list:
+        """The results of the generator ``searches`` (:meth:`crossing`, :meth:`refined`), run in
+        step: each round one :meth:`thickness` call answers every ``(z, which)`` (heights mm,
+        direction indices) they ask with ``(T, psi)``, the least thickness (mm) over ``which`` at
+        each height and the plan direction (rad) of its outer normal. Row for row the same
+        arithmetic as a call per search (every step of :meth:`thickness` is per row), in fewer,
+        larger calls."""
+        out, asks = [None] * len(searches), {}
+        for n, search in enumerate(searches):
+            asks[n] = next(search)
+        while asks:
+            z = np.concatenate([np.repeat(zz, len(which)) for zz, which in asks.values()])
+            pick = np.concatenate([np.tile(which, len(zz)) for zz, which in asks.values()])
+            t = self.thickness(z, *((v[0][pick], v[1][pick]) for v in (self.p, self.u)))
+            start = 0
+            for n, (zz, which) in list(asks.items()):
+                rows = t[start:start + len(zz) * len(which)].reshape(len(zz), len(which))
+                start += rows.size
+                j = np.argmin(rows, axis=1)
+                answer = rows[np.arange(len(zz)), j], np.arctan2(self.u[1][which][j], self.u[0][which][j])
+                try:
+                    asks[n] = searches[n].send(answer)
+                except StopIteration as done:
+                    out[n] = done.value
+                    del asks[n]
+        return out
 
-    def crossing(self, za: float, zb: float, which) -> float:
-        """The height (mm) between ``za`` (thick enough) and ``zb`` (thin) where the least
-        thickness passes :data:`THIN_SHARE` of the wall: the first thin one of :data:`ZOOM`
-        heights, then again between it and the one before, :data:`END_ZOOMS` times."""
+    def crossing(self, za: float, zb: float, which):
+        """(A search for :meth:`together`.) The height (mm) between ``za`` (thick enough) and
+        ``zb`` (thin) where the least thickness passes :data:`THIN_SHARE` of the wall: the first
+        thin one of :data:`ZOOM` heights, then again between it and the one before,
+        :data:`END_ZOOMS` times."""
         for _ in range(END_ZOOMS):
             z = np.linspace(za, zb, ZOOM)
-            i = max(int(np.argmax(self.least(z, which)[0] < THIN_SHARE * self.w)), 1)
+            t, _ = yield z, which
+            i = max(int(np.argmax(t < THIN_SHARE * self.w)), 1)
             za, zb = z[i - 1], z[i]
         return 0.5 * (za + zb)
 
-    def refined(self, za: float, zb: float, which) -> tuple[float, float, float]:
-        """``(z, T, psi)``: the least thickness between heights ``za`` and ``zb`` (mm): the least
-        of :data:`ZOOM` heights, then again between its neighbours, :data:`ZOOMS` times."""
+    def refined(self, za: float, zb: float, which):
+        """(A search for :meth:`together`.) ``(z, T, psi)``: the least thickness between heights
+        ``za`` and ``zb`` (mm): the least of :data:`ZOOM` heights, then again between its
+        neighbours, :data:`ZOOMS` times."""
         for _ in range(ZOOMS):
             z = np.linspace(za, zb, ZOOM)
-            t, psi = self.least(z, which)
+            t, psi = yield z, which
             i = int(np.argmin(t))
             za, zb = z[max(i - 1, 0)], z[min(i + 1, ZOOM - 1)]
         return float(z[i]), float(t[i]), float(psi[i])

@@ -236,3 +236,38 @@ def test_new_from_the_sample_dxf_matches_the_sample(tmp_path, capsys):
     assert cli.main(["info", str(out), "--json"]) == 0
     numbers = json.loads(capsys.readouterr().out.split("\n", 1)[1])
     assert numbers["brimful_ml"] == pytest.approx(776.0, abs=0.01)
+
+
+class _Stream:
+    """A stderr stand-in: what was written, and whether it claims to be a terminal."""
+
+    def __init__(self, tty):
+        self.tty, self.text = tty, ""
+
+    def isatty(self):
+        return self.tty
+
+    def write(self, s):
+        self.text += s
+
+    def flush(self):
+        pass
+
+
+@pytest.mark.parametrize("tty", [False, True])
+def test_render_progress_is_a_line_per_tenth_in_a_log_and_one_live_line_on_a_terminal(tty):
+    """A render polls its progress four times a second: a redirected stderr (a CI log) gets a
+    line per tenth of the work, not one per poll; a terminal one line rewritten only when its
+    text changes."""
+    from engine.cli.render import ProgressLine
+    out = _Stream(tty)
+    line = ProgressLine("rendering 8x6 at 1 spp", out)
+    polls = [0.0] * 50 + [i / 400 for i in range(401)] + [1.0] * 50
+    for f in polls:
+        line.update(f)
+    line.close()
+    if tty:
+        shown = out.text.split("\r")[1:]
+        assert len(shown) == len(set(shown)) == 401 and shown[-1] == "rendering 8x6 at 1 spp: 100.0 %\n"
+    else:
+        assert out.text.splitlines() == [f"rendering 8x6 at 1 spp: {p:3d} %" for p in range(10, 101, 10)]

@@ -20,6 +20,35 @@ from ..finals import write_final
 from ..tracer.job import RenderJob
 
 
+class ProgressLine:
+    """A percentage on ``stream``: on a terminal one line rewritten whenever its text changes;
+    in a log (not a terminal) a new line only each time the work has moved on by a tenth, so
+    a CI log or a redirected stderr gets ten lines, not one per poll."""
+
+    def __init__(self, label: str, stream):
+        self.label, self.stream = label, stream
+        self.live = stream.isatty()
+        self.last = None
+
+    def update(self, fraction: float) -> None:
+        """Show ``fraction`` (0..1) done."""
+        if self.live:
+            text = f"{self.label}: {100 * fraction:5.1f} %"
+            if text != self.last:
+                print(f"\r{text}", end="", file=self.stream, flush=True)
+                self.last = text
+            return
+        tenth = int(10 * fraction + 1e-9)
+        if tenth != self.last and tenth > 0:
+            print(f"{self.label}: {10 * tenth:3d} %", file=self.stream, flush=True)
+            self.last = tenth
+
+    def close(self) -> None:
+        """End the terminal's line (a log's lines are ended already)."""
+        if self.live and self.last is not None:
+            print(file=self.stream)
+
+
 def add_parsers(sub) -> None:
     """The subparser of ``render``."""
     render = sub.add_parser("render", help="render a project to PNG/EXR/TIFF")
@@ -78,12 +107,12 @@ def render_command(project_path, out_path, width=None, height=None, spp=None, th
     t0 = time.perf_counter()
     job = RenderJob(design, assets, width=width, height=height, spp=spp, threads=threads, tile=64)
     job.start()
+    report = ProgressLine(f"rendering {job.width}x{job.height} at {job.spp} spp", sys.stderr) if progress else None
     while not job.wait(0.25):
-        if progress:
-            print(f"\rrendering {job.width}x{job.height} at {job.spp} spp: {100 * job.progress:5.1f} %",
-                  end="", file=sys.stderr, flush=True)
-    if progress:
-        print(file=sys.stderr)
+        if report:
+            report.update(job.progress)
+    if report:
+        report.close()
     if job.error is not None:
         raise job.error
     secs = time.perf_counter() - t0

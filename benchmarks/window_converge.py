@@ -30,7 +30,9 @@ per-pixel tolerance (levels), which it widens while its estimate of the image's 
 ``benchmarks/out/window_converge.csv`` and ``window_converge.png`` (seconds and rays per pixel
 per sample against the targets) and prints last
 ``window_converge_worst=S window_converge_median=M`` (seconds over the samples; targets: worst
-<= 15 s, median <= 5 s on 2 cores).
+<= 15 s, median <= 5 s on 2 cores). A render still running after ``--limit`` seconds
+(:data:`LIMIT_S`) is cancelled and its sample reported not converged: it counts as ``inf`` in
+the figure line, so the benchmark ends on every sample and says which did not converge.
 """
 from __future__ import annotations
 
@@ -73,8 +75,28 @@ def samples(names=None) -> list[str]:
     return paths
 
 
+#: Wall seconds one render may take before it is cancelled (``--limit``): the benchmark ends on
+#: every sample, and a sample that does not converge in time is reported as such.
+LIMIT_S = 900.0
+
+
+class NotConverged(Exception):
+    """A render of the benchmark did not converge within its limit (seconds) and was cancelled."""
+
+    def __init__(self, seconds: float):
+        super().__init__(f"not converged within {seconds:.0f} s")
+        self.seconds = seconds
+
+
+def set_limit(seconds: float) -> None:
+    """Set :data:`LIMIT_S` (``--limit``)."""
+    global LIMIT_S
+    LIMIT_S = float(seconds)
+
+
 def render(design, assets, width, height, threads, **kw):
-    """``(job, wall seconds)`` of one window-criterion render (or ``kw`` overriding it)."""
+    """``(job, wall seconds)`` of one window-criterion render (or ``kw`` overriding it); raises
+    :class:`NotConverged` (the job cancelled) past :data:`LIMIT_S`."""
     from app.engine_bridge import WINDOW_NOISE
     from engine.tracer.job import RenderJob
 
@@ -82,7 +104,10 @@ def render(design, assets, width, height, threads, **kw):
     settings.update(kw)
     t0 = time.perf_counter()
     job = RenderJob(design, assets, width=width, height=height, threads=threads, **settings).start()
-    job.wait()
+    if not job.wait(LIMIT_S):
+        job.cancel()
+        job.wait()
+        raise NotConverged(LIMIT_S)
     if job.error is not None:
         raise job.error
     return job, time.perf_counter() - t0
@@ -379,7 +404,6 @@ def ready_chart(rows, path) -> None:
 
 def main(argv=None) -> int:
     from engine.files.project import load_project
-    from engine.tracer.tables.stage import clear_stage_caches
 
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--samples", default="", help="comma-separated sample names (default: all)")
@@ -390,72 +414,102 @@ def main(argv=None) -> int:
                     help="size of the honesty check as a fraction of the render's")
     ap.add_argument("--no-check", action="store_true", help="skip the honesty check")
     ap.add_argument("--no-denoise", action="store_true", help="skip the denoised preview's timeline")
+    ap.add_argument("--limit", type=float, default=None,
+                    help=f"seconds a render may take before the sample is reported not converged (default {LIMIT_S:g})")
     ap.add_argument("--policies", default="split,classic",
                     help="sampling policies to render (the first is the figure line's; the others its peers)")
     a = ap.parse_args(argv)
+    if a.limit is not None:
+        set_limit(a.limit)
     os.makedirs(OUT, exist_ok=True)
     from engine.tracer.warmup import warm_up
     warm_up()  # (the window warms its kernels at launch: no sample's time should carry a compile)
     policies = [p for p in a.policies.split(",") if p]
-    rows = []
+    rows, unconverged = [], []
     for path in samples([s for s in a.samples.split(",") if s]):
         name = os.path.basename(path)[:-len(".glassbench")]
         design, assets = load_project(path)
-        w, h = max(8, round(a.width * a.check_scale)), max(8, round(a.height * a.check_scale))
-        ref = None if a.no_check else reference(design, assets, w, h, a.threads)
-        ref_noise = None if a.no_check else reference_noise(design, assets, w, h, a.threads, ref)
-        for policy in policies:  # (each policy's render and check back to back: the machine is shared)
-            clear_stage_caches()  # (the time includes the ground's grids, as a design's first render does)
-            job, secs = render(design, assets, a.width, a.height, a.threads, policy=policy)
-            rays = job.stats.rays_cast
-            # a colour-only edit could re-weigh a kept tree instead of tracing it again: each leaf
-            # (a segment leaving for the environment or cut) would keep its RGB weight without
-            # absorption and its length in glass and in liquid (5 float32)
-            leaves = rays - job.stats.boundaries + job.stats.cut_depth
-            row = {"sample": name, "policy": policy, "width": a.width, "height": a.height, "seconds": secs,
-                   "rays": rays, "rays_per_pixel": rays / (a.width * a.height),
-                   "tree_leaves": leaves, "kept_tree_gib": leaves * KEPT_LEAF_BYTES / 2 ** 30,
-                   "samples_per_pixel": float(job.sample_counts().mean()),
-                   # the per-pixel tolerance the split policy settled at (display levels)
-                   "tolerance_levels": None if job.tolerance is None else job.tolerance * 255.0}
-            if ref is not None:
-                row["check_size"] = f"{w}x{h}"
-                row["rms_levels"], row["p99_levels"] = honesty(design, assets, w, h, a.threads, ref, policy)
-                row["reference_noise_levels"] = ref_noise
-                # the render's own error: the difference less the reference's noise (independent)
-                row["own_rms_levels"] = float(np.sqrt(max(row["rms_levels"] ** 2 - ref_noise ** 2, 0.0)))
-                row["full_rms_levels"], row["full_p99_levels"], progress = own_error(
-                    design, assets, a.width, a.height, a.threads, job.image(), policy)
-                row["progress"] = progress
-                for bound in PROGRESS_BOUNDS:
-                    row[f"within_{bound:g}_levels_s"] = time_within(progress, bound)
-            rows.append(row)
-            if policy == policies[0] and not a.no_denoise:
-                dp = denoised_progress(design, assets, a.width, a.height, a.threads, policy, job.image())
-                row["first_s"], row["ready_s"], row["denoised_frames"] = dp["first_s"], dp["ready_s"], dp["frames"]
-                print(f"{name}: first image {dp['first_s']:.2f} s, denoised preview ready {dp['ready_s']:.2f} s "
-                      f"(its render converged in {dp['converged_s']:.1f} s); frames shown (s: levels RMS / FLIP, "
-                      "raw film then): " + ", ".join(f"{t:.1f}: {e:.1f}/{f:.3f} ({re_:.1f}/{rf:.3f})"
-                                                     for t, _, e, f, re_, rf in dp["frames"]), flush=True)
-                row["regions"] = dp["regions"]
-                if dp["regions"]:  # where the denoiser fails: its first frame's error by region
-                    print(f"{name}: first denoised frame by region (pixels: levels RMS denoised / raw): " + ", ".join(
-                        f"{k} {n}: {e:.1f}/{re_:.1f}" for k, (n, e, re_) in dp["regions"][0].items() if n), flush=True)
-            check = (f", against the reference at {row['check_size']}: {row['rms_levels']:.2f} levels RMS, "
-                     f"p99 {row['p99_levels']:.1f} (the reference's own noise {ref_noise:.2f}, "
-                     f"the render's own {row['own_rms_levels']:.2f}); its own error at "
-                     f"{a.width}x{a.height}: {row['full_rms_levels']:.2f} levels RMS, p99 {row['full_p99_levels']:.1f}"
-                     if "rms_levels" in row else "")
-            settled = ("" if row["tolerance_levels"] is None
-                       else f", tolerance {row['tolerance_levels']:.0f} levels")
-            if "progress" in row:
-                check += "; on the way " + ", ".join(
-                    f"within {b:g} levels after " + ("(never)" if row[f"within_{b:g}_levels_s"] is None
-                                                     else f"{row[f'within_{b:g}_levels_s']:.1f} s")
-                    for b in PROGRESS_BOUNDS)
-            print(f"{name} [{policy}]: {secs:.1f} s, {rays / 1e6:.1f} M rays, {row['rays_per_pixel']:.0f} rays/pixel, "
-                  f"{row['samples_per_pixel']:.1f} samples/pixel{settled}, a kept tree for colour edits "
-                  f"{row['kept_tree_gib']:.2f} GiB{check}", flush=True)
+        try:
+            rows += sample_rows(a, name, design, assets, policies)
+        except NotConverged as exc:  # (its rows so far are dropped: a sample is whole or out)
+            unconverged.append(name)
+            print(f"{name}: a render {exc}: cancelled; its converged and ready times are unknown "
+                  "(inf in the figure line)", flush=True)
+    if not rows:
+        print(f"no sample converged within {LIMIT_S:.0f} s")
+        return 1
+    write_outputs(rows, policies)
+    print_summary(rows, policies, unconverged)
+    return 0
+
+
+def sample_rows(a, name, design, assets, policies) -> list[dict]:
+    """One row per policy of the sample ``name`` (its renders, honesty check and denoised
+    timeline, printed as they come); raises :class:`NotConverged` when a render runs out of
+    time."""
+    from engine.tracer.tables.stage import clear_stage_caches
+
+    rows = []
+    w, h = max(8, round(a.width * a.check_scale)), max(8, round(a.height * a.check_scale))
+    ref = None if a.no_check else reference(design, assets, w, h, a.threads)
+    ref_noise = None if a.no_check else reference_noise(design, assets, w, h, a.threads, ref)
+    for policy in policies:  # (each policy's render and check back to back: the machine is shared)
+        clear_stage_caches()  # (the time includes the ground's grids, as a design's first render does)
+        job, secs = render(design, assets, a.width, a.height, a.threads, policy=policy)
+        rays = job.stats.rays_cast
+        # a colour-only edit could re-weigh a kept tree instead of tracing it again: each leaf
+        # (a segment leaving for the environment or cut) would keep its RGB weight without
+        # absorption and its length in glass and in liquid (5 float32)
+        leaves = rays - job.stats.boundaries + job.stats.cut_depth
+        row = {"sample": name, "policy": policy, "width": a.width, "height": a.height, "seconds": secs,
+               "rays": rays, "rays_per_pixel": rays / (a.width * a.height),
+               "tree_leaves": leaves, "kept_tree_gib": leaves * KEPT_LEAF_BYTES / 2 ** 30,
+               "samples_per_pixel": float(job.sample_counts().mean()),
+               # the per-pixel tolerance the split policy settled at (display levels)
+               "tolerance_levels": None if job.tolerance is None else job.tolerance * 255.0}
+        if ref is not None:
+            row["check_size"] = f"{w}x{h}"
+            row["rms_levels"], row["p99_levels"] = honesty(design, assets, w, h, a.threads, ref, policy)
+            row["reference_noise_levels"] = ref_noise
+            # the render's own error: the difference less the reference's noise (independent)
+            row["own_rms_levels"] = float(np.sqrt(max(row["rms_levels"] ** 2 - ref_noise ** 2, 0.0)))
+            row["full_rms_levels"], row["full_p99_levels"], progress = own_error(
+                design, assets, a.width, a.height, a.threads, job.image(), policy)
+            row["progress"] = progress
+            for bound in PROGRESS_BOUNDS:
+                row[f"within_{bound:g}_levels_s"] = time_within(progress, bound)
+        rows.append(row)
+        if policy == policies[0] and not a.no_denoise:
+            dp = denoised_progress(design, assets, a.width, a.height, a.threads, policy, job.image())
+            row["first_s"], row["ready_s"], row["denoised_frames"] = dp["first_s"], dp["ready_s"], dp["frames"]
+            print(f"{name}: first image {dp['first_s']:.2f} s, denoised preview ready {dp['ready_s']:.2f} s "
+                  f"(its render converged in {dp['converged_s']:.1f} s); frames shown (s: levels RMS / FLIP, "
+                  "raw film then): " + ", ".join(f"{t:.1f}: {e:.1f}/{f:.3f} ({re_:.1f}/{rf:.3f})"
+                                                 for t, _, e, f, re_, rf in dp["frames"]), flush=True)
+            row["regions"] = dp["regions"]
+            if dp["regions"]:  # where the denoiser fails: its first frame's error by region
+                print(f"{name}: first denoised frame by region (pixels: levels RMS denoised / raw): " + ", ".join(
+                    f"{k} {n}: {e:.1f}/{re_:.1f}" for k, (n, e, re_) in dp["regions"][0].items() if n), flush=True)
+        check = (f", against the reference at {row['check_size']}: {row['rms_levels']:.2f} levels RMS, "
+                 f"p99 {row['p99_levels']:.1f} (the reference's own noise {ref_noise:.2f}, "
+                 f"the render's own {row['own_rms_levels']:.2f}); its own error at "
+                 f"{a.width}x{a.height}: {row['full_rms_levels']:.2f} levels RMS, p99 {row['full_p99_levels']:.1f}"
+                 if "rms_levels" in row else "")
+        settled = ("" if row["tolerance_levels"] is None
+                   else f", tolerance {row['tolerance_levels']:.0f} levels")
+        if "progress" in row:
+            check += "; on the way " + ", ".join(
+                f"within {b:g} levels after " + ("(never)" if row[f"within_{b:g}_levels_s"] is None
+                                                 else f"{row[f'within_{b:g}_levels_s']:.1f} s")
+                for b in PROGRESS_BOUNDS)
+        print(f"{name} [{policy}]: {secs:.1f} s, {rays / 1e6:.1f} M rays, {row['rays_per_pixel']:.0f} rays/pixel, "
+              f"{row['samples_per_pixel']:.1f} samples/pixel{settled}, a kept tree for colour edits "
+              f"{row['kept_tree_gib']:.2f} GiB{check}", flush=True)
+    return rows
+
+
+def write_outputs(rows, policies) -> None:
+    """The CSV files and charts of the converged samples' ``rows`` (module doc)."""
     with open(os.path.join(OUT, "window_converge.csv"), "w", newline="") as fh:
         writer = csv.DictWriter(fh, fieldnames=sorted({k for r in rows for k in r if k not in ("progress", "regions")}),
                                 extrasaction="ignore")
@@ -483,6 +537,13 @@ def main(argv=None) -> int:
                 for (t, *_), regions in zip(r["denoised_frames"], r["regions"]):
                     out.writerows([r["sample"], f"{t:.3f}", k, n, f"{e:.3f}", f"{re_:.3f}"]
                                   for k, (n, e, re_) in regions.items())
+
+
+def print_summary(rows, policies, unconverged) -> None:
+    """The peers' ratios, the honesty check and last the figure line; a sample in
+    ``unconverged`` counts as infinitely slow to converge and to be ready (its first image is
+    not in the worst)."""
+    denoised = [r for r in rows if "ready_s" in r]
     for policy in policies[1:]:
         ratio = [r["seconds"] / q["seconds"] for r in rows if r["policy"] == policy
                  for q in rows if q["policy"] == policies[0] and q["sample"] == r["sample"]]
@@ -491,7 +552,7 @@ def main(argv=None) -> int:
         print(f"against the {policy} policy (same run): {min(ratio):.1f}-{max(ratio):.1f}x the time, "
               f"{min(rays):.1f}-{max(rays):.1f}x the rays")
     rows = [r for r in rows if r["policy"] == policies[0]]
-    times = np.array([r["seconds"] for r in rows])
+    times = np.array([r["seconds"] for r in rows] + [np.inf] * len(unconverged))
     if "rms_levels" in rows[0]:
         print(f"honesty ({policies[0]}): worst RMS {max(r['rms_levels'] for r in rows):.2f} levels "
               f"(target {TARGET_RMS_LEVELS}), worst p99 {max(r['p99_levels'] for r in rows):.1f} "
@@ -499,13 +560,15 @@ def main(argv=None) -> int:
               f"{max(r['full_rms_levels'] for r in rows):.2f}, worst p99 {max(r['full_p99_levels'] for r in rows):.1f}")
     if denoised:
         first = np.array([r["first_s"] for r in denoised])
-        ready = np.array([r["ready_s"] for r in denoised])
+        ready = np.array([r["ready_s"] for r in denoised] + [np.inf] * len(unconverged))
+        if unconverged:
+            print(f"not converged within {LIMIT_S:.0f} s: {', '.join(unconverged)} (inf below; the first image's "
+                  f"worst is over the {len(denoised)} others)")
         print(f"window_first_worst={first.max():.2f} window_ready_worst={ready.max():.2f} "
               f"window_ready_median={float(np.median(ready)):.2f} window_converge_worst={times.max():.1f} "
               f"window_converge_median={float(np.median(times)):.1f}")
     else:
         print(f"window_converge_worst={times.max():.1f} window_converge_median={float(np.median(times)):.1f}")
-    return 0
 
 
 if __name__ == "__main__":

@@ -2,6 +2,7 @@
 import math
 
 import numpy as np
+import pytest
 
 from benchmarks.window_converge import own_error, progress_errors, time_within
 
@@ -39,3 +40,27 @@ def test_a_render_s_progress_falls_to_its_own_error():
     assert progress[0][1] > 4.0 * rms
     assert math.isclose(progress[-1][1], rms, rel_tol=1e-6)
     assert np.isfinite(p99) and p99 >= 0.0
+
+
+def test_a_render_past_the_limit_is_cancelled_and_its_sample_counts_as_never_converged(monkeypatch, capsys):
+    """The benchmark ends on every sample: a render still running at ``--limit`` is cancelled
+    (its worker stops) and the sample is named, with inf in the figure line, while the others
+    keep their figures."""
+    import benchmarks.window_converge as wc
+    from engine.files.project import load_project
+
+    from engine.tracer.job import RenderJob
+
+    design, assets = load_project("resources/flacon.glassbench")
+    monkeypatch.setattr(wc, "LIMIT_S", 0.05)
+    jobs, start = [], RenderJob.start
+    monkeypatch.setattr(RenderJob, "start", lambda self: jobs.append(self) or start(self))
+    with pytest.raises(wc.NotConverged) as caught:  # (a flacon at 120 x 160 takes seconds)
+        wc.render(design, assets, 120, 160, 2)
+    assert caught.value.seconds == 0.05
+    assert len(jobs) == 1 and jobs[0].cancelled and jobs[0].wait(0)  # stopped, not left running
+    rows = [{"sample": "jar", "policy": "split", "seconds": 2.0, "ready_s": 1.0, "first_s": 0.1}]
+    wc.print_summary(rows, ["split"], ["flacon"])
+    last = capsys.readouterr().out.strip().splitlines()[-1]
+    assert last == ("window_first_worst=0.10 window_ready_worst=inf window_ready_median=inf "
+                    "window_converge_worst=inf window_converge_median=inf")

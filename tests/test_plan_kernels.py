@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 from engine.tracer.kernels.outlines import rrect_sd
-from engine.tracer.kernels.plans import PL_ENDS, PL_KIND, ROUND, plan_interval, plan_trace, plan_value
+from engine.tracer.kernels.plans import (PL_ENDS, PL_HLOW, PL_KIND, ROUND, plan_directions, plan_interval,
+                                         plan_support_low, plan_trace, plan_value)
 from engine.tracer.tables.plans import plan_table
 
 ORACLE = os.path.join(os.path.dirname(__file__), "..", "..", "shared", "oracle", "specs")
@@ -229,3 +230,22 @@ def test_a_corner_between_two_lines_skips_its_end_normals_and_an_arc_after_an_ar
     flask = plan_table(OUTLINES["flask"]())
     rows = flask[flask[:, PL_KIND] == ROUND]
     assert np.any(rows[:, PL_ENDS] == 1.0)
+
+
+@pytest.mark.parametrize("name", sorted(OUTLINES))
+def test_three_cores_directions_in_one_pass_are_three_values_gradients(name):
+    """plan_directions (the certificate's three cores in one pass over the pieces) gives, bit
+    for bit, the gradients of three plan_value calls at growth 0: at random points, on the axis,
+    at a corner's scaled vertex (where a wedge's own direction is undefined and its ends
+    decide), with equal cores and a zero core; and PL_HLOW is the plan's support low bound."""
+    plan = plan_table(OUTLINES[name]())
+    assert np.all(plan[:, PL_HLOW] == plan_support_low(plan)) and 0.0 < plan[0, PL_HLOW] <= 1.0
+    rng = np.random.default_rng(17)
+    rounds = plan[plan[:, PL_KIND] == ROUND]
+    points = [tuple(rng.uniform(-60.0, 60.0, 2)) for _ in range(400)] + [(0.0, 0.0)]
+    points += [(10.0 * row[4], 10.0 * row[5]) for row in rounds]  # PL_CX, PL_CY at k = 10
+    for x, y in points:
+        for ks in (tuple(rng.uniform(0.0, 40.0, 3)), (10.0, 10.0, 10.0), (0.0, 10.0, 5.0), (10.0, 30.0, 20.0)):
+            got = plan_directions(plan, *ks, x, y)
+            want = sum((plan_value(plan, k, 0.0, x, y)[1:3] for k in ks), ())
+            assert got == want, (x, y, ks)

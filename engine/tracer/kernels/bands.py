@@ -33,7 +33,7 @@ from numba import njit
 
 from .outlines import (CIRCLE, OUTLINE, OVAL, RRECT, RSQUARE, SQRT2, gradient_span, outline_interval,
                        rrect_directions, square_corner, xs_eval)
-from .plans import arc_dot_range, plan_support_low, plan_value
+from .plans import PL_HLOW, arc_dot_range, plan_directions
 from .profile import wall_r, wall_range, wall_slopes, wall_state
 from .roots import disc_interval
 from .jit import INLINE, JIT
@@ -238,11 +238,9 @@ def _plan_gradient_span(plan, qx, qy, x, y, k_lo, k_hi):
     map is monotone; inside, the lower envelope of the pieces' distances is taken in order),
     so the directions between the two ends' form an arc. A third direction half-way checks
     that: off the arc, ``(-inf, inf)`` (no certificate)."""
-    _, ax, ay, _ = plan_value(plan, k_lo, 0.0, x, y)
-    _, bx, by, _ = plan_value(plan, k_hi, 0.0, x, y)
+    ax, ay, bx, by, mx, my = plan_directions(plan, k_lo, k_hi, 0.5 * (k_lo + k_hi), x, y)
     lo, hi = arc_dot_range(qx, qy, ax, ay, bx, by)
     if k_hi > k_lo and ax * by - ay * bx != 0.0:
-        _, mx, my, _ = plan_value(plan, 0.5 * (k_lo + k_hi), 0.0, x, y)
         turn = ax * by - ay * bx
         if (ax * my - ay * mx) * turn < 0.0 or (mx * by - my * bx) * turn < 0.0:
             return -np.inf, np.inf
@@ -268,7 +266,7 @@ def outline_monotone_sign(wall, foot, window, radii):
     u_lo, u_hi = _product(dz, dz, u_lo, u_hi)  # dk along the ray, per mm
     v_lo, v_hi = wall_slopes(seg, s1, z_lo, z_hi)
     v_lo, v_hi = _product(dz, dz, v_lo, v_hi)  # dr along the ray, per mm
-    lo, hi = _product(-1.0, -plan_support_low(plan), u_lo, u_hi)
+    lo, hi = _product(-1.0, -plan[0, PL_HLOW], u_lo, u_hi)
     lo, hi = lo - v_hi, hi - v_lo
     if lo != lo or hi != hi:
         return 0  # opposite infinities

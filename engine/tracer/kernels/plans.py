@@ -51,10 +51,11 @@ FLAT, ROUND = 0, 1
 #: ``PL_PERIM``, the perimeter of ``P`` (the same in every row); ``PL_ENDS`` (``ROUND`` rows): 1
 #: where an end normal of the wedge is not a neighbouring ``FLAT`` row's normal, 0 where both
 #: are (a corner or an arc between two lines): then the end normals' conditions are the lines'
-#: own, and :func:`plan_value` and :func:`plan_trace` skip them.
+#: own, and :func:`plan_value` and :func:`plan_trace` skip them. ``PL_HLOW``: the plan's
+#: :func:`plan_support_low` (the same in every row; the certificates ask it for every band).
 (PL_KIND, PL_NX, PL_NY, PL_H, PL_CX, PL_CY, PL_RHO, PL_U0X, PL_U0Y, PL_U1X, PL_U1Y,
- PL_GK, PL_GR, PL_PERIM, PL_ENDS) = range(15)
-PL_COLS = 15
+ PL_GK, PL_GR, PL_PERIM, PL_ENDS, PL_HLOW) = range(16)
+PL_COLS = 16
 TWO_PI = 2.0 * math.pi
 
 
@@ -97,6 +98,53 @@ def plan_value(plan, k, r, x, y):
 
 
 @njit(**JIT)
+def plan_directions(plan, k_a, k_b, k_c, x, y):
+    """``(ax, ay, bx, by, cx, cy)``: the unit gradients of :func:`plan_value` at ``(x, y)`` with
+    growth 0 and cores ``k_a``, ``k_b``, ``k_c`` (mm), in one pass over the pieces: the same
+    values, ties and order as three calls (the first maximum wins in each)."""
+    ba = bb = bc = -np.inf
+    ax, ay, bx, by, cx_, cy_ = 1.0, 0.0, 1.0, 0.0, 1.0, 0.0
+    for i in range(plan.shape[0]):
+        row = plan[i]
+        if row[PL_KIND] == FLAT:
+            nx, ny, h = row[PL_NX], row[PL_NY], row[PL_H]
+            d = x * nx + y * ny
+            va, vb, vc = d - k_a * h, d - k_b * h, d - k_c * h
+            if va > ba:
+                ba, ax, ay = va, nx, ny
+            if vb > bb:
+                bb, bx, by = vb, nx, ny
+            if vc > bc:
+                bc, cx_, cy_ = vc, nx, ny
+            continue
+        ends = row[PL_ENDS] != 0.0
+        for j in range(3):
+            k = k_a if j == 0 else (k_b if j == 1 else k_c)
+            best = ba if j == 0 else (bb if j == 1 else bc)
+            vx, vy = x - k * row[PL_CX], y - k * row[PL_CY]
+            found, v, ux, uy = False, best, 0.0, 0.0
+            if (vx != 0.0 or vy != 0.0) and _in_wedge(row, vx, vy):
+                d = math.sqrt(vx * vx + vy * vy)
+                w = d - k * row[PL_RHO]
+                if w > best:
+                    found, v, ux, uy = True, w, vx / d, vy / d
+            elif ends:
+                for e in range(2):
+                    ex, ey = (row[PL_U0X], row[PL_U0Y]) if e == 0 else (row[PL_U1X], row[PL_U1Y])
+                    w = vx * ex + vy * ey - k * row[PL_RHO]
+                    if w > v:
+                        found, v, ux, uy = True, w, ex, ey
+            if found:
+                if j == 0:
+                    ba, ax, ay = v, ux, uy
+                elif j == 1:
+                    bb, bx, by = v, ux, uy
+                else:
+                    bc, cx_, cy_ = v, ux, uy
+    return ax, ay, bx, by, cx_, cy_
+
+
+@njit(**JIT)
 def plan_girth(plan, k, r, x, y):
     """``(l, L, gx, gy)``: the girth length ``l`` (mm, in ``[0, L)``) of the point ``(x, y)`` on
     the boundary of the section ``k P (+) disc(r)`` (``r >= 0``: the outer wall), ``L`` its
@@ -133,7 +181,7 @@ def plan_girth(plan, k, r, x, y):
     return length, total, ux, uy
 
 
-@njit(**INLINE)
+@njit(**JIT)
 def plan_support_low(plan):
     """A lower bound of the support function ``h(u)`` of ``P`` over every direction (unitless,
     positive: the origin is inside ``P``): a line's value, an arc's least ``C . u + rho`` over

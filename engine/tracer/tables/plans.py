@@ -15,8 +15,8 @@ import math
 
 import numpy as np
 
-from ..kernels.plans import (FLAT, PL_COLS, PL_CX, PL_CY, PL_ENDS, PL_GK, PL_GR, PL_H, PL_KIND, PL_NX, PL_NY,
-                             PL_PERIM, PL_RHO, PL_U0X, PL_U0Y, PL_U1X, PL_U1Y, ROUND)
+from ..kernels.plans import (FLAT, PL_COLS, PL_CX, PL_CY, PL_ENDS, PL_GK, PL_GR, PL_H, PL_HLOW, PL_KIND, PL_NX,
+                             PL_NY, PL_PERIM, PL_RHO, PL_U0X, PL_U0Y, PL_U1X, PL_U1Y, ROUND, plan_support_low)
 
 #: The widest wedge of normals (rad) one ``ROUND`` row holds.
 MAX_WEDGE = 0.5 * math.pi
@@ -85,7 +85,9 @@ def plan_table(segments) -> np.ndarray:
     table = np.array(rows, float).reshape(-1, PL_COLS)
     _girth_columns(table, lines)
     _end_flags(table)
-    return np.ascontiguousarray(table)
+    table = np.ascontiguousarray(table)
+    table[:, PL_HLOW] = plan_support_low(table)
+    return table
 
 
 def _end_flags(table) -> None:

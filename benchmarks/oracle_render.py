@@ -24,8 +24,19 @@ DEFAULT_SPP = 8
 #: Tree cut-offs for oracle renders. Depth matters more than weight: trapped TIR paths in thick
 #: bases need it (public_1: 64 -> 256 takes rel RMSE 1.12 % -> 0.94 %; benchmarks/tracer.py).
 ORACLE_MAX_DEPTH = 256
-ORACLE_MIN_WEIGHT = 2e-3
-#: Adaptive sampling's per-pixel noise target (fraction of the mean image level).
+#: A branch lighter than this is closed with the environment along its direction, which is not
+#: what lies behind the glass. A ghost reflected twice inside a wall weighs about 0.04^2 = 1.6e-3:
+#: a cut at 2e-3 dropped every one of them and took 0.3-0.6 % of the light out of each row of the
+#: clear flacon's body (outline_public_1: 0.33 % summed, 0.2 % rel RMSE of the image), a bias no
+#: number of samples removes; at 1e-3 0.05 % (2e-4: 0.02 % for 1.45 x the rays of 1e-3;
+#: tests/test_oracle_cutoffs.py). Adaptive samples play roulette above it, so only the centres and
+#: the uniform rounds pay.
+ORACLE_MIN_WEIGHT = 1e-3
+#: Adaptive sampling's per-pixel tolerance, a fraction of the environment's mean radiance (not of
+#: the image's): under Neyman allocation (engine.tracer.adaptive.noise_targets) a render's own
+#: noise scales as sqrt(target) and does not depend on ``spp`` (which sets the uniform rounds and
+#: the cap only), and a dark image is noisier against itself (outline_public_2, image mean 0.06:
+#: 6.5 % rel RMS noise per render here; 0.003 with cap 4096: 2.9 %; outline_public_1: 1.28 % and 0.61 %).
 ORACLE_NOISE_TARGET = 0.015
 
 

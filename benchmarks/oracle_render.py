@@ -3,6 +3,7 @@
 Usage::
 
     python -m benchmarks.oracle render SPEC.json -o OUT.exr [--spp N] [--threads T]
+        [--noise-target X] [--cap-factor F]
 
 Design rule: the scene goes through the project engineer's one mapping
 (:func:`benchmarks.oracle_spec.spec_to_design`), is rendered by :func:`engine.tracer.job.render_image`
@@ -24,8 +25,19 @@ DEFAULT_SPP = 8
 #: Tree cut-offs for oracle renders. Depth matters more than weight: trapped TIR paths in thick
 #: bases need it (public_1: 64 -> 256 takes rel RMSE 1.12 % -> 0.94 %; benchmarks/tracer.py).
 ORACLE_MAX_DEPTH = 256
-ORACLE_MIN_WEIGHT = 2e-3
-#: Adaptive sampling's per-pixel noise target (fraction of the mean image level).
+#: A branch lighter than this is closed with the environment along its direction, which is not
+#: what lies behind the glass. A ghost reflected twice inside a wall weighs about 0.04^2 = 1.6e-3:
+#: a cut at 2e-3 dropped every one of them and took 0.3-0.6 % of the light out of each row of the
+#: clear flacon's body (outline_public_1: 0.33 % summed, 0.2 % rel RMSE of the image), a bias no
+#: number of samples removes; at 1e-3 0.05 % (2e-4: 0.02 % for 1.45 x the rays of 1e-3;
+#: tests/test_oracle_cutoffs.py). Adaptive samples play roulette above it, so only the centres and
+#: the uniform rounds pay.
+ORACLE_MIN_WEIGHT = 1e-3
+#: Adaptive sampling's per-pixel tolerance, a fraction of the environment's mean radiance (not of
+#: the image's): under Neyman allocation (engine.tracer.adaptive.noise_targets) a render's own
+#: noise scales as sqrt(target) and does not depend on ``spp`` (which sets the uniform rounds and
+#: the cap only), and a dark image is noisier against itself (outline_public_2, image mean 0.06:
+#: 6.5 % rel RMS noise per render here; 0.003 with cap 4096: 2.9 %; outline_public_1: 1.28 % and 0.61 %).
 ORACLE_NOISE_TARGET = 0.015
 
 
@@ -46,10 +58,12 @@ def reference_path(spec_path: str) -> str:
 
 def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
                 noise_target: float = ORACLE_NOISE_TARGET, tile: int = 64, adaptive: bool = True,
-                scene=None, progress=None, **settings):
+                scene=None, progress=None, cap_factor=None, **settings):
     """Render a SPEC scene (or ``scene``, a ``(design, assets)`` pair made from one); returns
     ``(image (H, W, 3) float32, seconds, job)``. With a list ``progress``, appends after each
     wave ``(seconds, image, samples per pixel)`` of the film then (the copies' time counted in).
+    ``cap_factor`` raises the adaptive rounds' cap to ``cap_factor x spp`` samples (``None``: the
+    engine's ``LINEAR_FACTOR``).
 
     ``settings`` may override ``RenderSettings`` fields (``max_depth``, ``min_weight``, ...);
     by default the oracle cut-offs above are used. A ground's grids are built anew within the
@@ -69,7 +83,7 @@ def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
     clear_stage_caches()  # (a ground's grids are built within the time, as for a design's first render)
     t0 = time.perf_counter()
     job = RenderJob(design, assets, threads=threads, tile=tile, noise_target=noise_target, adaptive=adaptive,
-                    on_wave=None if progress is None else snapshot).start()
+                    cap_factor=cap_factor, on_wave=None if progress is None else snapshot).start()
     job.wait()
     if job.error is not None:
         raise job.error
@@ -94,15 +108,19 @@ def main(argv=None) -> int:
     p.add_argument("--threads", type=int, default=None)
     p.add_argument("--max-depth", type=int, default=None)
     p.add_argument("--min-weight", type=float, default=None)
+    p.add_argument("--noise-target", type=float, default=ORACLE_NOISE_TARGET,
+                   help="adaptive tolerance, a fraction of the environment's mean radiance")
+    p.add_argument("--cap-factor", type=int, default=None, help="adaptive cap: this many times spp samples")
     a = p.parse_args(argv)
     extra = {}
     if a.max_depth is not None:
         extra["max_depth"] = a.max_depth
     if a.min_weight is not None:
         extra["min_weight"] = a.min_weight
-    img, secs, job = render_spec(a.spec, a.spp, a.threads, **extra)
+    img, secs, job = render_spec(a.spec, a.spp, a.threads, noise_target=a.noise_target, cap_factor=a.cap_factor,
+                                 **extra)
     print(f"rendered {os.path.basename(a.spec)} {img.shape[1]}x{img.shape[0]} at {a.spp} spp "
-          f"(+ adaptive, mean {job.sample_counts().mean():.1f} spp) in {secs:.2f} s, "
+          f"(+ adaptive to {a.noise_target:g}, mean {job.sample_counts().mean():.1f} spp) in {secs:.2f} s, "
           f"{job.stats.rays_cast / secs / 1e6:.2f} M rays/s")
     if a.output:
         from engine.files.images import save_image

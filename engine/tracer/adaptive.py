@@ -317,13 +317,15 @@ class SamplingPolicy:
 class ScatterPolicy(SamplingPolicy):
     """Final renders and references (``"classic"``): uniform rounds, then adaptive ones giving
     each pixel samples in proportion to its one-sample scatter (:func:`noise_targets`), up to
-    :data:`LINEAR_FACTOR` x spp in linear space or :data:`ADAPTIVE_FACTOR` x spp in display space."""
+    :data:`LINEAR_FACTOR` x spp in linear space or :data:`ADAPTIVE_FACTOR` x spp in display space
+    (or ``factor`` x spp where given)."""
 
-    def __init__(self, noise_target: float, space: str):
+    def __init__(self, noise_target: float, space: str, factor: int | None = None):
         self.noise_target, self.space = noise_target, space
+        self.factor = factor if factor is not None else LINEAR_FACTOR if space == "linear" else ADAPTIVE_FACTOR
 
     def rounds(self, spp: int, adaptive: bool) -> list:
-        return plan(spp, adaptive, LINEAR_FACTOR if self.space == "linear" else ADAPTIVE_FACTOR)
+        return plan(spp, adaptive, self.factor)
 
     def targets(self, film, samples, varied, edges, mark, level):
         if not varied:
@@ -362,12 +364,14 @@ class SplitPolicy(SamplingPolicy):
         return int(np.count_nonzero(split_unconverged(film, mark, self._tol)))
 
 
-def sampling_policy(space: str, policy: str, noise_target: float) -> SamplingPolicy:
+def sampling_policy(space: str, policy: str, noise_target: float, cap_factor: int | None = None) -> SamplingPolicy:
     """The :class:`SamplingPolicy` of a render in noise ``space`` (``"linear"``/``"display"``)
-    with ``policy`` (``"split"``: the window's, in display space; ``"classic"``)."""
+    with ``policy`` (``"split"``: the window's, in display space; ``"classic"``). ``cap_factor``
+    sets the classic policy's cap (``cap_factor x spp`` samples; ``None``: the space's default);
+    the window's split policy keeps :data:`SPLIT_FACTOR`."""
     if space == "display" and policy == "split":
         return SplitPolicy(noise_target)
-    return ScatterPolicy(noise_target, space)
+    return ScatterPolicy(noise_target, space, cap_factor)
 
 
 def split_targets(film, mark, cap: int, noise_target: float, errors=None) -> np.ndarray:

@@ -95,6 +95,11 @@ class RenderJob:
         Niceness added to each worker thread (Linux; ignored elsewhere): the window passes a
         positive value so that, with every core rendering, the scheduler still prefers its GUI
         thread. Never changes the image.
+    cap_factor : int, optional
+        The classic policy's sample cap, ``cap_factor x spp`` (``None``: the noise space's
+        default, :data:`~engine.tracer.adaptive.LINEAR_FACTOR` or ``ADAPTIVE_FACTOR``). At a
+        tight ``noise_target`` the pixels of thick bases ask for more than the default cap
+        (references: ``benchmarks.oracle_render``); the window's split policy ignores it.
     _sample_base : int
         Benchmarks only: anti-aliasing sample ``k`` of a pixel is traced as sample ``k +
         _sample_base`` of its sequence (other positions, other seeds), so that a reference
@@ -104,7 +109,7 @@ class RenderJob:
     def __init__(self, design, assets=None, *, width=None, height=None, spp=None, threads=None,
                  tile=32, on_tile=None, on_done=None, on_wave=None, adaptive=True, noise_target=NOISE_TARGET,
                  noise_space="linear", previous=None, changed=None, worker_nice=0, policy="split",
-                 _tile_shuffle_seed=None, _sample_base=0):
+                 cap_factor=None, _tile_shuffle_seed=None, _sample_base=0):
         """A job for ``design`` (class docstring). Why so many parameters: every option but the
         design is keyword-only with a default, so a call names just what it changes (the
         window, final renders, batches and benchmarks each set a different few); a record of
@@ -130,6 +135,7 @@ class RenderJob:
         if policy not in ("split", "classic"):
             raise ValueError(f"policy must be 'split' or 'classic', not {policy!r}")
         self.policy = policy
+        self.cap_factor = None if cap_factor is None else max(1, int(cap_factor))
         self.stats = TraceStats()
         self.error = None
         self.seconds = None
@@ -228,7 +234,8 @@ class RenderJob:
     def sampling(self) -> tuple:
         """What decides which samples the job traces, besides the design: two jobs with equal
         ``sampling()`` of the same design trace the same samples."""
-        return self.width, self.height, self.spp, self.adaptive, self.noise_target, self.noise_space, self.policy
+        return (self.width, self.height, self.spp, self.adaptive, self.noise_target, self.noise_space, self.policy,
+                self.cap_factor)
 
     # ------------------------------------------------------------------ internals
     def _set_progress(self, value: float) -> None:
@@ -306,7 +313,7 @@ class RenderJob:
 
                 self._wave(pool, ctx, first, measured, np.where(measured, adaptive.MEASURE_AA, 0), settle=keep_inner)
                 first += 1
-            policy = adaptive.sampling_policy(self.noise_space, self.policy, self.noise_target)
+            policy = adaptive.sampling_policy(self.noise_space, self.policy, self.noise_target, self.cap_factor)
             plan = policy.rounds(self.spp, self.adaptive)
             mark = None
             for r, (target, varied) in enumerate(plan):

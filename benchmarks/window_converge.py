@@ -83,9 +83,9 @@ LIMIT_S = 900.0
 class NotConverged(Exception):
     """A render of the benchmark did not converge within its limit (seconds) and was cancelled."""
 
-    def __init__(self, seconds: float):
-        super().__init__(f"not converged within {seconds:.0f} s")
-        self.seconds = seconds
+    def __init__(self, seconds: float, size: str = ""):
+        super().__init__(f"{size} render not converged within {seconds:.0f} s".lstrip())
+        self.seconds, self.size = seconds, size
 
 
 def set_limit(seconds: float) -> None:
@@ -107,7 +107,7 @@ def render(design, assets, width, height, threads, **kw):
     if not job.wait(LIMIT_S):
         job.cancel()
         job.wait()
-        raise NotConverged(LIMIT_S)
+        raise NotConverged(LIMIT_S, f"{width}x{height}")
     if job.error is not None:
         raise job.error
     return job, time.perf_counter() - t0
@@ -433,7 +433,7 @@ def main(argv=None) -> int:
             rows += sample_rows(a, name, design, assets, policies)
         except NotConverged as exc:  # (its rows so far are dropped: a sample is whole or out)
             unconverged.append(name)
-            print(f"{name}: a render {exc}: cancelled; its converged and ready times are unknown "
+            print(f"{name}: a {exc}: cancelled; its converged and ready times are unknown "
                   "(inf in the figure line)", flush=True)
     if not rows:
         print(f"no sample converged within {LIMIT_S:.0f} s")

@@ -57,7 +57,7 @@ def test_a_render_past_the_limit_is_cancelled_and_its_sample_counts_as_never_con
     monkeypatch.setattr(RenderJob, "start", lambda self: jobs.append(self) or start(self))
     with pytest.raises(wc.NotConverged) as caught:  # (a flacon at 120 x 160 takes seconds)
         wc.render(design, assets, 120, 160, 2)
-    assert caught.value.seconds == 0.05
+    assert caught.value.seconds == 0.05 and str(caught.value) == "120x160 render not converged within 0 s"
     assert len(jobs) == 1 and jobs[0].cancelled and jobs[0].wait(0)  # stopped, not left running
     rows = [{"sample": "jar", "policy": "split", "seconds": 2.0, "ready_s": 1.0, "first_s": 0.1}]
     wc.print_summary(rows, ["split"], ["flacon"])

@@ -257,7 +257,7 @@ class RenderController(QObject):
         job = engine_bridge.tracer_job_class()(
             design, assets, width=width, height=height, spp=spp, threads=self.threads,
             worker_nice=WORKER_NICE, on_tile=lambda j, t, g=generation: self._worker_tile.emit(g, j, t),
-            on_done=lambda j, g=generation: self._worker_done.emit(g, j), **engine_bridge.WINDOW_NOISE,
+            on_done=lambda j, g=generation: self._worker_done.emit(g, j), sampling=engine_bridge.WINDOW_NOISE,
             on_wave=None if live else (lambda j, w, g=generation: self._worker_wave.emit(g, j, w)), **reuse)
         if not live:
             self._last_full = job

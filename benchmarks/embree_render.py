@@ -190,12 +190,12 @@ def main(argv=None) -> int:
     with open(a.job, "rb") as fh:
         spec_path, settings, tol, tnear, bracket, threads = pickle.load(fh)
     hook = install(tol, tnear, bracket)
-    from benchmarks.oracle_render import render_setting, render_spec
+    from benchmarks.oracle_render import render_setting, render_spec, setting_sampling
     from benchmarks.oracle_spec import spec_to_design
 
     scene = spec_to_design(spec_path)
     # kernels loaded, environment decoded, mesh built (as the engine's geometry, once)
-    render_spec(spec_path, 1, threads, adaptive=False, scene=scene)
+    render_spec(spec_path, 1, threads, sampling=setting_sampling(None), scene=scene)
     results = []
     for setting in settings:
         waves = []

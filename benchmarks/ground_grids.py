@@ -106,8 +106,8 @@ def _grids_seconds(design, assets, w, h) -> dict:
 def centres(design, assets, w, h, threads):
     """Display levels ``(h, w, 3)`` of ``design`` rendered with its pixel centres alone, with the
     ground grids of the modules' current settings (built now, timed apart)."""
-    from benchmarks.window_converge import levels, render
-    job, _ = render(design, assets, w, h, threads, adaptive=False, spp=1)
+    from benchmarks.window_converge import levels, render, window_sampling
+    job, _ = render(design, assets, w, h, threads, window_sampling(adaptive=False), spp=1)
     return levels(job.image())
 
 

@@ -88,8 +88,9 @@ def ray_tree(depth, weight):
     from app.sample_design import built_in_design
     from engine.model.design import RenderSettings
     from engine.tracer.job import RenderJob
+    from engine.tracer.sampling import Sampling
     design = dataclasses.replace(built_in_design(), render=RenderSettings(8, 8, 1, depth, weight))
-    job = RenderJob(design, threads=1, adaptive=False).start()
+    job = RenderJob(design, threads=1, sampling=Sampling(adaptive=False)).start()
     job.wait()
     return f"{job.stats.rays_cast / 64:.0f} rays per pixel"
 

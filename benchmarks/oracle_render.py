@@ -20,6 +20,8 @@ import time
 
 import numpy as np
 
+from engine.tracer.sampling import Sampling
+
 #: Uniform samples per pixel before the adaptive rounds (measured with benchmarks/tracer.py).
 DEFAULT_SPP = 8
 #: Tree cut-offs for oracle renders. Depth matters more than weight: trapped TIR paths in thick
@@ -33,12 +35,13 @@ ORACLE_MAX_DEPTH = 256
 #: tests/test_oracle_cutoffs.py). Adaptive samples play roulette above it, so only the centres and
 #: the uniform rounds pay.
 ORACLE_MIN_WEIGHT = 1e-3
-#: Adaptive sampling's per-pixel tolerance, a fraction of the environment's mean radiance (not of
-#: the image's): under Neyman allocation (engine.tracer.adaptive.noise_targets) a render's own
-#: noise scales as sqrt(target) and does not depend on ``spp`` (which sets the uniform rounds and
-#: the cap only), and a dark image is noisier against itself (outline_public_2, image mean 0.06:
-#: 6.5 % rel RMS noise per render here; 0.003 with cap 4096: 2.9 %; outline_public_1: 1.28 % and 0.61 %).
-ORACLE_NOISE_TARGET = 0.015
+#: Adaptive sampling's options, the per-pixel tolerance a fraction of the environment's mean
+#: radiance (not of the image's): under Neyman allocation (engine.tracer.adaptive.noise_targets)
+#: a render's own noise scales as sqrt(target) and does not depend on ``spp`` (which sets the
+#: uniform rounds and the cap only), and a dark image is noisier against itself
+#: (outline_public_2, image mean 0.06: 6.5 % rel RMS noise per render here; 0.003 with cap 4096:
+#: 2.9 %; outline_public_1: 1.28 % and 0.61 %).
+ORACLE_SAMPLING = Sampling(noise_target=0.015)
 #: The command line's defaults (``python -m benchmarks.oracle render SPEC.json``): it reproduces
 #: a reference, so it renders at the converged setting (benchmarks.oracle_accuracy's
 #: ``CONVERGED``: 16 samples, target 0.002) with the cap raised to 256 x spp, which the thick
@@ -46,7 +49,7 @@ ORACLE_NOISE_TARGET = 0.015
 #: 43 s at 16 and 0.002 with the default cap, 0.95 % in 50 s with this one; a render's own noise
 #: there is 1.28 % at 0.015 and 0.61 % at 0.003 with a 4096 cap). The functions
 #: keep the quick defaults above: the peer benchmarks pass their own settings.
-CLI_SPP, CLI_NOISE_TARGET, CLI_CAP_FACTOR = 16, 0.002, 256
+CLI_SPP, CLI_SAMPLING = 16, Sampling(noise_target=0.002, cap_factor=256)
 
 
 def rel_rmse(img, ref) -> float:
@@ -64,14 +67,12 @@ def reference_path(spec_path: str) -> str:
     return os.path.join(os.path.dirname(os.path.dirname(spec_path)), "refs", name + ".exr")
 
 
-def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
-                noise_target: float = ORACLE_NOISE_TARGET, tile: int = 64, adaptive: bool = True,
-                scene=None, progress=None, cap_factor=None, **settings):
-    """Render a SPEC scene (or ``scene``, a ``(design, assets)`` pair made from one); returns
-    ``(image (H, W, 3) float32, seconds, job)``. With a list ``progress``, appends after each
-    wave ``(seconds, image, samples per pixel)`` of the film then (the copies' time counted in).
-    ``cap_factor`` raises the adaptive rounds' cap to ``cap_factor x spp`` samples (``None``: the
-    engine's ``LINEAR_FACTOR``).
+def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *, sampling: Sampling = ORACLE_SAMPLING,
+                tile: int = 64, scene=None, progress=None, **settings):
+    """Render a SPEC scene (or ``scene``, a ``(design, assets)`` pair made from one) with
+    ``sampling``'s adaptive rounds; returns ``(image (H, W, 3) float32, seconds, job)``. With a
+    list ``progress``, appends after each wave ``(seconds, image, samples per pixel)`` of the film
+    then (the copies' time counted in).
 
     ``settings`` may override ``RenderSettings`` fields (``max_depth``, ``min_weight``, ...);
     by default the oracle cut-offs above are used. A ground's grids are built anew within the
@@ -90,8 +91,8 @@ def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
 
     clear_stage_caches()  # (a ground's grids are built within the time, as for a design's first render)
     t0 = time.perf_counter()
-    job = RenderJob(design, assets, threads=threads, tile=tile, noise_target=noise_target, adaptive=adaptive,
-                    cap_factor=cap_factor, on_wave=None if progress is None else snapshot).start()
+    job = RenderJob(design, assets, threads=threads, tile=tile, sampling=sampling,
+                    on_wave=None if progress is None else snapshot).start()
     job.wait()
     if job.error is not None:
         raise job.error
@@ -103,8 +104,14 @@ def render_setting(spec_path: str, setting, threads=None, *, scene=None, progres
     cut or None)`` (``benchmarks.peer.SETTINGS``): adaptive rounds only with a target, the cut
     as ``min_weight`` where given (else the oracle default). Returns what render_spec does."""
     _, spp, target, cut = setting
-    return render_spec(spec_path, spp, threads, noise_target=target or 1.0, adaptive=target is not None,
-                       scene=scene, progress=progress, **({} if cut is None else {"min_weight": cut}))
+    return render_spec(spec_path, spp, threads, sampling=setting_sampling(target), scene=scene, progress=progress,
+                       **({} if cut is None else {"min_weight": cut}))
+
+
+def setting_sampling(target) -> Sampling:
+    """A benchmark setting's sampling: adaptive rounds to the noise ``target`` (a fraction of the
+    environment's mean radiance), or none for ``None`` (the uniform rounds alone)."""
+    return Sampling(noise_target=target or 1.0, adaptive=target is not None)
 
 
 def main(argv=None) -> int:
@@ -116,17 +123,21 @@ def main(argv=None) -> int:
     p.add_argument("--threads", type=int, default=None)
     p.add_argument("--max-depth", type=int, default=None)
     p.add_argument("--min-weight", type=float, default=None)
-    p.add_argument("--noise-target", type=float, default=CLI_NOISE_TARGET,
+    p.add_argument("--noise-target", type=float, default=CLI_SAMPLING.noise_target,
                    help="adaptive tolerance, a fraction of the environment's mean radiance")
-    p.add_argument("--cap-factor", type=int, default=CLI_CAP_FACTOR, help="adaptive cap: this many times spp samples")
+    p.add_argument("--cap-factor", type=int, default=CLI_SAMPLING.cap_factor,
+                   help="adaptive cap: this many times spp samples")
     a = p.parse_args(argv)
+    try:
+        sampling = dataclasses.replace(CLI_SAMPLING, noise_target=a.noise_target, cap_factor=a.cap_factor)
+    except ValueError as exc:
+        p.error(str(exc))
     extra = {}
     if a.max_depth is not None:
         extra["max_depth"] = a.max_depth
     if a.min_weight is not None:
         extra["min_weight"] = a.min_weight
-    img, secs, job = render_spec(a.spec, a.spp, a.threads, noise_target=a.noise_target, cap_factor=a.cap_factor,
-                                 **extra)
+    img, secs, job = render_spec(a.spec, a.spp, a.threads, sampling=sampling, **extra)
     print(f"rendered {os.path.basename(a.spec)} {img.shape[1]}x{img.shape[0]} at {a.spp} spp "
           f"(+ adaptive to {a.noise_target:g}, mean {job.sample_counts().mean():.1f} spp) in {secs:.2f} s, "
           f"{job.stats.rays_cast / secs / 1e6:.2f} M rays/s")

@@ -202,9 +202,9 @@ def glassbench_points(spec_path, ref, settings, threads, scene=None):
     timed from the job's start like the finished render, the copy of the image included:
     what a designer watching the render sees at that moment, and as real a setting as the
     finished one (a render asking that much stops there)."""
-    from benchmarks.oracle_render import rel_rmse, render_setting, render_spec
+    from benchmarks.oracle_render import rel_rmse, render_setting, render_spec, setting_sampling
 
-    render_spec(spec_path, 1, threads, adaptive=False, scene=scene)  # kernels loaded, environment decoded
+    render_spec(spec_path, 1, threads, sampling=setting_sampling(None), scene=scene)  # kernels loaded, environment decoded
     pts, prog = [], []
     for setting in settings:
         label = setting[0]

@@ -217,6 +217,7 @@ def embree_methods(design, geometry, queries, analytic):
 def thread_speedup(name, size, spp, repeats=3):
     """Wall time of the same deterministic job on 1 and on 2 threads, alternated; median ratio."""
     from engine.tracer.job import RenderJob
+    from engine.tracer.sampling import Sampling
 
     design, assets = load_scene(name)
     ratios, t1s, t2s, images = [], [], [], {}
@@ -224,7 +225,7 @@ def thread_speedup(name, size, spp, repeats=3):
         times = {}
         for threads in (1, 2):
             job = RenderJob(design, assets, width=size, height=size, spp=spp, threads=threads,
-                            adaptive=False).start()
+                            sampling=Sampling(adaptive=False)).start()
             job.wait()
             if job.error is not None:
                 raise job.error
@@ -265,12 +266,13 @@ def window_convergence(name, reference=True):
     (``reference=False``: no error, no reference)."""
     from engine.tracer import adaptive
     from engine.tracer.job import RenderJob, tonemap_srgb8
+    from engine.tracer.sampling import Sampling
 
     design, assets = load_scene(name)
     w, h = WINDOW_SIZE
 
-    def run(d=design, **kw):
-        job = RenderJob(d, assets, width=w, height=h, threads=2, **kw).start()
+    def run(sampling, d=design):
+        job = RenderJob(d, assets, width=w, height=h, threads=2, sampling=sampling).start()
         job.wait()
         if job.error is not None:
             raise job.error
@@ -281,10 +283,10 @@ def window_convergence(name, reference=True):
         # 1/16 of its sample positions (a reference at the window's own 16 would share them all
         # and flatter it: 0.31 display levels measured so, 0.38 against an independent one)
         d_ref = dataclasses.replace(design, render=dataclasses.replace(design.render, spp=REFERENCE_SPP))
-        ref = tonemap_srgb8(run(d_ref, noise_target=adaptive.NOISE_TARGET / 5).image()).astype(float)
+        ref = tonemap_srgb8(run(Sampling(noise_target=adaptive.NOISE_TARGET / 5), d_ref).image()).astype(float)
     out = []
     for space, target in (("display", adaptive.DISPLAY_NOISE), ("linear", adaptive.NOISE_TARGET)):
-        job = run(noise_space=space, noise_target=target)
+        job = run(Sampling(noise_space=space, noise_target=target))
         err = (float(np.sqrt(np.mean((tonemap_srgb8(job.image()).astype(float) - ref) ** 2)))
                if reference else float("nan"))
         out.append({"scene": name, "width": w, "height": h, "noise_space": space, "noise_target": target,
@@ -312,11 +314,13 @@ def truncation(name, size, spp, cuts):
     """Image change of each (max_depth, min_weight) against the deepest, same samples."""
     from benchmarks.oracle_render import rel_rmse
     from engine.tracer.job import RenderJob
+    from engine.tracer.sampling import Sampling
 
     rows, deep = [], None
     for depth, weight in cuts:
         design, assets = load_scene(name, max_depth=depth, min_weight=weight)
-        job = RenderJob(design, assets, width=size, height=size, spp=spp, threads=2, adaptive=False).start()
+        job = RenderJob(design, assets, width=size, height=size, spp=spp, threads=2,
+                        sampling=Sampling(adaptive=False)).start()
         job.wait()
         img = job.image()
         deep = img if deep is None else deep
@@ -329,7 +333,7 @@ def truncation(name, size, spp, cuts):
 
 def error_vs_time(names, configs):
     """rel RMSE against the reference and wall time (2 threads) per oracle scene and setting."""
-    from benchmarks.oracle_render import reference_path, rel_rmse, render_spec
+    from benchmarks.oracle_render import reference_path, rel_rmse, render_spec, setting_sampling
     from engine.tracer.tables.environment import read_radiance_image
 
     rows = []
@@ -338,7 +342,7 @@ def error_vs_time(names, configs):
         ref = read_radiance_image(reference_path(spec))
         render_spec(spec, 1, 2)  # geometry cached, kernels warm: the times are render times
         for spp, target in configs:
-            img, secs, job = render_spec(spec, spp, 2, noise_target=target or 1.0, adaptive=target is not None)
+            img, secs, job = render_spec(spec, spp, 2, sampling=setting_sampling(target))
             err = rel_rmse(img, ref)
             rows.append({"scene": name, "spp": spp, "noise_target": target or 0, "seconds": secs,
                          "mean_spp": float(job.sample_counts().mean()), "rel_rmse": err})

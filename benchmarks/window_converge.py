@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import glob
 import os
 import time
@@ -94,16 +95,23 @@ def set_limit(seconds: float) -> None:
     LIMIT_S = float(seconds)
 
 
-def render(design, assets, width, height, threads, **kw):
-    """``(job, wall seconds)`` of one window-criterion render (or ``kw`` overriding it); raises
-    :class:`NotConverged` (the job cancelled) past :data:`LIMIT_S`."""
+def window_sampling(**changes):
+    """The window's sampling (:data:`app.engine_bridge.WINDOW_NOISE`) with ``changes`` (fields of
+    :class:`engine.tracer.sampling.Sampling`: another policy, target, ...)."""
     from app.engine_bridge import WINDOW_NOISE
+
+    return dataclasses.replace(WINDOW_NOISE, **changes)
+
+
+def render(design, assets, width, height, threads, sampling=None, **kw):
+    """``(job, wall seconds)`` of one render at ``sampling`` (``None``: the window's), ``kw``
+    the job's other options; raises :class:`NotConverged` (the job cancelled) past
+    :data:`LIMIT_S`."""
     from engine.tracer.job import RenderJob
 
-    settings = dict(WINDOW_NOISE)
-    settings.update(kw)
     t0 = time.perf_counter()
-    job = RenderJob(design, assets, width=width, height=height, threads=threads, **settings).start()
+    job = RenderJob(design, assets, width=width, height=height, threads=threads,
+                    sampling=window_sampling() if sampling is None else sampling, **kw).start()
     if not job.wait(LIMIT_S):
         job.cancel()
         job.wait()
@@ -125,8 +133,9 @@ def reference(design, assets, width, height, threads, base=REFERENCE_BASES[0]) -
     sample scatter, which assumes nothing of stratification) with a noise target of half a
     display level and 4 x the samples, its anti-aliasing samples from sample ``base`` of each
     pixel's sequence on."""
-    ref, _ = render(design, assets, width, height, threads, noise_target=REFERENCE_NOISE,
-                    spp=REFERENCE_SPP_FACTOR * design.render.spp, policy="classic", _sample_base=base)
+    classic = window_sampling(noise_target=REFERENCE_NOISE, policy="classic")
+    ref, _ = render(design, assets, width, height, threads, classic, spp=REFERENCE_SPP_FACTOR * design.render.spp,
+                    _sample_base=base)
     return ref.image()
 
 
@@ -140,7 +149,7 @@ def reference_noise(design, assets, width, height, threads, ref) -> float:
 def honesty(design, assets, width, height, threads, ref, policy) -> tuple[float, float]:
     """``(RMS, 99th percentile)`` in display levels of a converged render by ``policy`` against
     the reference image ``ref`` (module doc), at ``width x height``."""
-    job, _ = render(design, assets, width, height, threads, policy=policy)
+    job, _ = render(design, assets, width, height, threads, window_sampling(policy=policy))
     return distance(job.image(), ref)
 
 
@@ -174,8 +183,8 @@ def own_error(design, assets, width, height, threads, image, policy) -> tuple[fl
 
     clear_stage_caches()  # (its time, as the first render's, includes the ground's grids: the same grids)
     clock["start"] = time.perf_counter()
-    other, _ = render(design, assets, width, height, threads, policy=policy, _sample_base=REFERENCE_BASES[0],
-                      on_wave=snapshot)
+    other, _ = render(design, assets, width, height, threads, window_sampling(policy=policy),
+                      _sample_base=REFERENCE_BASES[0], on_wave=snapshot)
     rms, p99 = distance(image, other.image(), scale=1.0 / np.sqrt(2.0))
     return rms, p99, progress_errors(seen, rms)
 
@@ -242,7 +251,7 @@ def denoised_progress(design, assets, width, height, threads, policy, converged)
     clear_stage_caches()
     clock["start"] = time.perf_counter()
     try:
-        job, secs = render(design, assets, width, height, threads, policy=policy, on_wave=on_wave,
+        job, secs = render(design, assets, width, height, threads, window_sampling(policy=policy), on_wave=on_wave,
                            worker_nice=WORKER_NICE)  # (the window's workers: niced as its denoiser)
     finally:
         watcher.close(120)
@@ -455,7 +464,7 @@ def sample_rows(a, name, design, assets, policies) -> list[dict]:
     ref_noise = None if a.no_check else reference_noise(design, assets, w, h, a.threads, ref)
     for policy in policies:  # (each policy's render and check back to back: the machine is shared)
         clear_stage_caches()  # (the time includes the ground's grids, as a design's first render does)
-        job, secs = render(design, assets, a.width, a.height, a.threads, policy=policy)
+        job, secs = render(design, assets, a.width, a.height, a.threads, window_sampling(policy=policy))
         rays = job.stats.rays_cast
         # a colour-only edit could re-weigh a kept tree instead of tracing it again: each leaf
         # (a segment leaving for the environment or cut) would keep its RGB weight without

@@ -28,7 +28,7 @@ import os
 
 import numpy as np
 
-from benchmarks.window_converge import OUT, levels, reference, render, samples
+from benchmarks.window_converge import OUT, levels, reference, render, samples, window_sampling
 
 #: (cap factor, roulette weight): the setting before stop 33 first.
 SETTINGS = ((16, 0.05), (16, 0.2), (24, 0.2), (32, 0.05), (32, 0.2), (32, 0.3), (64, 0.05))
@@ -43,7 +43,7 @@ def measure(design, assets, ref, factor, roulette, threads):
     keep = adaptive.SPLIT_FACTOR, adaptive.SPLIT_ROULETTE
     adaptive.SPLIT_FACTOR, adaptive.SPLIT_ROULETTE = factor, roulette
     try:
-        job, seconds = render(design, assets, *CHECK_SIZE, threads, policy="split")
+        job, seconds = render(design, assets, *CHECK_SIZE, threads, window_sampling(policy="split"))
     finally:
         adaptive.SPLIT_FACTOR, adaptive.SPLIT_ROULETTE = keep
     diff = np.abs(levels(job.image()) - levels(ref))

@@ -67,10 +67,38 @@ def test_the_windows_jobs_use_the_display_criterion():
     from engine.tracer.job import RenderJob
     from tests.test_tracer import simple_design
 
-    job = RenderJob(simple_design(40.0, width=8, height=8, spp=1), **engine_bridge.WINDOW_NOISE)
-    assert job.noise_space == "display" and job.noise_target == adaptive.DISPLAY_NOISE
-    with pytest.raises(ValueError, match="noise_space"):
-        RenderJob(simple_design(40.0, width=8, height=8, spp=1), noise_space="gamma")
+    job = RenderJob(simple_design(40.0, width=8, height=8, spp=1), sampling=engine_bridge.WINDOW_NOISE)
+    assert job.sampling.noise_space == "display" and job.sampling.noise_target == adaptive.DISPLAY_NOISE
+    assert RenderJob(simple_design(40.0, width=8, height=8, spp=1)).sampling.noise_space == "linear"
+
+
+def test_sampling_options_are_one_checked_immutable_record():
+    """A job's sampling options travel as one :class:`Sampling`: a bad field is refused by
+    name when the record is made, equal options compare equal whatever number types they came
+    in, and a job takes nothing else (no loose keywords, no dict)."""
+    import dataclasses
+
+    from engine.tracer.job import RenderJob
+    from engine.tracer.sampling import Sampling
+    from tests.test_tracer import simple_design
+
+    for bad, field in ((dict(noise_space="gamma"), "noise_space"), (dict(policy="greedy"), "policy"),
+                       (dict(noise_target=0.0), "noise_target"), (dict(noise_target=float("nan")), "noise_target"),
+                       (dict(noise_target=-0.01), "noise_target"), (dict(cap_factor=0), "cap_factor")):
+        with pytest.raises(ValueError, match=field):
+            Sampling(**bad)
+    s = Sampling()
+    assert (s.adaptive, s.noise_target, s.noise_space, s.policy, s.cap_factor) == (
+        True, adaptive.NOISE_TARGET, "linear", "split", None)
+    assert Sampling(adaptive=1, noise_target=1, cap_factor=3.0) == Sampling(noise_target=1.0, cap_factor=3)
+    assert type(Sampling(cap_factor=3.0).cap_factor) is int and type(Sampling(noise_target=1).noise_target) is float
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        s.noise_target = 0.5
+    design = simple_design(40.0, width=8, height=8, spp=1)
+    with pytest.raises(TypeError, match="Sampling"):
+        RenderJob(design, sampling={"noise_space": "display"})
+    with pytest.raises(TypeError):
+        RenderJob(design, noise_target=0.01)
 
 
 def test_a_centre_that_disagrees_with_agreeing_samples_asks_for_more():
@@ -127,12 +155,13 @@ def _plan_factors(monkeypatch) -> list:
 
 def test_final_renders_raise_pixels_to_the_linear_cap_and_the_window_classic_to_its_own(monkeypatch):
     from engine.tracer.job import RenderJob
+    from engine.tracer.sampling import Sampling
     from tests.test_tracer import simple_design
 
     seen = _plan_factors(monkeypatch)
     for space, target in (("linear", 0.01), ("display", adaptive.DISPLAY_NOISE)):
-        job = RenderJob(simple_design(40.0, width=8, height=8, spp=1), noise_space=space, noise_target=target,
-                        policy="classic").start()
+        job = RenderJob(simple_design(40.0, width=8, height=8, spp=1),
+                        sampling=Sampling(noise_space=space, noise_target=target, policy="classic")).start()
         job.wait()
         assert job.error is None
     assert seen == [adaptive.LINEAR_FACTOR, adaptive.ADAPTIVE_FACTOR]
@@ -142,17 +171,18 @@ def test_a_cap_factor_raises_the_classic_cap_and_is_part_of_what_a_job_samples(m
     """References at a tight tolerance need more than the default cap in thick bases
     (outline_public_1 at 0.003: 1.10 % rel RMSE at 512 samples, 1.01 % at 4096)."""
     from engine.tracer.job import RenderJob
+    from engine.tracer.sampling import Sampling
     from tests.test_tracer import simple_design
 
     seen = _plan_factors(monkeypatch)
     design = simple_design(40.0, width=8, height=8, spp=2)
-    jobs = [RenderJob(design, noise_target=0.01, policy="classic", cap_factor=f) for f in (None, 3)]
+    jobs = [RenderJob(design, sampling=Sampling(noise_target=0.01, policy="classic", cap_factor=f)) for f in (None, 3)]
     for job in jobs:
         job.start().wait()
         assert job.error is None
     assert seen == [adaptive.LINEAR_FACTOR, 3]
     assert adaptive.ScatterPolicy(0.01, "linear", 3).rounds(2, True)[-1] == (6, True)
-    assert jobs[0].sampling() != jobs[1].sampling()  # (a finished job is not reused for the other)
+    assert jobs[0].sampling_key() != jobs[1].sampling_key()  # (a finished job is not reused for the other)
 
 
 def _split_film(first, last):
@@ -217,7 +247,7 @@ def test_a_window_render_records_the_tolerance_it_settled_at(monkeypatch):
     from tests.test_tracer import simple_design
 
     def settled():
-        job = RenderJob(simple_design(), width=48, height=64, spp=1, threads=1, **WINDOW_NOISE).start()
+        job = RenderJob(simple_design(), width=48, height=64, spp=1, threads=1, sampling=WINDOW_NOISE).start()
         job.wait()
         assert job.error is None
         return job.tolerance / adaptive.DISPLAY_NOISE
@@ -231,10 +261,12 @@ def test_the_window_counts_the_pixels_its_sample_cap_stopped_above_the_tolerance
     """A window render whose cap binds says how many pixels it stopped there (the status bar
     shows the share); a tolerance as wide as the display leaves none; final renders count none."""
     from engine.tracer.job import RenderJob
+    from engine.tracer.sampling import Sampling
     from tests.test_tracer import simple_design
 
     def job_with(**kw):
-        job = RenderJob(simple_design(), width=48, height=64, spp=1, threads=1, noise_space="display", **kw).start()
+        job = RenderJob(simple_design(), width=48, height=64, spp=1, threads=1,
+                        sampling=Sampling(noise_space="display", **kw)).start()
         job.wait()
         assert job.error is None
         return job
@@ -255,27 +287,28 @@ def test_the_split_plan_doubles_from_eight_and_the_window_uses_it():
     from engine.tracer.job import RenderJob
     from app.engine_bridge import WINDOW_NOISE
     from tests.test_tracer import simple_design
-    job = RenderJob(simple_design(), width=8, height=8, **WINDOW_NOISE)
-    assert job.policy == "split" and job.noise_space == "display"
+    job = RenderJob(simple_design(), width=8, height=8, sampling=WINDOW_NOISE)
+    assert job.sampling.policy == "split" and job.sampling.noise_space == "display"
 
 
 def test_the_window_plays_its_own_roulette_and_final_renders_theirs(monkeypatch):
     """The split policy's adaptive rounds play :data:`adaptive.SPLIT_ROULETTE`, the classic
     policy's :data:`adaptive.ROULETTE`; the uniform rounds trace whole trees."""
     from engine.tracer.job import RenderJob
+    from engine.tracer.sampling import Sampling
     from tests.test_tracer import simple_design
 
     seen = {}
     real = RenderJob._wave
 
     def spy(self, pool, ctx, wave, mask, want, preview=None, roulette=0.0, **kw):
-        seen.setdefault(self.policy, set()).add(roulette)
+        seen.setdefault(self.sampling.policy, set()).add(roulette)
         return real(self, pool, ctx, wave, mask, want, preview=preview, roulette=roulette, **kw)
 
     monkeypatch.setattr(RenderJob, "_wave", spy)
     for policy in ("split", "classic"):
-        job = RenderJob(simple_design(), width=24, height=32, spp=4, threads=1, noise_space="display",
-                        noise_target=0.1 / 255.0, policy=policy).start()
+        job = RenderJob(simple_design(), width=24, height=32, spp=4, threads=1,
+                        sampling=Sampling(noise_space="display", noise_target=0.1 / 255.0, policy=policy)).start()
         job.wait()
         assert job.error is None
     assert seen["split"] == {0.0, adaptive.SPLIT_ROULETTE}
@@ -287,10 +320,11 @@ def test_a_sample_base_draws_other_samples_of_the_same_pixels():
     anti-aliasing samples: the pixels without them keep their centre bit for bit, the
     anti-aliased ones change, and the image stays the same picture."""
     from engine.tracer.job import RenderJob
+    from engine.tracer.sampling import Sampling
     from tests.test_tracer import simple_design
 
     def image(base):
-        job = RenderJob(simple_design(), width=48, height=64, spp=8, threads=1, adaptive=False,
+        job = RenderJob(simple_design(), width=48, height=64, spp=8, threads=1, sampling=Sampling(adaptive=False),
                         _sample_base=base).start()
         job.wait()
         assert job.error is None
@@ -334,6 +368,7 @@ def test_a_measurement_stays_only_where_it_finds_detail_inside_the_pixel():
 
 def test_a_final_render_measures_in_its_own_wave_and_keeps_what_it_finds(monkeypatch):
     from engine.tracer.job import RenderJob
+    from engine.tracer.sampling import Sampling
     from tests.test_tracer import simple_design
 
     found = []
@@ -347,8 +382,9 @@ def test_a_final_render_measures_in_its_own_wave_and_keeps_what_it_finds(monkeyp
     monkeypatch.setattr(adaptive, "inner_steps", spy)
     jobs = {}
     for space, target in (("linear", 0.01), ("display", adaptive.DISPLAY_NOISE)):
-        jobs[space] = job = RenderJob(simple_design(40.0, width=24, height=32, spp=4), threads=1, noise_space=space,
-                                      noise_target=target, policy="classic").start()
+        classic = Sampling(noise_space=space, noise_target=target, policy="classic")
+        jobs[space] = job = RenderJob(simple_design(40.0, width=24, height=32, spp=4), threads=1,
+                                      sampling=classic).start()
         job.wait()
         assert job.error is None
     assert len(found) == 1, "only the final render measures"

@@ -25,9 +25,9 @@ def test_embree_renders_match_the_analytic_render_and_use_the_mesh():
     """At 0.02 mm the image is the analytic one but for the few hits a mesh hides; with a
     coarse mesh and a long start distance it visibly is not (so Embree did answer)."""
     from benchmarks.embree_render import render
-    from benchmarks.oracle_render import render_spec
+    from benchmarks.oracle_render import render_spec, setting_sampling
 
-    want, _, _ = render_spec(SPEC, 1, 2, adaptive=False)
+    want, _, _ = render_spec(SPEC, 1, 2, sampling=setting_sampling(None))
     (label, secs, fine, waves, build_s), = render(SPEC, SETTINGS, 0.02, 0.05, 0.05)
     assert label == "AA 1" and secs > 0 and build_s > 0 and len(waves) >= 1
     assert fine.shape == want.shape and np.all(np.isfinite(fine)) and np.all(fine >= 0)

@@ -384,9 +384,10 @@ def test_a_light_edit_relights_a_plastic_cap(bordeaux):
     without labels renders anew (it used to keep the previous film, lights shading labels only)
     and equals a full render."""
     from engine.tracer.job import RenderJob
+    from engine.tracer.sampling import Sampling
 
     def job(d, **kw):
-        j = RenderJob(d, assets, width=24, height=32, spp=1, threads=1, adaptive=False, **kw).start()
+        j = RenderJob(d, assets, width=24, height=32, spp=1, threads=1, sampling=Sampling(adaptive=False), **kw).start()
         j.wait()
         assert j.error is None
         return j

@@ -2,6 +2,7 @@
 a failing render is reported and the window keeps working."""
 from __future__ import annotations
 
+import dataclasses
 from types import SimpleNamespace
 
 import numpy as np
@@ -61,7 +62,8 @@ def test_tiles_arrive_and_the_render_converges(make_window, qtbot):
 def test_the_status_says_what_share_of_pixels_stopped_at_the_sample_cap(make_window, qtbot, monkeypatch):
     """With a tolerance no pixel meets (a hundredth of a level), the window's render ends with
     edge pixels at the sample cap: the status bar does not call that plainly converged."""
-    monkeypatch.setitem(engine_bridge.WINDOW_NOISE, "noise_target", 0.01 / 255.0)
+    monkeypatch.setattr(engine_bridge, "WINDOW_NOISE", dataclasses.replace(engine_bridge.WINDOW_NOISE,
+                                                                           noise_target=0.01 / 255.0))
     w = make_window()
     rc = w.render_controller
     _wait_converged(qtbot, w)
@@ -177,7 +179,7 @@ def test_a_held_drag_shows_a_live_pass_and_says_stale_until_release(make_window,
     assert w.render_progress.value() == 0, "a held render never claims to be done"
     qtbot.waitUntil(lambda: rc.job is not None and rc.live, timeout=10_000)
     assert rc.size == (round(48 * LIVE_SCALE), round(64 * LIVE_SCALE))
-    assert rc.job.spp == 1 and rc.job.noise_space == "display", "the window judges noise as displayed"
+    assert rc.job.spp == 1 and rc.job.sampling.noise_space == "display", "the window judges noise as displayed"
     live = rc.job
     canvas.drag_to((0.0, 8.0))  # the next step cancels the live pass at once
     assert live.cancelled
@@ -256,7 +258,6 @@ def test_the_scenes_change_reaches_the_job_once_notes_keep_the_film_and_a_colour
     edit starts nothing, a restart with nothing changed keeps the finished film (no new trace),
     a label colour edit relabels (no pixel traced again, the label's pixels recoloured), and the
     relabelled image is a full render's."""
-    import dataclasses
     from pathlib import Path
     from engine.files.project import load_project
     from engine.tracer.job import render_image
@@ -284,5 +285,5 @@ def test_the_scenes_change_reaches_the_job_once_notes_keep_the_film_and_a_colour
     assert job.error is None and job.context.geometry is first.context.geometry  # the scene was not rebuilt
     assert job.relabelled_pixels == 0 and job.recoloured_pixels > 0
     full = render_image(w.scene.design, dict(w.scene.assets), width=job.width, height=job.height, spp=job.spp,
-                        noise_space=job.noise_space, noise_target=job.noise_target)
+                        sampling=job.sampling)
     assert np.array_equal(job.image(), full)

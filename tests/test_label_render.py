@@ -16,6 +16,7 @@ from engine.model.design import FinishRegion, Label, LabelSide
 from engine.tracer.context import RenderContext, trace_rays
 from engine.tracer.tables.environment import EnvironmentMap
 from engine.tracer.job import RenderJob
+from engine.tracer.sampling import Sampling
 from engine.tracer.kernels import labels as KL
 from engine.tracer.kernels.materials import fresnel_conductor
 
@@ -261,7 +262,7 @@ def test_a_window_relabel_equals_a_full_window_render(relabel_case):
     a relabel replays the waves and so chooses it as the full render does, bit for bit."""
     from engine.tracer.adaptive import DISPLAY_NOISE, SPLIT_LADDER
     d, assets, _ = relabel_case
-    win = dict(noise_space="display", noise_target=DISPLAY_NOISE)
+    win = dict(sampling=Sampling(noise_space="display", noise_target=DISPLAY_NOISE))
     first = _job(d, assets, **win)
     assert first.tolerance / DISPLAY_NOISE in SPLIT_LADDER
     lab = d.labels[0]

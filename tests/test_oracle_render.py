@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from benchmarks.oracle_render import reference_path, rel_rmse, render_spec
+from engine.tracer.sampling import Sampling
 from engine.tracer.tables.environment import read_radiance_image
 from benchmarks.paths import ORACLE_SPECS
 
@@ -15,7 +16,7 @@ SPECS = str(ORACLE_SPECS)
 def test_public_scene_matches_its_reference_within_two_percent(name):
     spec = f"{SPECS}/{name}.json"
     # A looser adaptive target than the oracle default keeps the test quick (measured ~1.2 % worst).
-    img, secs, job = render_spec(spec, threads=2, noise_target=0.03)
+    img, secs, job = render_spec(spec, threads=2, sampling=Sampling(noise_target=0.03))
     ref = read_radiance_image(reference_path(spec))
     assert img.shape == ref.shape == (256, 256, 3)
     assert np.all(np.isfinite(img)) and img.min() >= 0
@@ -47,6 +48,6 @@ def test_measuring_smooth_pixels_on_the_bottle_finds_the_detail_the_edge_test_mi
     err = {}
     for measure in (0, adaptive.MEASURE_AA):
         monkeypatch.setattr(adaptive, "MEASURE_AA", measure)
-        img, _, _ = render_spec(spec, threads=2, spp=4, noise_target=0.01, min_weight=0.01)
+        img, _, _ = render_spec(spec, threads=2, spp=4, sampling=Sampling(noise_target=0.01), min_weight=0.01)
         err[measure] = rel_rmse(img, ref)
     assert err[adaptive.MEASURE_AA] < err[0] - 0.001

@@ -41,12 +41,13 @@ def test_glassbench_points_time_each_wave_of_each_setting():
     from benchmarks.oracle_spec import spec_to_design
     from benchmarks.paths import ORACLE_SPECS
     from benchmarks.peer import glassbench_points
+    from engine.tracer.sampling import Sampling
 
     spec = str(ORACLE_SPECS / "public_1.json")
     design, assets = spec_to_design(spec)
     design = dataclasses.replace(design, render=dataclasses.replace(design.render, width=40, height=40))
     scene = (design, assets)
-    ref = render_spec(spec, 16, 1, noise_target=0.01, scene=scene)[0]
+    ref = render_spec(spec, 16, 1, sampling=Sampling(noise_target=0.01), scene=scene)[0]
     settings = (("AA 4 adaptive 0.1", 4, 0.1, None), ("draft", 4, 0.1, 0.05))
     points, progressive = glassbench_points(spec, ref, settings, 1, scene=scene)
     assert [p[0] for p in points] == ["AA 4 adaptive 0.1", "draft"]

@@ -187,7 +187,8 @@ def test_an_edit_of_nothing_rendered_keeps_the_film_and_a_visible_edit_does_not(
     assert third.wait(120) and third.film is not first.film
     assert not np.array_equal(third.image(), first.image())
     # the same design asked with another sampling: a new film, never the old one
-    finer = RenderJob(renamed, threads=2, previous=first, changed={"name"}, noise_target=first.noise_target / 4).start()
+    finer = RenderJob(renamed, threads=2, previous=first, changed={"name"},
+                      sampling=dataclasses.replace(first.sampling, noise_target=first.sampling.noise_target / 4)).start()
     assert finer.wait(120) and finer.film is not first.film and finer.stats.rays_cast > first.stats.rays_cast
 
 

@@ -38,7 +38,7 @@ def _centre_errors(design, assets):
     """``(errors, share)``: each centre-only pixel's difference from its own 64-sample average
     (mean over RGB, relative to the larger of that average and the environment's mean
     radiance), and the share of the image those pixels are."""
-    job = RenderJob(design, assets, width=W, height=H, threads=2, **WINDOW_NOISE).start()
+    job = RenderJob(design, assets, width=W, height=H, threads=2, sampling=WINDOW_NOISE).start()
     job.wait()
     assert job.error is None
     rows, cols = np.mgrid[0:H, 0:W]

@@ -15,6 +15,7 @@ import numpy as np
 from engine.model.design import Light, Stage
 from engine.tracer.context import RenderContext, trace_rays
 from engine.tracer.job import RenderJob
+from engine.tracer.sampling import Sampling
 from engine.tracer.kernels.ground import NOISY_BIT, S_NRING, SKY_COLS, ring_cells, sky_irradiance
 from engine.tracer.tables import stage as stage_tables
 from engine.tracer.tables.labels import with_buffers
@@ -101,8 +102,8 @@ JOB_SIZE = (320, 320)
 
 
 def _job(design, **kw):
-    job = RenderJob(design, None, width=JOB_SIZE[0], height=JOB_SIZE[1], spp=1, adaptive=False, threads=2,
-                    **kw).start()
+    job = RenderJob(design, None, width=JOB_SIZE[0], height=JOB_SIZE[1], spp=1, sampling=Sampling(adaptive=False),
+                    threads=2, **kw).start()
     assert job.wait(600)
     return job
 

@@ -55,7 +55,7 @@ def test_a_stage_edit_is_announced_as_the_field_stage():
 
 def _finished_job(design):
     """A stand-in for a finished, error-free render of ``design`` (all :func:`reuse_of` reads)."""
-    return SimpleNamespace(done=True, error=None, cancelled=False, sampling=lambda: "sampling",
+    return SimpleNamespace(done=True, error=None, cancelled=False, sampling_key=lambda: "sampling",
                            design=design, assets={}, records=None, context=None)
 
 

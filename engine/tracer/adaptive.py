@@ -56,6 +56,8 @@ DISPLAY_NOISE = 2.0 / 255.0
 NEIGHBOUR_SHARE = 0.3
 #: Where :func:`noise_targets` may judge a pixel's scatter.
 NOISE_SPACES = ("linear", "display")
+#: The adaptive rounds' policies (:func:`sampling_policy`).
+POLICIES = ("split", "classic")
 #: The adaptive rounds' samples play Russian roulette on branches into glass or liquid lighter
 #: than this: those pixels are noisy anyway (light trapped in thick glass), and a sample then
 #: costs about a path instead of a tree (``python -m benchmarks.tracer``: error against time).

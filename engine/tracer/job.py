@@ -31,17 +31,15 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import adaptive
-from .adaptive import NOISE_SPACES
 from ..color import tonemap_srgb8  # noqa: F401 - the encoding the callers of a job use
 from .context import RenderContext, TraceStats, trace_pixels
 from .film import Film
 from .relabel import LabelRecorder, RelabelPlan, replay
 from .reuse import VISUAL_FIELDS, reuse_of  # noqa: F401 - VISUAL_FIELDS for callers
+from .sampling import FINAL_SAMPLING, Sampling
 from .scheduler import TileScheduler
 from .tables.sky import GridCancelled
 from .tables.stage import stage_grids_ready
-
-NOISE_TARGET = adaptive.NOISE_TARGET
 
 
 @dataclass(frozen=True)
@@ -66,6 +64,8 @@ class RenderJob:
         Project assets (environment image bytes / paths / arrays by name).
     width, height, spp : int, optional
         Override ``design.render`` (pixels; anti-aliasing samples per edge pixel).
+    sampling : engine.tracer.sampling.Sampling
+        Where the adaptive rounds stop (the default: a final render's).
     threads : int, optional
         Worker threads (default: the CPUs this process may use, at most 8).
     tile : int
@@ -77,16 +77,6 @@ class RenderJob:
         ``on_wave(job, wave)`` on the job's thread after each wave that ran to its end, before
         the next starts: the film then holds exactly the samples of waves ``0..wave`` (the
         image a progressive view shows at that moment; benchmarks chart it against time).
-    adaptive : bool
-        Add the adaptive rounds after the uniform anti-aliasing rounds.
-    noise_target : float
-        The adaptive rounds' tolerance: a fraction of the design's reference level (the
-        environment's mean radiance) in linear space, where a pixel gets one sample per
-        tolerance of its one-sample scatter (Neyman allocation); with ``noise_space="display"``
-        each pixel's standard error below this many display units once tone-mapped.
-    noise_space : str
-        "linear" (references, final renders) or "display" (the window:
-        :data:`~engine.tracer.adaptive.DISPLAY_NOISE`): see :func:`adaptive.noise_targets`.
     previous : RenderJob, optional; changed : Change or set of str, optional
         The job this one replaces and what changed since (the scene's
         :class:`~engine.model.changes.Change`, or field names): :mod:`engine.tracer.reuse`
@@ -95,30 +85,25 @@ class RenderJob:
         Niceness added to each worker thread (Linux; ignored elsewhere): the window passes a
         positive value so that, with every core rendering, the scheduler still prefers its GUI
         thread. Never changes the image.
-    cap_factor : int, optional
-        The classic policy's sample cap, ``cap_factor x spp`` (``None``: the noise space's
-        default, :data:`~engine.tracer.adaptive.LINEAR_FACTOR` or ``ADAPTIVE_FACTOR``). At a
-        tight ``noise_target`` the pixels of thick bases ask for more than the default cap
-        (references: ``benchmarks.oracle_render``); the window's split policy ignores it.
     _sample_base : int
         Benchmarks only: anti-aliasing sample ``k`` of a pixel is traced as sample ``k +
         _sample_base`` of its sequence (other positions, other seeds), so that a reference
         image shares no anti-aliasing sample with the render it checks. 0 for every render.
     """
 
-    def __init__(self, design, assets=None, *, width=None, height=None, spp=None, threads=None,
-                 tile=32, on_tile=None, on_done=None, on_wave=None, adaptive=True, noise_target=NOISE_TARGET,
-                 noise_space="linear", previous=None, changed=None, worker_nice=0, policy="split",
-                 cap_factor=None, _tile_shuffle_seed=None, _sample_base=0):
-        """A job for ``design`` (class docstring). Why so many parameters: every option but the
-        design is keyword-only with a default, so a call names just what it changes (the
-        window, final renders, batches and benchmarks each set a different few); a record of
-        options would repeat these defaults in a second place."""
+    def __init__(self, design, assets=None, *, width=None, height=None, spp=None, sampling=FINAL_SAMPLING,
+                 threads=None, tile=32, on_tile=None, on_done=None, on_wave=None, previous=None, changed=None,
+                 worker_nice=0, _tile_shuffle_seed=None, _sample_base=0):
+        """A job for ``design`` (class docstring); every option but the design is keyword-only
+        with a default, so a call names just what it changes."""
+        if not isinstance(sampling, Sampling):
+            raise TypeError(f"sampling must be a Sampling, not {type(sampling).__name__}")
         self.design = design
         self.assets = assets
         self.width = int(width or design.render.width)
         self.height = int(height or design.render.height)
         self.spp = max(1, int(spp or design.render.spp))
+        self.sampling = sampling
         if threads is None:
             cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
             threads = min(cpus, 8)
@@ -127,15 +112,6 @@ class RenderJob:
         self.on_tile = on_tile
         self.on_done = on_done
         self.on_wave = on_wave
-        self.adaptive = bool(adaptive)
-        self.noise_target = float(noise_target)
-        if noise_space not in NOISE_SPACES:  # (the argument ``adaptive`` hides the module here)
-            raise ValueError(f"noise_space must be 'linear' or 'display', not {noise_space!r}")
-        self.noise_space = noise_space
-        if policy not in ("split", "classic"):
-            raise ValueError(f"policy must be 'split' or 'classic', not {policy!r}")
-        self.policy = policy
-        self.cap_factor = None if cap_factor is None else max(1, int(cap_factor))
         self.stats = TraceStats()
         self.error = None
         self.seconds = None
@@ -231,11 +207,10 @@ class RenderJob:
         """Samples that make each pixel's value so far, ``(H, W)`` int (a copy)."""
         return self.film.samples()
 
-    def sampling(self) -> tuple:
+    def sampling_key(self) -> tuple:
         """What decides which samples the job traces, besides the design: two jobs with equal
-        ``sampling()`` of the same design trace the same samples."""
-        return (self.width, self.height, self.spp, self.adaptive, self.noise_target, self.noise_space, self.policy,
-                self.cap_factor)
+        ``sampling_key()`` of the same design trace the same samples."""
+        return (self.width, self.height, self.spp, self.sampling)
 
     # ------------------------------------------------------------------ internals
     def _set_progress(self, value: float) -> None:
@@ -247,7 +222,7 @@ class RenderJob:
     def _run(self) -> None:
         try:
             prev, self._previous = self._previous, None  # (a chain of jobs must not keep every film alive)
-            reuse_of(prev, self.design, self.assets, self.sampling(), self._changed).run(self, prev)
+            reuse_of(prev, self.design, self.assets, self.sampling_key(), self._changed).run(self, prev)
         except GridCancelled:  # the ground's grids stopped building because the job was cancelled
             self.cancel()
         except BaseException as exc:  # reported, never swallowed
@@ -303,7 +278,8 @@ class RenderJob:
             # whose own samples step away from their centre): uniform rounds, then (adaptive)
             # where samples scatter
             edges = self.aa_pixels()
-            measured = adaptive.measure_mask(film.objects, edges, self.adaptive, self.noise_space)
+            s = self.sampling
+            measured = adaptive.measure_mask(film.objects, edges, s.adaptive, s.noise_space)
             first = 2
             if measured.any():  # (final renders) samples in each smooth pixel on the bottle ...
                 def keep_inner():  # ... kept where they show detail inside it
@@ -313,8 +289,8 @@ class RenderJob:
 
                 self._wave(pool, ctx, first, measured, np.where(measured, adaptive.MEASURE_AA, 0), settle=keep_inner)
                 first += 1
-            policy = adaptive.sampling_policy(self.noise_space, self.policy, self.noise_target, self.cap_factor)
-            plan = policy.rounds(self.spp, self.adaptive)
+            policy = adaptive.sampling_policy(s.noise_space, s.policy, s.noise_target, s.cap_factor)
+            plan = policy.rounds(self.spp, s.adaptive)
             mark = None
             for r, (target, varied) in enumerate(plan):
                 want = policy.targets(film, target, varied, edges, mark, level)

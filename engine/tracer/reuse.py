@@ -5,7 +5,7 @@ the scene announced since (unioned over the edits in between); :func:`reuse_of` 
 and returns the strategy, a small object whose ``run(job, previous)`` does it: :data:`KEEP_FILM`
 (nothing the image shows changed: a name, the notes), a :class:`Relabel` (:mod:`engine.tracer.relabel`:
 only labels, lights or their images), or :data:`FULL_RENDER`. Either strategy needs the previous job finished, without error, at the same size
-and sampling: two jobs with equal :meth:`~engine.tracer.job.RenderJob.sampling` of the same
+and sampling: two jobs with equal :meth:`~engine.tracer.job.RenderJob.sampling_key` of the same
 design trace the same samples.
 """
 from __future__ import annotations
@@ -82,13 +82,14 @@ def _keeps_film(previous, design, change: Change) -> bool:
     return not visual
 
 
-def reuse_of(previous, design, assets, sampling, changed):
+def reuse_of(previous, design, assets, sampling_key, changed):
     """The strategy (:data:`KEEP_FILM`, a :class:`Relabel` or :data:`FULL_RENDER`) of a job
-    rendering ``design`` with ``assets`` at ``sampling`` after job ``previous``, ``changed`` the
-    fields (a :class:`Change`, or names) changed since."""
+    rendering ``design`` with ``assets`` at ``sampling_key`` (its ``sampling_key()``) after job
+    ``previous``, ``changed`` the fields (a :class:`Change`, or names) changed since."""
     if previous is None or changed is None:
         return FULL_RENDER
-    if not (previous.done and previous.error is None and not previous.cancelled and previous.sampling() == sampling):
+    finished = previous.done and previous.error is None and not previous.cancelled
+    if not (finished and previous.sampling_key() == sampling_key):
         return FULL_RENDER
     change = Change.of(changed)
     if _keeps_film(previous, design, change):

@@ -6,8 +6,8 @@ Usage::
         [--noise-target X] [--cap-factor F]
 
 Design rule: the scene goes through the project engineer's one mapping
-(:func:`benchmarks.oracle_spec.spec_to_design`), is rendered by :func:`engine.tracer.job.render_image`
-and compared with ``refs/NAME.exr`` beside the specs folder using the SPEC section 7 metric
+(:func:`benchmarks.oracle_spec.spec_to_design`), is rendered by a :class:`engine.tracer.job.RenderJob`
+with :data:`CLI_SAMPLING` and compared with ``refs/NAME.exr`` beside the specs folder using the SPEC section 7 metric
 (relative RMSE over pixels where the reference is non-zero in any channel).
 """
 from __future__ import annotations

@@ -16,7 +16,12 @@ with ``z'`` over the inner wall's heights ``[z_ib, z_top]`` (the inner base is t
 ``z_ib``) and ``sd`` the plan's signed distance (:meth:`engine.geometry.plan.PlanOutline.signed_distance`:
 exact Euclidean where the rounding ``t >= 0``; near a sharp inner corner, ``t < 0``, the largest
 distance to its sides' lines, which errs thin). The minimiser lies within ``T(q, z) <= D(q, z)``
-of ``z``: a grid of heights in that window, then golden sections, gives it to about 1e-6 mm in height (the thickness, at its minimum, to rounding).
+of ``z``: a grid of heights in that window picks the basin, then Brent's method (parabolas
+through the three best heights, golden sections where they do not help) finds it to
+:data:`XTOL_MM` in height, every point at once, each left alone once it has converged; where
+it converged next to a joint of the inner profile (a knee: ``T`` has a kink there, and the
+least is the knee itself) the joint is tried too. The thickness, at a smooth minimum, comes out
+to rounding; at a knee exact.
 
 Where to look is bounded first. Along a plan direction ``u`` the wall's distance from the axis is
 ``rho_u(z) = k(z) h(u) + c(z)`` and ``D >= rho_u(z) - rho_u(z') + w``, so by the mean value theorem
@@ -36,7 +41,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..geometry.body import chain_state
-from ..geometry.chain import radius_at
+from ..geometry.chain import radii_at, radius_at
 from ..geometry.validate import body_profile
 
 #: The share of the wall below which the sheet warns. A plant gauges the glass along its normal;
@@ -48,13 +53,24 @@ THIN_SHARE = 0.9
 NODES = 16
 #: The largest step (deg) between the plan directions looked at across an arc or a corner.
 FAN_STEP_DEG = 10.0
-#: Heights a window in ``z'`` is first sampled at, and the golden sections after (to 1e-6 mm).
-GRID, GOLDEN = 9, 28
+#: Heights a window in ``z'`` is first sampled at (the basin of the least).
+GRID = 9
+#: Brent's tolerance (mm) on the height ``z'`` of the nearest inner point; at a smooth minimum the
+#: thickness is then exact to rounding (its error is the square of this over the wall), at a
+#: knee within this of it before the knee itself is tried. Near ``1e-8 z'``, rounding's floor.
+XTOL_MM = 3e-8
+#: Brent's golden share, ``(3 - sqrt 5) / 2``, and its cap on steps (never met: 40 golden steps
+#: shrink a window of the wall to far below :data:`XTOL_MM`).
+_CG, BRENT_STEPS = (3.0 - math.sqrt(5.0)) / 2.0, 200
+#: Brent's last step under this many tolerances, the parabola refused next: the least is beside it.
+CLOSE = 10.0
+#: A height is better than Brent's best only by more than this share of its value (a few
+#: roundings of the squared distance): else steps within rounding of the least wander on.
+NOISE = 1e-14
 #: Heights a run's end or least is sampled at between two heights, and how often that zooms in
 #: for the least (a 1 mm step resolved to 3e-5 mm) and for an end (to 1e-3 mm: it is quoted to
 #: 0.1 mm), along the directions :data:`NEAR` thinnest there.
 ZOOM, ZOOMS, END_ZOOMS, NEAR = 33, 3, 2, 4
-_G = (math.sqrt(5.0) - 1.0) / 2.0
 
 
 @lru_cache(maxsize=32)
@@ -115,6 +131,8 @@ class _Wall:
         self.outer = [sp.outer_wall for sp in prof.sections]
         self.inner = [sp.inner_wall for sp in prof.sections]
         self.z_ib, self.z_top = prof.z_ib, prof.z_top
+        joints = [p[1] for ch in self.inner for s in ch for p in (s.p0, s.p1)]
+        self.knees = np.unique(np.clip(joints, self.z_ib, self.z_top))
         self.p, self.u = _probes(shape.plan)
         # P's least support is the origin's distance to its edge; its farthest point is at 1
         self.h_range = (-float(shape.plan.signed_distance(0.0, 0.0, 1.0, 0.0)[0]), 1.0)
@@ -147,35 +165,72 @@ class _Wall:
 
     def _f(self, x, y, z, zp):
         """Squared distance (mm^2) from ``(x, y, z)`` to the inner wall's section at ``zp``."""
-        k, t = (radius_at(ch, zp) for ch in self.inner)
+        k, t = radii_at(self.inner, (zp, zp))
         d = np.maximum(self.plan.distance(x, y, k, t), 0.0)
         return (z - zp) ** 2 + d * d
 
     def thickness(self, z, p, u):
         """``T`` (mm) at the outer points of heights ``z`` along plan normals ``u`` (broadcast;
-        ``p`` the plan's points with those normals), by a grid and golden sections in ``z'``."""
-        x, y = self._outer_points(z, p, u)
-        x, y, z = np.broadcast_arrays(x, y, z)
+        ``p`` the plan's points with those normals): the least of :meth:`_least`."""
+        x, y, z = np.broadcast_arrays(*self._outer_points(z, p, u), z)
+        shape = z.shape
+        x, y, z = (np.ravel(v) for v in (x, y, z))
+
+        def f(rows, zp):
+            return self._f(x[rows], y[rows], z[rows], zp)
         z0 = np.clip(z, self.z_ib, self.z_top)
         reach = np.sqrt(self._f(x, y, z, z0))
+        return np.sqrt(self._least(f, z, z0, reach)).reshape(shape)
+
+    def _least(self, f, z, z0, reach):
+        """The least (mm^2) about each outer height ``z`` (mm; ``z0`` it within the inner wall,
+        ``reach`` the distance there) of the function ``f(rows, zp)`` (squared distances, mm^2,
+        of the rows ``rows`` at heights ``zp``): a grid in ``z'`` over the reach, the knee in the
+        best grid height's two intervals, Brent's method on the smooth side of it, the knee Brent
+        ended next to (module rule)."""
+        rows = np.arange(len(z))
         lo, hi = np.maximum(z - reach, self.z_ib), np.minimum(z + reach, self.z_top)
         lo, hi = np.minimum(lo, z0), np.maximum(hi, z0)
-        grid = lo[..., None] + (hi - lo)[..., None] * np.linspace(0.0, 1.0, GRID)
-        f = self._f(x[..., None], y[..., None], z[..., None], grid)
-        i = np.argmin(f, axis=-1)[..., None]
-        a = np.take_along_axis(grid, np.maximum(i - 1, 0), -1)[..., 0]
-        b = np.take_along_axis(grid, np.minimum(i + 1, GRID - 1), -1)[..., 0]
-        m1, m2 = b - _G * (b - a), a + _G * (b - a)
-        f1, f2 = self._f(x, y, z, m1), self._f(x, y, z, m2)
-        for _ in range(GOLDEN):  # one new height an iteration: the kept one is the golden cut
-            left = f1 <= f2
-            a, b = np.where(left, a, m1), np.where(left, m2, b)
-            m1, m2, f2 = np.where(left, b - _G * (b - a), m2), np.where(left, m1, a + _G * (b - a)), \
-                np.where(left, f1, f2)
-            new = self._f(x, y, z, np.where(left, m1, m2))
-            f1, f2 = np.where(left, new, f2), np.where(left, f2, new)
-        best = np.minimum(np.minimum(f1, f2), np.min(f, axis=-1))
-        return np.sqrt(best)
+        grid = lo[:, None] + (hi - lo)[:, None] * np.linspace(0.0, 1.0, GRID)
+        fg = f(rows[:, None], grid)
+        i = np.argmin(fg, axis=-1)[:, None]
+        a, m, b = (np.take_along_axis(grid, j, -1)[:, 0] for j in (np.maximum(i - 1, 0), i, np.minimum(i + 1, GRID - 1)))
+        at, best = _brent(f, *self._beside_knee(f, a, b, m, np.take_along_axis(fg, i, -1)[:, 0]))
+        knee = self._nearest_knee(at)  # Brent ended within a tolerance of another knee: try it
+        rows = np.nonzero(np.abs(knee - at) <= 4.0 * XTOL_MM)[0]
+        best[rows] = np.minimum(best[rows], f(rows, knee[rows]))
+        return best
+
+    def _beside_knee(self, f, a, b, m, fm):
+        """Brent's windows and starts ``(a, b, x, f(x))`` for the windows ``[a, b]`` (mm) whose
+        best grid height is ``m`` (``fm`` its value; ``f`` as :func:`_brent`'s): where the knee
+        nearest ``m`` lies in the window, it and :data:`XTOL_MM` either side are tried. The least
+        of those and ``m`` says where the least lies: the knee itself (a window of one height,
+        a kink's minimum found exactly) or the side of it holding that best height, where the
+        function is smooth and Brent's parabolas converge fast."""
+        knee = self._nearest_knee(m)
+        rows = np.nonzero((knee >= a) & (knee <= b))[0]
+        if not len(rows):
+            return a, b, m, fm
+        a, b, m, fm = (v.copy() for v in (a, b, m, fm))
+        k = knee[rows]
+        tried = np.stack([k, np.maximum(k - XTOL_MM, self.z_ib), np.minimum(k + XTOL_MM, self.z_top), m[rows]], axis=1)
+        ft = f(rows[:, None], tried[:, :3])
+        ft = np.concatenate([ft, fm[rows, None]], axis=1)
+        j = np.argmin(ft, axis=1)  # the knee first among equals
+        here = np.arange(len(rows))
+        side_below = (j == 1) | ((j == 3) & (m[rows] < k))
+        side_above = (j == 2) | ((j == 3) & (m[rows] > k))
+        a[rows] = np.where(side_above, tried[:, 2], np.where(side_below, a[rows], k))
+        b[rows] = np.where(side_below, tried[:, 1], np.where(side_above, b[rows], k))
+        m[rows], fm[rows] = tried[here, j], ft[here, j]
+        return a, b, m, fm
+
+    def _nearest_knee(self, zp):
+        """The joint of the inner profile (mm; its ends included) nearest each height ``zp``."""
+        j = np.searchsorted(self.knees, zp)
+        below, above = self.knees[np.maximum(j - 1, 0)], self.knees[np.minimum(j, len(self.knees) - 1)]
+        return np.where(zp - below <= above - zp, below, above)
 
     def together(self, searches) -> list:
         """The results of the generator ``searches`` (:meth:`crossing`, :meth:`refined`), run in
@@ -226,6 +281,60 @@ class _Wall:
             i = int(np.argmin(t))
             za, zb = z[max(i - 1, 0)], z[min(i + 1, ZOOM - 1)]
         return float(z[i]), float(t[i]), float(psi[i])
+
+
+def _brent(f, a, b, x, fx):
+    """Brent's minimisation of every row's function on its window ``[a, b]`` (mm) from ``x`` in
+    it (``fx`` its value), all rows in step: ``(x, f(x))`` at the least found, to
+    :data:`XTOL_MM`. ``f(rows, zp)`` gives the functions of the rows ``rows`` (indices) at the
+    heights ``zp``; a converged row is left alone. Each step is Brent's (Numerical Recipes'
+    ``brent``): the parabola through the three best heights ``x, w, v`` where it falls inside
+    the window and moves less than half the step before last, else a golden section into the
+    larger part; never closer than the tolerance to a height already tried. Two changes for
+    rows in step, where the slowest sets the pace: a height counts as better only by more than
+    :data:`NOISE`, and a row whose parabola has settled (its last step under :data:`CLOSE`
+    tolerances, the next refused) looks one tolerance beside its best toward the window's far
+    end, which closes the window in a step or two instead of golden sections creeping back from
+    that end."""
+    a, b, x, fx = (np.array(q, float) for q in (a, b, x, fx))
+    x_out, f_out = x.copy(), fx.copy()
+    w, v, fw, fv, d, e = x.copy(), x.copy(), fx.copy(), fx.copy(), np.full(x.shape, np.inf), np.zeros(x.shape)
+    live = np.arange(len(x))
+    for _ in range(BRENT_STEPS):
+        xm, tol = 0.5 * (a + b), XTOL_MM + 1e-12 * np.abs(x)
+        done = np.abs(x - xm) <= 2.0 * tol - 0.5 * (b - a)
+        if done.any():
+            x_out[live[done]], f_out[live[done]] = x[done], fx[done]
+            keep = ~done
+            live, a, b, x, w, v, fx, fw, fv, d, e, xm, tol = (q[keep] for q in (live, a, b, x, w, v, fx, fw, fv, d, e, xm, tol))
+            if not len(live):
+                break
+        r, q = (x - w) * (fx - fv), (x - v) * (fx - fw)
+        p, q = (x - v) * q - (x - w) * r, 2.0 * (q - r)
+        p, q = np.where(q > 0.0, -p, p), np.abs(q)
+        golden = np.where(x >= xm, a - x, b - x)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            parabola = (np.abs(e) > tol) & (np.abs(p) < np.abs(0.5 * q * e)) & (p > q * (a - x)) & (p < q * (b - x))
+            step = p / q
+        near_end = (x + step - a < 2.0 * tol) | (b - x - step < 2.0 * tol)
+        step = np.where(near_end, np.copysign(tol, xm - x), step)
+        # settled (a parabola's small step, the next refused): look just beside it, toward the far
+        # end, not a golden section into that end (which would creep back from it at 0.62 a step)
+        close = ~parabola & (np.abs(d) < CLOSE * tol)
+        e, d = np.where(parabola, d, np.where(close, b - a, golden)), \
+            np.where(parabola, step, np.where(close, np.copysign(tol, xm - x), _CG * golden))
+        u = x + np.where(np.abs(d) >= tol, d, np.copysign(tol, xm - x))
+        fu = f(live, u)
+        better = fu < fx - NOISE * fx  # why not by less: rounding's walk would keep one window end far
+        a = np.where(better, np.where(u >= x, x, a), np.where(u < x, u, a))
+        b = np.where(better, np.where(u >= x, b, x), np.where(u < x, b, u))
+        to_w = ~better & ((fu <= fw) | (w == x))
+        to_v = ~better & ~to_w & ((fu <= fv) | (v == x) | (v == w))
+        v, fv = np.where(better | to_w, w, np.where(to_v, u, v)), np.where(better | to_w, fw, np.where(to_v, fu, fv))
+        w, fw = np.where(better, x, np.where(to_w, u, w)), np.where(better, fx, np.where(to_w, fu, fw))
+        x, fx = np.where(better, u, x), np.where(better, fu, fx)
+    x_out[live], f_out[live] = x, fx
+    return x_out, f_out
 
 
 def _probes(plan):

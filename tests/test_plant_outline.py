@@ -489,6 +489,22 @@ def test_the_vectorised_thickness_search_finds_the_least_a_dense_scan_and_a_scal
     assert got.min() < thickness.THIN_SHARE * shape.wall_thickness  # the shoulder is thin somewhere: a case that counts
 
 
+def test_a_hexagonal_flacons_thin_run_names_one_corner_and_height_whatever_the_rounding():
+    """The bundled flacon's shoulder is equally thin at its six corners (to rounding, which a
+    wall 1e-9 mm thicker shuffles): the run names the first of them in the probes' order, the
+    same every time, where the plain least named 120, 0, 240 and 240 deg for four such walls."""
+    design = _sample("flacon")
+    shapes = [dataclasses.replace(design.shape, wall_thickness=design.shape.wall_thickness + 1e-9 * j)
+              for j in range(4)]
+    runs = [thickness.thin_walls(s) for s in shapes]
+    assert all(len(r) == 1 for r in runs)
+    assert {r[0]["direction_deg"] for r in runs} == {runs[0][0]["direction_deg"]}
+    assert min(abs(runs[0][0]["direction_deg"] - 60.0 * i) for i in range(7)) < 1e-9  # a corner
+    for (run,) in runs[1:]:
+        assert run["at_z_mm"] == pytest.approx(runs[0][0]["at_z_mm"], abs=1e-6)
+        assert run["least_mm"] == pytest.approx(runs[0][0]["least_mm"], rel=1e-8)
+
+
 def test_a_straight_walled_flask_and_a_round_bottle_have_no_thin_wall():
     """Vertical walls, and a core narrowing to the neck at 18 deg from the vertical at most
     (the plan's farthest point): nowhere under nine tenths; a round bottle's cavity is its 3-D

@@ -31,7 +31,10 @@ at the plan's least or greatest support ``h``). Heights where that bound keeps
 panel is equally thick along its length), across each arc's and corner's normals every
 :data:`FAN_STEP_DEG` and at its farthest point (the steepest). The least over directions per
 height marks the thin runs; their ends and their least are found again on finer and finer
-grids of height. Units: mm, deg.
+grids of height. Directions or heights whose thickness agrees within :data:`TIE` of the wall
+(a symmetric plan's equal corners, a cone's equal heights) count as equal: the first in the
+probes' order, the lowest height, is taken, so which one is quoted does not hang on rounding.
+Units: mm, deg.
 """
 from __future__ import annotations
 
@@ -64,6 +67,9 @@ XTOL_MM = 3e-8
 _CG, BRENT_STEPS = (3.0 - math.sqrt(5.0)) / 2.0, 200
 #: Brent's last step under this many tolerances, the parabola refused next: the least is beside it.
 CLOSE = 10.0
+#: Thicknesses within this share of the wall are equal (module rule): far above rounding (the
+#: search's error where the least is smooth or at a knee), far below anything a gauge sees.
+TIE = 1e-12
 #: A height is better than Brent's best only by more than this share of its value (a few
 #: roundings of the squared distance): else steps within rounding of the least wander on.
 NOISE = 1e-14
@@ -93,10 +99,10 @@ def thin_walls(shape) -> tuple[dict, ...]:
     found = []  # per run: its ends' and its least's searches, run together (module rule)
     for i, j in _runs(thin):
         def near(a, b):  # the directions thinnest at either height: where the least will be
-            return np.unique(np.argsort(each[[a, b]], axis=1)[:, :NEAR].ravel())
+            return np.unique(_thinnest(each[[a, b]], wall.w)[:, :NEAR].ravel())
         lo = z[0] if i == 0 else wall.crossing(z[i - 1], z[i], near(i - 1, i))
         hi = z[-1] if j == len(z) - 1 else wall.crossing(z[j + 1], z[j], near(j, j + 1))
-        m = i + int(np.argmin(least[i:j + 1]))
+        m = i + _first_least(least[i:j + 1], wall.w)
         a, b = max(m - 1, 0), min(m + 1, len(z) - 1)
         found.append((lo, hi, wall.refined(z[a], z[b], near(a, b))))
     results = iter(wall.together([g for f in found for g in f if not isinstance(g, float)]))
@@ -114,6 +120,24 @@ def warnings(runs, wall_mm: float) -> list[str]:
             f"{r['least_mm']:.2f} mm thick along its normal (at z = {r['at_z_mm']:.1f} mm), "
             f"{r['share']:.0%} of the {wall_mm:g} mm wall: an outline's cavity keeps the wall "
             f"across the plan, not along the slope" for r in runs]
+
+
+def _thinnest(t, wall_mm: float) -> np.ndarray:
+    """Per row of thicknesses ``t`` (mm), the column indices thinnest first, thicknesses within
+    :data:`TIE` of the wall ``wall_mm`` of one another counted equal and taken in column order
+    (module rule)."""
+    order = np.argsort(t, axis=1, kind="stable")
+    ranked = np.take_along_axis(t, order, axis=1)
+    gap = np.diff(ranked, axis=1) > TIE * wall_mm  # where a new group of equals starts
+    group = np.concatenate([np.zeros((len(t), 1), int), np.cumsum(gap, axis=1)], axis=1)
+    key = np.empty_like(group)
+    np.put_along_axis(key, order, group, axis=1)
+    return np.argsort(key, axis=1, kind="stable")
+
+
+def _first_least(t, wall_mm: float) -> int:
+    """The first index of ``t`` (mm) within :data:`TIE` of the wall ``wall_mm`` of its least."""
+    return int(np.argmax(t <= np.min(t) + TIE * wall_mm))
 
 
 def _runs(mask):
@@ -250,8 +274,8 @@ class _Wall:
             for n, (zz, which) in list(asks.items()):
                 rows = t[start:start + len(zz) * len(which)].reshape(len(zz), len(which))
                 start += rows.size
-                j = np.argmin(rows, axis=1)
-                answer = rows[np.arange(len(zz)), j], np.arctan2(self.u[1][which][j], self.u[0][which][j])
+                j = _thinnest(rows, self.w)[:, 0]
+                answer = rows.min(axis=1), np.arctan2(self.u[1][which][j], self.u[0][which][j])
                 try:
                     asks[n] = searches[n].send(answer)
                 except StopIteration as done:
@@ -278,7 +302,7 @@ class _Wall:
         for _ in range(ZOOMS):
             z = np.linspace(za, zb, ZOOM)
             t, psi = yield z, which
-            i = int(np.argmin(t))
+            i = _first_least(t, self.w)
             za, zb = z[max(i - 1, 0)], z[min(i + 1, ZOOM - 1)]
         return float(z[i]), float(t[i]), float(psi[i])
 

@@ -179,8 +179,10 @@ class _Wall:
                 kd, cd = kr / kz, cr / cz  # a horizontal piece (a heel) is infinitely steep
             for h in self.h_range:
                 slope = np.maximum(slope, np.nan_to_num(np.abs(h * kd + cd), nan=np.inf))
-        near = np.abs(z[:, None] - dense[None, :]) <= 1.05 * self.w  # (a margin for the sampling)
-        steep = np.max(np.where(near, slope[None, :], 0.0), axis=1) > 0.95 * s_max
+        reach = 1.05 * self.w  # (a margin for the sampling)
+        lo, hi = np.searchsorted(dense, z - 2.0 * reach), np.searchsorted(dense, z + 2.0 * reach, "right")
+        steep = np.array([np.max(np.where(np.abs(zi - dense[i:j]) <= reach, slope[i:j], 0.0), initial=0.0)
+                          for zi, i, j in zip(z, lo, hi)]) > 0.95 * s_max  # each height's own stretch
         return steep | ((z > self.z_ib - THIN_SHARE * self.w) & (z < self.z_ib + self.w))
 
     def _outer_points(self, z, p, u):

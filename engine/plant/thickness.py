@@ -220,7 +220,8 @@ class _Wall:
         grid = lo[:, None] + (hi - lo)[:, None] * np.linspace(0.0, 1.0, GRID)
         fg = f(rows[:, None], grid)
         i = np.argmin(fg, axis=-1)[:, None]
-        a, m, b = (np.take_along_axis(grid, j, -1)[:, 0] for j in (np.maximum(i - 1, 0), i, np.minimum(i + 1, GRID - 1)))
+        a, m, b = (np.take_along_axis(grid, j, -1)[:, 0]
+                   for j in (np.maximum(i - 1, 0), i, np.minimum(i + 1, GRID - 1)))
         at, best = _brent(f, *self._beside_knee(f, a, b, m, np.take_along_axis(fg, i, -1)[:, 0]))
         knee = self._nearest_knee(at)  # Brent ended within a tolerance of another knee: try it
         rows = np.nonzero(np.abs(knee - at) <= 4.0 * XTOL_MM)[0]
@@ -240,7 +241,8 @@ class _Wall:
             return a, b, m, fm
         a, b, m, fm = (v.copy() for v in (a, b, m, fm))
         k = knee[rows]
-        tried = np.stack([k, np.maximum(k - XTOL_MM, self.z_ib), np.minimum(k + XTOL_MM, self.z_top), m[rows]], axis=1)
+        tried = np.stack([k, np.maximum(k - XTOL_MM, self.z_ib), np.minimum(k + XTOL_MM, self.z_top), m[rows]],
+                         axis=1)
         ft = f(rows[:, None], tried[:, :3])
         ft = np.concatenate([ft, fm[rows, None]], axis=1)
         j = np.argmin(ft, axis=1)  # the knee first among equals
@@ -332,7 +334,8 @@ def _brent(f, a, b, x, fx):
         if done.any():
             x_out[live[done]], f_out[live[done]] = x[done], fx[done]
             keep = ~done
-            live, a, b, x, w, v, fx, fw, fv, d, e, xm, tol = (q[keep] for q in (live, a, b, x, w, v, fx, fw, fv, d, e, xm, tol))
+            live, a, b, x, w, v, fx, fw, fv, d, e, xm, tol = (
+                q[keep] for q in (live, a, b, x, w, v, fx, fw, fv, d, e, xm, tol))
             if not len(live):
                 break
         r, q = (x - w) * (fx - fv), (x - v) * (fx - fw)

@@ -221,3 +221,34 @@ def test_radius_at_from_its_table_is_the_by_segment_radius_bit_for_bit(n):
         np.testing.assert_array_equal(radius_at(ch, grid), chain._radius_by_segment(ch, grid))
         assert np.array_equal(radius_at(ch, 0.5 * (lo + hi)), chain._radius_by_segment(ch, np.array(0.5 * (lo + hi))))
     assert tabled == len(chains)  # the tables did answer (offset ellipse arcs would go by segment)
+
+
+@pytest.mark.parametrize("n", [1, 2, 3])
+def test_radii_at_in_one_pass_is_each_chains_radius_at_bit_for_bit(n):
+    """radii_at evaluates several chains (a section's walls, a punt's dome, rising and
+    descending, lines alone or arcs among them) at their own heights in one pass over one table:
+    the same radii as radius_at chain by chain, bit for bit, outside each chain's range (NaN) and
+    at NaN, for any shape of heights and a single height; a chain of another kind (an offset
+    ellipse arc) goes chain by chain."""
+    from engine.geometry import chain
+    prof = body_profile(spec_shape(n))
+    chains = [c for sp in prof.sections for c in (sp.inner_wall, sp.outer_wall, sp.inner_base) if c]
+    chains += [*split_at_ring(punt_section())[:2], (Line((0.0, 0.0), (5.0, 40.0)),)]
+    rng = np.random.default_rng(40 + n)
+    lo = min(p[1] for ch in chains for s in ch for p in (s.p0, s.p1))
+    hi = max(p[1] for ch in chains for s in ch for p in (s.p0, s.p1))
+    zs = [rng.uniform(lo - 1.0, hi + 1.0, (3, 50)) for _ in chains]
+    zs[0][0, 0] = np.nan
+    for picked in (chains, chains[:1], chains[::-1]):
+        got = chain.radii_at(picked, zs[:len(picked)])
+        for ch, z, r in zip(picked, zs, got):
+            assert r.shape == z.shape
+            np.testing.assert_array_equal(r, chain._radius_by_segment(ch, z))
+            np.testing.assert_array_equal(r, radius_at(ch, z))
+    one = chain.radii_at(chains, [0.5 * (lo + hi)] * len(chains))
+    assert [np.shape(r) for r in one] == [()] * len(chains)
+    assert all(np.array_equal(r, radius_at(ch, 0.5 * (lo + hi)), equal_nan=True) for ch, r in zip(chains, one))
+    offset = OffsetEllipseArc(EllipseArc((0.0, 10.0), 8.0, 4.0, (0.0, 6.0), (8.0, 10.0), "ccw"), 1.0)
+    mixed = chain.radii_at([chains[0], (offset,)], [zs[0], np.linspace(6.0, 10.0, 7)])
+    np.testing.assert_array_equal(mixed[0], radius_at(chains[0], zs[0]))
+    np.testing.assert_array_equal(mixed[1], chain._radius_by_segment((offset,), np.linspace(6.0, 10.0, 7)))

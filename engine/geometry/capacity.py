@@ -20,7 +20,8 @@ from functools import lru_cache
 
 import numpy as np
 
-from .offset import BodyProfile, radius_at
+from .chain import radii_at
+from .offset import BodyProfile
 from .validate import body_profile
 
 MM3_PER_ML = 1000.0
@@ -77,13 +78,17 @@ def section_radii_at(prof: BodyProfile, z, which: str):
     and, for a punt, the radius (mm) of the dome's disk under the base curve at each height (0
     above the dome; ``None`` without a punt). Heights outside a chain take its end's radius."""
     walls = [sp.inner_wall if which == "inner" else sp.outer_wall for sp in prof.sections]
-    radii = [radius_at(w, np.clip(z, w[0].p0[1], w[-1].p1[1])) for w in walls]
     if not prof.punt:  # round only: the dome under the base curve
-        return radii, None
+        return _chain_radii(walls, z), None
     base = prof.sections[0].inner_base if which == "inner" else prof.sections[0].outer_base
-    top = base[0].p0[1]
-    rho = radius_at(base, np.clip(z, base[-1].p1[1], top))
-    return radii, np.where(np.asarray(z) < top, rho, 0.0)
+    *radii, rho = _chain_radii(walls + [base], z)
+    return radii, np.where(np.asarray(z) < base[0].p0[1], rho, 0.0)
+
+
+def _chain_radii(chains, z) -> list:
+    """Each z-monotone chain's radius (mm) at the heights ``z`` (mm), those outside it taking its
+    end's radius (one pass: :func:`~engine.geometry.chain.radii_at`)."""
+    return radii_at(chains, [np.clip(z, *sorted((ch[0].p0[1], ch[-1].p1[1]))) for ch in chains])
 
 
 def _area_at(prof: BodyProfile, z, which: str) -> np.ndarray:
@@ -281,14 +286,15 @@ def max_diameter_mm(shape) -> float:
 
     def radius(zz):
         zz = np.asarray(zz, float)
-        return prof.xs.circumradius([radius_at(w, np.clip(zz, w[0].p0[1], w[-1].p1[1])) for w in walls])
+        return prof.xs.circumradius(_chain_radii(walls, zz))
 
     r = radius(z)
     j = int(np.argmax(r))
     lo, hi = z[max(j - 1, 0)], z[min(j + 1, len(z) - 1)]
     for _ in range(60):  # golden-section refinement of the maximum between neighbouring samples
         m1, m2 = hi - 0.618034 * (hi - lo), lo + 0.618034 * (hi - lo)
-        if radius(m1) >= radius(m2):
+        r1, r2 = radius(np.array([m1, m2]))  # both in one call: each the value it has alone
+        if r1 >= r2:
             hi = m2
         else:
             lo = m1

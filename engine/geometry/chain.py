@@ -123,14 +123,33 @@ def locate(segments, z):
 def _holding(segments, z) -> np.ndarray:
     """The index of the segment holding each height ``z`` (mm; an array), -1 outside the chain's
     range (beyond :data:`Z_TOL_MM`); at a joint the lower segment of a rising chain."""
+    try:
+        bounds = _bounds(tuple(segments))
+    except TypeError:  # unhashable segments: none of the kinds here
+        bounds = _bounds.__wrapped__(tuple(segments))
+    return _held(bounds, z)
+
+
+def _held(bounds, z, first: int = 0) -> np.ndarray:
+    """:func:`_holding` from a chain's :func:`_bounds`, its indices counted from ``first``."""
+    tops, rising, z_lo, z_hi = bounds
+    last = len(tops) - 1
+    pos = np.minimum(np.searchsorted(tops, z, side="left"), last)
+    idx = first + pos if rising else first + last - pos
+    return np.where((z < z_lo - Z_TOL_MM) | (z > z_hi + Z_TOL_MM), -1, idx)
+
+
+@lru_cache(maxsize=256)
+def _bounds(segments):
+    """``(tops, rising, z_lo, z_hi)`` of a chain for :func:`_holding` (cached: a root search
+    asks one chain again and again): each segment's top (mm) from the chain's lowest segment up,
+    whether the chain rises, and its height range (mm)."""
     n = len(segments)
     rising = segments[-1].p1[1] >= segments[0].p0[1]
     order = range(n) if rising else range(n - 1, -1, -1)
     tops = np.array([max(segments[i].p0[1], segments[i].p1[1]) for i in order])
-    pos = np.minimum(np.searchsorted(tops, z, side="left"), n - 1)
-    idx = pos if rising else n - 1 - pos
     z_lo, z_hi = sorted((segments[0].p0[1], segments[-1].p1[1]))
-    return np.where((z < z_lo - Z_TOL_MM) | (z > z_hi + Z_TOL_MM), -1, idx)
+    return tops, rising, z_lo, z_hi
 
 
 def radius_at(segments, z) -> np.ndarray:
@@ -139,34 +158,62 @@ def radius_at(segments, z) -> np.ndarray:
     of lines, arcs and ellipse arcs is evaluated from a table of its segments
     (:func:`_radius_table`) with no loop or sort over them: the same operations on the same
     numbers as :func:`param_at_z` and each segment's ``point``, so the same radii bit for bit."""
-    z = np.asarray(z, dtype=float)
-    table = None
-    if z.size <= TABLE_POINTS:
+    return radii_at((segments,), (z,))[0]
+
+
+def radii_at(chains, zs) -> list:
+    """``[radius_at(chain, z) for chain, z in zip(chains, zs)]`` (mm; the heights ``zs`` of one
+    shape), in one pass over one table of every chain's segments: the same radii bit for bit, at
+    the cost of one call (a root search asks a section's two or three chains again and again)."""
+    zs = [np.asarray(z, dtype=float) for z in zs]
+    tables = None
+    if max(z.size for z in zs) <= TABLE_POINTS:
         try:
-            table = _radius_table(tuple(segments))
+            tables = _radius_tables(tuple(ch if isinstance(ch, tuple) else tuple(ch) for ch in chains))
         except TypeError:  # unhashable segments: none of the kinds here
             pass
-    if table is None:
-        return _radius_by_segment(segments, z)
-    idx = _holding(segments, z)
-    line, z0, dz, r0, dr, cz, rz, flip, a0, sign, sweep, cr, rr = table[:, np.maximum(idx, 0)]
+    if tables is None:
+        return [_radius_by_segment(ch, z) for ch, z in zip(chains, zs)]
+    (cols, has_line, has_arc), held = tables
+    if len(zs) == 1:
+        z, idx = zs[0], _held(held[0][0], zs[0])
+    else:
+        z, idx = np.stack(zs), np.stack([_held(b, zc, first) for (b, first), zc in zip(held, zs)])
+    line, z0, dz, r0, dr, cz, rz, flip, a0, sign, sweep, cr, rr = cols[:, np.maximum(idx, 0)]
     with np.errstate(divide="ignore", invalid="ignore"):
-        t = np.where(dz != 0, np.clip((z - z0) / dz, 0.0, 1.0), 0.0)
-        s = np.arcsin(np.clip((z - cz) / rz, -1.0, 1.0))
-        s = np.where(flip != 0, math.pi - s, s)
-        d = np.fmod((s - a0) * sign + math.pi, 2 * math.pi)  # then + 2 pi where < 0: np.mod's value
-        d = np.where(d < 0, d + 2 * math.pi, d) - math.pi
-        ta = np.clip(d / np.abs(sweep), 0.0, 1.0)
-        r = np.where(line != 0, r0 + t * dr, cr + rr * np.cos(a0 + ta * sweep))
-    return np.where(idx < 0, np.nan, r)
+        if has_line:
+            r_line = r0 + np.where(dz != 0, np.clip((z - z0) / dz, 0.0, 1.0), 0.0) * dr
+        if has_arc:
+            s = np.arcsin(np.clip((z - cz) / rz, -1.0, 1.0))
+            s = np.where(flip != 0, math.pi - s, s)
+            d = np.fmod((s - a0) * sign + math.pi, 2 * math.pi)  # then + 2 pi where < 0: np.mod's value
+            d = np.where(d < 0, d + 2 * math.pi, d) - math.pi
+            r_arc = cr + rr * np.cos(a0 + np.clip(d / np.abs(sweep), 0.0, 1.0) * sweep)
+    # a chain of lines alone (or arcs alone) skips the other kind's formula, which every height drops
+    r = np.where(idx < 0, np.nan, r_arc if not has_line else r_line if not has_arc else
+                 np.where(line != 0, r_line, r_arc))
+    return [r] if len(zs) == 1 else [r[i] for i in range(len(zs))]
+
+
+@lru_cache(maxsize=256)
+def _radius_tables(chains):
+    """``(table, held)`` of chains of lines, arcs and ellipse arcs: :func:`_radius_table` of all
+    their segments in turn, and per chain its :func:`_bounds` and the column its first segment
+    has there; ``None`` if a chain has other kinds."""
+    table = _radius_table(tuple(seg for ch in chains for seg in ch))
+    if table is None:
+        return None
+    firsts = np.cumsum([0] + [len(ch) for ch in chains[:-1]])
+    return table, tuple((_bounds(ch), int(first)) for ch, first in zip(chains, firsts))
 
 
 @lru_cache(maxsize=256)
 def _radius_table(segments):
-    """Per segment of a chain of lines, arcs and ellipse arcs, a column: whether a line (1), its
-    ``z0``, ``z1 - z0``, ``r0``, ``r1 - r0`` (a line's), and an arc's centre height, radius in z,
-    whether it lies on the half nearer the axis (1), start angle, direction (+-1), sweep, centre
-    radius and radius in r (:func:`param_at_z`, ``point``); ``None`` for a chain of other kinds."""
+    """``(columns, has_line, has_arc)`` of a chain of lines, arcs and ellipse arcs: per segment
+    a column, whether a line (1), its ``z0``, ``z1 - z0``, ``r0``, ``r1 - r0`` (a line's), and an
+    arc's centre height, radius in z, whether it lies on the half nearer the axis (1), start
+    angle, direction (+-1), sweep, centre radius and radius in r (:func:`param_at_z`, ``point``);
+    and whether the chain has lines, arcs. ``None`` for a chain of other kinds."""
     rows = []
     for seg in segments:
         if isinstance(seg, Line):
@@ -178,7 +225,8 @@ def _radius_table(segments):
                          seg.angle0, math.copysign(1.0, seg.sweep), seg.sweep, seg.center[0], rr))
         else:
             return None
-    return np.array(rows, float).T
+    cols = np.array(rows, float).T
+    return cols, bool(cols[0].any()), not bool(cols[0].all())
 
 
 def _radius_by_segment(segments, z) -> np.ndarray:

@@ -294,9 +294,18 @@ def _clipped(cav: _Cavity, z, d, psi: float):
 
 
 def tilted_liquid(shape, volume_mm3: float, phi: float, psi: float = 0.0) -> tuple[float, float, float]:
-    """``(V, M_u, M_z)``: the liquid of ``volume_mm3`` in the bottle tilted by ``phi`` (rad, 0 <
-    phi < pi/2) toward the plan direction ``psi`` (rad, the bottle's own frame), its surface
-    level (module rule); its volume (mm^3) and first moments along ``u`` and ``z`` (mm^4).
+    """``(V, M_u, M_z)`` of :func:`tilted_liquid_level` (its level left out)."""
+    return tilted_liquid_level(shape, volume_mm3, phi, psi)[:3]
+
+
+def tilted_liquid_level(shape, volume_mm3: float, phi: float, psi: float = 0.0,
+                        start_mm: float | None = None) -> tuple[float, float, float, float]:
+    """``(V, M_u, M_z, L)``: the liquid of ``volume_mm3`` in the bottle tilted by ``phi`` (rad,
+    0 < phi < pi/2) toward the plan direction ``psi`` (rad, the bottle's own frame), its surface
+    level (module rule); its volume (mm^3), first moments along ``u`` and ``z`` (mm^4) and its
+    surface ``z cos(phi) - (p . u) sin(phi) = L`` (mm). Newton's search for ``L`` starts from
+    ``start_mm`` (the level at a near tilt: a search over tilts asks many close ones) or else
+    from the upright fill height's; it ends where the volume is met to 1e-13 either way.
 
     Below the height where the surface plane leaves the cavity's reach every section is whole
     (its volume and moments are the upright ones of :mod:`engine.geometry.capacity`; its moment
@@ -325,19 +334,21 @@ def tilted_liquid(shape, volume_mm3: float, phi: float, psi: float = 0.0) -> tup
     lo = cav.z_ib * cphi - cav.reach * sphi
     hi = cav.z_top * cphi + cav.reach * sphi
     if volume_mm3 >= capacity.cavity_moments_below_mm(shape, cav.z_top)[0] * (1 - 1e-12):
-        return parts(hi)[:3]  # brimful: the whole cavity
+        return (*parts(hi)[:3], hi)  # brimful: the whole cavity
     # Newton on the level (dV/dL is the surface's area), kept inside a shrinking bracket
-    level = min(max(capacity.fill_height_for_volume(shape, volume_mm3 / MM3_PER_ML) * cphi, lo), hi)
+    if start_mm is None:
+        start_mm = capacity.fill_height_for_volume(shape, volume_mm3 / MM3_PER_ML) * cphi
+    level = min(max(start_mm, lo), hi)
     for _ in range(60):
         v, mu, mz, slope = parts(level)
         if abs(v - volume_mm3) <= 1e-13 * volume_mm3:
-            return v, mu, mz
+            return v, mu, mz, level
         lo, hi = (level, hi) if v < volume_mm3 else (lo, level)
         step = level - (v - volume_mm3) / slope if slope > 0 else 0.5 * (lo + hi)
         level = step if lo < step < hi else 0.5 * (lo + hi)
         if hi - lo < 1e-12:
             break
-    return parts(level)[:3]
+    return (*parts(level)[:3], level)
 
 
 def liquid_volume_mm3(shape, height_mm: float) -> float:

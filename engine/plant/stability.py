@@ -36,6 +36,9 @@ from . import mass
 DIRECTION_STEP_DEG = 0.25
 #: Tilts sampled beyond the frozen angle when the margin is still negative there.
 TILT_SAMPLES = 4
+#: A tilt's liquid level is sought from the levels found at tilts within this (rad): brentq's
+#: last tilts are 1e-10 rad apart, and a search from the upright fill height takes five steps.
+WARM_RAD = 0.05
 #: A centre of gravity this near the axis (mm) is on it: a centrally symmetric outline's
 #: moments are 0 to rounding, and the tie between its equal edges must not follow the noise.
 ON_AXIS_MM = 1e-9
@@ -100,6 +103,17 @@ def least_direction(shape, at=(0.0, 0.0)) -> tuple[float, float]:
     return float(psi[i]), float(margin[i])
 
 
+def _level_guess(levels: dict, phi: float) -> float | None:
+    """Where the liquid's level (mm) at the tilt ``phi`` (rad) is sought from, given the levels
+    found at other tilts (``{tilt: level}``): on the line through the two nearest within
+    :data:`WARM_RAD`, at the one if only one is, else ``None`` (the upright fill height's)."""
+    near = sorted((p for p in levels if abs(p - phi) < WARM_RAD), key=lambda p: abs(p - phi))[:2]
+    if len(near) == 2:
+        (p0, p1), (l0, l1) = near, (levels[near[0]], levels[near[1]])
+        return l0 + (l1 - l0) * (phi - p0) / (p1 - p0)
+    return levels[near[0]] if near else None
+
+
 def moving_tip(shape, fixed: mass.Part, liquid_mm3: float, density_g_ml: float,
                psi: float, reach_mm: float) -> float:
     """The tip angle (rad) of the bottle toward ``psi`` (rad, own frame) with the fixed parts
@@ -108,10 +122,12 @@ def moving_tip(shape, fixed: mass.Part, liquid_mm3: float, density_g_ml: float,
     liquid_g = liquid_mm3 * density_g_ml * mass.G_PER_MM3
     m = fixed.mass_g + liquid_g
 
+    levels = {}  # tilt (rad) -> the liquid's level there (mm): where the next tilt's search starts
+
     @lru_cache(maxsize=None)  # why: brentq asks again for the two ends it is given
     def centre(phi):
         """``(c_u, c_z)`` (mm) of the whole at the tilt ``phi``."""
-        v, mu, mz = mass.tilted_liquid(shape, liquid_mm3, phi, psi)
+        v, mu, mz, levels[phi] = mass.tilted_liquid_level(shape, liquid_mm3, phi, psi, _level_guess(levels, phi))
         return ((fixed.mass_g * fixed.along(psi) + liquid_g * mu / v) / m,
                 (fixed.mass_g * fixed.cg_z_mm + liquid_g * mz / v) / m)
 

@@ -16,7 +16,12 @@ with ``z'`` over the inner wall's heights ``[z_ib, z_top]`` (the inner base is t
 ``z_ib``) and ``sd`` the plan's signed distance (:meth:`engine.geometry.plan.PlanOutline.signed_distance`:
 exact Euclidean where the rounding ``t >= 0``; near a sharp inner corner, ``t < 0``, the largest
 distance to its sides' lines, which errs thin). The minimiser lies within ``T(q, z) <= D(q, z)``
-of ``z``: a grid of heights in that window, then golden sections, gives it to about 1e-6 mm in height (the thickness, at its minimum, to rounding).
+of ``z``: a grid of heights in that window picks the basin, then Brent's method (parabolas
+through the three best heights, golden sections where they do not help) finds it to
+:data:`XTOL_MM` in height, every point at once, each left alone once it has converged; where
+it converged next to a joint of the inner profile (a knee: ``T`` has a kink there, and the
+least is the knee itself) the joint is tried too. The thickness, at a smooth minimum, comes out
+to rounding; at a knee exact.
 
 Where to look is bounded first. Along a plan direction ``u`` the wall's distance from the axis is
 ``rho_u(z) = k(z) h(u) + c(z)`` and ``D >= rho_u(z) - rho_u(z') + w``, so by the mean value theorem
@@ -26,7 +31,10 @@ at the plan's least or greatest support ``h``). Heights where that bound keeps
 panel is equally thick along its length), across each arc's and corner's normals every
 :data:`FAN_STEP_DEG` and at its farthest point (the steepest). The least over directions per
 height marks the thin runs; their ends and their least are found again on finer and finer
-grids of height. Units: mm, deg.
+grids of height. Directions or heights whose thickness agrees within :data:`TIE` of the wall
+(a symmetric plan's equal corners, a cone's equal heights) count as equal: the first in the
+probes' order, the lowest height, is taken, so which one is quoted does not hang on rounding.
+Units: mm, deg.
 """
 from __future__ import annotations
 
@@ -36,7 +44,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..geometry.body import chain_state
-from ..geometry.chain import radius_at
+from ..geometry.chain import radii_at, radius_at
 from ..geometry.validate import body_profile
 
 #: The share of the wall below which the sheet warns. A plant gauges the glass along its normal;
@@ -48,13 +56,27 @@ THIN_SHARE = 0.9
 NODES = 16
 #: The largest step (deg) between the plan directions looked at across an arc or a corner.
 FAN_STEP_DEG = 10.0
-#: Heights a window in ``z'`` is first sampled at, and the golden sections after (to 1e-6 mm).
-GRID, GOLDEN = 9, 28
+#: Heights a window in ``z'`` is first sampled at (the basin of the least).
+GRID = 9
+#: Brent's tolerance (mm) on the height ``z'`` of the nearest inner point; at a smooth minimum the
+#: thickness is then exact to rounding (its error is the square of this over the wall), at a
+#: knee within this of it before the knee itself is tried. Near ``1e-8 z'``, rounding's floor.
+XTOL_MM = 3e-8
+#: Brent's golden share, ``(3 - sqrt 5) / 2``, and its cap on steps (never met: 40 golden steps
+#: shrink a window of the wall to far below :data:`XTOL_MM`).
+_CG, BRENT_STEPS = (3.0 - math.sqrt(5.0)) / 2.0, 200
+#: Brent's last step under this many tolerances, the parabola refused next: the least is beside it.
+CLOSE = 10.0
+#: Thicknesses within this share of the wall are equal (module rule): far above rounding (the
+#: search's error where the least is smooth or at a knee), far below anything a gauge sees.
+TIE = 1e-12
+#: A height is better than Brent's best only by more than this share of its value (a few
+#: roundings of the squared distance): else steps within rounding of the least wander on.
+NOISE = 1e-14
 #: Heights a run's end or least is sampled at between two heights, and how often that zooms in
 #: for the least (a 1 mm step resolved to 3e-5 mm) and for an end (to 1e-3 mm: it is quoted to
 #: 0.1 mm), along the directions :data:`NEAR` thinnest there.
 ZOOM, ZOOMS, END_ZOOMS, NEAR = 33, 3, 2, 4
-_G = (math.sqrt(5.0) - 1.0) / 2.0
 
 
 @lru_cache(maxsize=32)
@@ -77,10 +99,10 @@ def thin_walls(shape) -> tuple[dict, ...]:
     found = []  # per run: its ends' and its least's searches, run together (module rule)
     for i, j in _runs(thin):
         def near(a, b):  # the directions thinnest at either height: where the least will be
-            return np.unique(np.argsort(each[[a, b]], axis=1)[:, :NEAR].ravel())
+            return np.unique(_thinnest(each[[a, b]], wall.w)[:, :NEAR].ravel())
         lo = z[0] if i == 0 else wall.crossing(z[i - 1], z[i], near(i - 1, i))
         hi = z[-1] if j == len(z) - 1 else wall.crossing(z[j + 1], z[j], near(j, j + 1))
-        m = i + int(np.argmin(least[i:j + 1]))
+        m = i + _first_least(least[i:j + 1], wall.w)
         a, b = max(m - 1, 0), min(m + 1, len(z) - 1)
         found.append((lo, hi, wall.refined(z[a], z[b], near(a, b))))
     results = iter(wall.together([g for f in found for g in f if not isinstance(g, float)]))
@@ -100,6 +122,24 @@ def warnings(runs, wall_mm: float) -> list[str]:
             f"across the plan, not along the slope" for r in runs]
 
 
+def _thinnest(t, wall_mm: float) -> np.ndarray:
+    """Per row of thicknesses ``t`` (mm), the column indices thinnest first, thicknesses within
+    :data:`TIE` of the wall ``wall_mm`` of one another counted equal and taken in column order
+    (module rule)."""
+    order = np.argsort(t, axis=1, kind="stable")
+    ranked = np.take_along_axis(t, order, axis=1)
+    gap = np.diff(ranked, axis=1) > TIE * wall_mm  # where a new group of equals starts
+    group = np.concatenate([np.zeros((len(t), 1), int), np.cumsum(gap, axis=1)], axis=1)
+    key = np.empty_like(group)
+    np.put_along_axis(key, order, group, axis=1)
+    return np.argsort(key, axis=1, kind="stable")
+
+
+def _first_least(t, wall_mm: float) -> int:
+    """The first index of ``t`` (mm) within :data:`TIE` of the wall ``wall_mm`` of its least."""
+    return int(np.argmax(t <= np.min(t) + TIE * wall_mm))
+
+
 def _runs(mask):
     """``(first, last)`` index of each run of ``True`` in ``mask``."""
     edges = np.diff(np.concatenate([[0], mask.astype(int), [0]]))
@@ -115,6 +155,8 @@ class _Wall:
         self.outer = [sp.outer_wall for sp in prof.sections]
         self.inner = [sp.inner_wall for sp in prof.sections]
         self.z_ib, self.z_top = prof.z_ib, prof.z_top
+        joints = [p[1] for ch in self.inner for s in ch for p in (s.p0, s.p1)]
+        self.knees = np.unique(np.clip(joints, self.z_ib, self.z_top))
         self.p, self.u = _probes(shape.plan)
         # P's least support is the origin's distance to its edge; its farthest point is at 1
         self.h_range = (-float(shape.plan.signed_distance(0.0, 0.0, 1.0, 0.0)[0]), 1.0)
@@ -137,8 +179,10 @@ class _Wall:
                 kd, cd = kr / kz, cr / cz  # a horizontal piece (a heel) is infinitely steep
             for h in self.h_range:
                 slope = np.maximum(slope, np.nan_to_num(np.abs(h * kd + cd), nan=np.inf))
-        near = np.abs(z[:, None] - dense[None, :]) <= 1.05 * self.w  # (a margin for the sampling)
-        steep = np.max(np.where(near, slope[None, :], 0.0), axis=1) > 0.95 * s_max
+        reach = 1.05 * self.w  # (a margin for the sampling)
+        lo, hi = np.searchsorted(dense, z - 2.0 * reach), np.searchsorted(dense, z + 2.0 * reach, "right")
+        steep = np.array([np.max(np.where(np.abs(zi - dense[i:j]) <= reach, slope[i:j], 0.0), initial=0.0)
+                          for zi, i, j in zip(z, lo, hi)]) > 0.95 * s_max  # each height's own stretch
         return steep | ((z > self.z_ib - THIN_SHARE * self.w) & (z < self.z_ib + self.w))
 
     def _outer_points(self, z, p, u):
@@ -147,35 +191,74 @@ class _Wall:
 
     def _f(self, x, y, z, zp):
         """Squared distance (mm^2) from ``(x, y, z)`` to the inner wall's section at ``zp``."""
-        k, t = (radius_at(ch, zp) for ch in self.inner)
+        k, t = radii_at(self.inner, (zp, zp))
         d = np.maximum(self.plan.distance(x, y, k, t), 0.0)
         return (z - zp) ** 2 + d * d
 
     def thickness(self, z, p, u):
         """``T`` (mm) at the outer points of heights ``z`` along plan normals ``u`` (broadcast;
-        ``p`` the plan's points with those normals), by a grid and golden sections in ``z'``."""
-        x, y = self._outer_points(z, p, u)
-        x, y, z = np.broadcast_arrays(x, y, z)
+        ``p`` the plan's points with those normals): the least of :meth:`_least`."""
+        x, y, z = np.broadcast_arrays(*self._outer_points(z, p, u), z)
+        shape = z.shape
+        x, y, z = (np.ravel(v) for v in (x, y, z))
+
+        def f(rows, zp):
+            return self._f(x[rows], y[rows], z[rows], zp)
         z0 = np.clip(z, self.z_ib, self.z_top)
         reach = np.sqrt(self._f(x, y, z, z0))
+        return np.sqrt(self._least(f, z, z0, reach)).reshape(shape)
+
+    def _least(self, f, z, z0, reach):
+        """The least (mm^2) about each outer height ``z`` (mm; ``z0`` it within the inner wall,
+        ``reach`` the distance there) of the function ``f(rows, zp)`` (squared distances, mm^2,
+        of the rows ``rows`` at heights ``zp``): a grid in ``z'`` over the reach, the knee in the
+        best grid height's two intervals, Brent's method on the smooth side of it, the knee Brent
+        ended next to (module rule)."""
+        rows = np.arange(len(z))
         lo, hi = np.maximum(z - reach, self.z_ib), np.minimum(z + reach, self.z_top)
         lo, hi = np.minimum(lo, z0), np.maximum(hi, z0)
-        grid = lo[..., None] + (hi - lo)[..., None] * np.linspace(0.0, 1.0, GRID)
-        f = self._f(x[..., None], y[..., None], z[..., None], grid)
-        i = np.argmin(f, axis=-1)[..., None]
-        a = np.take_along_axis(grid, np.maximum(i - 1, 0), -1)[..., 0]
-        b = np.take_along_axis(grid, np.minimum(i + 1, GRID - 1), -1)[..., 0]
-        m1, m2 = b - _G * (b - a), a + _G * (b - a)
-        f1, f2 = self._f(x, y, z, m1), self._f(x, y, z, m2)
-        for _ in range(GOLDEN):  # one new height an iteration: the kept one is the golden cut
-            left = f1 <= f2
-            a, b = np.where(left, a, m1), np.where(left, m2, b)
-            m1, m2, f2 = np.where(left, b - _G * (b - a), m2), np.where(left, m1, a + _G * (b - a)), \
-                np.where(left, f1, f2)
-            new = self._f(x, y, z, np.where(left, m1, m2))
-            f1, f2 = np.where(left, new, f2), np.where(left, f2, new)
-        best = np.minimum(np.minimum(f1, f2), np.min(f, axis=-1))
-        return np.sqrt(best)
+        grid = lo[:, None] + (hi - lo)[:, None] * np.linspace(0.0, 1.0, GRID)
+        fg = f(rows[:, None], grid)
+        i = np.argmin(fg, axis=-1)[:, None]
+        a, m, b = (np.take_along_axis(grid, j, -1)[:, 0]
+                   for j in (np.maximum(i - 1, 0), i, np.minimum(i + 1, GRID - 1)))
+        at, best = _brent(f, *self._beside_knee(f, a, b, m, np.take_along_axis(fg, i, -1)[:, 0]))
+        knee = self._nearest_knee(at)  # Brent ended within a tolerance of another knee: try it
+        rows = np.nonzero(np.abs(knee - at) <= 4.0 * XTOL_MM)[0]
+        best[rows] = np.minimum(best[rows], f(rows, knee[rows]))
+        return best
+
+    def _beside_knee(self, f, a, b, m, fm):
+        """Brent's windows and starts ``(a, b, x, f(x))`` for the windows ``[a, b]`` (mm) whose
+        best grid height is ``m`` (``fm`` its value; ``f`` as :func:`_brent`'s): where the knee
+        nearest ``m`` lies in the window, it and :data:`XTOL_MM` either side are tried. The least
+        of those and ``m`` says where the least lies: the knee itself (a window of one height,
+        a kink's minimum found exactly) or the side of it holding that best height, where the
+        function is smooth and Brent's parabolas converge fast."""
+        knee = self._nearest_knee(m)
+        rows = np.nonzero((knee >= a) & (knee <= b))[0]
+        if not len(rows):
+            return a, b, m, fm
+        a, b, m, fm = (v.copy() for v in (a, b, m, fm))
+        k = knee[rows]
+        tried = np.stack([k, np.maximum(k - XTOL_MM, self.z_ib), np.minimum(k + XTOL_MM, self.z_top), m[rows]],
+                         axis=1)
+        ft = f(rows[:, None], tried[:, :3])
+        ft = np.concatenate([ft, fm[rows, None]], axis=1)
+        j = np.argmin(ft, axis=1)  # the knee first among equals
+        here = np.arange(len(rows))
+        side_below = (j == 1) | ((j == 3) & (m[rows] < k))
+        side_above = (j == 2) | ((j == 3) & (m[rows] > k))
+        a[rows] = np.where(side_above, tried[:, 2], np.where(side_below, a[rows], k))
+        b[rows] = np.where(side_below, tried[:, 1], np.where(side_above, b[rows], k))
+        m[rows], fm[rows] = tried[here, j], ft[here, j]
+        return a, b, m, fm
+
+    def _nearest_knee(self, zp):
+        """The joint of the inner profile (mm; its ends included) nearest each height ``zp``."""
+        j = np.searchsorted(self.knees, zp)
+        below, above = self.knees[np.maximum(j - 1, 0)], self.knees[np.minimum(j, len(self.knees) - 1)]
+        return np.where(zp - below <= above - zp, below, above)
 
     def together(self, searches) -> list:
         """The results of the generator ``searches`` (:meth:`crossing`, :meth:`refined`), run in
@@ -195,8 +278,8 @@ class _Wall:
             for n, (zz, which) in list(asks.items()):
                 rows = t[start:start + len(zz) * len(which)].reshape(len(zz), len(which))
                 start += rows.size
-                j = np.argmin(rows, axis=1)
-                answer = rows[np.arange(len(zz)), j], np.arctan2(self.u[1][which][j], self.u[0][which][j])
+                j = _thinnest(rows, self.w)[:, 0]
+                answer = rows.min(axis=1), np.arctan2(self.u[1][which][j], self.u[0][which][j])
                 try:
                     asks[n] = searches[n].send(answer)
                 except StopIteration as done:
@@ -223,9 +306,64 @@ class _Wall:
         for _ in range(ZOOMS):
             z = np.linspace(za, zb, ZOOM)
             t, psi = yield z, which
-            i = int(np.argmin(t))
+            i = _first_least(t, self.w)
             za, zb = z[max(i - 1, 0)], z[min(i + 1, ZOOM - 1)]
         return float(z[i]), float(t[i]), float(psi[i])
+
+
+def _brent(f, a, b, x, fx):
+    """Brent's minimisation of every row's function on its window ``[a, b]`` (mm) from ``x`` in
+    it (``fx`` its value), all rows in step: ``(x, f(x))`` at the least found, to
+    :data:`XTOL_MM`. ``f(rows, zp)`` gives the functions of the rows ``rows`` (indices) at the
+    heights ``zp``; a converged row is left alone. Each step is Brent's (Numerical Recipes'
+    ``brent``): the parabola through the three best heights ``x, w, v`` where it falls inside
+    the window and moves less than half the step before last, else a golden section into the
+    larger part; never closer than the tolerance to a height already tried. Two changes for
+    rows in step, where the slowest sets the pace: a height counts as better only by more than
+    :data:`NOISE`, and a row whose parabola has settled (its last step under :data:`CLOSE`
+    tolerances, the next refused) looks one tolerance beside its best toward the window's far
+    end, which closes the window in a step or two instead of golden sections creeping back from
+    that end."""
+    a, b, x, fx = (np.array(q, float) for q in (a, b, x, fx))
+    x_out, f_out = x.copy(), fx.copy()
+    w, v, fw, fv, d, e = x.copy(), x.copy(), fx.copy(), fx.copy(), np.full(x.shape, np.inf), np.zeros(x.shape)
+    live = np.arange(len(x))
+    for _ in range(BRENT_STEPS):
+        xm, tol = 0.5 * (a + b), XTOL_MM + 1e-12 * np.abs(x)
+        done = np.abs(x - xm) <= 2.0 * tol - 0.5 * (b - a)
+        if done.any():
+            x_out[live[done]], f_out[live[done]] = x[done], fx[done]
+            keep = ~done
+            live, a, b, x, w, v, fx, fw, fv, d, e, xm, tol = (
+                q[keep] for q in (live, a, b, x, w, v, fx, fw, fv, d, e, xm, tol))
+            if not len(live):
+                break
+        r, q = (x - w) * (fx - fv), (x - v) * (fx - fw)
+        p, q = (x - v) * q - (x - w) * r, 2.0 * (q - r)
+        p, q = np.where(q > 0.0, -p, p), np.abs(q)
+        golden = np.where(x >= xm, a - x, b - x)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            parabola = (np.abs(e) > tol) & (np.abs(p) < np.abs(0.5 * q * e)) & (p > q * (a - x)) & (p < q * (b - x))
+            step = p / q
+        near_end = (x + step - a < 2.0 * tol) | (b - x - step < 2.0 * tol)
+        step = np.where(near_end, np.copysign(tol, xm - x), step)
+        # settled (a parabola's small step, the next refused): look just beside it, toward the far
+        # end, not a golden section into that end (which would creep back from it at 0.62 a step)
+        close = ~parabola & (np.abs(d) < CLOSE * tol)
+        e, d = np.where(parabola, d, np.where(close, b - a, golden)), \
+            np.where(parabola, step, np.where(close, np.copysign(tol, xm - x), _CG * golden))
+        u = x + np.where(np.abs(d) >= tol, d, np.copysign(tol, xm - x))
+        fu = f(live, u)
+        better = fu < fx - NOISE * fx  # why not by less: rounding's walk would keep one window end far
+        a = np.where(better, np.where(u >= x, x, a), np.where(u < x, u, a))
+        b = np.where(better, np.where(u >= x, b, x), np.where(u < x, b, u))
+        to_w = ~better & ((fu <= fw) | (w == x))
+        to_v = ~better & ~to_w & ((fu <= fv) | (v == x) | (v == w))
+        v, fv = np.where(better | to_w, w, np.where(to_v, u, v)), np.where(better | to_w, fw, np.where(to_v, fu, fv))
+        w, fw = np.where(better, x, np.where(to_w, u, w)), np.where(better, fx, np.where(to_w, fu, fw))
+        x, fx = np.where(better, u, x), np.where(better, fu, fx)
+    x_out[live], f_out[live] = x, fx
+    return x_out, f_out
 
 
 def _probes(plan):

@@ -342,6 +342,17 @@ def test_inradius_of_rectangles_flask_and_shield():
     assert sh.inradius >= best - 1e-8
 
 
+@pytest.mark.parametrize("pieces", [2, 3, 4])
+def test_a_circular_plan_is_its_own_incircle(pieces):
+    """Arcs about one centre: the largest disc's centre is every arc's centre, where no arc's
+    nearest direction is defined (the polish once divided by its zero contacts there)."""
+    ends = [(math.cos(2 * math.pi * i / pieces), math.sin(2 * math.pi * i / pieces)) for i in range(pieces + 1)]
+    o = pl.PlanOutline.from_dicts([{"type": "arc", "center": [0.0, 0.0], "radius": 1.0, "p0": list(a),
+                                    "p1": list(b), "ccw": True} for a, b in zip(ends, ends[1:])])
+    assert o.inradius == pytest.approx(1.0, abs=1e-12)
+    assert np.allclose(o.incenter, (0.0, 0.0), atol=1e-9)
+
+
 # --------------------------------------------------------------------------- sections
 def test_rounded_square_is_the_spec_special_case():
     sq = pl.square()

@@ -1028,6 +1028,8 @@ def _polished(outline: PlanOutline, x: float, y: float, r: float) -> tuple[float
     for _ in range(12):
         act = [c for c in _contacts(outline, x, y) if c[0] <= r + 1e-7]
         m = len(act)
+        if m == 0:  # at the centre of arcs (a circular plan): no smooth piece to polish on
+            break
         lam = np.full(m, 1.0 / m) if lam is None or len(lam) != m else lam
         jac, res = np.zeros((3 + m, 3 + m)), np.zeros(3 + m)
         res[:2] = sum(l * c[1] for l, c in zip(lam, act))

@@ -95,7 +95,11 @@ class RenderJob:
                  threads=None, tile=32, on_tile=None, on_done=None, on_wave=None, previous=None, changed=None,
                  worker_nice=0, _tile_shuffle_seed=None, _sample_base=0):
         """A job for ``design`` (class docstring); every option but the design is keyword-only
-        with a default, so a call names just what it changes."""
+        with a default, so a call names just what it changes. Why so many parameters: the
+        sampling options travel as one record (:class:`~engine.tracer.sampling.Sampling`); what
+        remains are independent choices of different callers (size and ``spp``, threads and
+        tile, three observers, the reuse pair ``previous``/``changed``, the process's niceness
+        and two benchmark hooks), none of which travels with another."""
         if not isinstance(sampling, Sampling):
             raise TypeError(f"sampling must be a Sampling, not {type(sampling).__name__}")
         self.design = design

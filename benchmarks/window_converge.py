@@ -288,6 +288,13 @@ def _neighbour_differs(a, differs) -> np.ndarray:
     return out
 
 
+def bottle_mask(job) -> np.ndarray:
+    """Pixels ``(H, W)`` whose ray trees met the bottle's own surfaces (its glass, liquid and
+    walls; not the stage, the label or the cap alone): the pixels of glass issue 41 compares
+    samples by."""
+    return (job.film.objects & ((1 << len(job.context.geometry.names)) - 1)) != 0
+
+
 def failure_regions(job) -> dict:
     """Masks ``(H, W)`` of the places issue 42 names, from a converged window render ``job``:
     ``label_edges`` (the albedo guide steps by > 0.1: label text, die-cut edges, seen directly or
@@ -299,7 +306,7 @@ def failure_regions(job) -> dict:
     film, ctx = job.film, job.context
     albedo, normal = film.guides()
     ground = int(ctx.ground_objects)
-    bottle = (film.objects & ((1 << len(ctx.geometry.names)) - 1)) != 0  # (the bottle's own surfaces)
+    bottle = bottle_mask(job)
     grey = albedo.mean(axis=2)
     label = _neighbour_differs(grey, lambda a, b: np.abs(a - b) > 0.1)
     unit = normal / np.maximum(np.linalg.norm(normal, axis=2, keepdims=True), 1e-9)
@@ -474,6 +481,9 @@ def sample_rows(a, name, design, assets, policies) -> list[dict]:
                "rays": rays, "rays_per_pixel": rays / (a.width * a.height),
                "tree_leaves": leaves, "kept_tree_gib": leaves * KEPT_LEAF_BYTES / 2 ** 30,
                "samples_per_pixel": float(job.sample_counts().mean()),
+               # issue 41 compares samples by their time per pixel of glass (the flacon fills
+               # twice the square's share of the frame)
+               "glass_pixels": int(bottle_mask(job).sum()),
                # the per-pixel tolerance the split policy settled at (display levels)
                "tolerance_levels": None if job.tolerance is None else job.tolerance * 255.0}
         if ref is not None:
@@ -511,8 +521,10 @@ def sample_rows(a, name, design, assets, policies) -> list[dict]:
                 f"within {b:g} levels after " + ("(never)" if row[f"within_{b:g}_levels_s"] is None
                                                  else f"{row[f'within_{b:g}_levels_s']:.1f} s")
                 for b in PROGRESS_BOUNDS)
+        row["seconds_per_kilopixel_of_glass"] = secs / max(row["glass_pixels"], 1) * 1000.0
         print(f"{name} [{policy}]: {secs:.1f} s, {rays / 1e6:.1f} M rays, {row['rays_per_pixel']:.0f} rays/pixel, "
-              f"{row['samples_per_pixel']:.1f} samples/pixel{settled}, a kept tree for colour edits "
+              f"{row['glass_pixels']:,} pixels of glass ({row['seconds_per_kilopixel_of_glass']:.2f} s per "
+              f"thousand), {row['samples_per_pixel']:.1f} samples/pixel{settled}, a kept tree for colour edits "
               f"{row['kept_tree_gib']:.2f} GiB{check}", flush=True)
     return rows
 

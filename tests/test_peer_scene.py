@@ -70,15 +70,12 @@ def test_the_public_1_conversion_has_the_references_triangle_count():
     assert 2 * 1800 * (len(rings["outer"].z) + len(rings["inner"].z)) == ref["triangles"]
 
 
-@pytest.mark.parametrize("name", ["public_3", "public_4"])
-def test_vertices_and_normals_are_the_exact_surfaces(name):
-    """Every wall vertex lies on the engine's exact surface (to 1e-9 mm) and carries its exact
-    unit normal (to 1e-9): a rounded square turned 55 degrees flaring into a round neck, and
-    offset ellipse arcs; the glass and the liquid are closed solids."""
+def assert_rings_on_exact_surfaces(s) -> dict:
+    """Every wall vertex of the spec ``s`` lies on the engine's exact surface (to 1e-9 mm) and
+    carries its exact unit normal (to 1e-9); returns the rings."""
     from benchmarks.oracle_spec import shape_from_spec
     from engine.geometry.body import BottleBody
 
-    s = spec(name, max_turn_deg=3.0)
     body = BottleBody(shape_from_spec(s["bottle"]))
     rings = bottle_rings(s)
     for part in ("outer", "inner"):
@@ -89,6 +86,16 @@ def test_vertices_and_normals_are_the_exact_surfaces(name):
         exact = grad / np.linalg.norm(grad, axis=-1, keepdims=True)
         # the engine's gradient grows out of the glass's outline / the cavity: away from the axis both
         assert np.abs(rg.n - exact).max() < 1e-9, part
+    return rings
+
+
+@pytest.mark.parametrize("name", ["public_3", "public_4"])
+def test_vertices_and_normals_are_the_exact_surfaces(name):
+    """Every wall vertex lies on the engine's exact surface (to 1e-9 mm) and carries its exact
+    unit normal (to 1e-9): a rounded square turned 55 degrees flaring into a round neck, and
+    offset ellipse arcs; the glass and the liquid are closed solids."""
+    s = spec(name, max_turn_deg=3.0)
+    assert_rings_on_exact_surfaces(s)
     m = spec_meshes(s)
     assert closed([m["glass_air"][:2], m["glass_liquid"][:2]])
     v, f, _ = m["glass_liquid"]

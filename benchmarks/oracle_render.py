@@ -66,12 +66,13 @@ def reference_path(spec_path: str) -> str:
 
 def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
                 noise_target: float = ORACLE_NOISE_TARGET, tile: int = 64, adaptive: bool = True,
-                scene=None, progress=None, cap_factor=None, **settings):
+                scene=None, progress=None, cap_factor=None, sample_base: int = 0, **settings):
     """Render a SPEC scene (or ``scene``, a ``(design, assets)`` pair made from one); returns
     ``(image (H, W, 3) float32, seconds, job)``. With a list ``progress``, appends after each
     wave ``(seconds, image, samples per pixel)`` of the film then (the copies' time counted in).
     ``cap_factor`` raises the adaptive rounds' cap to ``cap_factor x spp`` samples (``None``: the
-    engine's ``LINEAR_FACTOR``).
+    engine's ``LINEAR_FACTOR``). ``sample_base`` > 0 traces each pixel's samples from that index of
+    its sequence on: a render on samples independent of the default one (its noise measured).
 
     ``settings`` may override ``RenderSettings`` fields (``max_depth``, ``min_weight``, ...);
     by default the oracle cut-offs above are used. A ground's grids are built anew within the
@@ -91,7 +92,8 @@ def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *,
     clear_stage_caches()  # (a ground's grids are built within the time, as for a design's first render)
     t0 = time.perf_counter()
     job = RenderJob(design, assets, threads=threads, tile=tile, noise_target=noise_target, adaptive=adaptive,
-                    cap_factor=cap_factor, on_wave=None if progress is None else snapshot).start()
+                    cap_factor=cap_factor, on_wave=None if progress is None else snapshot,
+                    _sample_base=sample_base).start()
     job.wait()
     if job.error is not None:
         raise job.error

@@ -68,11 +68,12 @@ def reference_path(spec_path: str) -> str:
 
 
 def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *, sampling: Sampling = ORACLE_SAMPLING,
-                tile: int = 64, scene=None, progress=None, **settings):
+                tile: int = 64, scene=None, progress=None, sample_base: int = 0, **settings):
     """Render a SPEC scene (or ``scene``, a ``(design, assets)`` pair made from one) with
     ``sampling``'s adaptive rounds; returns ``(image (H, W, 3) float32, seconds, job)``. With a
     list ``progress``, appends after each wave ``(seconds, image, samples per pixel)`` of the film
-    then (the copies' time counted in).
+    then (the copies' time counted in). ``sample_base`` > 0 traces each pixel's samples from that
+    index of its sequence on: a render on samples independent of the default one (its noise measured).
 
     ``settings`` may override ``RenderSettings`` fields (``max_depth``, ``min_weight``, ...);
     by default the oracle cut-offs above are used. A ground's grids are built anew within the
@@ -92,7 +93,7 @@ def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *, samplin
     clear_stage_caches()  # (a ground's grids are built within the time, as for a design's first render)
     t0 = time.perf_counter()
     job = RenderJob(design, assets, threads=threads, tile=tile, sampling=sampling,
-                    on_wave=None if progress is None else snapshot).start()
+                    on_wave=None if progress is None else snapshot, _sample_base=sample_base).start()
     job.wait()
     if job.error is not None:
         raise job.error

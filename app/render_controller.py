@@ -12,8 +12,10 @@ a cheap **live pass** instead: a quarter-size job at 1 sample per pixel, cancell
 edit; releasing the hold starts the full render of the newest design. The controller says
 honestly what the picture is (:attr:`state`, signal ``stateChanged``): ``"stale"`` while a hold
 keeps the full render back, ``"refining"`` while a full job adds waves, ``"denoised"`` while the
-picture is the denoiser's estimate of the film after the newest wave, ``"converged"`` once it is
-done for the design shown (the raw film, never the denoised one), ``"failed"``.
+picture is the denoiser's estimate of the film after the newest wave, ``"retinted"`` while after a
+colour-only edit it is the last converged image in the new colour (:mod:`engine.tracer.retint`,
+shown from the first wave on), ``"converged"`` once it is done for the design shown (the raw film,
+never an estimate), ``"failed"``.
 
 The denoised preview (:class:`engine.tracer.denoise.FrameDenoiser`, on a thread of its own with
 one OIDN thread, niced like the workers): after each wave of a full job from the first
@@ -316,12 +318,14 @@ class RenderController(QObject):
         fraction = float(job.progress)
         self.progressed.emit(generation, fraction, *self.size)
         wave = max(max(t.wave for t in tiles), self.wave)
-        state = "stale" if self.live else ("denoised" if denoised else "refining")
+        state = "stale" if self.live else (_estimate_state(job) if denoised else "refining")
         self._set_state(state, wave, 0.0 if self.live else fraction)
 
     def _on_worker_wave(self, generation, job, wave):
-        # (wave 0 is the block preview: its guides hold only the blocks' centres)
-        if generation != self.generation or job is not self.job or self.live or not self.denoise or wave < 1:
+        # (wave 0 is the block preview: its guides hold only the blocks' centres; a retint
+        # needs only centres, and its first frame is due at once)
+        first = 0 if getattr(job, "retint", None) is not None else 1
+        if generation != self.generation or job is not self.job or self.live or not self.denoise or wave < first:
             return
         self._request_denoise(generation, job, wave)
 
@@ -333,7 +337,7 @@ class RenderController(QObject):
         self._denoised_generation = generation
         self.denoised_samples = samples
         self.tileReady.emit(generation, 0, 0, rgb8)
-        self._set_state("denoised", self.wave, float(job.progress))
+        self._set_state(_estimate_state(job), self.wave, float(job.progress))
 
     def _on_worker_done(self, generation, job):
         if generation != self.generation or job is not self.job:
@@ -353,6 +357,12 @@ class RenderController(QObject):
                 self._paint_whole(job)
             self._set_state("converged", self.wave, 1.0)
             self.finished.emit(generation)
+
+
+def _estimate_state(job) -> str:
+    """What an estimate of ``job``'s film shown is called: ``"retinted"`` for a colour-only
+    edit's (:mod:`engine.tracer.retint`), else ``"denoised"``."""
+    return "retinted" if getattr(job, "retint", None) is not None else "denoised"
 
 
 def _latest_per_area(tiles):

@@ -34,7 +34,8 @@ MAX_PREVIEW_PIXELS = 3_000_000
 #: How long (ms) the pane's size must hold still before the preview renders at the new size.
 RESIZE_SETTLE_MS = 250
 STATE_TEXT = {"stale": "Stale: a quick pass while you drag; the full render follows on release",
-              "refining": "Refining", "denoised": "Denoised preview", "converged": "Converged",
+              "refining": "Refining", "denoised": "Denoised preview", "retinted": "Retinted preview",
+              "converged": "Converged",
               "failed": "Render failed",
               "idle": ""}
 
@@ -284,13 +285,16 @@ class MainWindow(QMainWindow):
         elif state == "denoised":  # an estimate: never called converged
             n = max(1, round(rc.denoised_samples))
             text = f"Denoised preview \u00b7 {n} sample{'' if n == 1 else 's'}"
+        elif state == "retinted":  # the last converged image in the new colour: an estimate too
+            n = max(1, round(rc.denoised_samples))
+            text = f"Retinted preview (the last image, new colour) \u00b7 {n} sample{'' if n == 1 else 's'}"
         elif state == "converged":
             text = f"Converged {rc.size[0]}\u00d7{rc.size[1]}"
             text += capped_note(getattr(rc.job, "capped", 0), rc.size[0] * rc.size[1])
         self.render_state.setText(text)
         self.render_progress.setValue(int(round(fraction * 100)))
         self.preview.set_note({"stale": "stale: live pass", "refining": "refining",
-                               "denoised": "denoised preview"}.get(state, ""))
+                               "denoised": "denoised preview", "retinted": "retinted preview"}.get(state, ""))
 
     def _on_render_failed(self, generation, message):
         self.statusBar().showMessage(f"Render failed: {message}")

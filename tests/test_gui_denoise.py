@@ -75,3 +75,38 @@ def test_the_raw_toggle_shows_the_raw_film_and_back(make_window, qtbot):
     w.raw_preview_action.setChecked(False)
     assert rc.denoise
     qtbot.waitUntil(rc.denoiser_idle, timeout=60_000)
+
+
+def test_a_tint_edit_on_the_knurled_jar_shows_the_last_image_retinted_then_the_converged_film(make_window, qtbot):
+    """Issue 42 item 4: a colour-only edit shows the last converged image in the new colour from
+    the first wave on, says what it is, and ends on the raw converged film."""
+    d, a = _knurled_jar()
+    w = make_window(d, assets=a)
+    rc = w.render_controller
+    qtbot.waitUntil(lambda: rc.ended_generation == rc.generation, timeout=300_000)
+    before = _raw(rc).astype(float)
+    seen = []
+    rc.stateChanged.connect(lambda state, wave, fraction: seen.append((state, wave, w.render_state.text())))
+    frames = []
+    rc.tileReady.connect(lambda g, x0, y0, rgb8: frames.append(rgb8) if rgb8.shape[:2] == (80, 64) else None)
+    amber = tuple(x + t for x, t in zip(d.glass.absorption, (0.004, 0.03, 0.09)))
+    assert w.editor.apply("Glass colour", None, glass=dataclasses.replace(d.glass, absorption=amber))
+    qtbot.waitUntil(lambda: rc.state == "retinted", timeout=300_000)
+    assert rc.job.retint is not None
+    assert re.fullmatch(r"Retinted preview \(the last image, new colour\) \u00b7 (1 sample|\d+ samples)",
+                        w.render_state.text())
+    assert w.preview.note == "retinted preview"
+    retinted = frames[-1]
+    assert np.array_equal(_shown(w.preview), retinted)
+    qtbot.waitUntil(lambda: rc.ended_generation == rc.generation, timeout=300_000)
+    states = [s for s, _, _ in seen]
+    assert "denoised" not in states and states[-1] == "converged"
+    first = next(wave for s, wave, _ in seen if s == "retinted")
+    assert first <= 1, "the retinted frame comes with the first waves"
+    assert np.array_equal(_shown(w.preview), _raw(rc)), "converged: the raw film, whole"
+    # the estimates near the result (nearer than the image before the edit), and nearer as the
+    # new film's own samples take over (every whole frame but the last, the converged film's)
+    after = _raw(rc).astype(float)
+    edit, first, last = (float(np.sqrt(np.mean((img.astype(float) - after) ** 2))) for img in (before, frames[0], frames[-2]))
+    assert first < edit and last < 0.5 * edit, (first, last, edit)
+    qtbot.waitUntil(rc.denoiser_idle, timeout=60_000)

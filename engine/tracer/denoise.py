@@ -139,11 +139,38 @@ def denoised_frame(job, denoiser: Denoiser) -> np.ndarray:
     image and guides; the film is not changed), blended per pixel with the raw film by
     :func:`raw_weight`: a pixel whose own error is already small keeps its raw value."""
     film = job.film
-    albedo, normal = film.guides()
     raw = job.image()
+    return _blend(job, film, raw, denoiser(raw, *film.guides()))
+
+
+def preview_frame(job, denoiser: Denoiser) -> np.ndarray | None:
+    """The window's preview frame of ``job``'s film as it is now: for a colour-only edit (a
+    job with a :attr:`~engine.tracer.job.RenderJob.retint` basis) the previous converged film
+    retinted by this film's centres (:func:`engine.tracer.retint.retinted`, no denoiser: it is
+    already a converged image's), else :func:`denoised_frame`; either blended with the raw film
+    by :func:`raw_weight`. ``None`` when a retint has no centre yet (or a draft fills the film)."""
+    basis = getattr(job, "retint", None)
+    if basis is None:
+        return denoised_frame(job, denoiser)
+    from .retint import retinted
+
+    film = job.film
+    if job.drafting:
+        return None
+    made = retinted(basis, film)
+    if made is None:
+        return None
+    estimate, error = made
+    sampled = job.aa_pixels() if film.has_centre.all() else None
+    weight = retint_weight(film, sampled, error)[..., None]
+    return weight * job.image() + (1.0 - weight) * estimate
+
+
+def _blend(job, film, raw, estimate) -> np.ndarray:
+    """``raw`` and ``estimate`` mixed per pixel by :func:`raw_weight` of ``job``'s ``film``."""
     sampled = job.aa_pixels() if film.has_centre.all() else None
     weight = raw_weight(film, sampled)[..., None]
-    return weight * raw + (1.0 - weight) * denoiser(raw, albedo, normal)
+    return weight * raw + (1.0 - weight) * estimate
 
 
 #: The raw film's own error (display levels, the standard error of a pixel's mean) below which
@@ -157,14 +184,26 @@ RAW_BELOW_LEVELS, DENOISED_ABOVE_LEVELS = 1.0, 3.0
 def raw_weight(film, sampled=None) -> np.ndarray:
     """Each pixel's weight ``(H, W)`` in ``[0, 1]`` of the raw film against the denoiser's.
 
-    A pixel with anti-aliasing samples is weighed by its own error: the standard error of its
-    samples' mean luminance in display levels (from the film's sums of squares; stratified
-    samples make it an overestimate, so the raw value is trusted late rather than early),
+    A pixel with anti-aliasing samples is weighed by its own error (:func:`raw_levels`),
     :data:`RAW_BELOW_LEVELS` -> 1, :data:`DENOISED_ABOVE_LEVELS` -> 0. A pixel that shows its
     centre alone keeps it where the rounds will not sample it (not in ``sampled``, the job's
     :meth:`~engine.tracer.job.RenderJob.aa_pixels`: a smooth pixel's centre is its value) and
     takes the denoiser's where they will (an edge not yet anti-aliased). Before every centre is
     traced (``sampled`` ``None``) and where only the preview's blocks are, the denoiser's."""
+    levels, centre_only = raw_levels(film)
+    span = DENOISED_ABOVE_LEVELS - RAW_BELOW_LEVELS
+    weight = np.clip((DENOISED_ABOVE_LEVELS - levels) / span, 0.0, 1.0).astype(np.float32)
+    if sampled is not None:
+        weight[centre_only & ~sampled] = 1.0
+    return weight
+
+
+def raw_levels(film) -> tuple[np.ndarray, np.ndarray]:
+    """``(error, centre_only)``: each pixel's own error ``(H, W)`` in display levels, the
+    standard error of its anti-aliasing samples' mean luminance as the tone map shows it (from
+    the film's sums of squares; stratified samples make it an overestimate, so the raw value is
+    trusted late rather than early; ``inf`` below two samples), and the pixels that hold their
+    centre alone."""
     from ..color import srgb_encode
 
     with film.lock:
@@ -176,13 +215,26 @@ def raw_weight(film, sampled=None) -> np.ndarray:
     m = total[have] / n[have]
     var = np.maximum(sumsq[have] / n[have] - m * m, 0.0) * n[have] / (n[have] - 1.0)
     se = np.sqrt(var / n[have])
+    levels = np.full(n.shape, np.inf)
     # the error as the display shows it: the tone map's spread over mean +- one standard error
-    levels = 127.5 * (srgb_encode(m + se) - srgb_encode(np.maximum(m - se, 0.0)))
-    weight = np.zeros(n.shape, np.float32)
-    span = DENOISED_ABOVE_LEVELS - RAW_BELOW_LEVELS
-    weight[have] = np.clip((DENOISED_ABOVE_LEVELS - levels) / span, 0.0, 1.0)
+    levels[have] = 127.5 * (srgb_encode(m + se) - srgb_encode(np.maximum(m - se, 0.0)))
+    return levels, centre & (n == 0)
+
+
+def retint_weight(film, sampled, estimate_levels) -> np.ndarray:
+    """Each pixel's weight ``(H, W)`` of the raw film against a retinted estimate whose own
+    error is ``estimate_levels`` ``(H, W)`` (display levels): 1 once the raw film's error
+    (:func:`raw_levels`, an overestimate for stratified samples) is the estimate's, 0 while it
+    is above three times it, linear between, as :func:`raw_weight` trusts the raw film against
+    the denoiser's (1 to 3 levels). The raw error falls with its samples, the estimate's is
+    fixed; on the jar at 179 x 238 after the last wave (display levels RMS from the converged
+    image) an inverse-variance mix kept some estimate in every pixel (1.3), raw from half the
+    estimate's error on (1.7), this 0.75. A smooth pixel's centre is its value (weight 1, as
+    :func:`raw_weight`)."""
+    levels, centre_only = raw_levels(film)
+    weight = np.clip((3.0 * estimate_levels - levels) / (2.0 * estimate_levels), 0.0, 1.0).astype(np.float32)
     if sampled is not None:
-        weight[centre & (n == 0) & ~sampled] = 1.0
+        weight[centre_only & ~sampled] = 1.0
     return weight
 
 
@@ -192,8 +244,9 @@ class FrameDenoiser:
     :meth:`request` ``(key, job)`` asks for ``job``'s film as it is when the thread gets to it;
     a request made while one is being denoised replaces any that waits (only the newest frame
     matters), so the denoiser never falls behind the tracer. ``deliver(key, image, samples)``
-    is called on that thread with the denoised linear image and the film's mean samples per
-    pixel; ``failed(key, message)`` when OIDN fails. ``nice`` lowers the thread's priority (and
+    is called on that thread with the frame (:func:`preview_frame`: denoised, or retinted for
+    a colour-only edit; linear) and the film's mean samples per pixel; ``failed(key,
+    message)`` when OIDN fails. ``nice`` lowers the thread's priority (and
     that of OIDN's threads, which it starts) like the tracer's workers."""
 
     def __init__(self, deliver, failed=None, denoiser: Denoiser | None = None, nice: int = 0):
@@ -238,13 +291,14 @@ class FrameDenoiser:
                 (key, job), self._wanted = self._wanted, None
                 self._busy = True
             try:
-                image = denoised_frame(job, self.denoiser)
+                image = preview_frame(job, self.denoiser)
                 samples = float(job.film.samples().mean())
             except Exception as exc:  # why: a failed frame is reported, the preview stays raw
                 if self.failed is not None:
                     self.failed(key, f"{type(exc).__name__}: {exc}")
             else:
-                self.deliver(key, image, samples)
+                if image is not None:
+                    self.deliver(key, image, samples)
             finally:
                 with self._cv:
                     self._busy = False

@@ -139,6 +139,11 @@ class RenderJob:
         #: traced on top of these
         self.relabelled_pixels = None
         self.recoloured_pixels = None
+        #: a colour-only edit's basis (:class:`~engine.tracer.retint.RetintBasis`: the previous
+        #: converged film, retinted by this job's centres for the preview); ``None`` otherwise
+        self.retint = None
+        #: True while a draft (a diffuse ground without its grids) fills the film
+        self.drafting = False
         self._previous = previous
         self._changed = changed
         self._sample_base = int(_sample_base)
@@ -265,6 +270,7 @@ class RenderJob:
                  np.minimum(np.arange(0, w, b) + b // 2, w - 1)[None, :]] = True
             if draft is not None:
                 self.context, self.film = draft, Film(self.width, self.height, draft.n_materials)
+                self.drafting = True
                 self._wave(pool, draft, 0, grid, None, preview=b)
                 ctx = RenderContext.from_design(self.design, self.assets, self.width, self.height,
                                                 cancelled=self._cancel.is_set)
@@ -272,6 +278,7 @@ class RenderJob:
                     self.records = LabelRecorder(self.width)
             self.context = ctx
             self.film = film = Film(self.width, self.height, ctx.n_materials)
+            self.drafting = False
             level = max(ctx.reference_level, 1e-6)
             self._wave(pool, ctx, 0, grid, None, preview=b)
             self._set_progress(0.03)

@@ -4,13 +4,17 @@ Design rule: a job is handed the job it replaces and the :class:`~engine.model.c
 the scene announced since (unioned over the edits in between); :func:`reuse_of` reads it once
 and returns the strategy, a small object whose ``run(job, previous)`` does it: :data:`KEEP_FILM`
 (nothing the image shows changed: a name, the notes), a :class:`Relabel` (:mod:`engine.tracer.relabel`:
-only labels, lights or their images), or :data:`FULL_RENDER`. Either strategy needs the previous job finished, without error, at the same size
-and sampling: two jobs with equal :meth:`~engine.tracer.job.RenderJob.sampling_key` of the same
-design trace the same samples.
+only labels, lights or their images), a :class:`Retint` (:mod:`engine.tracer.retint`: only the
+glass's or the liquid's absorption; a full render with a preview from the old film), or
+:data:`FULL_RENDER`. Each needs the previous job finished, without error, at the same size
+and sampling (two jobs with equal :meth:`~engine.tracer.job.RenderJob.sampling_key` of the same
+design trace the same samples), except that a retint still running hands its basis on to the
+next colour edit.
 """
 from __future__ import annotations
 
 from ..model.changes import Change, changed_assets
+from .retint import RetintBasis, retint_basis
 from .relabel import RelabelPlan, plan_relabel
 
 #: Design fields the image depends on (an edit of any other field keeps the film).
@@ -49,6 +53,18 @@ class Relabel:
         job.relabel(self.plan)
 
 
+class Retint:
+    """Render everything, and meanwhile show the previous converged film retinted by the new
+    centres' ratios (``basis``: a :class:`~engine.tracer.retint.RetintBasis`)."""
+
+    def __init__(self, basis: RetintBasis):
+        self.basis = basis
+
+    def run(self, job, previous) -> None:
+        job.retint = self.basis
+        job._render()
+
+
 #: The strategies without state.
 FULL_RENDER, KEEP_FILM = FullRender(), KeepFilm()
 
@@ -83,17 +99,20 @@ def _keeps_film(previous, design, change: Change) -> bool:
 
 
 def reuse_of(previous, design, assets, sampling_key, changed):
-    """The strategy (:data:`KEEP_FILM`, a :class:`Relabel` or :data:`FULL_RENDER`) of a job
+    """The strategy (:data:`KEEP_FILM`, a :class:`Relabel`, a :class:`Retint` or :data:`FULL_RENDER`) of a job
     rendering ``design`` with ``assets`` at ``sampling_key`` (its ``sampling_key()``) after job
     ``previous``, ``changed`` the fields (a :class:`Change`, or names) changed since."""
-    if previous is None or changed is None:
+    if previous is None or changed is None or previous.sampling_key() != sampling_key:
         return FULL_RENDER
     finished = previous.done and previous.error is None and not previous.cancelled
-    if not (finished and previous.sampling_key() == sampling_key):
-        return FULL_RENDER
     change = Change.of(changed)
-    if _keeps_film(previous, design, change):
+    if finished and _keeps_film(previous, design, change):
         return KEEP_FILM
+    basis = retint_basis(previous, design, change)
+    if basis is not None:
+        return Retint(basis)
+    if not finished:
+        return FULL_RENDER
     if diffuse_ground(design) or diffuse_ground(previous.design):
         return FULL_RENDER  # labels or lights changed the light on the ground (its grids)
     if change.assets is None:  # the caller named fields only: which assets changed is read here, once

@@ -162,28 +162,35 @@ def write_outputs(rows) -> None:
         for r in rows:
             out.writerows([r["sample"], f"{t:.3f}", k, f"{took:.3f}", f"{e:.3f}", f"{f:.4f}"]
                           for t, k, took, e, f in r["frames"])
+    chart(rows, os.path.join(OUT, "retint_preview.png"))
+
+
+def chart(rows, path) -> None:
+    """Error against time after the edit, per sample (one colour), both previews."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     fig, axes = plt.subplots(1, 2, figsize=(12, 4.5))
-    for r in rows:
+    colours = plt.get_cmap("tab10")
+    for i, r in enumerate(rows):
         for kind, style in (("retinted", "-"), ("denoised", ":")):
             pts = sorted((t + took, e, f) for t, k, took, e, f in r["frames"] if k == kind)
             if pts:
                 t, e, f = zip(*pts)
-                line = axes[0].plot(t, e, style, marker=".", label=f"{r['sample']} {kind}")[0]
-                axes[1].plot(t, f, style, marker=".", color=line.get_color())
+                label = r["sample"] if kind == "retinted" else None
+                axes[0].plot(t, e, style, marker=".", color=colours(i % 10), label=label)
+                axes[1].plot(t, f, style, marker=".", color=colours(i % 10))
     for ax, target, what in ((axes[0], READY_LEVELS, "display levels RMS"), (axes[1], READY_FLIP, "mean FLIP")):
         ax.axhline(target, color="k", lw=0.8)
         ax.set_xscale("log")
         ax.set_xlabel("seconds after the colour edit")
         ax.set_ylabel(f"{what} against the converged image")
-    axes[0].legend(fontsize=6, ncol=2)
-    fig.suptitle("A colour edit: the retinted preview (solid) against the denoised one (dotted), same film")
+    axes[0].legend(fontsize=7)
+    fig.suptitle("A colour edit: the retinted preview (solid) against the denoised one (dotted) of the same film")
     fig.tight_layout()
-    fig.savefig(os.path.join(OUT, "retint_preview.png"), dpi=110)
+    fig.savefig(path, dpi=110)
 
 
 def main(argv=None) -> int:

@@ -42,9 +42,9 @@ from .adaptive import preview_block
 #: Design fields a retint may see changed (the absorption of glass and liquid only: the
 #: rest of those fields is compared, :func:`colour_only`).
 RETINT_FIELDS = frozenset({"glass", "liquid"}) | UNSEEN_FIELDS
-#: Radiance below which a centre counts as black when old colours are compared (log radiance), as
-#: a fraction of the design's reference level (the environment's mean radiance).
-RATIO_FLOOR = 1e-3
+#: Radiance below which a centre counts as black when old brightnesses are compared (log
+#: radiance), as a fraction of the design's reference level (the environment's mean radiance).
+BLACK_LEVEL = 1e-3
 #: The local fit's regulariser's scale (:func:`local_fit`), as a fraction of the reference level:
 #: old values varying less than this give their neighbourhood's new mean, not a factor.
 FIT_SCALE = 1e-2
@@ -63,8 +63,8 @@ ERROR_FLOOR, ERROR_SLOPE, BLOCK_ERROR_LEVELS = 2.5, 0.75, 8.0
 class RetintBasis:
     """What a retint keeps of a converged film: its image, its centre samples, their
     dominant paths' signatures and which pixels it anti-aliased (``edges``; all ``(H, W, ...)``
-    at the render's size), the preview wave's block edge ``block`` (px) and the floor of the
-    ratio ``floor`` (linear radiance)."""
+    at the render's size), the preview wave's block edge ``block`` (px) and the design's
+    reference ``level`` (the environment's mean radiance)."""
 
     design: object
     image: np.ndarray
@@ -72,7 +72,17 @@ class RetintBasis:
     signature: np.ndarray
     edges: np.ndarray
     block: int
-    floor: float
+    level: float
+
+    @property
+    def floor(self) -> float:
+        """Radiance that counts as black (:data:`BLACK_LEVEL`)."""
+        return BLACK_LEVEL * self.level
+
+    @property
+    def eps(self) -> float:
+        """The local fit's regulariser, radiance squared (:data:`FIT_SCALE`)."""
+        return (FIT_SCALE * self.level) ** 2
 
     @property
     def nbytes(self) -> int:
@@ -104,7 +114,7 @@ def basis_of_film(design, film, image, level: float) -> RetintBasis:
         signature = film.signature.copy()
         edges = film.aa_count > 0
     return RetintBasis(design, np.asarray(image, np.float32), centre, signature, edges,
-                       preview_block(film.width, film.height), RATIO_FLOOR * max(float(level), 1e-6))
+                       preview_block(film.width, film.height), max(float(level), 1e-6))
 
 
 def retint_basis(previous, design, change):
@@ -158,7 +168,7 @@ def local_fit(old, new, weight, eps: float):
 _OFFSETS = np.array([(0, 0), (0, -1), (0, 1), (-1, 0), (-1, -1), (-1, 1), (1, 0), (1, -1), (1, 1)])
 
 
-def _block_fit(basis, new, has, eps):
+def _block_fit(basis, new, has):
     """Each pixel's ``(alpha, beta)`` from one of the 3 x 3 preview blocks around it (module
     rule): each block's line passes through its centre's pair with the slope fitted over the 3 x
     3 blocks' centres, and a pixel takes the line of the block whose old centre has its old
@@ -171,7 +181,7 @@ def _block_fit(basis, new, has, eps):
     xs = np.minimum(np.arange(0, w, b) + b // 2, w - 1)[None, :]
     traced = has[ys, xs]
     g_old, g_new = basis.centre[ys, xs], new[ys, xs]
-    alpha, _, _, _ = local_fit(g_old, g_new, traced, eps)
+    alpha, _, _, _ = local_fit(g_old, g_new, traced, basis.eps)
     beta = g_new - alpha * g_old  # (the line through the block's own pair: its centre exact)
     g_key = np.log(g_old.mean(axis=2) + basis.floor)
     g_sig = basis.signature[ys, xs]
@@ -212,14 +222,13 @@ def retinted(basis: RetintBasis, film):
         new = np.maximum(film.centre.astype(np.float32), 0.0)
     if not has.any():
         return None
-    eps = (FIT_SCALE * basis.floor / RATIO_FLOOR) ** 2
     if np.count_nonzero(has) < has.size // 4:  # the preview wave's blocks alone: their lines
-        alpha, beta = _block_fit(basis, new, has, eps)
+        alpha, beta = _block_fit(basis, new, has)
         return np.maximum(alpha * basis.image + beta, 0.0), np.full(has.shape, BLOCK_ERROR_LEVELS)
-    alpha, beta, count, residual = local_fit(basis.centre, new, has, eps)
+    alpha, beta, count, residual = local_fit(basis.centre, new, has, basis.eps)
     few = count < MIN_FIT
     if few.any():  # (where a pixel's neighbours are not traced yet)
-        block_a, block_b = _block_fit(basis, new, has, eps)
+        block_a, block_b = _block_fit(basis, new, has)
         alpha, beta = np.where(few[..., None], block_a, alpha), np.where(few[..., None], block_b, beta)
     estimate = np.maximum(alpha * basis.image + beta, 0.0)
     lum, spread = estimate.mean(axis=2), np.sqrt(residual.mean(axis=2))

@@ -37,8 +37,8 @@ import time
 
 import numpy as np
 
-from benchmarks.window_converge import (OUT, READY_FLIP, READY_LEVELS, WINDOW_SIZE, _warm_denoiser, distance,
-                                        flip_mean, render, samples)
+from benchmarks.window_converge import (OUT, READY_FLIP, READY_LEVELS, _warm_denoiser, distance, flip_mean,
+                                        render, samples, window_arguments)
 
 #: The edit: absorption (1/mm, RGB) added to the glass's (an amber tint: blue goes first), and
 #: the liquid's new absorption (a blue drink), if the design has a liquid.
@@ -197,11 +197,7 @@ def main(argv=None) -> int:
     from engine.files.project import load_project
     from engine.tracer.warmup import warm_up
 
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--samples", default="", help="comma-separated sample names (default: all)")
-    ap.add_argument("--width", type=int, default=WINDOW_SIZE[0])
-    ap.add_argument("--height", type=int, default=WINDOW_SIZE[1])
-    ap.add_argument("--threads", type=int, default=2)
+    ap = window_arguments(argparse.ArgumentParser(description=__doc__.splitlines()[0]))
     ap.add_argument("--check-fresh", action="store_true",
                     help="also render the edited design afresh and check the new job's image equals it bit for bit "
                          "(tests/test_retint.py checks it at a small size)")

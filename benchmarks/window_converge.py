@@ -418,14 +418,20 @@ def ready_chart(rows, path) -> None:
     plt.close(fig)
 
 
-def main(argv=None) -> int:
-    from engine.files.project import load_project
-
-    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+def window_arguments(ap):
+    """``ap`` (an ``argparse.ArgumentParser``) with the options every window benchmark takes:
+    ``--samples``, ``--width``, ``--height`` (the window's pane) and ``--threads``."""
     ap.add_argument("--samples", default="", help="comma-separated sample names (default: all)")
     ap.add_argument("--width", type=int, default=WINDOW_SIZE[0])
     ap.add_argument("--height", type=int, default=WINDOW_SIZE[1])
     ap.add_argument("--threads", type=int, default=2)
+    return ap
+
+
+def main(argv=None) -> int:
+    from engine.files.project import load_project
+
+    ap = window_arguments(argparse.ArgumentParser(description=__doc__.splitlines()[0]))
     ap.add_argument("--check-scale", type=float, default=1.0 / 6.0,
                     help="size of the honesty check as a fraction of the render's")
     ap.add_argument("--no-check", action="store_true", help="skip the honesty check")

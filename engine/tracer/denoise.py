@@ -20,6 +20,8 @@ import threading
 
 import numpy as np
 
+from .retint import retinted
+
 #: The preview denoiser's threads: one of the machine's cores, the tracer keeps the others.
 PREVIEW_THREADS = 1
 #: The preview denoiser's quality: OIDN's ``fast`` denoises the window's 715 x 953 frame in about
@@ -152,24 +154,23 @@ def preview_frame(job, denoiser: Denoiser) -> np.ndarray | None:
     basis = getattr(job, "retint", None)
     if basis is None:
         return denoised_frame(job, denoiser)
-    from .retint import retinted
-
     film = job.film
-    if job.drafting:
-        return None
-    made = retinted(basis, film)
+    made = None if job.drafting else retinted(basis, film)
     if made is None:
         return None
+    # the raw film's error must fall to the estimate's own before it shows (none at 3 times it):
+    # on the jar at 179 x 238 after the last wave (display levels RMS from the converged image)
+    # an inverse-variance mix kept some estimate in every pixel (1.3), raw from half the
+    # estimate's error on (1.7), this 0.75
     estimate, error = made
-    sampled = job.aa_pixels() if film.has_centre.all() else None
-    weight = retint_weight(film, sampled, error)[..., None]
-    return weight * job.image() + (1.0 - weight) * estimate
+    return _blend(job, film, job.image(), estimate, error, 3.0 * error)
 
 
-def _blend(job, film, raw, estimate) -> np.ndarray:
-    """``raw`` and ``estimate`` mixed per pixel by :func:`raw_weight` of ``job``'s ``film``."""
+def _blend(job, film, raw, estimate, below=None, above=None) -> np.ndarray:
+    """``raw`` and ``estimate`` mixed per pixel by :func:`raw_weight` of ``job``'s ``film``
+    (``below``, ``above``: its thresholds, the denoiser's by default)."""
     sampled = job.aa_pixels() if film.has_centre.all() else None
-    weight = raw_weight(film, sampled)[..., None]
+    weight = raw_weight(film, sampled, below, above)[..., None]
     return weight * raw + (1.0 - weight) * estimate
 
 
@@ -181,18 +182,22 @@ def _blend(job, film, raw, estimate) -> np.ndarray:
 RAW_BELOW_LEVELS, DENOISED_ABOVE_LEVELS = 1.0, 3.0
 
 
-def raw_weight(film, sampled=None) -> np.ndarray:
-    """Each pixel's weight ``(H, W)`` in ``[0, 1]`` of the raw film against the denoiser's.
+def raw_weight(film, sampled=None, below=None, above=None) -> np.ndarray:
+    """Each pixel's weight ``(H, W)`` in ``[0, 1]`` of the raw film against an estimate's (the
+    denoiser's, or a retint's).
 
-    A pixel with anti-aliasing samples is weighed by its own error (:func:`raw_levels`),
-    :data:`RAW_BELOW_LEVELS` -> 1, :data:`DENOISED_ABOVE_LEVELS` -> 0. A pixel that shows its
+    A pixel with anti-aliasing samples is weighed by its own error (:func:`raw_levels`): at or
+    under ``below`` -> 1, at or over ``above`` -> 0, linear between (display levels, scalars or
+    ``(H, W)``; by default the denoiser's :data:`RAW_BELOW_LEVELS` and
+    :data:`DENOISED_ABOVE_LEVELS`). A pixel that shows its
     centre alone keeps it where the rounds will not sample it (not in ``sampled``, the job's
     :meth:`~engine.tracer.job.RenderJob.aa_pixels`: a smooth pixel's centre is its value) and
     takes the denoiser's where they will (an edge not yet anti-aliased). Before every centre is
     traced (``sampled`` ``None``) and where only the preview's blocks are, the denoiser's."""
+    below = RAW_BELOW_LEVELS if below is None else below
+    above = DENOISED_ABOVE_LEVELS if above is None else above
     levels, centre_only = raw_levels(film)
-    span = DENOISED_ABOVE_LEVELS - RAW_BELOW_LEVELS
-    weight = np.clip((DENOISED_ABOVE_LEVELS - levels) / span, 0.0, 1.0).astype(np.float32)
+    weight = np.clip((above - levels) / (above - below), 0.0, 1.0).astype(np.float32)
     if sampled is not None:
         weight[centre_only & ~sampled] = 1.0
     return weight
@@ -219,23 +224,6 @@ def raw_levels(film) -> tuple[np.ndarray, np.ndarray]:
     # the error as the display shows it: the tone map's spread over mean +- one standard error
     levels[have] = 127.5 * (srgb_encode(m + se) - srgb_encode(np.maximum(m - se, 0.0)))
     return levels, centre & (n == 0)
-
-
-def retint_weight(film, sampled, estimate_levels) -> np.ndarray:
-    """Each pixel's weight ``(H, W)`` of the raw film against a retinted estimate whose own
-    error is ``estimate_levels`` ``(H, W)`` (display levels): 1 once the raw film's error
-    (:func:`raw_levels`, an overestimate for stratified samples) is the estimate's, 0 while it
-    is above three times it, linear between, as :func:`raw_weight` trusts the raw film against
-    the denoiser's (1 to 3 levels). The raw error falls with its samples, the estimate's is
-    fixed; on the jar at 179 x 238 after the last wave (display levels RMS from the converged
-    image) an inverse-variance mix kept some estimate in every pixel (1.3), raw from half the
-    estimate's error on (1.7), this 0.75. A smooth pixel's centre is its value (weight 1, as
-    :func:`raw_weight`)."""
-    levels, centre_only = raw_levels(film)
-    weight = np.clip((3.0 * estimate_levels - levels) / (2.0 * estimate_levels), 0.0, 1.0).astype(np.float32)
-    if sampled is not None:
-        weight[centre_only & ~sampled] = 1.0
-    return weight
 
 
 class FrameDenoiser:

@@ -55,7 +55,7 @@ MIN_FIT = 4
 #: edit (179 x 238; the scatter predicted 0-1 / 2-4 / 4-8 / 8-16 / over 16 levels, the error was
 #: 1.8-2.1 / 5.0-6.0 / 5.9-6.6 / 7.7-8.9 / 17-18 levels RMS); and the error of a pixel that takes
 #: its preview block's line. The raw film's own error must fall below it before the preview
-#: shows the raw value (:func:`~engine.tracer.denoise.retint_weight`).
+#: shows the raw value (:func:`~engine.tracer.denoise.raw_weight`, from the estimate's error to three times it).
 ERROR_FLOOR, ERROR_SLOPE, BLOCK_ERROR_LEVELS = 2.5, 0.75, 8.0
 
 

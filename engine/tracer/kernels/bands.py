@@ -7,7 +7,10 @@ only be crossed where the ray's footprint is inside the *outer* outline (largest
 outside the *inner* one (smallest): a closed-form 2-D problem (a ray against circles, ellipses,
 rounded rectangles and free plan outlines, :mod:`.plans`) giving at most two *bands*. Restricting to a band narrows the height
 range, hence the radii, hence the bands: the iteration contracts onto the crossings; where it
-stalls the interval is halved. A band narrower than the leaf length is solved on the exact
+stalls the interval is halved. On a free plan outline the bounding solids are tighter: each
+profile lies between two parallel lines along the band (its chord, widened by a bound second
+order in the band's length), so the wall lies between two ruled solids whose traces are closed
+forms, and the bands shrink quadratically (the flacon's shoulder). A band narrower than the leaf length is solved on the exact
 surface: a sign change at its ends gives one crossing (safeguarded Newton). This is a proof, not a sampling: no crossing outside the bands is possible.
 
 Rounded squares, rectangles and free plan outlines stop contracting earlier, as soon as the residual is *certified
@@ -33,7 +36,7 @@ from numba import njit
 
 from .outlines import (CIRCLE, OUTLINE, OVAL, RRECT, RSQUARE, SQRT2, gradient_span, outline_interval,
                        rrect_directions, square_corner, xs_eval)
-from .plans import PL_HLOW, arc_dot_range, plan_directions
+from .plans import PL_HLOW, arc_dot_range, plan_directions, plan_trace
 from .profile import wall_r, wall_range, wall_slopes, wall_state
 from .roots import disc_interval
 from .jit import INLINE, JIT
@@ -281,6 +284,58 @@ def outline_monotone_sign(wall, foot, window, radii):
     return 0
 
 
+@njit(**INLINE)
+def _chord(seg, tab, row, za, zb, dz, length):
+    """Segment row ``row``'s radius along a band of ``length`` mm of ray whose ends are at
+    heights ``za``, ``zb`` (``dz`` the ray's rise per mm): ``(r0, m, dev, lo, hi)``, the radius
+    within ``dev`` of the chord ``r0 + m t`` (mm, ``t`` from the band's start) and its range
+    ``[lo, hi]`` over the band.
+
+    Any function whose slope stays in ``[s_lo, s_hi]`` lies below both lines of slope ``s_hi``
+    from its start and ``s_lo`` to its end, so it rises above its chord by at most
+    ``(s_hi - m)(m - s_lo) L / (s_hi - s_lo)`` (and falls below it by as much): second order in
+    the band's length, where the range is first order. ``dev`` is infinite where a slope is (a
+    section turning horizontal). Where the slope keeps its sign the range is the ends'."""
+    r0, r1 = wall_r(seg, row, za), wall_r(seg, row, zb)
+    m = (r1 - r0) / length
+    z_lo, z_hi = min(za, zb), max(za, zb)
+    s_lo, s_hi = wall_slopes(seg, row, z_lo, z_hi)
+    if s_lo >= 0.0 or s_hi <= 0.0:
+        lo, hi = min(r0, r1), max(r0, r1)
+    else:
+        lo, hi = wall_range(seg, tab, row, z_lo, z_hi)
+    s_lo, s_hi = _product(dz, dz, s_lo, s_hi)  # per mm of ray
+    if not (s_lo > -np.inf and s_hi < np.inf):
+        return r0, m, np.inf, lo, hi
+    dev = 0.0
+    if s_hi > s_lo:
+        dev = max(0.0, s_hi - m) * max(0.0, m - s_lo) / (s_hi - s_lo) * length
+    # (the chord's own rounding, far above the radii's)
+    return r0, m, dev + 1e-13 * (abs(r0) + abs(r1)) + 1e-300, lo, hi
+
+
+@njit(**INLINE)
+def _ruled_bounds(plan, foot, a, length, core, grow):
+    """The outer and inner traces ``(e0, e1, g0, g1)`` (ray distances, mm) on a band of an
+    outline wall from its profiles' chords (:func:`_chord`: ``core`` and ``grow`` as it returns
+    them for the core and the growth): with each profile between two parallel lines along the
+    band, the wall lies between two ruled solids, convex, whose traces are closed forms
+    (:func:`~.plans.plan_trace`). ``foot`` = ``(px, py, qx, qy)``; the band starts at ray
+    distance ``a``. NaNs where a bound is not known: all four where a chord is not (a slope is
+    infinite), ``g0, g1`` where the lower core line falls below 0."""
+    k0, km, kd, _, _ = core
+    r0, rm, rd, _, _ = grow
+    if kd == np.inf or rd == np.inf:
+        return np.nan, np.nan, np.nan, np.nan
+    px, py, qx, qy = foot
+    fx, fy = px + a * qx, py + a * qy  # from the band's start: far origins lose no digits
+    e0, e1 = plan_trace(plan, (k0 + kd, km), (r0 + rd, rm), (fx, fy, qx, qy))
+    if k0 - kd < 0.0 or k0 - kd + km * length < 0.0:
+        return e0 + a, e1 + a, np.nan, np.nan
+    g0, g1 = plan_trace(plan, (k0 - kd, km), (r0 - rd, rm), (fx, fy, qx, qy))
+    return e0 + a, e1 + a, g0 + a, g1 + a
+
+
 @njit(**JIT)
 def band_roots(wall, ray, lo, hi, leaf, out, n, stack):
     """Crossings (ascending, appended to ``out`` from index ``n``) of the ray with a wall in
@@ -318,12 +373,18 @@ def band_roots(wall, ray, lo, hi, leaf, out, n, stack):
             wa, wb = max(lo, a - eps), min(hi, b + eps)
             za, zb = oz + wa * dz, oz + wb * dz
             z_lo, z_hi = min(za, zb), max(za, zb)
-            a_lo, a_hi = wall_range(seg, tab, r0, z_lo, z_hi)
             b_lo, b_hi, c_lo, c_hi = 0.0, 0.0, 0.0, 0.0
-            if nsec > 1:
-                b_lo, b_hi = wall_range(seg, tab, r1, z_lo, z_hi)
-            if nsec > 2:
-                c_lo, c_hi = wall_range(seg, tab, r2, z_lo, z_hi)
+            core = grow = (0.0, 0.0, 0.0, 0.0, 0.0)
+            if kind == OUTLINE:  # the profiles' chords give their ranges and tighter bounds
+                core = _chord(seg, tab, r0, za, zb, dz, wb - wa)
+                grow = _chord(seg, tab, r1, za, zb, dz, wb - wa)
+                a_lo, a_hi, b_lo, b_hi = core[3], core[4], grow[3], grow[4]
+            else:
+                a_lo, a_hi = wall_range(seg, tab, r0, z_lo, z_hi)
+                if nsec > 1:
+                    b_lo, b_hi = wall_range(seg, tab, r1, z_lo, z_hi)
+                if nsec > 2:
+                    c_lo, c_hi = wall_range(seg, tab, r2, z_lo, z_hi)
             if certify and not fresh and kind == OUTLINE:
                 monotone = outline_monotone_sign(wall, (px, py, qx, qy, dz), (wa, wb, z_lo, z_hi),
                                                  (a_lo, a_hi, b_lo, b_hi))
@@ -338,6 +399,7 @@ def band_roots(wall, ray, lo, hi, leaf, out, n, stack):
                 l0, h0, l1, h1 = annulus_bands(ox, oy, dx, dy, a_lo, a_hi, a, b)
             else:
                 ok_in = True
+                e0, e1, g0, g1 = np.nan, np.nan, np.nan, np.nan
                 if kind == RSQUARE:  # q <= u holds exactly (v >= u); clamp the rounding
                     ko, o0, o1, o2 = RRECT, a_hi, a_hi, min(a_hi, max(0.0, square_corner(a_hi, b_hi)))
                     ki, i0, i1, i2 = RRECT, a_lo, a_lo, min(a_lo, max(0.0, square_corner(a_lo, b_lo)))
@@ -348,18 +410,26 @@ def band_roots(wall, ray, lo, hi, leaf, out, n, stack):
                 elif kind == OUTLINE:  # monotone in the core and the growth: both decrease it
                     ko, o0, o1, o2 = OUTLINE, a_hi, b_hi, 0.0
                     ki, i0, i1, i2 = OUTLINE, a_lo, b_lo, 0.0
+                    # tighter: the profiles between two parallel lines, a ruled solid each side
+                    e0, e1, g0, g1 = _ruled_bounds(plan, (px, py, qx, qy), wa, wb - wa, core, grow)
+                    if e0 == e0:
+                        ko = -1
                 else:
                     ko, o0, o1, o2 = OVAL, a_hi, b_hi, 0.0
                     ki, i0, i1, i2 = OVAL, a_lo, b_lo, 0.0
                 # the outer interval a rounding margin wider and the inner one narrower: where the
                 # two outlines coincide (a vertical wall: equal radii ranges) their computed ends
                 # may cross by an ulp and leave no band around the crossing between them
-                e0, e1 = outline_interval(plan, ko, o0, o1, o2, px, py, qx, qy)
+                if ko >= 0:
+                    e0, e1 = outline_interval(plan, ko, o0, o1, o2, px, py, qx, qy)
                 e0, e1 = e0 - eps, e1 + eps
                 if max(e0, a) > min(e1, b):  # never inside the outer outline: no band
                     empty = True
                     break
-                g0, g1 = (outline_interval(plan, ki, i0, i1, i2, px, py, qx, qy) if ok_in else (1.0, -1.0))
+                if ko >= 0:
+                    g0, g1 = (outline_interval(plan, ki, i0, i1, i2, px, py, qx, qy) if ok_in else (1.0, -1.0))
+                elif g0 != g0:  # no line below the core that stays >= 0: the constant inner bound
+                    g0, g1 = outline_interval(plan, OUTLINE, a_lo, b_lo, 0.0, px, py, qx, qy)
                 g0, g1 = g0 + eps, g1 - eps
                 l0, h0, l1, h1 = subtract(e0, e1, g0, g1, a, b)
             if l0 > h0 and l1 > h1:

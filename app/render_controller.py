@@ -35,6 +35,7 @@ from PySide6.QtCore import QObject, Qt, QTimer, Signal
 
 from app import engine_bridge
 from engine.model.changes import Change
+from engine.tracer.job_options import JobObservers, Replaces, Workers
 
 #: The live pass during a held gesture: this fraction of the preview's size, 1 sample per pixel.
 LIVE_SCALE = 0.25
@@ -250,17 +251,18 @@ class RenderController(QObject):
         what the scene announced since the last full render (:attr:`_since_full`), so that an
         edit of nothing it renders (a name, the notes) keeps that film and a label edit
         relabels it, without comparing designs again."""
-        reuse = {}
         prev = self._last_full
-        if not live and prev is not None:
-            reuse = {"previous": prev, "changed": self._since_full}
+        replaces = Replaces(prev, self._since_full) if not live and prev is not None else None
         if not live:
             self._since_full = Change()
+        observers = JobObservers(
+            on_tile=lambda j, t, g=generation: self._worker_tile.emit(g, j, t),
+            on_done=lambda j, g=generation: self._worker_done.emit(g, j),
+            on_wave=None if live else (lambda j, w, g=generation: self._worker_wave.emit(g, j, w)))
         job = engine_bridge.tracer_job_class()(
             design, assets, width=width, height=height, spp=spp, threads=self.threads,
-            worker_nice=WORKER_NICE, on_tile=lambda j, t, g=generation: self._worker_tile.emit(g, j, t),
-            on_done=lambda j, g=generation: self._worker_done.emit(g, j), sampling=engine_bridge.WINDOW_NOISE,
-            on_wave=None if live else (lambda j, w, g=generation: self._worker_wave.emit(g, j, w)), **reuse)
+            sampling=engine_bridge.WINDOW_NOISE, workers=Workers(nice=WORKER_NICE), observers=observers,
+            replaces=replaces)
         if not live:
             self._last_full = job
         return job

@@ -81,6 +81,7 @@ def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *, samplin
     """
     from benchmarks.oracle_spec import spec_to_design
     from engine.tracer.job import RenderJob
+    from engine.tracer.job_options import BenchHooks, JobObservers, Workers
     from engine.tracer.tables.stage import clear_stage_caches
 
     design, assets = spec_to_design(spec_path) if scene is None else scene
@@ -92,8 +93,9 @@ def render_spec(spec_path: str, spp: int = DEFAULT_SPP, threads=None, *, samplin
 
     clear_stage_caches()  # (a ground's grids are built within the time, as for a design's first render)
     t0 = time.perf_counter()
-    job = RenderJob(design, assets, threads=threads, tile=tile, sampling=sampling,
-                    on_wave=None if progress is None else snapshot, _sample_base=sample_base).start()
+    job = RenderJob(design, assets, threads=threads, workers=Workers(tile=tile), sampling=sampling,
+                    observers=JobObservers(on_wave=None if progress is None else snapshot),
+                    _bench=BenchHooks(sample_base=sample_base)).start()
     job.wait()
     if job.error is not None:
         raise job.error

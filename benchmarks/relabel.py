@@ -7,8 +7,8 @@ Usage::
 The Bordeaux sample with the sample label (:mod:`engine.appearance.sample`), the camera closed
 in so that the label covers about 15 % of the image. Measured in one run, on one worker thread,
 as process CPU time (other load on the machine cancels): a full render of the design (artwork
-variant 0), a relabel to artwork variant 1 (``RenderJob(previous=..., changed={"labels",
-"assets"})``), and a full render of the new design from nothing; the relabelled image is
+variant 0), a relabel to artwork variant 1 (``RenderJob(replaces=Replaces(previous,
+{"labels", "assets"}))``), and a full render of the new design from nothing; the relabelled image is
 compared with the full one (``relabel_max_diff``, the largest difference of any pixel channel;
 0 means bit for bit). Writes ``benchmarks/out/relabel.csv``, ``relabel.png`` (the times) and the
 two images; prints ``label_coverage`` (pixels whose trees met the label over all pixels),
@@ -77,20 +77,21 @@ def main(argv=None) -> int:
     import matplotlib.pyplot as plt
 
     from engine.files.images import save_image
+    from engine.tracer.job_options import Replaces
     from engine.tracer.kernels.labels import LABEL_BIT0
 
     os.makedirs(OUT, exist_ok=True)
     kw = dict(width=args.width, height=args.height, spp=args.spp, threads=1)
     a_design, a_assets, b_design, b_assets = scene(3)
     warm = _job(a_design, a_assets, kw)  # warm: kernels loaded (tracing and replay), tables cached
-    _job(b_design, b_assets, kw, previous=warm, changed={"labels", "assets"})
+    _job(b_design, b_assets, kw, replaces=Replaces(warm, {"labels", "assets"}))
     rows, diffs = [], []
     for r in range(max(1, args.repeats)):
         # a new artwork each repeat, so its decoding is part of every relabel measured
         a_design, a_assets, b_design, b_assets = scene(1 + r % 2)
         first, full_a, _ = _timed(lambda: _job(a_design, a_assets, kw))
-        rel, t_rel, w_rel = _timed(lambda: _job(b_design, b_assets, kw, previous=first,
-                                               changed={"labels", "assets"}))
+        rel, t_rel, w_rel = _timed(lambda: _job(b_design, b_assets, kw,
+                                               replaces=Replaces(first, {"labels", "assets"})))
         full, t_full, w_full = _timed(lambda: _job(b_design, b_assets, kw))
         diff = float(np.max(np.abs(rel.image().astype(np.float64) - full.image())))
         diffs.append(diff)

@@ -82,6 +82,7 @@ def edit_timeline(design, assets, width, height, threads):
     """``(old job, new job, [(wave end s, FilmCopy)])``: a converged render of ``design``, then
     the render after the colour edit with the window's reuse, its film copied after each wave."""
     from engine.model.changes import Change
+    from engine.tracer.job_options import JobObservers, Replaces
 
     old, _ = render(design, assets, width, height, threads)
     copies, clock = [], {"start": 0.0, "spent": 0.0}
@@ -92,8 +93,8 @@ def edit_timeline(design, assets, width, height, threads):
         clock["spent"] += time.perf_counter() - t
 
     clock["start"] = time.perf_counter()
-    new, secs = render(tinted(design), assets, width, height, threads, previous=old,
-                       changed=Change({"glass", "liquid"}), on_wave=on_wave)
+    new, secs = render(tinted(design), assets, width, height, threads,
+                       replaces=Replaces(old, Change({"glass", "liquid"})), observers=JobObservers(on_wave=on_wave))
     return old, new, copies, secs - clock["spent"]
 
 

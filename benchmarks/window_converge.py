@@ -12,8 +12,8 @@ window's default pane size, 715 x 953, with the window's noise criterion,
 that size each sample's converged image is compared, in display levels (0..255 after the tone
 map), with a reference of the same design rendered with a noise target of half a display level
 and 4 x the samples, drawn from another part of each pixel's sample sequence
-(``RenderJob(_sample_base=...)``: a reference that shared the render's first samples would agree
-with it where both stopped at the same count, whatever their error). A design on a diffuse
+(``RenderJob(_bench=BenchHooks(sample_base=...))``: a reference that shared the render's first
+samples would agree with it where both stopped at the same count, whatever their error). A design on a diffuse
 ground builds its grids (the sky's and the lights' caustics, :mod:`engine.tracer.tables.sky`)
 within the time, as the window's first render of it does. The RMS and the 99th percentile of
 the difference are printed (targets 1.5 and 10 levels), with the reference's own noise (the RMS
@@ -133,9 +133,11 @@ def reference(design, assets, width, height, threads, base=REFERENCE_BASES[0]) -
     sample scatter, which assumes nothing of stratification) with a noise target of half a
     display level and 4 x the samples, its anti-aliasing samples from sample ``base`` of each
     pixel's sequence on."""
+    from engine.tracer.job_options import BenchHooks
+
     classic = window_sampling(noise_target=REFERENCE_NOISE, policy="classic")
     ref, _ = render(design, assets, width, height, threads, classic, spp=REFERENCE_SPP_FACTOR * design.render.spp,
-                    _sample_base=base)
+                    _bench=BenchHooks(sample_base=base))
     return ref.image()
 
 
@@ -163,14 +165,15 @@ def distance(image, other, scale: float = 1.0) -> tuple[float, float]:
 def own_error(design, assets, width, height, threads, image, policy) -> tuple[float, float, list]:
     """``(RMS, 99th percentile, progress)`` in display levels of the error of ``image`` (a
     converged render by ``policy`` at ``width x height``, the window's size) estimated from a
-    second render on independent samples (``_sample_base``): their difference over sqrt 2. The
-    check at the window's own size, where smooth pixels keep their noiseless centre: the
-    reference check runs at a fraction of it, where nearly every pixel of a relief sample is an
-    edge. Both renders are unbiased estimates of the same pixel integrals (the same tree cut),
+    second render on independent samples (``BenchHooks.sample_base``): their difference over
+    sqrt 2. The check at the window's own size, where smooth pixels keep their noiseless
+    centre: the reference check runs at a fraction of it, where nearly every pixel of a relief
+    sample is an edge. Both renders are unbiased estimates of the same pixel integrals (the same tree cut),
     so this is their distance from a noiseless reference at that size.
 
     ``progress``: what a designer sees while waiting, ``[(seconds, levels RMS), ...]`` after
     each wave of the second render (:func:`progress_errors`)."""
+    from engine.tracer.job_options import BenchHooks, JobObservers
     from engine.tracer.tables.stage import clear_stage_caches
 
     seen = []  # (seconds from the start less the measuring so far, levels RMS from image)
@@ -184,7 +187,7 @@ def own_error(design, assets, width, height, threads, image, policy) -> tuple[fl
     clear_stage_caches()  # (its time, as the first render's, includes the ground's grids: the same grids)
     clock["start"] = time.perf_counter()
     other, _ = render(design, assets, width, height, threads, window_sampling(policy=policy),
-                      _sample_base=REFERENCE_BASES[0], on_wave=snapshot)
+                      _bench=BenchHooks(sample_base=REFERENCE_BASES[0]), observers=JobObservers(on_wave=snapshot))
     rms, p99 = distance(image, other.image(), scale=1.0 / np.sqrt(2.0))
     return rms, p99, progress_errors(seen, rms)
 
@@ -229,6 +232,7 @@ def denoised_progress(design, assets, width, height, threads, policy, converged)
     converged time if none is)."""
     from app.render_controller import WORKER_NICE
     from engine.tracer.denoise import FrameDenoiser
+    from engine.tracer.job_options import JobObservers, Workers
     from engine.tracer.tables.stage import clear_stage_caches
 
     clock = {"start": 0.0, "first": None}
@@ -251,8 +255,9 @@ def denoised_progress(design, assets, width, height, threads, policy, converged)
     clear_stage_caches()
     clock["start"] = time.perf_counter()
     try:
-        job, secs = render(design, assets, width, height, threads, window_sampling(policy=policy), on_wave=on_wave,
-                           worker_nice=WORKER_NICE)  # (the window's workers: niced as its denoiser)
+        job, secs = render(design, assets, width, height, threads, window_sampling(policy=policy),
+                           observers=JobObservers(on_wave=on_wave),
+                           workers=Workers(nice=WORKER_NICE))  # (the window's workers: niced as its denoiser)
     finally:
         watcher.close(120)
     frames, regions, by_region = [], failure_regions(job), []

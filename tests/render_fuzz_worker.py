@@ -19,6 +19,7 @@ from engine.geometry.segments import Arc, Line
 from engine.geometry.shape import BottleShape
 from engine.model.design import Camera, Design, Glass, Liquid, RenderSettings
 from engine.tracer.job import RenderJob
+from engine.tracer.job_options import Workers
 
 
 def rss_mb() -> float:
@@ -100,7 +101,7 @@ STATE = {"n": 0, "rss": []}
 @given(designs())
 def check(design):
     try:
-        job = RenderJob(design, threads=2, tile=8).start()
+        job = RenderJob(design, threads=2, workers=Workers(tile=8)).start()
     except GlassbenchError:
         return
     job.wait()

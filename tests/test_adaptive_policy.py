@@ -316,16 +316,17 @@ def test_the_window_plays_its_own_roulette_and_final_renders_theirs(monkeypatch)
 
 
 def test_a_sample_base_draws_other_samples_of_the_same_pixels():
-    """``RenderJob(_sample_base=B)`` (the benchmarks' independent references) traces other
-    anti-aliasing samples: the pixels without them keep their centre bit for bit, the
-    anti-aliased ones change, and the image stays the same picture."""
+    """``RenderJob(_bench=BenchHooks(sample_base=B))`` (the benchmarks' independent references)
+    traces other anti-aliasing samples: the pixels without them keep their centre bit for bit,
+    the anti-aliased ones change, and the image stays the same picture."""
     from engine.tracer.job import RenderJob
+    from engine.tracer.job_options import BenchHooks
     from engine.tracer.sampling import Sampling
     from tests.test_tracer import simple_design
 
     def image(base):
         job = RenderJob(simple_design(), width=48, height=64, spp=8, threads=1, sampling=Sampling(adaptive=False),
-                        _sample_base=base).start()
+                        _bench=BenchHooks(sample_base=base)).start()
         job.wait()
         assert job.error is None
         return job.image(), job.film.aa_count.copy()

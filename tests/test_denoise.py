@@ -14,6 +14,7 @@ from engine.files.project import load_project
 from engine.tracer.denoise import Denoiser, FrameDenoiser, denoised_frame, raw_weight
 from engine.tracer.film import Film
 from engine.tracer.job import RenderJob
+from engine.tracer.job_options import JobObservers
 
 RNG = np.random.default_rng(42)
 
@@ -89,7 +90,8 @@ def test_the_converged_image_is_the_same_with_the_denoiser_watching_every_wave()
     watcher = FrameDenoiser(deliver)
     try:
         # from wave 1, the first at full resolution, as the window asks (wave 0 is the block preview)
-        watched = RenderJob(d, a, threads=2, on_wave=lambda job, wave: wave >= 1 and watcher.request(wave, job)).start()
+        asks = JobObservers(on_wave=lambda job, wave: wave >= 1 and watcher.request(wave, job))
+        watched = RenderJob(d, a, threads=2, observers=asks).start()
         assert watched.wait(600) and watched.error is None
         assert done.wait(60), "the denoiser delivered a frame"
     finally:

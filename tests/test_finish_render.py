@@ -384,6 +384,7 @@ def test_a_light_edit_relights_a_plastic_cap(bordeaux):
     without labels renders anew (it used to keep the previous film, lights shading labels only)
     and equals a full render."""
     from engine.tracer.job import RenderJob
+    from engine.tracer.job_options import Replaces
     from engine.tracer.sampling import Sampling
 
     def job(d, **kw):
@@ -396,7 +397,7 @@ def test_a_light_edit_relights_a_plastic_cap(bordeaux):
     d = dataclasses.replace(design, cap=Cap("screw", "plastic", (0.8, 0.2, 0.1)), labels=())
     first = job(d)
     d2 = dataclasses.replace(d, lights=(Light((0.0, -1.0, 1.0), (1.0, 1.0, 1.0), 3.0),))
-    again, full = job(d2, previous=first, changed={"lights"}), job(d2)
+    again, full = job(d2, replaces=Replaces(first, {"lights"})), job(d2)
     np.testing.assert_array_equal(again.image(), full.image())
     assert not np.array_equal(again.image(), first.image())
 

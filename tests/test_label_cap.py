@@ -23,6 +23,7 @@ from engine.operations.check import check_design
 from engine.model.design import Camera, Cap, Label, LabelSide
 from engine.tracer.context import RenderContext, trace_pixels, trace_rays
 from engine.tracer.job import RenderJob
+from engine.tracer.job_options import Replaces
 from engine.tracer.kernels import labels as KL
 from engine.tracer.kernels.integrator import C_LEAKS, C_MISMATCH
 from tests.test_tracer import WHITE
@@ -265,7 +266,7 @@ def test_a_cap_print_relabels_bit_for_bit(bordeaux):
 
     def relabel(lab):
         d2 = dataclasses.replace(d, labels=(lab,))
-        rel = RenderJob(d2, a, previous=first, changed={"labels"}, **kw).start()
+        rel = RenderJob(d2, a, replaces=Replaces(first, {"labels"}), **kw).start()
         full = RenderJob(d2, a, **kw).start()
         rel.wait()
         full.wait()

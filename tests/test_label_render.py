@@ -16,6 +16,7 @@ from engine.model.design import FinishRegion, Label, LabelSide
 from engine.tracer.context import RenderContext, trace_rays
 from engine.tracer.tables.environment import EnvironmentMap
 from engine.tracer.job import RenderJob
+from engine.tracer.job_options import Replaces
 from engine.tracer.sampling import Sampling
 from engine.tracer.kernels import labels as KL
 from engine.tracer.kernels.materials import fresnel_conductor
@@ -235,7 +236,7 @@ def relabel_case():
 
 
 def _relabel_equals_full(prev, d2, assets, changed):
-    rel = _job(d2, assets, previous=prev, changed=changed)
+    rel = _job(d2, assets, replaces=Replaces(prev, changed))
     full = _job(d2, assets)
     assert rel.context.geometry is prev.context.geometry  # the scene was not rebuilt
     np.testing.assert_array_equal(rel.image(), full.image())
@@ -268,7 +269,7 @@ def test_a_window_relabel_equals_a_full_window_render(relabel_case):
     lab = d.labels[0]
     for d2 in (dataclasses.replace(d, labels=(dataclasses.replace(lab, front=LabelSide("b.png")),)),
                dataclasses.replace(d, labels=(dataclasses.replace(lab, diffuse=0.4),))):
-        rel, full = _job(d2, assets, previous=first, changed={"labels"}, **win), _job(d2, assets, **win)
+        rel, full = _job(d2, assets, replaces=Replaces(first, {"labels"}), **win), _job(d2, assets, **win)
         assert rel.context.geometry is first.context.geometry  # a relabel, not a new scene
         np.testing.assert_array_equal(rel.image(), full.image())
         np.testing.assert_array_equal(rel.sample_counts(), full.sample_counts())

@@ -256,6 +256,7 @@ def test_the_tracer_draws_a_label_on_a_flacons_panel():
 
 def test_a_label_edit_on_an_outline_bottle_does_not_rebuild_its_scene():
     from engine.tracer.job import RenderJob
+    from engine.tracer.job_options import Replaces
 
     def job(d, **kw):
         out = RenderJob(d, {}, width=24, height=32, spp=2, threads=1, **kw).start()
@@ -268,7 +269,7 @@ def test_a_label_edit_on_an_outline_bottle_does_not_rebuild_its_scene():
     d = dataclasses.replace(design, labels=(lab,), environment=Environment())  # the built-in studio
     first = job(d)
     d2 = dataclasses.replace(d, labels=(dataclasses.replace(lab, front=LabelSide(None, (0.1, 0.2, 0.9))),))
-    rel, full = job(d2, previous=first, changed={"labels"}), job(d2)
+    rel, full = job(d2, replaces=Replaces(first, {"labels"})), job(d2)
     assert rel.context.geometry is first.context.geometry  # the scene was not rebuilt
     np.testing.assert_array_equal(rel.image(), full.image())
     assert not np.array_equal(rel.image(), first.image())  # and the new colour shows

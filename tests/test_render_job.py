@@ -11,14 +11,15 @@ from engine.tracer import scheduler
 from engine.tracer.adaptive import preview_block
 from engine.tracer.tables.render_objects import render_geometry_for
 from engine.tracer.job import RenderJob, render_image, tonemap_srgb8
+from engine.tracer.job_options import BenchHooks, JobObservers, Replaces, Workers
 from tests.test_tracer import simple_design
 
 
 def test_image_is_bit_identical_for_any_thread_count_and_tile_order():
     design = simple_design(40.0, glass_absorption=(0.01, 0.0, 0.02), width=24, height=32, spp=4)
-    a = render_image(design, threads=1, tile=16)
-    b = render_image(design, threads=2, tile=12, _tile_shuffle_seed=7)
-    c = render_image(design, threads=3, tile=32, _tile_shuffle_seed=1)
+    a = render_image(design, threads=1, workers=Workers(tile=16))
+    b = render_image(design, threads=2, workers=Workers(tile=12), _bench=BenchHooks(tile_shuffle_seed=7))
+    c = render_image(design, threads=3, workers=Workers(tile=32), _bench=BenchHooks(tile_shuffle_seed=1))
     assert a.shape == (32, 24, 3) and a.dtype == np.float32
     assert np.array_equal(a, b) and np.array_equal(a, c)
     assert a.std() > 0.01  # a real picture, not a constant
@@ -34,7 +35,8 @@ def test_waves_go_from_preview_to_full_resolution_and_progress_reaches_one():
         assert 0 <= tile.x0 < tile.x1 <= 32 and 0 <= tile.y0 < tile.y1 <= 32
 
     done = threading.Event()
-    job = RenderJob(design, threads=2, tile=16, on_tile=on_tile, on_done=lambda j: done.set()).start()
+    job = RenderJob(design, threads=2, workers=Workers(tile=16),
+                    observers=JobObservers(on_tile=on_tile, on_done=lambda j: done.set())).start()
     assert job.wait(120) and done.is_set()
     assert job.done and not job.cancelled and job.error is None
     assert waves == sorted(waves) and waves[0] == 0 and max(waves) >= 2
@@ -53,7 +55,7 @@ def test_preview_wave_fills_the_whole_image():
             seen["img"] = job.image()
             job.cancel()
 
-    job = RenderJob(design, threads=1, tile=16, on_tile=on_tile).start()
+    job = RenderJob(design, threads=1, workers=Workers(tile=16), observers=JobObservers(on_tile=on_tile)).start()
     assert job.wait(120) and job.cancelled
     img = seen["img"]
     assert img.shape == (32, 32, 3) and np.all(np.isfinite(img)) and np.all(img > 0)
@@ -66,7 +68,7 @@ def test_on_wave_sees_the_film_after_each_whole_wave():
     def on_wave(job, wave):
         seen.append((wave, threading.current_thread().name, job.sample_counts(), job.image()))
 
-    job = RenderJob(design, threads=2, tile=16, on_wave=on_wave).start()
+    job = RenderJob(design, threads=2, workers=Workers(tile=16), observers=JobObservers(on_wave=on_wave)).start()
     assert job.wait(120) and job.error is None
     waves = [w for w, *_ in seen]
     assert waves == list(range(len(waves))) and len(waves) == len(job.wave_log) >= 3
@@ -89,7 +91,7 @@ def test_cancel_stops_within_one_tile_per_thread():
         calls.append(tile)
         job.cancel()
 
-    job = RenderJob(design, threads=2, tile=8, on_tile=on_tile).start()
+    job = RenderJob(design, threads=2, workers=Workers(tile=8), observers=JobObservers(on_tile=on_tile)).start()
     assert job.wait(120)
     assert job.cancelled and job.done and job.error is None
     assert 1 <= len(calls) <= 2  # only tiles already running when the flag was set finish
@@ -110,13 +112,14 @@ def test_a_failing_worker_is_reported_not_swallowed(monkeypatch):
 
     monkeypatch.setattr(job_module, "trace_pixels", flaky)
     reported = []
-    job = RenderJob(design, threads=2, tile=16, on_done=lambda j: reported.append(j.error)).start()
+    job = RenderJob(design, threads=2, workers=Workers(tile=16),
+                    observers=JobObservers(on_done=lambda j: reported.append(j.error))).start()
     assert job.wait(120)
     assert isinstance(job.error, RuntimeError) and "exploded" in str(job.error)
     assert reported and reported[0] is job.error
     count["n"] = 0
     with pytest.raises(RuntimeError, match="exploded"):
-        render_image(design, threads=1, tile=16)
+        render_image(design, threads=1, workers=Workers(tile=16))
 
 
 def test_wait_returns_only_after_on_done_returned():
@@ -130,7 +133,7 @@ def test_wait_returns_only_after_on_done_returned():
         inside.set()
         release.wait(60)
 
-    job = RenderJob(design, threads=1, tile=16, on_done=on_done).start()
+    job = RenderJob(design, threads=1, workers=Workers(tile=16), observers=JobObservers(on_done=on_done)).start()
     assert inside.wait(120) and seen == [True]
     assert job.done and not job.wait(0.05), "wait returned while on_done still ran"
     release.set()
@@ -178,16 +181,16 @@ def test_an_edit_of_nothing_rendered_keeps_the_film_and_a_visible_edit_does_not(
     first = RenderJob(design, threads=2).start()
     assert first.wait(120) and first.error is None
     renamed = dataclasses.replace(design, name="another name", notes="n")
-    again = RenderJob(renamed, threads=2, previous=first, changed={"name", "notes"}).start()
+    again = RenderJob(renamed, threads=2, replaces=Replaces(first, {"name", "notes"})).start()
     assert again.wait(120) and again.error is None
     assert again.film is first.film and again.stats.rays_cast == first.stats.rays_cast
     assert again.progress == 1.0 and np.array_equal(again.image(), first.image())
     tinted = dataclasses.replace(design, glass=dataclasses.replace(design.glass, absorption=(0.05, 0, 0)))
-    third = RenderJob(tinted, threads=2, previous=first, changed={"glass"}).start()
+    third = RenderJob(tinted, threads=2, replaces=Replaces(first, {"glass"})).start()
     assert third.wait(120) and third.film is not first.film
     assert not np.array_equal(third.image(), first.image())
     # the same design asked with another sampling: a new film, never the old one
-    finer = RenderJob(renamed, threads=2, previous=first, changed={"name"},
+    finer = RenderJob(renamed, threads=2, replaces=Replaces(first, {"name"}),
                       sampling=dataclasses.replace(first.sampling, noise_target=first.sampling.noise_target / 4)).start()
     assert finer.wait(120) and finer.film is not first.film and finer.stats.rays_cast > first.stats.rays_cast
 
@@ -204,7 +207,8 @@ def test_workers_run_niced_and_render_the_same_image():
 
     base = os.getpriority(os.PRIO_PROCESS, 0)
     plain = render_image(design, width=24, height=32, threads=2)
-    job = RenderJob(design, width=24, height=32, threads=2, worker_nice=5, on_tile=record).start()
+    job = RenderJob(design, width=24, height=32, threads=2, workers=Workers(nice=5),
+                    observers=JobObservers(on_tile=record)).start()
     job.wait()
     assert job.error is None and seen
     assert set(seen) == {min(19, base + 5)}
@@ -316,3 +320,17 @@ def test_the_films_display_levels_are_the_tone_map_of_its_estimate_bit_for_bit()
         want = tonemap_srgb8(film.image(region if region[1] <= 30 else (28, 30, 35, 40)))
         np.testing.assert_array_equal(film.display(region), want)
     assert film.display((0, 30, 0, 40)).dtype == np.uint8 and len(np.unique(film.display((14, 17, 0, 40)))) > 200
+
+
+def test_the_grouped_options_come_as_records_checked_when_the_job_is_made():
+    """Options that travel together come as records (:mod:`engine.tracer.job_options`): a loose
+    keyword of the old signature, or a record's fields passed as a dict, is a TypeError at once,
+    not in the middle of a render; the workers' record keeps its tile and niceness in range."""
+    design = simple_design(40.0, width=8, height=8, spp=1)
+    for bad in (dict(tile=16), dict(on_tile=print), dict(previous=None, changed=None), dict(worker_nice=5),
+                dict(_sample_base=1), dict(observers={"on_tile": print}), dict(workers=16),
+                dict(_bench={"sample_base": 1})):
+        with pytest.raises(TypeError):
+            RenderJob(design, **bad)
+    job = RenderJob(design, workers=Workers(tile=0, nice=-3))
+    assert (job.tile, job.worker_nice) == (1, 0)

@@ -13,6 +13,7 @@ from engine.files.project import load_project
 from engine.model.changes import Change
 from engine.tracer.denoise import Denoiser, preview_frame
 from engine.tracer.job import RenderJob
+from engine.tracer.job_options import JobObservers, Replaces
 from engine.tracer.retint import RetintBasis, colour_only, local_fit, retinted
 from engine.tracer.reuse import FULL_RENDER, Retint, reuse_of
 from engine.tracer.sampling import Sampling
@@ -56,7 +57,8 @@ def jar_edit():
     def on_wave(job, wave):  # (the job's thread, between waves: the film holds waves 0..wave)
         frames.append((wave, preview_frame(job, None), job.image()))
 
-    new = _render(_tinted(d), a, previous=old, changed=Change({"glass", "liquid"}), on_wave=on_wave)
+    new = _render(_tinted(d), a, replaces=Replaces(old, Change({"glass", "liquid"})),
+                  observers=JobObservers(on_wave=on_wave))
     return d, a, old, new, frames
 
 

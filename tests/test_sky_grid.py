@@ -15,6 +15,7 @@ import numpy as np
 from engine.model.design import Light, Stage
 from engine.tracer.context import RenderContext, trace_rays
 from engine.tracer.job import RenderJob
+from engine.tracer.job_options import JobObservers
 from engine.tracer.sampling import Sampling
 from engine.tracer.kernels.ground import NOISY_BIT, S_NRING, SKY_COLS, ring_cells, sky_irradiance
 from engine.tracer.tables import stage as stage_tables
@@ -112,7 +113,8 @@ def test_a_job_draws_a_draft_while_the_grids_build_and_ends_with_the_same_image(
     design = _on_stage(GREY, fill=40.0)
     stage_tables.clear_stage_caches()
     waves = []
-    fresh = _job(design, on_wave=lambda job, wave: waves.append((wave, job.context.finish.sky_grid[S_NRING])))
+    fresh = _job(design, observers=JobObservers(
+        on_wave=lambda job, wave: waves.append((wave, job.context.finish.sky_grid[S_NRING]))))
     assert fresh.error is None and stage_grids_ready(design, None, *JOB_SIZE)
     assert waves[0] == (0, 0.0) and waves[1][0] == 0 and waves[1][1] > 0  # the draft's preview, then the render's
     cached = _job(design)
@@ -122,7 +124,7 @@ def test_a_job_draws_a_draft_while_the_grids_build_and_ends_with_the_same_image(
 def test_cancelling_a_job_stops_its_grids_building():
     design = _on_stage(Stage(kind="table", color=(0.5, 0.6, 0.7)), fill=30.0)
     stage_tables.clear_stage_caches()
-    job = _job(design, on_wave=lambda job, wave: job.cancel())  # after the draft's preview
+    job = _job(design, observers=JobObservers(on_wave=lambda job, wave: job.cancel()))  # after the draft's preview
     assert job.cancelled and job.error is None
     assert not stage_grids_ready(design, None, *JOB_SIZE)  # nothing half-built was kept
 

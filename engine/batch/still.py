@@ -79,11 +79,12 @@ class FinalRender:
     def start(self) -> "FinalRender":
         """Start rendering on worker threads; returns ``self``."""
         from ..tracer.job import RenderJob
+        from ..tracer.job_options import JobObservers
         self.started = time.monotonic()
         self.state = "rendering"
         self.job = RenderJob(self.design, self.assets, width=self.width, height=self.height,
-                             spp=self.spp, threads=self.threads, on_tile=self._tile,
-                             on_done=self._render_done)
+                             spp=self.spp, threads=self.threads,
+                             observers=JobObservers(on_tile=self._tile, on_done=self._render_done))
         self.job.start()
         return self
 

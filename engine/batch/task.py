@@ -51,6 +51,7 @@ def render_frame(payload, camera, render, alpha: bool, threads: int, topic: str 
         and denoising, ``worker`` address (``"local"`` outside Dask).
     """
     from ..tracer.job import RenderJob
+    from ..tracer.job_options import JobObservers
     from ..finals import final_images
     design, assets = payload
     design = dataclasses.replace(design, camera=camera, render=render)
@@ -58,7 +59,7 @@ def render_frame(payload, camera, render, alpha: bool, threads: int, topic: str 
     report = _Reporter(worker, topic, frame_id)
     threads = max(1, int(threads))
     t0 = time.perf_counter()
-    job = RenderJob(design, assets, threads=threads, on_tile=report.tile).start()
+    job = RenderJob(design, assets, threads=threads, observers=JobObservers(on_tile=report.tile)).start()
     job.wait()
     if job.error is not None:
         raise job.error

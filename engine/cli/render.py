@@ -18,6 +18,7 @@ from ..files.images import IMAGE_SUFFIXES
 from ..limits import check_image_size
 from ..finals import write_final
 from ..tracer.job import RenderJob
+from ..tracer.job_options import Workers
 
 
 class ProgressLine:
@@ -105,7 +106,8 @@ def render_command(project_path, out_path, width=None, height=None, spp=None, th
     check_image_size(width or design.render.width, height or design.render.height,
                      spp or design.render.spp, where="image ")
     t0 = time.perf_counter()
-    job = RenderJob(design, assets, width=width, height=height, spp=spp, threads=threads, tile=64)
+    job = RenderJob(design, assets, width=width, height=height, spp=spp, threads=threads,
+                    workers=Workers(tile=64))
     job.start()
     report = ProgressLine(f"rendering {job.width}x{job.height} at {job.spp} spp", sys.stderr) if progress else None
     while not job.wait(0.25):

@@ -67,7 +67,8 @@ def render_poster(design, assets, path, width: int, height: int, progress=None,
     Returns the paths written, the raw one first."""
     from ..finals import write_final
     from ..tracer.job import RenderJob
-    job = RenderJob(design, assets, width=width, height=height, tile=32)
+    from ..tracer.job_options import Workers
+    job = RenderJob(design, assets, width=width, height=height, workers=Workers(tile=32))
     job.start()
     while not job.wait(0.25):
         if progress:

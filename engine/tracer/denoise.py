@@ -20,6 +20,7 @@ import threading
 
 import numpy as np
 
+from .job_options import lower_priority
 from .retint import retinted
 
 #: The preview denoiser's threads: one of the machine's cores, the tracer keeps the others.
@@ -268,8 +269,7 @@ class FrameDenoiser:
         self._thread.join(timeout)
 
     def _run(self) -> None:
-        from .job import _lower_priority
-        _lower_priority(self.nice)
+        lower_priority(self.nice)
         while True:
             with self._cv:
                 while self._wanted is None and not self._closed:

@@ -16,9 +16,10 @@ are separated by a barrier, and a pixel's samples are seeded by (pixel, sample),
 bit-identical for any thread count and tile order. ``cancel()`` raises a flag the kernels poll
 between pixels: a job stops within one pixel's work.
 
-Threading contract: ``on_tile(job, tile)`` and ``on_done(job)`` run on worker threads,
-``on_wave(job, wave)`` on the job's own thread between waves; GUI code must marshal to its own
-thread. ``image()``, ``progress`` and ``sample_counts()`` may be read at any time.
+Threading contract (the observers, :class:`~engine.tracer.job_options.JobObservers`):
+``on_tile(job, tile)`` and ``on_done(job)`` run on worker threads, ``on_wave(job, wave)`` on the
+job's own thread between waves; GUI code must marshal to its own thread. ``image()``,
+``progress`` and ``sample_counts()`` may be read at any time.
 """
 from __future__ import annotations
 
@@ -26,7 +27,6 @@ import os
 import threading
 import time
 from concurrent.futures import ThreadPoolExecutor
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -34,23 +34,13 @@ from . import adaptive
 from ..color import tonemap_srgb8  # noqa: F401 - the encoding the callers of a job use
 from .context import RenderContext, TraceStats, trace_pixels
 from .film import Film
+from .job_options import BenchHooks, JobObservers, Tile, Workers, lower_priority
 from .relabel import LabelRecorder, RelabelPlan, replay
 from .reuse import VISUAL_FIELDS, reuse_of  # noqa: F401 - VISUAL_FIELDS for callers
 from .sampling import FINAL_SAMPLING, Sampling
 from .scheduler import TileScheduler
 from .tables.sky import GridCancelled
 from .tables.stage import stage_grids_ready
-
-
-@dataclass(frozen=True)
-class Tile:
-    """A finished piece of work: pixels ``[x0, x1) x [y0, y1)`` of wave ``wave`` (0 = preview)."""
-
-    x0: int
-    y0: int
-    x1: int
-    y1: int
-    wave: int
 
 
 class RenderJob:
@@ -68,40 +58,34 @@ class RenderJob:
         Where the adaptive rounds stop (the default: a final render's).
     threads : int, optional
         Worker threads (default: the CPUs this process may use, at most 8).
-    tile : int
-        Tile edge in pixels.
-    on_tile, on_done : callable, optional
-        ``on_tile(job, tile)`` after each tile, ``on_done(job)`` once when the job stops
-        (finished, cancelled or failed); both on worker threads.
-    on_wave : callable, optional
-        ``on_wave(job, wave)`` on the job's thread after each wave that ran to its end, before
-        the next starts: the film then holds exactly the samples of waves ``0..wave`` (the
-        image a progressive view shows at that moment; benchmarks chart it against time).
-    previous : RenderJob, optional; changed : Change or set of str, optional
-        The job this one replaces and what changed since (the scene's
-        :class:`~engine.model.changes.Change`, or field names): :mod:`engine.tracer.reuse`
-        decides once whether this job keeps the previous film (done at once) or relabels it.
-    worker_nice : int
-        Niceness added to each worker thread (Linux; ignored elsewhere): the window passes a
-        positive value so that, with every core rendering, the scheduler still prefers its GUI
-        thread. Never changes the image.
-    _sample_base : int
-        Benchmarks only: anti-aliasing sample ``k`` of a pixel is traced as sample ``k +
-        _sample_base`` of its sequence (other positions, other seeds), so that a reference
-        image shares no anti-aliasing sample with the render it checks. 0 for every render.
+    workers : engine.tracer.job_options.Workers
+        The tile edge (pixels) and the niceness added to each worker thread (the window's is
+        positive, so that its GUI thread comes first); neither changes the image.
+    observers : engine.tracer.job_options.JobObservers
+        ``on_tile(job, tile)`` after each tile and ``on_done(job)`` once when the job stops
+        (finished, cancelled or failed), on worker threads; ``on_wave(job, wave)`` on the job's
+        thread after each whole wave, the film holding exactly the samples of waves ``0..wave``.
+    replaces : engine.tracer.job_options.Replaces, optional
+        The job this one replaces and what changed since (a :class:`~engine.model.changes.Change`
+        or field names): :mod:`engine.tracer.reuse` decides once whether this job keeps the
+        previous film (done at once), relabels or retints it. ``None``: nothing to take over.
+    _bench : engine.tracer.job_options.BenchHooks
+        Benchmarks and tests only: the tiles' shuffle seed, and where in each pixel's sample
+        sequence its anti-aliasing samples start (so that a reference shares none with the
+        render it checks). The defaults for every other render.
     """
 
     def __init__(self, design, assets=None, *, width=None, height=None, spp=None, sampling=FINAL_SAMPLING,
-                 threads=None, tile=32, on_tile=None, on_done=None, on_wave=None, previous=None, changed=None,
-                 worker_nice=0, _tile_shuffle_seed=None, _sample_base=0):
+                 threads=None, workers=Workers(), observers=JobObservers(), replaces=None, _bench=BenchHooks()):
         """A job for ``design`` (class docstring); every option but the design is keyword-only
-        with a default, so a call names just what it changes. Why so many parameters: the
-        sampling options travel as one record (:class:`~engine.tracer.sampling.Sampling`); what
-        remains are independent choices of different callers (size and ``spp``, threads and
-        tile, three observers, the reuse pair ``previous``/``changed``, the process's niceness
-        and two benchmark hooks), none of which travels with another."""
-        if not isinstance(sampling, Sampling):
-            raise TypeError(f"sampling must be a Sampling, not {type(sampling).__name__}")
+        with a default, so a call names just what it changes. Options that travel together come
+        as one immutable record each (:class:`~engine.tracer.sampling.Sampling`, those of
+        :mod:`engine.tracer.job_options`), checked here (``TypeError``, not an error in the
+        middle of the render); the size, ``spp`` and ``threads`` stay single, set one by one."""
+        for name, value, kind in (("sampling", sampling, Sampling), ("workers", workers, Workers),
+                                  ("observers", observers, JobObservers), ("_bench", _bench, BenchHooks)):
+            if not isinstance(value, kind):
+                raise TypeError(f"{name} must be a {kind.__name__}, not {type(value).__name__}")
         self.design = design
         self.assets = assets
         self.width = int(width or design.render.width)
@@ -112,10 +96,8 @@ class RenderJob:
             cpus = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
             threads = min(cpus, 8)
         self.threads = max(1, int(threads))
-        self.tile = max(1, int(tile))
-        self.on_tile = on_tile
-        self.on_done = on_done
-        self.on_wave = on_wave
+        self.tile, self.worker_nice = workers.tile, workers.nice
+        self.on_tile, self.on_done, self.on_wave = observers.on_tile, observers.on_done, observers.on_wave
         self.stats = TraceStats()
         self.error = None
         self.seconds = None
@@ -144,11 +126,10 @@ class RenderJob:
         self.retint = None
         #: True while a draft (a diffuse ground without its grids) fills the film
         self.drafting = False
-        self._previous = previous
-        self._changed = changed
-        self._sample_base = int(_sample_base)
-        self._scheduler = TileScheduler(self.width, self.height, self.tile, self.threads, _tile_shuffle_seed)
-        self.worker_nice = max(0, int(worker_nice))
+        # (the previous job, not the record: the job lets go of it once it runs)
+        self._previous, self._changed = (None, None) if replaces is None else (replaces.previous, replaces.changed)
+        self._sample_base = _bench.sample_base
+        self._scheduler = TileScheduler(self.width, self.height, self.tile, self.threads, _bench.tile_shuffle_seed)
         self._cancel_flag = np.zeros(1, np.int64)
         self._cancel = threading.Event()
         self._finished = threading.Event()
@@ -263,7 +244,7 @@ class RenderJob:
         h, w = self.height, self.width
         b = adaptive.preview_block(w, h)
         with ThreadPoolExecutor(max_workers=self.threads, thread_name_prefix="render",
-                                initializer=_lower_priority, initargs=(self.worker_nice,)) as pool:
+                                initializer=lower_priority, initargs=(self.worker_nice,)) as pool:
             # (0) preview: the centre of every b x b block, painted over the block
             grid = np.zeros((h, w), bool)
             grid[np.minimum(np.arange(0, h, b) + b // 2, h - 1)[:, None],
@@ -405,20 +386,11 @@ class RenderJob:
             self.on_wave(self, wave)
 
 
-def _lower_priority(nice: int) -> None:
-    """Raise the calling thread's niceness by ``nice`` (Linux threads have their own)."""
-    if nice > 0 and hasattr(os, "setpriority") and hasattr(threading, "get_native_id"):
-        try:
-            os.setpriority(os.PRIO_PROCESS, threading.get_native_id(),
-                           min(19, os.getpriority(os.PRIO_PROCESS, threading.get_native_id()) + nice))
-        except OSError:  # a platform without per-thread priorities: only the GUI's comfort lost
-            pass
-
-
 def render_image(design, assets=None, **kw) -> np.ndarray:
     """Render to completion and return ``(H, W, 3)`` float32 linear radiance.
 
-    Keyword arguments are those of :class:`RenderJob`. Raises the worker's exception if a tile
+    Keyword arguments are those of :class:`RenderJob` (its records from
+    :mod:`engine.tracer.job_options`). Raises the worker's exception if a tile
     failed.
     """
     job = RenderJob(design, assets, **kw).start()

@@ -400,6 +400,7 @@ def band_roots(wall, ray, lo, hi, leaf, out, n, stack):
             else:
                 ok_in = True
                 e0, e1, g0, g1 = np.nan, np.nan, np.nan, np.nan
+                chorded = False  # the outer (and maybe inner) trace from the chords, below
                 if kind == RSQUARE:  # q <= u holds exactly (v >= u); clamp the rounding
                     ko, o0, o1, o2 = RRECT, a_hi, a_hi, min(a_hi, max(0.0, square_corner(a_hi, b_hi)))
                     ki, i0, i1, i2 = RRECT, a_lo, a_lo, min(a_lo, max(0.0, square_corner(a_lo, b_lo)))
@@ -412,21 +413,20 @@ def band_roots(wall, ray, lo, hi, leaf, out, n, stack):
                     ki, i0, i1, i2 = OUTLINE, a_lo, b_lo, 0.0
                     # tighter: the profiles between two parallel lines, a ruled solid each side
                     e0, e1, g0, g1 = _ruled_bounds(plan, (px, py, qx, qy), wa, wb - wa, core, grow)
-                    if e0 == e0:
-                        ko = -1
+                    chorded = e0 == e0
                 else:
                     ko, o0, o1, o2 = OVAL, a_hi, b_hi, 0.0
                     ki, i0, i1, i2 = OVAL, a_lo, b_lo, 0.0
                 # the outer interval a rounding margin wider and the inner one narrower: where the
                 # two outlines coincide (a vertical wall: equal radii ranges) their computed ends
                 # may cross by an ulp and leave no band around the crossing between them
-                if ko >= 0:
+                if not chorded:
                     e0, e1 = outline_interval(plan, ko, o0, o1, o2, px, py, qx, qy)
                 e0, e1 = e0 - eps, e1 + eps
                 if max(e0, a) > min(e1, b):  # never inside the outer outline: no band
                     empty = True
                     break
-                if ko >= 0:
+                if not chorded:
                     g0, g1 = (outline_interval(plan, ki, i0, i1, i2, px, py, qx, qy) if ok_in else (1.0, -1.0))
                 elif g0 != g0:  # no line below the core that stays >= 0: the constant inner bound
                     g0, g1 = outline_interval(plan, OUTLINE, a_lo, b_lo, 0.0, px, py, qx, qy)

@@ -32,11 +32,16 @@ SCREENSHOT_TIMEOUT_MS = 20 * 60 * 1000
 
 
 def grab_window(window):
-    """A pixmap of the whole window with the VTK view's framebuffer painted in."""
+    """A pixmap of the whole window with the VTK view's framebuffer painted in (the window
+    alone, the 3D view left blank, where the platform gives VTK no OpenGL context)."""
     pixmap = window.grab()
     view = getattr(window, "wireframe", None)
     if view is not None and view.isVisible():
-        image = view.grab_framebuffer()
+        try:
+            image = view.grab_framebuffer()
+        except RuntimeError as exc:  # why: pyvista's RenderWindowUnavailable (Qt's offscreen platform)
+            print(f"glassbench: warning: the 3D view is not in the screenshot: {exc}", file=sys.stderr)
+            return pixmap
         if not image.isNull():
             painter = QPainter(pixmap)
             dpr = pixmap.devicePixelRatio()
@@ -125,8 +130,14 @@ def _arrange_screenshot(window, out_path: str, status: dict, app):
         poll.stop()
         deadline.stop()
         if code == 0:
-            if not grab_window(window).save(out_path):
+            try:
+                saved = grab_window(window).save(out_path)
+            except Exception as exc:  # why: the app must quit with an error, never hang on it
+                print(f"glassbench: error: cannot take the screenshot: {exc}", file=sys.stderr)
+                saved = None
+            if saved is False:
                 print(f"glassbench: error: cannot write {out_path}", file=sys.stderr)
+            if not saved:
                 code = 2
         else:
             print("glassbench: error: the preview did not converge in time", file=sys.stderr)

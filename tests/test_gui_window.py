@@ -168,6 +168,28 @@ def test_screenshot_of_a_missing_project_fails_cleanly(qapp, gui_paths, capsys, 
     assert "nope.glassbench" in capsys.readouterr().err
 
 
+def test_a_screenshot_without_an_opengl_context_keeps_the_window_and_says_so(qapp, capsys):
+    """Where the platform gives VTK no OpenGL context (Qt's offscreen platform), pyvista raises
+    on the framebuffer: the screenshot is the window without the 3D view, with a warning, and
+    the app does not hang on the error (it used to wait for the 20-minute deadline)."""
+    from PySide6.QtWidgets import QWidget
+    import app.startup as startup
+
+    class NoContextView:
+        def isVisible(self):
+            return True
+
+        def grab_framebuffer(self):
+            raise RuntimeError("Render window is not current.")
+
+    window = QWidget()
+    window.resize(64, 48)
+    window.wireframe = NoContextView()
+    pixmap = startup.grab_window(window)
+    assert (pixmap.width(), pixmap.height()) == (64, 48)
+    assert "the 3D view is not in the screenshot" in capsys.readouterr().err
+
+
 def test_recent_files_menu_reopens_a_project(make_window, tmp_path):
     w = make_window()
     path = tmp_path / "again.glassbench"

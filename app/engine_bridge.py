@@ -198,7 +198,7 @@ def tracer_job_class():
 
 #: How the window's renders decide a pixel has enough samples: its noise below a fraction of a
 #: display level once tone-mapped (what the screen can show), not in linear radiance.
-WINDOW_NOISE = Sampling(noise_space="display", noise_target=tracer_job.adaptive.DISPLAY_NOISE)
+WINDOW_NOISE = Sampling(noise_space="display", noise_target=tracer_job.adaptive.DISPLAY_NOISE, sketch=True)
 
 
 # ---------------------------------------------------------------------------- labels

@@ -325,8 +325,9 @@ class RenderController(QObject):
 
     def _on_worker_wave(self, generation, job, wave):
         # (wave 0 is the block preview: its guides hold only the blocks' centres; a retint
-        # needs only centres, and its first frame is due at once)
-        first = 0 if getattr(job, "retint", None) is not None else 1
+        # needs only centres, and its first frame is due at once; wave 0 comes again after
+        # each pass of a sketch, whose frame is the first full one)
+        first = 0 if getattr(job, "retint", None) is not None or getattr(job, "sketched", 0) else 1
         if generation != self.generation or job is not self.job or self.live or not self.denoise or wave < first:
             return
         self._request_denoise(generation, job, wave)

@@ -140,10 +140,17 @@ def denoise_job(job, quality: str = "high", threads: int | None = None) -> np.nd
 def denoised_frame(job, denoiser: Denoiser) -> np.ndarray:
     """The denoised linear image ``(H, W, 3)`` of ``job``'s film as it is now (a copy of its
     image and guides; the film is not changed), blended per pixel with the raw film by
-    :func:`raw_weight`: a pixel whose own error is already small keeps its raw value."""
+    :func:`raw_weight`: a pixel whose own error is already small keeps its raw value. Where the
+    job traced a sketch (:mod:`engine.tracer.sketch`) the denoiser reads its samples pooled
+    with the film's."""
     film = job.film
     raw = job.image()
-    return _blend(job, film, raw, denoiser(raw, *film.guides()))
+    sk = getattr(job, "sketch", None)
+    if sk is None or not getattr(job, "sketched", 0):
+        return _blend(job, film, raw, denoiser(raw, *film.guides()))
+    # the display-only sketch pooled with the film's samples (engine.tracer.sketch)
+    sampled = job.aa_pixels() if film.has_centre.all() else None
+    return _blend(job, film, raw, denoiser(*sk.pooled(film, sampled)), sampled=sampled)
 
 
 def preview_frame(job, denoiser: Denoiser) -> np.ndarray | None:
@@ -167,10 +174,12 @@ def preview_frame(job, denoiser: Denoiser) -> np.ndarray | None:
     return _blend(job, film, job.image(), estimate, error, 3.0 * error)
 
 
-def _blend(job, film, raw, estimate, below=None, above=None) -> np.ndarray:
+def _blend(job, film, raw, estimate, below=None, above=None, sampled=False) -> np.ndarray:
     """``raw`` and ``estimate`` mixed per pixel by :func:`raw_weight` of ``job``'s ``film``
-    (``below``, ``above``: its thresholds, the denoiser's by default)."""
-    sampled = job.aa_pixels() if film.has_centre.all() else None
+    (``below``, ``above``: its thresholds, the denoiser's by default; ``sampled``: the job's
+    :meth:`~engine.tracer.job.RenderJob.aa_pixels` where the caller has them)."""
+    if sampled is False:
+        sampled = job.aa_pixels() if film.has_centre.all() else None
     weight = raw_weight(film, sampled, below, above)[..., None]
     return weight * raw + (1.0 - weight) * estimate
 

@@ -6,7 +6,9 @@ which thread (:class:`engine.tracer.scheduler.TileScheduler`: tiles, tasks, work
 material), how (:func:`engine.tracer.context.trace_pixels`, compiled, GIL-free), into what
 (:class:`engine.tracer.film.Film`), and what to take over from the job it replaces
 (:func:`engine.tracer.reuse.reuse_of`: the whole film, or a relabel). Waves: (0) a preview, the
-centres of coarse blocks; (1) every other pixel's centre; (2...) stratified anti-aliasing samples
+centres of coarse blocks, and in the window, where the centres would be slow, the display-only
+sketch (:mod:`engine.tracer.sketch`: cheap samples in every pixel, never in the film); (1)
+every other pixel's centre; (2...) stratified anti-aliasing samples
 for the pixels on edges, in doubling rounds up to ``spp``; then adaptive rounds for the edge
 pixels whose own samples still scatter (final renders up to ``LINEAR_FACTOR x spp``, samples in
 proportion to a pixel's scatter; the window's split policy ``SPLIT_FACTOR x spp``, its samples
@@ -31,6 +33,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 from . import adaptive
+from . import sketch as sketching
 from ..color import tonemap_srgb8  # noqa: F401 - the encoding the callers of a job use
 from .context import RenderContext, TraceStats, trace_pixels
 from .film import Film
@@ -64,7 +67,8 @@ class RenderJob:
     observers : engine.tracer.job_options.JobObservers
         ``on_tile(job, tile)`` after each tile and ``on_done(job)`` once when the job stops
         (finished, cancelled or failed), on worker threads; ``on_wave(job, wave)`` on the job's
-        thread after each whole wave, the film holding exactly the samples of waves ``0..wave``.
+        thread after each whole wave, the film holding exactly the samples of waves ``0..wave``
+        (wave 0 is reported again after each pass of a sketch, :attr:`sketched` then > 0).
     replaces : engine.tracer.job_options.Replaces, optional
         The job this one replaces and what changed since (a :class:`~engine.model.changes.Change`
         or field names): :mod:`engine.tracer.reuse` decides once whether this job keeps the
@@ -126,6 +130,12 @@ class RenderJob:
         self.retint = None
         #: True while a draft (a diffuse ground without its grids) fills the film
         self.drafting = False
+        #: the display-only sketch's sums (:class:`~engine.tracer.sketch.Sketch`) and the
+        #: samples per pixel of its last finished pass (0: none); ``None`` without a sketch
+        self.sketch = None
+        self.sketched = 0
+        #: ``(samples per pixel, seconds)`` per sketch pass (benchmarks)
+        self.sketch_log = []
         # (the previous job, not the record: the job lets go of it once it runs)
         self._previous, self._changed = (None, None) if replaces is None else (replaces.previous, replaces.changed)
         self._sample_base = _bench.sample_base
@@ -261,8 +271,11 @@ class RenderJob:
             self.film = film = Film(self.width, self.height, ctx.n_materials)
             self.drafting = False
             level = max(ctx.reference_level, 1e-6)
+            rays = self.stats.rays_cast
             self._wave(pool, ctx, 0, grid, None, preview=b)
             self._set_progress(0.03)
+            if self._sketches((self.stats.rays_cast - rays) / max(int(np.count_nonzero(grid)), 1)):
+                self._sketch(pool, ctx)
             # (1) every other centre
             self._wave(pool, ctx, 1, ~grid, None)
             self._set_progress(0.35)
@@ -297,6 +310,57 @@ class RenderJob:
             else:  # every round ran: the last one's pixels may have stopped at the cap, not converged
                 if plan[-1][1]:
                     self.capped = policy.capped(film, mark)
+
+    def _sketches(self, preview_rays: float) -> bool:
+        """Whether this render traces the sketch (:mod:`engine.tracer.sketch`): asked for by its
+        sampling, watched wave by wave (``on_wave``: no one else could show it; the window's
+        live drags are not), a full render (a relabel replays its centres at once, a colour-only
+        edit shows its retint) and heavy trees (``preview_rays``, the rays per pixel of its
+        wave 0, at least :data:`~engine.tracer.sketch.SKETCH_RAYS`: a function of the design,
+        so whether it sketches does not change with the machine's load)."""
+        if (not self.sampling.sketch or self.on_wave is None or self._plan is not None or self.retint is not None
+                or self._cancel.is_set()):
+            return False
+        return preview_rays >= sketching.SKETCH_RAYS
+
+    def _sketch(self, pool, ctx) -> None:
+        """Trace the sketch's passes into :attr:`sketch` (never the film), each while the sketch
+        stays within its budget (:func:`~engine.tracer.sketch.next_pass_fits`), and report each as wave
+        0 again (``on_wave``: the film still holds wave 0's samples alone; :attr:`sketched`
+        says a sketch frame is there to show)."""
+        h, w = self.height, self.width
+        self.sketch = sk = sketching.Sketch(w, h)
+        everywhere = np.ones((h, w), bool)
+        base = sketching.SKETCH_BASE + self._sample_base
+        spent, last = 0.0, None
+        for target in sketching.SKETCH_PASSES:
+            have = int(sk.samples)
+            if self._cancel.is_set() or (last is not None and not sketching.next_pass_fits(spent, *last, target - have)):
+                return  # (the next pass would overrun the sketch's budget: the film's waves come first)
+            t_pass = time.perf_counter()
+
+            def run_batch(parts, have=have, target=target):
+                rows = np.concatenate([p[1] for p in parts])
+                cols = np.concatenate([p[2] for p in parts])
+                res = trace_pixels(ctx, cols, rows, base + have + 1, target - have, cancel=self._cancel_flag,
+                                   roulette=sketching.SKETCH_ROULETTE)
+                if res.finished < len(cols):
+                    return
+                sk.add(cols, rows, target - have, res)
+                with self._lock:
+                    self.stats.add_counters(res.counters)
+
+            work = np.full((h, w), target - have, np.int64)
+            self._scheduler.run(pool, self._scheduler.tasks(work, balance=False), everywhere, run_batch,
+                                self._cancel.is_set, self.cancel)
+            if self._cancel.is_set():
+                return
+            self.sketched = target
+            seconds = time.perf_counter() - t_pass
+            spent, last = spent + seconds, (seconds, target - have)
+            self.sketch_log.append((target, seconds))
+            if self.on_wave is not None:
+                self.on_wave(self, 0)
 
     def aa_pixels(self) -> np.ndarray:
         """The pixels ``(H, W)`` bool the anti-aliasing rounds sample, as judged from the film's

@@ -46,6 +46,10 @@ class Sampling:
         default, :data:`~engine.tracer.adaptive.LINEAR_FACTOR` or ``ADAPTIVE_FACTOR``). At a
         tight ``noise_target`` the pixels of thick bases ask for more than the default cap
         (references: ``benchmarks.oracle_render``); the window's split policy ignores it.
+    sketch : bool
+        Before the centres, trace the display-only sketch (:mod:`engine.tracer.sketch`) where
+        the centre wave would be slow: the window's first full frame for its denoiser. It never
+        enters the film, so it changes no pixel of the image.
     """
 
     adaptive: bool = True
@@ -53,6 +57,7 @@ class Sampling:
     noise_space: str = "linear"
     policy: str = "split"
     cap_factor: int | None = None
+    sketch: bool = False
 
     def __post_init__(self):
         if self.noise_space not in NOISE_SPACES:
@@ -65,6 +70,7 @@ class Sampling:
             raise ValueError(f"cap_factor must be None or an integer of at least 1, not {self.cap_factor!r}")
         # one type per field, so that equal options compare equal (``RenderJob.sampling_key``)
         object.__setattr__(self, "adaptive", bool(self.adaptive))
+        object.__setattr__(self, "sketch", bool(self.sketch))
         object.__setattr__(self, "noise_target", float(self.noise_target))
         if self.cap_factor is not None:
             object.__setattr__(self, "cap_factor", int(self.cap_factor))

@@ -95,6 +95,16 @@ def set_limit(seconds: float) -> None:
     LIMIT_S = float(seconds)
 
 
+def _watch(job, wave):
+    """An observer of every wave, as the window's (a watched render traces its sketch)."""
+
+
+def _watched():
+    """Observers of a render timed as the window renders: its waves watched."""
+    from engine.tracer.job_options import JobObservers
+    return JobObservers(on_wave=_watch)
+
+
 def window_sampling(**changes):
     """The window's sampling (:data:`app.engine_bridge.WINDOW_NOISE`) with ``changes`` (fields of
     :class:`engine.tracer.sampling.Sampling`: another policy, target, ...)."""
@@ -249,7 +259,7 @@ def denoised_progress(design, assets, width, height, threads, policy, converged)
     def on_wave(job, wave):  # (on the job's thread: as cheap as the window's signal)
         if wave == 0 and clock["first"] is None:
             clock["first"] = time.perf_counter() - clock["start"]
-        elif wave >= 1:
+        elif wave >= 1 or job.sketched:  # (wave 0 again: a pass of the sketch)
             watcher.request((wave, job.image()), job)
 
     clear_stage_caches()
@@ -482,7 +492,8 @@ def sample_rows(a, name, design, assets, policies) -> list[dict]:
     ref_noise = None if a.no_check else reference_noise(design, assets, w, h, a.threads, ref)
     for policy in policies:  # (each policy's render and check back to back: the machine is shared)
         clear_stage_caches()  # (the time includes the ground's grids, as a design's first render does)
-        job, secs = render(design, assets, a.width, a.height, a.threads, window_sampling(policy=policy))
+        job, secs = render(design, assets, a.width, a.height, a.threads, window_sampling(policy=policy),
+                           observers=_watched())
         rays = job.stats.rays_cast
         # a colour-only edit could re-weigh a kept tree instead of tracing it again: each leaf
         # (a segment leaving for the environment or cut) would keep its RGB weight without
@@ -492,6 +503,8 @@ def sample_rows(a, name, design, assets, policies) -> list[dict]:
                "rays": rays, "rays_per_pixel": rays / (a.width * a.height),
                "tree_leaves": leaves, "kept_tree_gib": leaves * KEPT_LEAF_BYTES / 2 ** 30,
                "samples_per_pixel": float(job.sample_counts().mean()),
+               # the display-only sketch's passes (engine.tracer.sketch), inside ``seconds``
+               "sketch_s": float(sum(t for _, t in job.sketch_log)),
                # issue 41 compares samples by their time per pixel of glass (the flacon fills
                # twice the square's share of the frame)
                "glass_pixels": int(bottle_mask(job).sum()),
@@ -535,7 +548,7 @@ def sample_rows(a, name, design, assets, policies) -> list[dict]:
         row["seconds_per_kilopixel_of_glass"] = secs / max(row["glass_pixels"], 1) * 1000.0
         print(f"{name} [{policy}]: {secs:.1f} s, {rays / 1e6:.1f} M rays, {row['rays_per_pixel']:.0f} rays/pixel, "
               f"{row['glass_pixels']:,} pixels of glass ({row['seconds_per_kilopixel_of_glass']:.2f} s per "
-              f"thousand), {row['samples_per_pixel']:.1f} samples/pixel{settled}, a kept tree for colour edits "
+              f"thousand), {row['samples_per_pixel']:.1f} samples/pixel{settled}, its sketch {row['sketch_s']:.1f} s, a kept tree for colour edits "
               f"{row['kept_tree_gib']:.2f} GiB{check}", flush=True)
     return rows
 

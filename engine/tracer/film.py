@@ -41,6 +41,15 @@ def _shaped(a, n: int, dtype, shape=()) -> np.ndarray:
     return a
 
 
+def guide_images(guide_sum, guide_n) -> tuple[np.ndarray, np.ndarray]:
+    """``(albedo, normal)``, float32 ``(H, W, 3)`` each, from per-pixel guide sums ``(H, W, 6)``
+    over ``guide_n`` ``(H, W)`` samples: their means (zero where none), albedo clipped to
+    ``[0, 1]``, normals to ``[-1, 1]`` (not renormalised)."""
+    g = guide_sum / np.maximum(guide_n, 1)[..., None]
+    return (np.clip(g[..., :3], 0.0, 1.0).astype(np.float32),
+            np.clip(g[..., 3:], -1.0, 1.0).astype(np.float32))
+
+
 class Film:
     """Accumulators for an image of ``width x height`` pixels and ``n_materials`` materials."""
 
@@ -180,10 +189,7 @@ class Film:
         each pixel's traced samples (zero where none was traced). Albedo in ``[0, 1]``, normals
         in ``[-1, 1]`` (their mean, not renormalised: an edge pixel's is shorter)."""
         with self.lock:
-            n = np.maximum(self.guide_n, 1)[..., None]
-            g = self.guide_sum / n
-        return (np.clip(g[..., :3], 0.0, 1.0).astype(np.float32),
-                np.clip(g[..., 3:], -1.0, 1.0).astype(np.float32))
+            return guide_images(self.guide_sum, self.guide_n)
 
     def samples(self) -> np.ndarray:
         """Samples per pixel that make its value (the centre counts as one) ``(H, W)``."""

@@ -48,8 +48,8 @@ class Sampling:
         (references: ``benchmarks.oracle_render``); the window's split policy ignores it.
     sketch : bool
         Before the centres, trace the display-only sketch (:mod:`engine.tracer.sketch`) where
-        the centre wave would be slow: the window's first full frame for its denoiser. It never
-        enters the film, so it changes no pixel of the image.
+        a watched render's trees are heavy: the window's first full frame for its denoiser. It
+        never enters the film, so it changes no pixel of the image.
     """
 
     adaptive: bool = True

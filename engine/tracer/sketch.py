@@ -28,6 +28,8 @@ import threading
 
 import numpy as np
 
+from .film import guide_images
+
 #: Where the sketch's samples start in each pixel's sequence: far beyond the film's (at most
 #: ``SPLIT_FACTOR x spp``) and the benchmarks' independent references (``1 << 20``, ``2 << 20``),
 #: aligned to a power of two so its first samples form a scrambled net over the pixel.
@@ -111,19 +113,13 @@ class Sketch:
             aa_sum, aa_n = film.aa_sum.copy(), film.aa_count.copy()
             preview = film.preview.copy()
             g_sum, g_n = film.guide_sum.copy(), film.guide_n.copy()
-        keep = has_centre & (aa_n == 0)
-        if sampled is not None:
-            keep &= ~sampled
-        else:
-            keep &= False  # (before every centre is traced no pixel is known smooth)
-        # the centre counts as a sample of a pixel the rounds will refine
-        probe = has_centre & (aa_n == 0) & ~keep
+        centre_only = has_centre & (aa_n == 0)
+        # a smooth pixel keeps its centre; before every centre is traced none is known smooth
+        smooth = centre_only & ~sampled if sampled is not None else np.zeros_like(centre_only)
+        probe = centre_only & ~smooth  # (its centre counts as one sample of a pixel to refine)
         total = s_sum + aa_sum + np.where(probe[..., None], centre, 0.0)
         count = (s_n + aa_n + probe).astype(np.float64)
         colour = np.where(count[..., None] > 0, total / np.maximum(count, 1.0)[..., None], preview)
-        colour = np.where(keep[..., None], centre, colour)
-        guide = (g_sum + s_guide) / np.maximum(g_n + s_n, 1)[..., None]
+        colour = np.where(smooth[..., None], centre, colour)
         colour = np.nan_to_num(colour, nan=0.0, posinf=0.0, neginf=0.0)
-        return (np.clip(colour, 0.0, 3.4e38).astype(np.float32),
-                np.clip(guide[..., :3], 0.0, 1.0).astype(np.float32),
-                np.clip(guide[..., 3:], -1.0, 1.0).astype(np.float32))
+        return (np.clip(colour, 0.0, 3.4e38).astype(np.float32), *guide_images(g_sum + s_guide, g_n + s_n))
